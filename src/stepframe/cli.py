@@ -1,0 +1,100 @@
+"""The ``stepframe`` command: a thin layer over the library.
+
+Conventions (DESIGN.md, Command line): every command takes ``--json`` and then prints only JSON on
+stdout; a user error prints one line on stderr, ``stepframe: error: <file:line: >what, expected
+what``, nothing on stdout, and exits 2 (``--debug`` shows the traceback). Sub-command groups live in
+:mod:`stepframe.commands` (one module per group) and import the heavy libraries only when run, so
+``stepframe --help`` starts fast.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import traceback
+from collections.abc import Sequence
+
+from stepframe import __version__
+from stepframe.commands import GROUPS, CommandResult, Parser, UserError, to_jsonable
+from stepframe.errors import InputError
+
+EXAMPLES = """\
+examples:
+  stepframe demo                              list the example catalogue, draw three records
+  stepframe demo --json                       the same listing as JSON
+  stepframe records info RSN8883.AT2          peaks, durations and units of a record
+  stepframe structure frame-template > f.toml a commented frame file to edit
+  stepframe <group> --help                    the commands of a group
+"""
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The whole command tree (cheap: no heavy imports)."""
+    parser = Parser(
+        prog="stepframe",
+        description="Seismic analysis of stepping (rocking) frames under earthquake ground motion.",
+        epilog=EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument("--version", action="version", version=f"stepframe {__version__}")
+    parser.add_argument("--json", action="store_true", help="print only JSON on stdout")
+    parser.add_argument("--debug", action="store_true", help="show the traceback of an error")
+    groups = parser.add_subparsers(dest="command", metavar="COMMAND")
+    from stepframe.commands import demo
+
+    demo.register(groups)
+    for name, (helptext, module) in GROUPS.items():
+        group = groups.add_parser(
+            name,
+            help=helptext,
+            description=helptext,
+            formatter_class=argparse.RawDescriptionHelpFormatter,
+        )
+        sub = group.add_subparsers(dest="subcommand", metavar="SUBCOMMAND")
+        module.register(sub)
+        group.set_defaults(_group_parser=group)
+    return parser
+
+
+def _print_result(result: CommandResult, as_json: bool) -> None:
+    if as_json:
+        print(json.dumps(to_jsonable(result.data), indent=2, allow_nan=False))
+    elif result.text:
+        print(result.text)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line; returns the exit status (0 success, 2 user error, 1 internal error)."""
+    args_list = list(sys.argv[1:] if argv is None else argv)
+    debug = "--debug" in args_list
+    try:
+        args = build_parser().parse_args(args_list)
+        if getattr(args, "run", None) is None:
+            # A group without a sub-command (or no command at all): show its help.
+            target = getattr(args, "_group_parser", None) or build_parser()
+            target.print_help()
+            return 0 if not args_list else 2
+        result = args.run(args)
+        _print_result(result, bool(args.json))
+        return 0
+    except (UserError, InputError) as error:
+        if debug:
+            traceback.print_exc()
+        message = error.one_line() if isinstance(error, InputError) else str(error)
+        print(f"stepframe: error: {message}", file=sys.stderr)
+        return 2
+    except (FileNotFoundError, IsADirectoryError, PermissionError) as error:
+        if debug:
+            traceback.print_exc()
+        print(f"stepframe: error: {error.filename}: {error.strerror}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("stepframe: interrupted", file=sys.stderr)
+        return 130
+    except SystemExit as exit_:  # --help and --version exit through argparse
+        return int(exit_.code or 0) if isinstance(exit_.code, int) else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,137 @@
+"""The FEMA P695 text layout of the project's reference data (format name ``fema``).
+
+Lines starting with ``#`` form the header; one of them reads ``NPTS= 4096 DT= 0.01 SEC
+PGA_g= 0.509338``. Others give the source, ``RSN 1111, component KOBE/NIS000`` and
+``Event: Kobe, Japan 1995 M6.9; Station: Nishi-Akashi (CUE)``. Values follow, in g, five to a line.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from stepframe.errors import FormatError
+from stepframe.records.formats import SNIFF_BYTES, ReadOptions, RecordFormat, register
+from stepframe.records.units import factor_to_m_s2
+
+_NPTS_DT = re.compile(r"NPTS\s*=\s*(\S+)\s+DT\s*=\s*(\S+)\s*SEC", re.IGNORECASE)
+_RSN = re.compile(r"RSN\s+(\d+),\s*component\s+(\S+)")
+_EVENT = re.compile(r"Event:\s*(.*?);\s*Station:\s*(.*)$")
+_MAGNITUDE = re.compile(r"\bM(\d+(?:\.\d+)?)\s*$")
+
+
+@dataclass(frozen=True)
+class FemaText:
+    """The parsed content of one FEMA P695 text file (values as written, in g)."""
+
+    values_g: np.ndarray
+    dt_s: float
+    rsn: int | None
+    component: str
+    event: str
+    station: str
+    magnitude: float | None
+    header_lines: int
+
+
+def sniff(head: bytes, path: Path) -> bool:
+    """True if the file starts with ``#`` lines containing ``NPTS= ... DT= ... SEC``."""
+    try:
+        text = head[:SNIFF_BYTES].decode("ascii", errors="replace")
+        header = [line for line in text.splitlines() if line.startswith("#")]
+        return bool(header) and text.startswith("#") and any(_NPTS_DT.search(h) for h in header)
+    except Exception:  # a sniffer never raises
+        return False
+
+
+def parse(path: Path) -> FemaText:
+    """Parse a FEMA P695 text file, checking NPTS against the values.
+
+    Raises
+    ------
+    FormatError
+        Missing NPTS/DT line, non-numeric value (with its line), or a count other than NPTS.
+    """
+    try:
+        lines = path.read_text(encoding="ascii").splitlines()
+    except UnicodeDecodeError as exc:
+        raise FormatError("binary or non-ASCII content, expected FEMA P695 text", path) from exc
+    npts: int | None = None
+    dt_s: float | None = None
+    rsn: int | None = None
+    component = event = station = ""
+    magnitude: float | None = None
+    n_header = 0
+    for number, line in enumerate(lines, start=1):
+        if not line.startswith("#"):
+            break
+        n_header = number
+        if match := _NPTS_DT.search(line):
+            try:
+                npts, dt_s = int(match[1]), float(match[2])
+            except ValueError as exc:
+                raise FormatError(
+                    f"NPTS/DT {match[1]!r}/{match[2]!r} not numbers, "
+                    "expected an integer and seconds",
+                    path,
+                    number,
+                ) from exc
+        if match := _RSN.search(line):
+            rsn, component = int(match[1]), match[2]
+        if match := _EVENT.search(line):
+            event, station = match[1].strip(), match[2].strip()
+            if mag := _MAGNITUDE.search(event):
+                magnitude = float(mag[1])
+    if npts is None or dt_s is None:
+        raise FormatError("no 'NPTS= n DT= dt SEC' header line, expected one", path)
+    if not dt_s > 0:
+        raise FormatError(f"DT = {dt_s}, expected a positive interval in seconds", path)
+    values: list[float] = []
+    for number, line in enumerate(lines[n_header:], start=n_header + 1):
+        try:
+            values.extend(float(word) for word in line.split())
+        except ValueError as exc:
+            raise FormatError(
+                f"non-numeric value in {line.strip()[:40]!r}, expected numbers", path, number
+            ) from exc
+    if len(values) != npts:
+        raise FormatError(f"{len(values)} values, expected NPTS = {npts}", path)
+    return FemaText(
+        values_g=np.asarray(values, dtype=np.float64),
+        dt_s=dt_s,
+        rsn=rsn,
+        component=component,
+        event=event,
+        station=station,
+        magnitude=magnitude,
+        header_lines=n_header,
+    )
+
+
+def read(path: Path, options: ReadOptions) -> Any:
+    """Read a FEMA P695 text file as a one-trace ``obspy.Stream`` in m/s² (values are in g)."""
+    from obspy import Stream
+
+    from stepframe.records.trace import make_trace
+
+    parsed = parse(path)
+    trace = make_trace(
+        parsed.values_g * factor_to_m_s2("g"),
+        parsed.dt_s,
+        station=parsed.station,
+        channel=parsed.component.rsplit("/", 1)[-1],
+        source_file=str(path),
+        format="fema",
+        units_in="g",
+        event=parsed.event,
+        rsn=parsed.rsn,
+        magnitude=parsed.magnitude,
+    )
+    return Stream([trace])
+
+
+FORMAT = register(RecordFormat(name="fema", sniff=sniff, read=read, extensions=(".txt",)))

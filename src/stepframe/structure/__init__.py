@@ -1,0 +1,1 @@
+"""Structure: see DESIGN.md (Layout)."""

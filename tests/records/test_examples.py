@@ -1,0 +1,61 @@
+"""The embedded example catalogue against its source metadata."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from stepframe.records import read
+from stepframe.records.examples import COLUMNS, _decode, _encode, fema_p695
+from stepframe.records.units import STANDARD_GRAVITY_M_S2
+
+
+@pytest.fixture(scope="module")
+def catalogue() -> tuple[object, pd.DataFrame]:
+    return fema_p695()
+
+
+def test_hundred_components_with_unit_named_columns(catalogue: tuple[object, pd.DataFrame]) -> None:
+    stream, table = catalogue
+    assert len(stream) == len(table) == 100  # type: ignore[arg-type]
+    assert list(table.columns) == list(COLUMNS)
+    assert set(table.attrs["column_dictionary"]["column"]) == set(COLUMNS)
+
+
+def test_pga_npts_dt_match_metadata(catalogue: tuple[object, pd.DataFrame]) -> None:
+    stream, table = catalogue
+    for trace, row in zip(stream, table.itertuples(), strict=True):  # type: ignore[call-overload]
+        assert trace.stats.npts == row.npts
+        assert trace.stats.delta == row.dt_s
+        pga_g = np.max(np.abs(trace.data)) / STANDARD_GRAVITY_M_S2
+        assert abs(pga_g - row.pga_g) <= 1e-6
+        assert trace.stats.stepframe.rsn == row.rsn
+        assert trace.stats.stepframe.units_in == "g"
+
+
+def test_metadata_matches_shared_source(shared_data: Path) -> None:
+    source = pd.read_csv(shared_data / "fema_p695" / "records_metadata.csv")
+    _, table = fema_p695()
+    np.testing.assert_array_equal(table["pga_g"], source["pga_g"])
+    np.testing.assert_array_equal(table["npts"], source["npts"])
+    np.testing.assert_array_equal(table["dt_s"], source["dt"])
+
+
+def test_values_bit_identical_to_source_text(shared_data: Path) -> None:
+    stream, table = fema_p695()
+    for i in (0, 57, 99):
+        path = shared_data / "fema_p695" / table.file[i]
+        source = read(path, format="fema")[0]
+        np.testing.assert_array_equal(stream[i].data, source.data)
+
+
+@pytest.mark.parametrize(
+    "word",
+    ["-7.55182000E-07", "9.99999999E+00", "1.00000000E-12", "-3.14159265E+05", "0.00000000E+00"],
+)
+def test_decimal_encoding_is_exact(word: str) -> None:
+    mantissa, exponent = _encode([word])
+    assert _decode(mantissa, exponent)[0] == float(word)
