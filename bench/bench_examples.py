@@ -26,7 +26,8 @@ def main() -> None:
     data = resources.files("stepframe.records.data")
     archive = data.joinpath("fema_p695.npz")
     size_mb = len(archive.read_bytes()) / 1e6
-    load = _time([sys.executable, "-c", "from stepframe.records.examples import fema_p695; fema_p695()"])
+    load_code = "from stepframe.records.examples import fema_p695; fema_p695()"
+    load = _time([sys.executable, "-c", load_code])
     python_only = _time([sys.executable, "-c", "pass"])
     start = time.perf_counter()
     from stepframe.records.examples import fema_p695
@@ -43,7 +44,7 @@ def main() -> None:
     print(f"| load in a fresh process, import included (median of 5) | {load:.3f} s |")
     print(f"| same, bare `python -c pass` for comparison | {python_only:.3f} s |")
     print(f"| load in process (obspy already imported by the call) | {in_process:.3f} s |")
-    print(f"| `stepframe --help` cold start, second run after install (median of 5) | {cold:.3f} s |")
+    print(f"| `stepframe --help` cold start, 2nd run after install, median of 5 | {cold:.3f} s |")
 
 
 if __name__ == "__main__":
