@@ -1,4 +1,4 @@
-"""`stepframe stochastic`: command-line front end of :mod:`stepframe.stochastic`."""
+"""``stepframe stochastic``: command-line front end of :mod:`stepframe.stochastic`."""
 
 from __future__ import annotations
 
@@ -6,4 +6,8 @@ from typing import Any
 
 
 def register(subparsers: Any) -> None:
-    """Add the `stochastic` commands to ``subparsers``."""
+    """Add the ``stochastic`` commands: fit/features and amplify."""
+    from stepframe.commands import stochastic_amplify, stochastic_fit
+
+    stochastic_fit.register(subparsers)
+    stochastic_amplify.register(subparsers)

@@ -1,4 +1,4 @@
-"""`stepframe structure`: command-line front end of :mod:`stepframe.structure`."""
+"""``stepframe structure``: command-line front end of :mod:`stepframe.structure`."""
 
 from __future__ import annotations
 
@@ -6,4 +6,8 @@ from typing import Any
 
 
 def register(subparsers: Any) -> None:
-    """Add the `structure` commands to ``subparsers``."""
+    """Add the ``structure`` commands: design (quasi-dynamic) and frame/simulation commands."""
+    from stepframe.commands import structure_design, structure_simulate
+
+    structure_design.register(subparsers)
+    structure_simulate.register(subparsers)

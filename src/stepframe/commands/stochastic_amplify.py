@@ -1,0 +1,9 @@
+"""Commands of `stepframe stochastic` (amplify)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+
+def register(subparsers: Any) -> None:
+    """Add this module's commands to ``subparsers``."""
