@@ -72,9 +72,16 @@ def register(fmt: RecordFormat) -> RecordFormat:
     return fmt
 
 
+#: Built-in format modules in sniffing order: most specific sniffers first.
+_BUILTIN_MODULES = ("fema", "at2")
+
+
 def _load_builtin_formats() -> None:
-    # Imported for their registration side effect; order is sniffing order (most specific first).
-    from stepframe.records.formats import fema  # noqa: F401
+    # Imported for their registration side effect, in the order of _BUILTIN_MODULES.
+    from importlib import import_module
+
+    for name in _BUILTIN_MODULES:
+        import_module(f"stepframe.records.formats.{name}")
 
 
 _load_builtin_formats()
