@@ -1,0 +1,418 @@
+"""Time-varying features of a record: I_g(t), t_max, t_dur, ω_g(t), α_g(t), P and S arrivals.
+
+All features are given on the STFT frame grid (frame centres every ``hop_s`` from the record start)
+and smoothed over one window of ``window_s`` (default 2 s), stated for each:
+
+- ``I_g(t)``: RMS acceleration, ``I_g² = Σ w_n² x_n² / Σ w_n²`` with the Hann window w of the STFT
+  centred on the frame (zeros outside the record): exactly ``(1/π)∫_0^∞ S dω`` of the STFT.
+- ``t_max``: time of max I_g, by default the peak of a gamma envelope fitted to I_g(t) (robust to
+  its random fluctuations; ``peak_method="argmax"`` takes the raw maximum).
+- ``t_dur``: last time I_g ≥ ``threshold · max I_g`` (after which it stays below). Both are
+  measured from the time origin ``t0_s``; the default threshold is the default envelope's,
+  :data:`stepframe.stochastic.envelope.DEFAULT_DURATION_THRESHOLD`.
+- ``ω_g(t)``:
+  ``"zero-crossing"`` (default): π × the density of zero crossings (both directions), the crossing
+  times interpolated linearly between samples and smoothed by a unit-area Hann kernel of
+  ``window_s`` (normalised by the kernel's mass inside the record). Exact in expectation for the
+  eq. 6.12 process (up-crossing rate ω_g/2π whatever α_g) and for a chirp (crossings at phase kπ).
+  ``"ridge"``: frequency of the STFT maximum (parabolic interpolation); the peak of eq. 6.12 lies at
+  √(ω_g² - 2α_g²), so it is biased low for broad bands.
+  ``"moment"``: √(λ2/λ0 - σ_w²) from STFT spectral moments, σ_w² the window's own spread; exact for
+  eq. 6.12 (E[ẏ²]/E[y²] = ω_g²) up to leakage.
+- ``α_g(t)``: from the local spectral width: Vanmarcke's ``q² = 1 - λ1²/(λ0 λ2)`` of the STFT
+  (λ2 corrected by σ_w²) inverted through q(ζ) of eq. 6.12 (closed form, :func:`vanmarcke_q`),
+  ``α_g = ζ ω_g``.
+- P onset (``t0="p-pick"``): obspy's Baer-Kradolfer picker (``pk_baer``); S arrival: minimum of
+  obspy's AIC (``aic_simple``) between the P onset and the peak of I_g. The default origin is the
+  record start.
+
+Frames whose estimate is undefined (no crossing in the window) hold NaN; the fit uses only the
+strong-motion frames (I_g ≥ threshold · max). Degraded results are listed in ``flags``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from stepframe.errors import InputError
+from stepframe.stochastic.envelope import DEFAULT_DURATION_THRESHOLD
+from stepframe.stochastic.spectra import (
+    DEFAULT_HOP_S,
+    DEFAULT_WINDOW_S,
+    FftBackend,
+    record_samples,
+    stft_power,
+)
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+FrequencyMethod = Literal["zero-crossing", "ridge", "moment"]
+FREQUENCY_METHODS: tuple[FrequencyMethod, ...] = ("zero-crossing", "ridge", "moment")
+TimeOrigin = Literal["start", "p-pick"]
+PeakMethod = Literal["envelope", "argmax"]
+
+
+@dataclass(frozen=True)
+class RecordFeatures:
+    """Features of one record on the frame grid (see the module docstring for definitions).
+
+    Attributes
+    ----------
+    time_s
+        Frame centres from the record start [s].
+    intensity
+        I_g(t) [m/s²] (RMS).
+    omega_g_rad_s, alpha_g_rad_s
+        ω_g(t) and α_g(t) [rad/s] (NaN where undefined).
+    peak_intensity
+        max I_g [m/s²].
+    t0_s
+        Time origin in record time [s] (P onset or 0).
+    t_max_s, t_dur_s
+        Time of max I_g and end of strong motion, from ``t0_s`` [s].
+    p_onset_s, s_arrival_s
+        Picked arrivals in record time [s] (None when not asked or not found).
+    omega_kernel
+        Smoothing kernel of ω_g on the frame grid (sums to 1), used by the fit's forward model.
+    """
+
+    time_s: NDArray[np.float64]
+    intensity: NDArray[np.float64]
+    omega_g_rad_s: NDArray[np.float64]
+    alpha_g_rad_s: NDArray[np.float64]
+    peak_intensity: float
+    t0_s: float
+    t_max_s: float
+    t_dur_s: float
+    dt_s: float
+    window_s: float
+    hop_s: float
+    frequency_method: FrequencyMethod
+    threshold: float
+    omega_kernel: NDArray[np.float64]
+    nyquist_rad_s: float
+    p_onset_s: float | None = None
+    s_arrival_s: float | None = None
+    flags: tuple[str, ...] = field(default_factory=tuple)
+
+    def strong_motion(self) -> NDArray[np.bool_]:
+        """Frames after t0 with I_g ≥ threshold · max I_g."""
+        return np.asarray(
+            (self.time_s >= self.t0_s) & (self.intensity >= self.threshold * self.peak_intensity)
+        )
+
+    def to_dataset(self) -> xr.Dataset:
+        """The features as an ``xarray.Dataset`` (dim ``time``), scalars in ``attrs``."""
+        import xarray as xr
+
+        time = ("time", self.time_s, {"units": "s", "long_name": "time from record start"})
+        return xr.Dataset(
+            {
+                "intensity": ("time", self.intensity, {"units": "m/s2", "long_name": "I_g (RMS)"}),
+                "omega_g": ("time", self.omega_g_rad_s, {"units": "rad/s"}),
+                "alpha_g": ("time", self.alpha_g_rad_s, {"units": "rad/s"}),
+            },
+            coords={"time": time},
+            attrs={
+                "peak_intensity_m_s2": self.peak_intensity,
+                "t0_s": self.t0_s,
+                "t_max_s": self.t_max_s,
+                "t_dur_s": self.t_dur_s,
+                "window_s": self.window_s,
+                "frequency_method": self.frequency_method,
+                "duration_threshold": self.threshold,
+                "flags": ",".join(self.flags),
+            },
+        )
+
+
+def vanmarcke_q(zeta: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Vanmarcke's bandwidth q = √(1 - λ1²/(λ0 λ2)) of the eq. 6.12 spectrum, ζ = α_g/ω_g < 1.
+
+    Uses λ1/λ0 = ω_g (1 - (2/π) arctan(ζ/√(1-ζ²))) / √(1-ζ²) and λ2/λ0 = ω_g² (one-sided moments;
+    checked against quadrature in the tests).
+    """
+    z = np.asarray(zeta, dtype=np.float64)
+    root = np.sqrt(1.0 - z**2)
+    ratio = (1.0 - (2.0 / math.pi) * np.arctan(z / root)) / root
+    return np.asarray(np.sqrt(np.maximum(1.0 - ratio**2, 0.0)))
+
+
+_ZETA_TABLE = np.linspace(1e-3, 0.995, 800)
+_Q_TABLE = vanmarcke_q(_ZETA_TABLE)
+
+
+def hann_kernel(length_s: float, spacing_s: float) -> NDArray[np.float64]:
+    """Unit-sum Hann kernel of ``length_s`` sampled every ``spacing_s`` (odd length ≥ 3)."""
+    half = max(1, round(length_s / spacing_s / 2))
+    x = np.arange(-half, half + 1) / (half + 1)
+    k = np.cos(0.5 * math.pi * x) ** 2
+    return np.asarray(k / k.sum())
+
+
+def smooth(values: NDArray[np.float64], kernel: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Kernel average normalised by the kernel's mass inside the series (no edge loss)."""
+    num = np.convolve(values, kernel, mode="same")
+    den = np.convolve(np.ones_like(values), kernel, mode="same")
+    return np.asarray(num / den)
+
+
+def crossing_density(
+    data: NDArray[np.float64], dt_s: float, frames: NDArray[np.float64], window_s: float
+) -> NDArray[np.float64]:
+    """Zero crossings per second (both directions) at ``frames`` [s], Hann-smoothed."""
+    sign = data >= 0
+    idx = np.flatnonzero(sign[:-1] != sign[1:])
+    a, b = data[idx], data[idx + 1]
+    frac = a / (a - b)  # linear interpolation of the crossing inside the sample interval
+    # Split each crossing between the two neighbouring samples (linear binning): smooth, unbiased.
+    counts = np.zeros(data.size)
+    np.add.at(counts, idx, 1.0 - frac)
+    np.add.at(counts, idx + 1, frac)
+    kernel = hann_kernel(window_s, dt_s)
+    rate = smooth(counts, kernel) / dt_s
+    return np.asarray(np.interp(frames, np.arange(data.size) * dt_s, rate))
+
+
+def spectral_moments(
+    omega: NDArray[np.float64], psd: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """λ0, λ1, λ2 of the one-sided S at each frame (trapezoid in ω)."""
+    lam0 = np.asarray(np.trapezoid(psd, omega, axis=-1), dtype=np.float64)
+    lam1 = np.asarray(np.trapezoid(psd * omega, omega, axis=-1), dtype=np.float64)
+    lam2 = np.asarray(np.trapezoid(psd * omega**2, omega, axis=-1), dtype=np.float64)
+    return lam0, lam1, lam2
+
+
+def window_spread_rad_s(window: NDArray[np.float64], dt_s: float) -> float:
+    """RMS spectral spread σ_w of a window's power response [rad/s] (Parseval of w')."""
+    dw = np.diff(window) / dt_s
+    return math.sqrt(float(np.sum(dw**2)) / float(np.sum(window**2)))
+
+
+def pick_arrivals(
+    data: NDArray[np.float64], dt_s: float, peak_time_s: float
+) -> tuple[float | None, float | None]:
+    """P onset (Baer-Kradolfer) and S arrival (AIC minimum after P) in record time [s]."""
+    from obspy.signal.trigger import aic_simple, pk_baer
+
+    rate = 1.0 / dt_s
+
+    def n(seconds: float) -> int:
+        return max(1, round(seconds * rate))
+
+    try:
+        pick, _ = pk_baer(data.astype(np.float32), rate, n(0.2), n(0.3), 7.0, 12.0, n(1.0), n(1.0))
+    except Exception:  # obspy's C picker signals failure in several ways; treat all as "none"
+        return None, None
+    if pick is None or pick <= 0 or pick >= data.size - 1:
+        return None, None
+    p_onset = float(pick) * dt_s
+    end = min(data.size, round(peak_time_s * rate) + n(1.0))
+    segment = data[int(pick) : end]
+    if segment.size < 10:
+        return p_onset, None
+    aic = np.asarray(aic_simple(segment))
+    inner = aic[2:-2]
+    s_arrival = (int(pick) + 2 + int(np.argmin(inner))) * dt_s if inner.size else None
+    return p_onset, s_arrival
+
+
+def record_features(
+    record_or_array: Any,
+    dt_s: float | None = None,
+    *,
+    frequency: FrequencyMethod = "zero-crossing",
+    t0: TimeOrigin = "start",
+    window_s: float = DEFAULT_WINDOW_S,
+    hop_s: float = DEFAULT_HOP_S,
+    threshold: float = DEFAULT_DURATION_THRESHOLD,
+    omega_max_rad_s: float | None = None,
+    fft: FftBackend = "pyfftw",
+    peak_method: PeakMethod = "envelope",
+) -> RecordFeatures:
+    """Features of one record (definitions and smoothing in the module docstring).
+
+    Parameters
+    ----------
+    record_or_array
+        ``obspy.Trace`` in m/s², or an array (then ``dt_s`` [s] is needed).
+    frequency
+        ω_g estimator: ``"zero-crossing"`` (default), ``"ridge"`` or ``"moment"``.
+    t0
+        Time origin: ``"start"`` (record start, default) or ``"p-pick"`` (picked P onset; the
+        record start, flagged ``p_pick_failed``, when no onset is found).
+    window_s, hop_s
+        Smoothing window and frame spacing [s].
+    threshold
+        Fraction of max I_g that ends strong motion (t_dur).
+    omega_max_rad_s
+        Highest frequency of interest [rad/s]: an error if above the Nyquist frequency.
+    fft
+        FFT of the STFT: ``"pyfftw"`` or ``"scipy"``.
+    peak_method
+        t_max as the peak of a gamma envelope fitted to I_g (``"envelope"``, default:
+        :func:`peak_time_by_envelope`) or the raw argmax of I_g (``"argmax"``).
+
+    Raises
+    ------
+    InputError
+        Bad record (too short, constant, NaNs), dt too coarse for ``omega_max_rad_s``, bad options.
+    """
+    if frequency not in FREQUENCY_METHODS:
+        raise InputError(f"frequency = {frequency!r}, expected one of {FREQUENCY_METHODS}")
+    if t0 not in ("start", "p-pick"):
+        raise InputError(f"t0 = {t0!r}, expected 'start' or 'p-pick'")
+    if peak_method not in ("envelope", "argmax"):
+        raise InputError(f"peak_method = {peak_method!r}, expected 'envelope' or 'argmax'")
+    if not 0 < threshold < 1:
+        raise InputError(f"threshold = {threshold}, expected 0 < threshold < 1")
+    data, dt = record_samples(record_or_array, dt_s)
+    nyquist = math.pi / dt
+    if omega_max_rad_s is not None and omega_max_rad_s > nyquist:
+        raise InputError(
+            f"dt = {dt} s gives a Nyquist frequency of {nyquist:.4g} rad/s, below the requested "
+            f"band up to {omega_max_rad_s:.4g} rad/s, expected dt < π/omega_max"
+        )
+    flags: list[str] = []
+    time_s, omega, psd, window = stft_power(data, dt, window_s=window_s, hop_s=hop_s, fft=fft)
+    hop = float(time_s[1] - time_s[0]) if time_s.size > 1 else dt
+    intensity = np.sqrt(np.maximum(np.trapezoid(psd, omega, axis=-1) / math.pi, 0.0))
+    peak = float(intensity.max())
+    lam0, lam1, lam2 = spectral_moments(omega, psd)
+    spread2 = window_spread_rad_s(window, dt) ** 2
+    with np.errstate(invalid="ignore", divide="ignore"):
+        m2 = np.where(lam0 > 0, lam2 / lam0, np.nan) - spread2
+        m1 = np.where(lam0 > 0, lam1 / lam0, np.nan)
+        omega_moment = np.sqrt(np.where(m2 > 0, m2, np.nan))
+        q = np.sqrt(np.clip(1.0 - m1**2 / m2, 0.0, 1.0))
+    zeta = np.interp(q, _Q_TABLE, _ZETA_TABLE)
+    if frequency == "zero-crossing":
+        rate = crossing_density(data, dt, time_s, window_s)
+        omega_g = np.where(rate > 0, math.pi * rate, np.nan)
+        omega_kernel = hann_kernel(window_s, hop)
+    elif frequency == "moment":
+        omega_g = omega_moment
+        omega_kernel = _power_kernel(window, dt, hop)
+    else:
+        omega_g = _ridge(omega, psd)
+        omega_kernel = _power_kernel(window, dt, hop)
+    alpha_g = zeta * np.where(np.isfinite(omega_moment), omega_moment, omega_g)
+    p_onset = s_arrival = None
+    t0_s = 0.0
+    i_peak = int(np.argmax(intensity))
+    t_peak = float(time_s[i_peak])
+    if peak_method == "envelope":
+        fitted_peak = peak_time_by_envelope(time_s, intensity)
+        if fitted_peak is None or not time_s[0] < fitted_peak < time_s[-1]:
+            flags.append("envelope_fit_failed")
+        else:
+            t_peak = fitted_peak
+    if t0 == "p-pick":
+        p_onset, s_arrival = pick_arrivals(data, dt, float(time_s[i_peak]))
+        if p_onset is None or p_onset >= t_peak:
+            flags.append("p_pick_failed")
+            p_onset = None
+        else:
+            t0_s = p_onset
+    t_max = t_peak - t0_s
+    if t_max <= 0:
+        t_max = hop
+        flags.append("peak_at_origin")
+    above = np.flatnonzero(intensity >= threshold * peak)
+    t_dur = float(time_s[above[-1]]) - t0_s
+    if above[-1] == time_s.size - 1:
+        flags.append("duration_truncated")
+    if t_dur <= t_max:
+        t_dur = t_max + hop
+    strong = (time_s >= t0_s) & (intensity >= threshold * peak)
+    finite = np.isfinite(omega_g[strong])
+    if finite.sum() < 5:
+        flags.append("few_frequency_estimates")
+    elif np.nanmax(omega_g[strong]) > 0.5 * nyquist:
+        flags.append("band_limited")
+    return RecordFeatures(
+        time_s=time_s,
+        intensity=np.asarray(intensity),
+        omega_g_rad_s=np.asarray(omega_g, dtype=np.float64),
+        alpha_g_rad_s=np.asarray(alpha_g, dtype=np.float64),
+        peak_intensity=peak,
+        t0_s=t0_s,
+        t_max_s=t_max,
+        t_dur_s=t_dur,
+        dt_s=dt,
+        window_s=window_s,
+        hop_s=hop,
+        frequency_method=frequency,
+        threshold=threshold,
+        omega_kernel=omega_kernel,
+        nyquist_rad_s=nyquist,
+        p_onset_s=p_onset,
+        s_arrival_s=s_arrival,
+        flags=tuple(flags),
+    )
+
+
+def peak_time_by_envelope(
+    time_s: NDArray[np.float64], intensity: NDArray[np.float64]
+) -> float | None:
+    """Peak time [s] of the gamma envelope P·(τ/τ_p)^a·exp(a(1 - τ/τ_p)), τ = t - onset, fitted
+    to I_g(t) by least squares (onset, peak time, P, a free); None when the fit fails.
+
+    The envelope averages the random fluctuations of I_g around its peak, which make the raw
+    argmax wander by about a window either side (20 % median error of t_max on synthetics).
+    """
+    from scipy.optimize import least_squares
+
+    i_peak = int(np.argmax(intensity))
+    peak = float(intensity[i_peak])
+    t_peak = float(time_s[i_peak])
+    rising = np.flatnonzero(intensity[: i_peak + 1] < 0.05 * peak)
+    onset0 = float(time_s[rising[-1]]) if rising.size else float(time_s[0]) - 1.0
+    onset0 = min(onset0, t_peak - 0.5)
+    scale = peak
+
+    def residual(x: NDArray[np.float64]) -> NDArray[np.float64]:
+        onset, rise, amp, a = x
+        tau = np.maximum(time_s - onset, 0.0) / rise
+        with np.errstate(divide="ignore"):
+            shape = np.exp(a * (np.log(tau) + 1.0 - tau))
+        return np.asarray((amp * shape - intensity) / scale)
+
+    x0 = np.array([onset0, t_peak - onset0, peak, 2.0])
+    lower = [float(time_s[0]) - 60.0, 1e-3, 0.0, 0.05]
+    upper = [t_peak, float(time_s[-1] - time_s[0]) + 60.0, 10 * peak, 50.0]
+    try:
+        result = least_squares(residual, x0, bounds=(lower, upper), method="trf")
+    except ValueError:
+        return None
+    if not result.success:
+        return None
+    return float(result.x[0] + result.x[1])
+
+
+def _power_kernel(window: NDArray[np.float64], dt_s: float, hop_s: float) -> NDArray[np.float64]:
+    """The STFT's time weighting w² resampled on the frame grid (unit sum)."""
+    t = (np.arange(window.size) - window.size // 2) * dt_s
+    half = max(1, int(t[-1] // hop_s))
+    grid = np.arange(-half, half + 1) * hop_s
+    k = np.interp(grid, t, window**2)
+    return np.asarray(k / k.sum())
+
+
+def _ridge(omega: NDArray[np.float64], psd: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Frequency of the maximum of each frame, refined by a parabola through three bins."""
+    k = np.clip(np.argmax(psd[:, 1:], axis=1) + 1, 1, omega.size - 2)
+    rows = np.arange(psd.shape[0])
+    y0, y1, y2 = psd[rows, k - 1], psd[rows, k], psd[rows, k + 1]
+    denom = y0 - 2 * y1 + y2
+    shift = np.where(denom < 0, 0.5 * (y0 - y2) / np.where(denom < 0, denom, -1.0), 0.0)
+    d_omega = omega[1] - omega[0]
+    out = omega[k] + np.clip(shift, -0.5, 0.5) * d_omega
+    return np.asarray(np.where(y1 > 0, out, np.nan))

@@ -1,0 +1,366 @@
+"""Fit of the Beck-Papadimitriou parameters (ω_p, ω_s, ω_r, ξ_p, ξ_r) to a record's features.
+
+Method (weighted least squares, two stages):
+
+1. ω_p, ω_s, ω_r: eq. 6.10 with the record's t_max and t0 is evaluated on the frame grid and
+   smoothed by the same kernel as the ω_g(t) estimate (so the fit compares like with like: a
+   smoothed estimate against the smoothed model, which removes the bias of smoothing a convex
+   curve), then fitted to the strong-motion frames (I_g ≥ threshold · max I_g) with relative
+   residuals weighted by I_g/max I_g (``scipy.optimize.least_squares``, parameters
+   ``r, s - r, p - s ≥ 0`` so the order ω_p ≥ ω_s ≥ ω_r holds by construction).
+2. ξ_p, ξ_r: eq. 6.11 is linear in (ω_p ξ_p, ω_r ξ_r) for a given ramp end, fitted to α_g(t) by
+   weighted linear least squares; ξ = α/ω.
+
+Standard errors: from the Jacobian, ``cov = s² (JᵀJ)⁻¹``, inflated by the number of frames per
+window (``window_s / hop_s``) because neighbouring frames share one window and are not
+independent; the delta method carries them to ξ. ``bootstrap=N`` adds moving-block bootstrap
+errors (blocks one window long). ``fit_quality`` is the weighted RMS relative misfit of ω_g(t)
+(0 is perfect; 0.1 means 10 %).
+
+Optional source corner ω_c (``fit_corner=True``): the time-averaged STFT spectrum divided by the
+time-averaged fitted eq. 6.12 spectrum is fitted by the high-pass ``ω⁴/(ω² + ω_c²)²`` (the modulus
+of the second stage of eq. 6.3 applied as a filter on the process, not on ÿ; docs/paper-notes.md)
+in log amplitude. It is reported, not used by eq. 6.12.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from stepframe.errors import InputError
+from stepframe.stochastic.features import RecordFeatures, smooth
+from stepframe.stochastic.model import AlphaReading, GroundMotionModel
+
+#: Parameter keys of a fit, in output order.
+PARAMETERS = ("omega_p_rad_s", "omega_s_rad_s", "omega_r_rad_s", "xi_p", "xi_r")
+_XI_RANGE = (0.005, 0.995)
+#: Default fraction of max I_g above which frames enter the fit. It is below the duration
+#: threshold because the late frames carry the information on ω_r (docs/stochastic-features.md).
+DEFAULT_FIT_THRESHOLD = 0.02
+
+
+@dataclass(frozen=True)
+class FitResult:
+    """A fitted parameter set with its uncertainties.
+
+    Attributes
+    ----------
+    model
+        The fitted model (t_max, t_dur, t0 from the features).
+    stderr
+        Standard error of each fitted value (keys of :data:`PARAMETERS`, plus ``omega_c_rad_s``
+        when fitted) [units of the value].
+    fit_quality
+        Weighted RMS relative misfit of ω_g(t) (0 is perfect).
+    n_points
+        Strong-motion frames used.
+    flags
+        Degraded results (features' flags, plus ``omega_not_decreasing``, ``xi_clipped``, ...).
+    bootstrap
+        Bootstrap samples of (ω_p, ω_s, ω_r, ξ_p, ξ_r), shape (N, 5), or None.
+    omega_fit_rad_s
+        The smoothed fitted ω_g on the frame grid (what was compared with the data).
+    """
+
+    model: GroundMotionModel
+    stderr: dict[str, float]
+    fit_quality: float
+    n_points: int
+    flags: tuple[str, ...] = field(default_factory=tuple)
+    bootstrap: NDArray[np.float64] | None = None
+    omega_fit_rad_s: NDArray[np.float64] | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        """Flat dictionary: parameters, ``<key>_stderr``, fit quality, flags."""
+        out: dict[str, Any] = {
+            key: getattr(self.model, key) for key in (*PARAMETERS, "t_max_s", "t_dur_s", "t0_s")
+        }
+        out["fit_quality"] = self.fit_quality
+        for key, value in self.stderr.items():
+            out[f"{key}_stderr"] = value
+        if self.model.omega_c_rad_s is not None:
+            out["omega_c_rad_s"] = self.model.omega_c_rad_s
+        out["alpha_reading"] = self.model.alpha_reading
+        out["n_points"] = self.n_points
+        out["flags"] = list(self.flags)
+        return out
+
+
+def _omega_curve(
+    u: NDArray[np.float64], tau: NDArray[np.float64], t_max_s: float
+) -> NDArray[np.float64]:
+    """Eq. 6.10 from (r, s - r, p - s); p = s (flat start) and s = r are handled."""
+    r, d1, d2 = float(u[0]), float(u[1]), float(u[2])
+    span = d1 + d2
+    if span <= 0:
+        return np.full(tau.shape, r)
+    return np.asarray(r + span * (d1 / span) ** (tau / t_max_s))
+
+
+def _fit_omega(
+    tau: NDArray[np.float64],
+    obs: NDArray[np.float64],
+    weight: NDArray[np.float64],
+    use: NDArray[np.bool_],
+    kernel: NDArray[np.float64],
+    t_max_s: float,
+    start: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    from scipy.optimize import least_squares
+
+    sw = np.sqrt(weight[use])
+
+    def residual(u: NDArray[np.float64]) -> NDArray[np.float64]:
+        model = smooth(_omega_curve(u, tau, t_max_s), kernel)
+        return np.asarray(sw * (obs[use] - model[use]) / model[use])
+
+    scale = max(float(start[0]), 1e-3)
+    result = least_squares(
+        residual,
+        start,
+        bounds=([1e-6 * scale, 0.0, 1e-9 * scale], [np.inf, np.inf, np.inf]),
+        x_scale=scale,
+        method="trf",
+    )
+    u = np.asarray(result.x, dtype=np.float64)
+    return u, np.asarray(result.jac, dtype=np.float64), np.asarray(result.fun, dtype=np.float64)
+
+
+def _start(
+    obs: NDArray[np.float64], tau: NDArray[np.float64], use: NDArray[np.bool_], t_max: float
+) -> NDArray[np.float64]:
+    """Starting values (r, s - r, p - s) from late, near-peak and early frames."""
+    values, times = obs[use], tau[use]
+    early = values[times <= max(0.25 * t_max, float(times.min()) + 1e-9)]
+    late = values[times >= float(np.quantile(times, 0.75))]
+    near = values[np.abs(times - t_max) <= max(0.2 * t_max, 1e-9)]
+    r = float(np.median(late))
+    s = float(np.median(near)) if near.size else float(np.median(values))
+    p = float(np.max(early)) if early.size else s
+    s = max(s, r)
+    p = max(p, s)
+    return np.array([r, s - r + 1e-3 * r, p - s + 1e-3 * r])
+
+
+def _alpha_design(tau: NDArray[np.float64], ramp_s: float) -> NDArray[np.float64]:
+    f = np.minimum(tau / ramp_s, 1.0)
+    return np.column_stack([1.0 - f, f])
+
+
+def fit_model(
+    features: RecordFeatures,
+    *,
+    alpha_reading: AlphaReading = "eq-6-11",
+    bootstrap: int = 0,
+    seed: int | None = None,
+    fit_corner: bool = False,
+    spectrum: Any = None,
+    fit_threshold: float = DEFAULT_FIT_THRESHOLD,
+) -> FitResult:
+    """Fit (ω_p, ω_s, ω_r, ξ_p, ξ_r) of eqs. 6.10-6.11 to a record's features.
+
+    Parameters
+    ----------
+    features
+        From :func:`stepframe.stochastic.features.record_features`.
+    alpha_reading
+        Where the α_g ramp ends: ``"eq-6-11"`` (t_dur, default) or ``"paper"`` (t_max).
+    bootstrap
+        Number of moving-block bootstrap refits (0: none).
+    seed
+        Seed of the bootstrap.
+    fit_corner
+        Also fit a source corner frequency ω_c; needs ``spectrum`` (the STFT DataArray).
+    spectrum
+        STFT evolutionary spectrum of the record (:func:`evolutionary_spectrum`).
+    fit_threshold
+        Frames after t0 with I_g ≥ ``fit_threshold`` · max I_g enter the fit.
+
+    Raises
+    ------
+    InputError
+        Fewer than 5 strong-motion frames with a frequency estimate (record too short or too
+        quiet for the window), bad options.
+    """
+    if not (isinstance(bootstrap, int) and bootstrap >= 0):
+        raise InputError(f"bootstrap = {bootstrap!r}, expected an integer ≥ 0")
+    if fit_corner and spectrum is None:
+        raise InputError("fit_corner needs the record's STFT spectrum, expected spectrum=...")
+    flags = list(features.flags)
+    tau = np.maximum(features.time_s - features.t0_s, 0.0)
+    obs = features.omega_g_rad_s
+    # Equal weights: the zero-crossing noise does not depend on the amplitude, and weighting by
+    # I_g starves the late frames that fix ω_r (median ω_r error 30-48 % instead of 13-26 %).
+    weight = np.ones_like(features.intensity)
+    if not 0 < fit_threshold < 1:
+        raise InputError(f"fit_threshold = {fit_threshold}, expected 0 < fit_threshold < 1")
+    use = (
+        (features.time_s >= features.t0_s)
+        & (features.intensity >= fit_threshold * features.peak_intensity)
+        & np.isfinite(obs)
+    )
+    n = int(use.sum())
+    if n < 5:
+        raise InputError(
+            f"{n} frames above the fit threshold with a frequency estimate, expected ≥ 5 "
+            "(record too short or too quiet for the window)"
+        )
+    obs_filled = np.where(np.isfinite(obs), obs, 0.0)
+    t_max = features.t_max_s
+    kernel = features.omega_kernel
+    start = _start(obs_filled, tau, use, t_max)
+    u, jac, fun = _fit_omega(tau, obs_filled, weight, use, kernel, t_max, start)
+    r, s, p = u[0], u[0] + u[1], u[0] + u[1] + u[2]
+    if u[1] + u[2] <= 1e-6 * r:
+        flags.append("omega_not_decreasing")
+    inflation = max(1.0, features.window_s / features.hop_s)
+    dof = max(n - 3, 1)
+    sigma2 = float(fun @ fun) / dof
+    cov_u = np.linalg.pinv(jac.T @ jac) * sigma2 * inflation
+    to_psr = np.array([[1.0, 1.0, 1.0], [1.0, 1.0, 0.0], [1.0, 0.0, 0.0]])
+    cov_psr = to_psr @ cov_u @ to_psr.T
+    omega_fit = smooth(_omega_curve(u, tau, t_max), kernel)
+    fit_quality = math.sqrt(
+        float(np.sum(weight[use] * ((obs[use] - omega_fit[use]) / omega_fit[use]) ** 2))
+        / float(np.sum(weight[use]))
+    )
+
+    ramp = features.t_dur_s if alpha_reading == "eq-6-11" else t_max
+    alpha_use = use & np.isfinite(features.alpha_g_rad_s)
+    if alpha_use.sum() < 3:
+        raise InputError(f"{int(alpha_use.sum())} frames with a bandwidth estimate, expected ≥ 3")
+    design = _alpha_design(tau[alpha_use], ramp)
+    sw = np.sqrt(weight[alpha_use])
+    solution = np.linalg.lstsq(design * sw[:, None], features.alpha_g_rad_s[alpha_use] * sw)
+    coef: NDArray[np.float64] = np.asarray(solution[0], dtype=np.float64)
+    resid = (features.alpha_g_rad_s[alpha_use] - design @ coef) * sw
+    a_dof = max(int(alpha_use.sum()) - 2, 1)
+    cov_a = (
+        np.linalg.pinv((design * sw[:, None]).T @ (design * sw[:, None]))
+        * float(resid @ resid)
+        / a_dof
+        * inflation
+    )
+    xi_p, xi_r = float(coef[0] / p), float(coef[1] / r)
+    se_p, se_r = math.sqrt(max(cov_psr[0, 0], 0.0)), math.sqrt(max(cov_psr[2, 2], 0.0))
+    se_xi_p = math.sqrt(cov_a[0, 0] / p**2 + (coef[0] * se_p / p**2) ** 2)
+    se_xi_r = math.sqrt(cov_a[1, 1] / r**2 + (coef[1] * se_r / r**2) ** 2)
+    clipped_p, clipped_r = np.clip([xi_p, xi_r], *_XI_RANGE)
+    if (clipped_p, clipped_r) != (xi_p, xi_r):
+        flags.append("xi_clipped")
+    stderr = {
+        "omega_p_rad_s": se_p,
+        "omega_s_rad_s": math.sqrt(max(cov_psr[1, 1], 0.0)),
+        "omega_r_rad_s": se_r,
+        "xi_p": se_xi_p,
+        "xi_r": se_xi_r,
+    }
+    omega_c = None
+    if fit_corner:
+        omega_c, se_c = _fit_corner(spectrum, features, (p, s, r, clipped_p, clipped_r))
+        stderr["omega_c_rad_s"] = se_c
+    # p > r is guaranteed by the lower bound on p - s; float() drops numpy scalar types.
+    model = GroundMotionModel(
+        float(p),
+        float(s),
+        float(r),
+        float(clipped_p),
+        float(clipped_r),
+        t_max_s=t_max,
+        t_dur_s=features.t_dur_s,
+        t0_s=features.t0_s,
+        alpha_reading=alpha_reading,
+        omega_c_rad_s=omega_c,
+    )
+    samples = None
+    if bootstrap:
+        samples = _bootstrap(
+            features, u, omega_fit, use, weight, kernel, tau, coef, ramp, bootstrap, seed
+        )
+        boot_se = np.std(samples, axis=0, ddof=1)
+        for key, value in zip(PARAMETERS, boot_se, strict=True):
+            stderr[f"{key}_bootstrap"] = float(value)
+    return FitResult(
+        model=model,
+        stderr=stderr,
+        fit_quality=fit_quality,
+        n_points=n,
+        flags=tuple(flags),
+        bootstrap=samples,
+        omega_fit_rad_s=omega_fit,
+    )
+
+
+def _bootstrap(
+    features: RecordFeatures,
+    u: NDArray[np.float64],
+    omega_fit: NDArray[np.float64],
+    use: NDArray[np.bool_],
+    weight: NDArray[np.float64],
+    kernel: NDArray[np.float64],
+    tau: NDArray[np.float64],
+    coef: NDArray[np.float64],
+    ramp: float,
+    count: int,
+    seed: int | None,
+) -> NDArray[np.float64]:
+    """Moving-block bootstrap of relative residuals (blocks one window long)."""
+    rng = np.random.default_rng(seed)
+    idx = np.flatnonzero(use)
+    rel = features.omega_g_rad_s[idx] / omega_fit[idx] - 1.0
+    alpha_model = _alpha_design(tau[idx], ramp) @ coef
+    alpha_res = np.nan_to_num(features.alpha_g_rad_s[idx] - alpha_model)
+    block = max(1, min(idx.size, round(features.window_s / features.hop_s)))
+    out = np.empty((count, 5))
+    for b in range(count):
+        starts = rng.integers(0, idx.size - block + 1, size=math.ceil(idx.size / block))
+        pick = (starts[:, None] + np.arange(block)[None, :]).ravel()[: idx.size]
+        obs = omega_fit.copy()
+        obs[idx] = omega_fit[idx] * (1.0 + rel[pick])
+        u_b, _, _ = _fit_omega(tau, obs, weight, use, kernel, features.t_max_s, u)
+        r, s, p = u_b[0], u_b[0] + u_b[1], u_b[0] + u_b[1] + u_b[2]
+        alpha_b = alpha_model + alpha_res[pick]
+        design = _alpha_design(tau[idx], ramp)
+        sw = np.sqrt(weight[idx])
+        c_b, *_ = np.linalg.lstsq(design * sw[:, None], alpha_b * sw)
+        out[b] = (p, s, r, c_b[0] / p, c_b[1] / r)
+    return out
+
+
+def _fit_corner(
+    spectrum: Any, features: RecordFeatures, params: tuple[float, float, float, float, float]
+) -> tuple[float, float]:
+    """ω_c of the high-pass ω⁴/(ω² + ω_c²)² between the record's and the model's mean spectra."""
+    from scipy.optimize import least_squares
+
+    p, s, r, xi_p, xi_r = params
+    model = GroundMotionModel(
+        p, s, r, xi_p, xi_r, features.t_max_s, features.t_dur_s, t0_s=features.t0_s
+    )
+    omega = np.asarray(spectrum["omega"].values, dtype=np.float64)
+    times = np.asarray(spectrum["time"].values, dtype=np.float64)
+    observed = np.asarray(spectrum.values, dtype=np.float64).mean(axis=0)
+    intensity = np.interp(times, features.time_s, features.intensity)
+    fitted = model.psd(omega[None, :], times[:, None], intensity[:, None]).mean(axis=0)
+    band = (omega > 0) & (omega < r) & (observed > 0) & (fitted > 0)
+    if band.sum() < 3:
+        raise InputError(
+            "fewer than 3 STFT bins below omega_r, expected a longer record to fit omega_c"
+        )
+    log_ratio = np.log(observed[band] / fitted[band])
+
+    def residual(x: NDArray[np.float64]) -> NDArray[np.float64]:
+        wc = math.exp(float(x[0]))
+        w = omega[band]
+        return np.asarray(log_ratio - x[1] - np.log(w**4 / (w**2 + wc**2) ** 2))
+
+    result = least_squares(residual, [math.log(0.3 * r), 0.0])
+    dof = max(int(band.sum()) - 2, 1)
+    cov = np.linalg.pinv(result.jac.T @ result.jac) * float(result.fun @ result.fun) / dof
+    wc = math.exp(float(result.x[0]))
+    return wc, wc * math.sqrt(max(float(cov[0, 0]), 0.0))
