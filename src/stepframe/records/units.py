@@ -17,6 +17,8 @@ ACCELERATION_UNITS_TO_M_S2: dict[str, float] = {
     "cm/s2": 0.01,
     "gal": 0.01,
     "mm/s2": 0.001,
+    # SAC's IACC files are in nm/s²; no strong-motion format uses it for values in g ranges.
+    "nm/s2": 1e-9,
 }
 
 _ALIASES = {
@@ -35,6 +37,13 @@ _ALIASES = {
     "mm/sec2": "mm/s2",
     "mm/sec/sec": "mm/s2",
     "g's": "g",
+    "m/s/s": "m/s2",
+    "cm/s/s": "cm/s2",
+    "mm/s/s": "mm/s2",
+    "cm/sec**2": "cm/s2",
+    "m/sec**2": "m/s2",
+    "nm/s**2": "nm/s2",
+    "nm/s^2": "nm/s2",
 }
 
 

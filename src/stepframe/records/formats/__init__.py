@@ -73,7 +73,16 @@ def register(fmt: RecordFormat) -> RecordFormat:
 
 
 #: Built-in format modules in sniffing order: most specific sniffers first.
-_BUILTIN_MODULES = ("fema", "at2")
+_BUILTIN_MODULES = (
+    "fema",
+    "cosmos",
+    "geonet",
+    "dmg",
+    "esm",
+    "at2",
+    "obspy_formats",
+    "text",
+)
 
 
 def _load_builtin_formats() -> None:

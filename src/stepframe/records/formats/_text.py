@@ -15,11 +15,6 @@ import numpy as np
 from stepframe.errors import FormatError
 from stepframe.records.units import normalize_units
 
-#: A decimal number in Fortran E/F notation; used only where values run into each other.
-_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][-+]?\d+)?"
-_RUN_TOGETHER = re.compile(rf"(?:\s*{_NUMBER})+\s*")
-_ONE_NUMBER = re.compile(_NUMBER)
-
 
 class FormatWarning(UserWarning):
     """A file read cleanly whose header has a problem that does not touch the data."""
@@ -49,9 +44,14 @@ def read_lines(path: Path, what: str) -> list[str]:
 
 
 def numbers(
-    lines: list[str], first: int, path: Path, *, count: int | None = None
+    lines: list[str],
+    first: int,
+    path: Path,
+    *,
+    count: int | None = None,
+    width: int | None = None,
 ) -> tuple[np.ndarray, int]:
-    """Parse whitespace-separated numbers from ``lines[first:]``.
+    """Parse numbers from ``lines[first:]``, separated by blanks or in fixed-width fields.
 
     Parameters
     ----------
@@ -62,7 +62,10 @@ def numbers(
     path
         The file, for messages.
     count
-        Stop after this many values (the rest of the file is left unread); None reads to the end.
+        Stop at the end of the line that completes this many values; None reads to the end.
+    width
+        Field width of a Fortran fixed format (``8F10.5`` → 10), so that fields that touch
+        (``5.0000000-999.00000``) are split where the format puts them; None splits on blanks.
 
     Returns
     -------
@@ -74,25 +77,30 @@ def numbers(
     Raises
     ------
     FormatError
-        A word that is not a number, naming its line.
+        A field that is not a number, or values beyond ``count`` on the last line, naming the line.
     """
     values: list[float] = []
     index = first
     while index < len(lines) and (count is None or len(values) < count):
         line = lines[index]
         index += 1
-        words = line.split()
+        if width is None:
+            words = line.split()
+        else:
+            text = line.rstrip()
+            words = [text[i : i + width].strip() for i in range(0, len(text), width)]
+            words = [w for w in words if w]
         try:
             values.extend(float(word) for word in words)
         except ValueError:
-            # Fixed-width Fortran fields can touch ("-1.234E-02-5.678E-03"); accept only that.
-            fixed = line.replace("D", "E").replace("d", "e")
-            if not _RUN_TOGETHER.fullmatch(fixed):
-                bad = next(w for w in words if not _is_number(w))
+            words = [w.replace("D", "E").replace("d", "e") for w in words]
+            bad = next((w for w in words if not _is_number(w)), None)
+            if bad is not None or width is not None:
+                shown = bad if bad is not None else line.strip()
                 raise FormatError(
-                    f"non-numeric value {bad[:30]!r} in the data, expected numbers", path, index
+                    f"non-numeric value {shown[:30]!r} in the data, expected numbers", path, index
                 ) from None
-            values.extend(float(m[0]) for m in _ONE_NUMBER.finditer(fixed))
+            values.extend(float(w) for w in words)
     if count is not None and len(values) > count:
         raise FormatError(
             f"line holds values beyond the {count} stated, expected the block to end there",
@@ -100,6 +108,16 @@ def numbers(
             index,
         )
     return np.asarray(values, dtype=np.float64), index
+
+
+#: A Fortran data format such as ``(8F10.5)``, ``(1E15.6)``, ``(10I8)``.
+_FORTRAN = re.compile(r"\(\s*(\d*)\s*[EFGDI]\s*(\d+)(?:\.\d+)?\s*\)", re.IGNORECASE)
+
+
+def fortran_width(text: str) -> int | None:
+    """Field width of the first Fortran format in ``text`` (``"Format=(8F10.5)"`` → 10)."""
+    match = _FORTRAN.search(text)
+    return int(match[2]) if match else None
 
 
 def _is_number(word: str) -> bool:
@@ -155,21 +173,43 @@ def check_count(values: np.ndarray, npts: int, path: Path, line: int | None) -> 
 
 
 def check_peak(
-    data: np.ndarray, stated: float | None, path: Path, what: str, *, rel: float = 5e-3
+    data: np.ndarray,
+    stated: float | None,
+    path: Path,
+    what: str,
+    *,
+    resolution: float | None = None,
+    line: int | None = None,
 ) -> None:
-    """Warn when a header's stated peak disagrees with the data's peak (both in file units).
+    """Warn when a header's stated peak disagrees with the data's peak (same units).
 
-    A header's peak is printed to a few digits, so agreement is to ``rel`` (relative).
+    Parameters
+    ----------
+    data
+        The series.
+    stated
+        The header's peak (sign ignored); None skips the check.
+    resolution
+        The last printed digit of the header value (``".028"`` → 0.001): agreement is to half of
+        it plus a relative 1e-6. None: agreement to a relative 5e-3.
     """
     if stated is None or data.size == 0:
         return
     peak = float(np.max(np.abs(data)))
-    if abs(peak - abs(stated)) > rel * max(abs(stated), 1e-30):
-        warnings.warn(
-            f"{path}: {what}: header peak {stated:g} but the data peak is {peak:g}",
-            FormatWarning,
-            stacklevel=3,
-        )
+    if resolution is None:
+        tolerance = 5e-3 * abs(stated)
+    else:
+        tolerance = 0.5 * resolution + 1e-6 * abs(stated)
+    if abs(peak - abs(stated)) > tolerance:
+        warn(f"{what}: header peak {stated:g} but the data peak is {peak:g}", path, line)
+
+
+def resolution_of(text: str) -> float:
+    """Value of the last printed digit of a decimal (``"27.114"`` → 0.001, ``"4"`` → 1)."""
+    mantissa = text.strip().lower().split("e")[0]
+    decimals = len(mantissa.split(".")[1]) if "." in mantissa else 0
+    scale = 10.0 ** int(text.lower().split("e")[1]) if "e" in text.lower() else 1.0
+    return 10.0**-decimals * scale
 
 
 def warn(message: str, path: Path, line: int | None = None) -> None:

@@ -1,0 +1,196 @@
+"""GeoNet (GNS Science, New Zealand) V1A and V2A files (format name ``geonet``).
+
+A file holds one block per component: 16 text lines, 40 integers (``10I8``, 4 lines), 60 reals
+(``10F8``, 6 lines), then the acceleration values in ``10F8`` fields and, in V2A files, the velocity
+and displacement blocks (not read: acceleration only). Integers 34-36 (1-based) give the numbers
+of acceleration, velocity and displacement values; integers 1-6 the start date and time (the
+seconds times ten) of the unprocessed record; real 22 the seconds of padding V2A processing adds
+before it (the header's peak times agree with the data only with that pad). Text lines used::
+
+    Site WPWS      39 56 38S  176 35 04E ...
+    Epicentre  40 03 27S 176 32 45E  Bearing S15W  Dist   13km  Depth    9km M  4.17
+    Raw readings in units of 1.00 mm/s/s  at intervals of 0.005 s          (V1A)
+    Instrument corrected data at 0.020 sec intervals                        (V2A)
+    Component S16W  Longitudinal Accelerometer Axis
+    Acceleration:  peak    -41.6 mm/s/s at  43.68 sec ...
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+from typing import Any
+
+from stepframe.errors import FormatError
+from stepframe.records.formats import ReadOptions, RecordFormat, register
+from stepframe.records.formats._text import (
+    check_count,
+    check_peak,
+    numbers,
+    read_lines,
+    resolution_of,
+    resolve_units,
+    warn,
+)
+from stepframe.records.units import factor_to_m_s2
+
+_FIRST_LINE = re.compile(r"^\s*(Uncorrected|Corrected)\s+accelerogram", re.I)
+_SITE = re.compile(r"^\s*Site\s+(\S+)")
+_INTERVAL = re.compile(r"(?:intervals\s+of\s+|data\s+at\s+)(\S+)\s*s", re.I)
+_RAW_UNITS = re.compile(r"units\s+of\s+(\S+)\s+(\S+)", re.I)
+_COMPONENT = re.compile(r"^\s*Component\s+(\S+)", re.I)
+_PEAK = re.compile(r"^\s*Acceleration:\s*peak\s+(-?[\d.]+)\s+(\S+)", re.I)
+_EPICENTRE = re.compile(r"Dist\s+(\d+(?:\.\d+)?)\s*km.*?\bM\w?\s+(\d+(?:\.\d+)?)", re.I)
+_N_TEXT, _N_INT, _N_REAL, _WIDTH = 16, 40, 60, 8
+
+
+def sniff(head: bytes, path: Path) -> bool:
+    """True for a GeoNet text header: accelerogram line, ``Site`` line, ``Component`` line."""
+    try:
+        lines = head.decode("latin-1").splitlines()
+        return (
+            len(lines) >= 13
+            and bool(_FIRST_LINE.search(lines[0]))
+            and bool(_SITE.match(lines[1]))
+            and any(_COMPONENT.match(x) for x in lines[:16])
+        )
+    except Exception:  # a sniffer never raises
+        return False
+
+
+def _start_time(ints: list[int], path: Path, line: int) -> Any:
+    from obspy import UTCDateTime
+
+    year, month, day, hour, minute, tenths = ints[:6]
+    try:
+        return UTCDateTime(year, month, day, hour, minute) + tenths / 10.0
+    except (ValueError, TypeError):
+        warn(
+            f"bad start time {year}-{month}-{day} {hour}:{minute} in the integer header, "
+            "expected a calendar date; start time left at 0",
+            path,
+            line,
+        )
+        return None
+
+
+def _component(lines: list[str], start: int, options: ReadOptions, path: Path) -> tuple[Any, int]:
+    """The trace of the block starting at ``lines[start]`` and the index after the block."""
+    from stepframe.records.trace import make_trace
+
+    text = lines[start : start + _N_TEXT]
+    if len(text) < _N_TEXT or not _FIRST_LINE.search(text[0]):
+        raise FormatError(
+            "component block does not start with a 16-line GeoNet text header, "
+            "expected '... accelerogram ...'",
+            path,
+            start + 1,
+        )
+    ints_f, i = numbers(lines, start + _N_TEXT, path, count=_N_INT, width=_WIDTH)
+    check_count(ints_f, _N_INT, path, start + _N_TEXT + 1)
+    reals, i = numbers(lines, i, path, count=_N_REAL, width=_WIDTH)
+    ints = [int(v) for v in ints_f]
+    n_acc, n_vel, n_dis = ints[33:36]
+    dt_s: float | None = None
+    stated: str | None = None
+    scale = 1.0
+    channel = station = ""
+    peak_match = None
+    epicentre = None
+    for offset, line in enumerate(text):
+        number = start + offset + 1
+        if (match := _INTERVAL.search(line)) and dt_s is None:
+            try:
+                dt_s = float(match[1])
+            except ValueError:
+                raise FormatError(
+                    f"sampling interval {match[1]!r} is not a number, expected seconds",
+                    path,
+                    number,
+                ) from None
+            if raw := _RAW_UNITS.search(line):
+                try:
+                    scale = float(raw[1])
+                except ValueError:
+                    raise FormatError(
+                        f"unit scale {raw[1]!r} is not a number, expected one", path, number
+                    ) from None
+                stated = raw[2]
+        if match := _COMPONENT.match(line):
+            channel = match[1]
+        if match := _SITE.match(line):
+            station = match[1]
+        if match := _PEAK.match(line):
+            peak_match, peak_line = match, number
+            stated = stated or match[2]
+        if match := _EPICENTRE.search(line):
+            epicentre = match
+    if dt_s is None or not dt_s > 0:
+        raise FormatError(
+            "no sampling interval in the text header, expected 'at intervals of <dt> s' or "
+            "'data at <dt> sec intervals'",
+            path,
+            start + 11,
+        )
+    units = resolve_units(stated, options.units, path, start + 11)
+    values, end = numbers(lines, i, path, count=n_acc, width=_WIDTH)
+    check_count(values, n_acc, path, i + 1)
+    data_m_s2 = values * scale * factor_to_m_s2(units)
+    if peak_match is not None:
+        factor = scale * factor_to_m_s2(units)
+        check_peak(
+            data_m_s2,
+            float(peak_match[1]) * factor,
+            path,
+            f"component {channel}",
+            resolution=resolution_of(peak_match[1]) * factor,
+            line=peak_line,
+        )
+    # Velocity and displacement blocks of V2A files follow, 10 values a line.
+    end += sum(-(-n // 10) for n in (n_vel, n_dis))
+    start_time = _start_time(ints, path, start + _N_TEXT + 1)
+    if start_time is not None and reals.size > 21 and reals[21] > 0:
+        # V2A processing pads the front; real 22 is the pad [s]: the header's peak times (from
+        # the V1A origin) match the data only once it is subtracted (checked on real files).
+        start_time -= float(reals[21])
+    trace = make_trace(
+        data_m_s2,
+        dt_s,
+        network="NZ",
+        station=station,
+        channel=channel,
+        starttime=start_time,
+        source_file=str(path),
+        format="geonet",
+        units_in=units,
+        event=text[6].strip(),
+        magnitude=float(epicentre[2]) if epicentre else None,
+        repi_km=float(epicentre[1]) if epicentre else None,
+    )
+    return trace, end
+
+
+def read(path: Path, options: ReadOptions) -> Any:
+    """Read a GeoNet V1A/V2A file: one trace per component, in m/s².
+
+    Raises
+    ------
+    FormatError
+        A block that does not follow the layout, a count disagreeing with the data, non-numeric
+        values or an unknown unit (each naming the line).
+    """
+    from obspy import Stream
+
+    lines = read_lines(path, "GeoNet V1A/V2A")
+    traces = []
+    i = 0
+    while i < len(lines):
+        if not lines[i].strip():
+            i += 1
+            continue
+        trace, i = _component(lines, i, options, path)
+        traces.append(trace)
+    return Stream(traces)
+
+
+FORMAT = register(RecordFormat(name="geonet", sniff=sniff, read=read, extensions=(".V1A", ".V2A")))
