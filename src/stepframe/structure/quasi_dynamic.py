@@ -374,7 +374,7 @@ def closed_form_fixed_points(
     # δ_1* = 0 sits at T = 0, on the plateau, where the map is f_1 with slope λ_1 (eq. 2.11).
     out.append(make("delta_1", "eq. 2.9", "short", 0.0, lam1))
     delta_2 = (1.0 - lam1) / w
-    out.append(make("delta_2", "eq. 2.9", "short", delta_2 if lam1 < 1 else None, 1.0 / lam1))
+    out.append(make("delta_2", "eq. 2.9", "short", delta_2 if lam1 <= 1 else None, 1.0 / lam1))
     disc = 1.0 - 4.0 * w * lam2**2
     if disc >= 0:
         s = math.sqrt(disc)
