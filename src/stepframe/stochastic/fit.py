@@ -117,7 +117,8 @@ def _fit_omega(
 
     def residual(u: NDArray[np.float64]) -> NDArray[np.float64]:
         model = smooth(_omega_curve(u, tau, t_max_s), kernel)
-        return np.asarray(sw * (obs[use] - model[use]) / model[use])
+        # Crossing counts are roughly Poisson: variance ∝ rate, so scale residuals by √model.
+        return np.asarray(sw * (obs[use] - model[use]) / np.sqrt(model[use]))
 
     scale = max(float(start[0]), 1e-3)
     result = least_squares(
@@ -328,7 +329,9 @@ def _bootstrap(
         design = _alpha_design(tau[idx], ramp)
         sw = np.sqrt(weight[idx])
         c_b, *_ = np.linalg.lstsq(design * sw[:, None], alpha_b * sw)
-        out[b] = (p, s, r, c_b[0] / p, c_b[1] / r)
+        # The same clipping as the estimate: a refit with ω_r → 0 must not give ξ_r → ∞.
+        xi_b = np.clip([c_b[0] / p, c_b[1] / r], *_XI_RANGE)
+        out[b] = (p, s, r, xi_b[0], xi_b[1])
     return out
 
 

@@ -1,0 +1,128 @@
+"""Record features: Vanmarcke's q by quadrature, tones, stationary eq. 6.12, envelopes, picks."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy import integrate
+from scipy.integrate import cumulative_trapezoid
+
+from stepframe.errors import InputError
+from stepframe.stochastic.envelope import default_envelope
+from stepframe.stochastic.features import record_features, vanmarcke_q
+from stepframe.stochastic.model import GroundMotionModel
+from stepframe.stochastic.spectra import evolutionary_spectrum, mean_square
+from stepframe.stochastic.synthetic import synthetic_motions
+
+FLAT = GroundMotionModel(20.0001, 20.0, 19.9999, 0.2, 0.2, t_max_s=1.0, t_dur_s=2.0)
+
+
+@pytest.mark.parametrize("zeta", [0.02, 0.1, 0.3, 0.6, 0.9])
+def test_vanmarcke_q_against_quadrature(zeta: float) -> None:
+    wg = 7.0
+    s = lambda w: 1.0 / ((w**2 - wg**2) ** 2 + 4 * zeta**2 * wg**2 * w**2)  # noqa: E731
+    lam = [
+        integrate.quad(lambda w, k=k: w**k * s(w), 0, wg, limit=500)[0]
+        + integrate.quad(lambda w, k=k: w**k * s(w), wg, np.inf, limit=500)[0]
+        for k in (0, 1, 2)
+    ]
+    assert lam[2] / lam[0] == pytest.approx(wg**2, rel=1e-7)  # E[ẏ²]/E[y²] = ω_g²
+    q = math.sqrt(1 - lam[1] ** 2 / (lam[0] * lam[2]))
+    assert float(vanmarcke_q(np.array([zeta]))[0]) == pytest.approx(q, rel=1e-6)
+
+
+@pytest.mark.parametrize("frequency", ["zero-crossing", "moment", "ridge"])
+def test_pure_tone_returns_its_frequency(frequency: str) -> None:
+    t = np.arange(0, 30, 0.005)
+    x = 0.3 * np.sin(2 * math.pi * 3.3 * t + 0.4)
+    f = record_features(x, 0.005, frequency=frequency)  # type: ignore[arg-type]
+    inner = f.omega_g_rad_s[20:-20]
+    tol = 0.005 if frequency == "ridge" else 1e-3
+    np.testing.assert_allclose(inner, 2 * math.pi * 3.3, rtol=tol)
+    assert float(np.median(f.alpha_g_rad_s[20:-20])) < 0.05  # a line has no bandwidth
+
+
+def _band_limited_omega(model: GroundMotionModel, omega_max: float) -> float:
+    """√(λ2/λ0) of eq. 6.12 cut at ``omega_max``: what a sampled record's crossings can see."""
+    lam0 = integrate.quad(lambda w: model.psd(w, 0.0), 0, omega_max, limit=400)[0]
+    lam2 = integrate.quad(lambda w: w**2 * model.psd(w, 0.0), 0, omega_max, limit=400)[0]
+    return math.sqrt(lam2 / lam0)
+
+
+def test_stationary_eq_6_12_zero_crossings_and_bandwidth() -> None:
+    npts, dt, n = 30001, 0.01, 6
+    _, acc = synthetic_motions(
+        FLAT, duration_s=300.0, dt_s=dt, seed=21, envelope=np.ones(npts), n_realisations=n
+    )
+    inner = slice(20, -20)
+    zc, alpha, moment = [], [], []
+    for x in acc:
+        f = record_features(x, dt, window_s=4.0)
+        zc.append(np.mean(f.omega_g_rad_s[inner]))
+        alpha.append(np.mean(f.alpha_g_rad_s[inner]))
+        m = record_features(x, dt, window_s=4.0, frequency="moment")
+        moment.append(np.mean(m.omega_g_rad_s[inner]))
+    # Crossings faster than the sampling are lost: the expectation is ω_g less the part of
+    # λ2 beyond Nyquist (0.8 % here); 6 × 300 s give about 0.5 % statistical error.
+    expected = _band_limited_omega(FLAT, math.pi / dt)
+    assert expected == pytest.approx(
+        20.0 * math.sqrt(1 - 4 * 4.0 / (math.pi * math.pi / dt)), rel=2e-3
+    )
+    assert float(np.mean(zc)) == pytest.approx(expected, rel=0.015)
+    assert float(np.mean(moment)) == pytest.approx(expected, rel=0.015)
+    assert float(np.mean(alpha)) == pytest.approx(4.0, rel=0.15)
+
+
+def test_intensity_is_the_stft_mean_square_and_envelope_times() -> None:
+    model = GroundMotionModel.from_hz(5, 2.5, 0.8, 0.3, 0.3, t_max_s=6.0, t_dur_s=18.0, t0_s=2.0)
+    t = np.arange(0, 40, 0.005)
+    phase = cumulative_trapezoid(model.omega_g(t), t, initial=0)
+    envelope = default_envelope(t, model.t_max_s, model.t_dur_s, 3.0, t0_s=model.t0_s)
+    x = envelope * np.cos(phase)
+    f = record_features(x, 0.005)
+    spec = evolutionary_spectrum(x, 0.005)
+    np.testing.assert_allclose(f.intensity**2, mean_square(spec), rtol=1e-12)
+    # A chirp under an envelope: I_g = envelope/√2; times from the record start (t0 = 0).
+    assert f.peak_intensity == pytest.approx(3.0 / math.sqrt(2), rel=0.01)
+    assert f.t_max_s == pytest.approx(2.0 + 6.0, rel=0.02)
+    assert f.t_dur_s == pytest.approx(2.0 + 18.0, rel=0.01)
+    assert f.t0_s == 0.0 and f.flags == ()
+
+
+def test_p_pick_sets_the_time_origin() -> None:
+    rng = np.random.default_rng(4)
+    dt = 0.01
+    t = np.arange(0, 40, dt)
+    noise = 1e-4 * rng.standard_normal(t.size)
+    model = GroundMotionModel.from_hz(8, 3, 1, 0.2, 0.3, t_max_s=4.0, t_dur_s=12.0, t0_s=6.0)
+    _, acc = synthetic_motions(model, duration_s=t[-1] + dt / 2, dt_s=dt, seed=3)
+    f = record_features(acc[0] + noise, dt, t0="p-pick")
+    assert f.p_onset_s is not None
+    assert f.p_onset_s == pytest.approx(6.0, abs=0.6)
+    assert f.t0_s == f.p_onset_s
+    assert f.s_arrival_s is not None and f.p_onset_s < f.s_arrival_s < 6.0 + 8.0
+    assert f.t_max_s == pytest.approx(4.0, abs=1.5)
+
+
+def test_degraded_results_are_flagged() -> None:
+    t = np.arange(0, 20, 0.01)
+    rising = np.sin(2 * math.pi * 2.0 * t) * (t / 20.0)  # still growing at the end
+    assert "duration_truncated" in record_features(rising, 0.01).flags
+    near_nyquist = np.sin(2 * math.pi * 40.0 * t) * np.hanning(t.size)  # 40 Hz at dt 0.01
+    assert "band_limited" in record_features(near_nyquist, 0.01).flags
+
+
+def test_bad_input() -> None:
+    x = np.sin(np.arange(0, 20, 0.01))
+    with pytest.raises(InputError, match="Nyquist"):
+        record_features(x, 0.01, omega_max_rad_s=400.0)
+    with pytest.raises(InputError, match="frequency"):
+        record_features(x, 0.01, frequency="hilbert")  # type: ignore[arg-type]
+    with pytest.raises(InputError, match="t0"):
+        record_features(x, 0.01, t0="s-pick")  # type: ignore[arg-type]
+    with pytest.raises(InputError, match="threshold"):
+        record_features(x, 0.01, threshold=1.5)
+    with pytest.raises(InputError, match="NaN"):
+        record_features(np.r_[x, np.nan], 0.01)

@@ -1,0 +1,118 @@
+"""Fit of the B-P parameters: chirps (deterministic), recovery over seeds, errors, bad input."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy import signal
+from scipy.integrate import cumulative_trapezoid
+
+from stepframe.errors import InputError
+from stepframe.stochastic.envelope import default_envelope
+from stepframe.stochastic.features import record_features
+from stepframe.stochastic.fit import fit_model
+from stepframe.stochastic.model import GroundMotionModel
+from stepframe.stochastic.spectra import evolutionary_spectrum
+from stepframe.stochastic.synthetic import synthetic_motions
+
+SETS = {
+    "paper-site": GroundMotionModel.from_hz(7.43, 3.12, 1.11, 0.096, 0.655, 5.0, 20.0),
+    "stiff": GroundMotionModel.from_hz(10, 4, 1.5, 0.2, 0.4, t_max_s=8.0, t_dur_s=25.0),
+    "soft": GroundMotionModel.from_hz(5, 2.5, 0.8, 0.3, 0.3, t_max_s=4.0, t_dur_s=15.0),
+}
+
+
+def _chirp(model: GroundMotionModel, dt: float = 0.005) -> np.ndarray:
+    t = np.arange(0, 45, dt)
+    phase = cumulative_trapezoid(model.omega_g(t), t, initial=0)
+    return np.asarray(default_envelope(t, model.t_max_s, model.t_dur_s) * np.cos(phase))
+
+
+def _relative_errors(fitted: GroundMotionModel, true: GroundMotionModel) -> np.ndarray:
+    keys = ("omega_p_rad_s", "omega_s_rad_s", "omega_r_rad_s", "xi_p", "xi_r")
+    return np.array([getattr(fitted, k) / getattr(true, k) - 1 for k in keys])
+
+
+@pytest.mark.parametrize("name", list(SETS))
+@pytest.mark.parametrize("frequency", ["zero-crossing", "ridge", "moment"])
+def test_chirp_following_eq_6_10_is_recovered(name: str, frequency: str) -> None:
+    true = SETS[name]
+    features = record_features(_chirp(true), 0.005, frequency=frequency)  # type: ignore[arg-type]
+    fitted = fit_model(features).model
+    err = np.abs(_relative_errors(fitted, true)[:3])
+    assert np.all(err < 0.05), err
+    if frequency == "zero-crossing":  # exact in expectation: what it achieves
+        assert np.all(err < 0.012), err
+    assert features.t_max_s == pytest.approx(true.t_max_s, rel=0.015)
+
+
+@pytest.mark.parametrize("name", list(SETS))
+def test_recovery_over_20_seeds(name: str) -> None:
+    """Median relative errors over 20 realisations (full study: docs/stochastic-features.md)."""
+    true = SETS[name]
+    _, acc = synthetic_motions(true, duration_s=45.0, dt_s=0.01, n_realisations=20, seed=2024)
+    errors, stderrs = [], []
+    for x in acc:
+        result = fit_model(record_features(x, 0.01))
+        errors.append(_relative_errors(result.model, true))
+        stderrs.append(result.stderr["omega_s_rad_s"])
+    median = np.median(np.abs(errors), axis=0)
+    assert median[1] <= 0.15, median  # the issue's targets ...
+    assert median[0] <= 0.30 and median[2] <= 0.30, median
+    assert median[1] <= 0.11 and median[0] <= 0.17, median  # ... and what the estimator achieves
+    # Standard errors describe the scatter over seeds (within a factor of 2.5).
+    spread = np.std(np.array(errors)[:, 1]) * true.omega_s_rad_s
+    assert 0.4 < float(np.median(stderrs)) / spread < 2.5
+
+
+def test_bootstrap_errors_and_to_dict() -> None:
+    true = SETS["paper-site"]
+    _, acc = synthetic_motions(true, duration_s=40.0, dt_s=0.01, seed=9)
+    result = fit_model(record_features(acc[0], 0.01), bootstrap=30, seed=1)
+    assert result.bootstrap is not None and result.bootstrap.shape == (30, 5)
+    out = result.to_dict()
+    for key in ("omega_p_rad_s", "omega_s_rad_s", "omega_r_rad_s", "xi_p", "xi_r"):
+        assert out[f"{key}_stderr"] > 0
+        assert 0 < out[f"{key}_bootstrap_stderr"] < out[key]
+    assert out["alpha_reading"] == "eq-6-11"
+    assert 0 <= out["fit_quality"] < 0.5
+    assert np.all(result.bootstrap[:, 0] >= result.bootstrap[:, 1])  # ω_p ≥ ω_s in every refit
+
+
+def test_corner_frequency_of_a_high_passed_motion() -> None:
+    """ω_c of ω⁴/(ω² + ω_c²)² (critically damped 2nd-order high-pass) applied to a synthetic."""
+    true = GroundMotionModel.from_hz(5, 2.5, 1.5, 0.4, 0.5, t_max_s=5.0, t_dur_s=20.0)
+    dt, wc = 0.01, 4.0
+    _, acc = synthetic_motions(true, duration_s=60.0, dt_s=dt, n_realisations=4, seed=3)
+    b, a = signal.bilinear([1.0, 0.0, 0.0], [1.0, 2 * wc, wc**2], fs=1 / dt)
+    estimates = []
+    for x in acc:
+        y = signal.lfilter(b, a, x)
+        spectrum = evolutionary_spectrum(y, dt, window_s=8.0)
+        result = fit_model(record_features(y, dt), fit_corner=True, spectrum=spectrum)
+        assert result.model.omega_c_rad_s is not None
+        estimates.append(result.model.omega_c_rad_s)
+    assert float(np.median(estimates)) == pytest.approx(wc, rel=0.35)
+
+
+def test_alpha_reading_paper_ends_the_ramp_at_t_max() -> None:
+    features = record_features(_chirp(SETS["stiff"]), 0.005)
+    result = fit_model(features, alpha_reading="paper")
+    assert result.model.alpha_reading == "paper"
+    assert float(result.model.alpha_g(features.t_max_s)) == pytest.approx(
+        result.model.omega_r_rad_s * result.model.xi_r
+    )
+
+
+def test_bad_input() -> None:
+    t = np.arange(0, 6, 0.01)
+    short = np.sin(2 * math.pi * 3 * t) * np.exp(-((t - 3) ** 2) * 40)  # a blip: few frames
+    features = record_features(short, 0.01)
+    with pytest.raises(InputError, match="frames"):
+        fit_model(features, fit_threshold=0.999)
+    with pytest.raises(InputError, match="bootstrap"):
+        fit_model(features, bootstrap=-1)
+    with pytest.raises(InputError, match="spectrum"):
+        fit_model(features, fit_corner=True)
