@@ -1,0 +1,124 @@
+"""`stepframe structure design`: options, input file, template, --json, --plot, errors."""
+
+from __future__ import annotations
+
+import json
+import math
+import tomllib
+from pathlib import Path
+
+import pytest
+
+from stepframe.cli import main
+
+EXAMPLE_2 = [
+    "structure", "design", "--weight-super-n", "1.472e6", "--weight-col-n", "0",
+    "--weight-total-n", "2.807e6", "--footing-length-m", "8.839", "--block-width-m", "1.166",
+    "--height-m", "29.944", "--sds-g", "1.038", "--sd1-g", "0.456", "--beta", "0.8",
+    "--delta0-m", "0.00254,0.3048",
+]  # fmt: skip
+
+
+def run_json(args: list[str], capsys: pytest.CaptureFixture[str]) -> dict[str, object]:
+    assert main([*args, "--json"]) == 0
+    out = capsys.readouterr().out
+    data = json.loads(out)
+    assert isinstance(data, dict)
+    return data
+
+
+def test_example_2_from_options(capsys: pytest.CaptureFixture[str]) -> None:
+    data = run_json(EXAMPLE_2, capsys)
+    constants = data["constants"]
+    assert isinstance(constants, dict)
+    w = 2 * 1.472e6 / (2.807e6 * (8.839 - 1.166))
+    assert constants["w_per_m"] == pytest.approx(w, rel=1e-12)
+    # λ_2 of eq. 2.5 with W_col = 0, written out.
+    lam2 = 0.8 * 0.456 * 9.81 / (2 * math.pi * math.sqrt(9.81))
+    lam2 *= math.sqrt(1.472e6 / 2.807e6 * 2 * 29.944 / (8.839 - 1.166))
+    assert constants["lambda_2_sqrt_m"] == pytest.approx(lam2, rel=1e-12)
+    design = data["design"]
+    assert isinstance(design, dict)
+    s = math.sqrt(1 - 4 * w * lam2**2)
+    assert design["delta_m"] == pytest.approx((1 - s) / (2 * w), rel=1e-9)
+    assert design["branch"] == "long" and design["status"] == "ok"
+    iterations = data["iterations"]
+    assert isinstance(iterations, list) and len(iterations) == 2
+    for trace in iterations:
+        assert trace["status"] == "converged"
+        assert trace["delta_m"] == pytest.approx(design["delta_m"], rel=1e-9)
+    assert iterations[0]["rows"][0]["branch"] == "short"  # 0.1 in starts on the plateau
+
+
+def test_text_output_and_plot(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out = tmp_path / "cobweb.png"
+    assert main([*EXAMPLE_2, "--plot", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "delta_3" in text and "design (closed-form): delta* = 0.137951 m" in text
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert [p.name for p in tmp_path.iterdir()] == ["cobweb.png"]  # no temporary left
+
+
+def test_template_round_trip(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["structure", "design", "--template"]) == 0
+    template = capsys.readouterr().out
+    tomllib.loads(template)  # valid TOML
+    path = tmp_path / "pier.toml"
+    path.write_text(template)
+    data = run_json(["structure", "design", "--input", str(path)], capsys)
+    design = data["design"]
+    assert isinstance(design, dict)
+    assert design["delta_m"] == pytest.approx(0.7373367, abs=1e-7)  # Example 1, recomputed
+    # An option overrides the file: --c-r 1 gives ξ = 0 and β = √2 (Eurocode 8).
+    data = run_json(["structure", "design", "--input", str(path), "--c-r", "1"], capsys)
+    constants = data["constants"]
+    assert isinstance(constants, dict)
+    assert constants["beta"] == pytest.approx(math.sqrt(2))
+    assert constants["xi"] == 0.0
+
+
+def test_tabulated_spectrum_uses_search(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    path = tmp_path / "table.toml"
+    path.write_text(
+        "[pier]\nweight_super_n = 8e6\nweight_col_n = 2.12e5\nweight_total_n = 9.6e6\n"
+        "footing_length_m = 7.0\nheight_m = 27.0\nblock_width_m = 1.3714\n"
+        "[spectrum]\nperiods_s = [0.0, 0.5, 2.0, 4.0, 8.0]\nsa_g = [0.4, 0.9, 0.25, 0.12, 0.05]\n"
+        "[damping]\nxi = 0.1\nmethod = 'ec8-1998'\n"
+    )
+    data = run_json(["structure", "design", "--input", str(path)], capsys)
+    assert data["fixed_points"] == []
+    design = data["design"]
+    assert isinstance(design, dict) and design["method"] == "search"
+    assert design["status"] == "ok"
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (["--height-m", "-3"], "height_m = -3.0, expected > 0"),
+        (["--xi", "0.1"], "expected exactly one of beta, xi or c_r"),
+        (["--plot", "out.txt"], "expected .png, .pdf or .svg"),
+    ],
+)
+def test_bad_input_is_one_line_exit_2(
+    extra: list[str], message: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    args = [*EXAMPLE_2, *extra]
+    if "--xi" in extra:  # --xi together with --beta
+        args = [*EXAMPLE_2, "--xi", "0.1"]
+    assert main(args) == 2
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    lines = captured.err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("stepframe: error: ")
+    assert message in lines[0]
+
+
+def test_unknown_toml_key_names_file_and_key(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path = tmp_path / "bad.toml"
+    path.write_text("[pier]\nW_s = 1\n[spectrum]\ns_ds_g = 1\ns_d1_g = 0.4\n[damping]\nbeta = 1\n")
+    assert main(["structure", "design", "--input", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert str(path) in err and "unknown key(s) ['W_s']" in err
