@@ -91,16 +91,18 @@ def numbers(
             words = [text[i : i + width].strip() for i in range(0, len(text), width)]
             words = [w for w in words if w]
         try:
-            values.extend(float(word) for word in words)
+            row = [float(word) for word in words]
         except ValueError:
-            words = [w.replace("D", "E").replace("d", "e") for w in words]
-            bad = next((w for w in words if not _is_number(w)), None)
-            if bad is not None or width is not None:
-                shown = bad if bad is not None else line.strip()
+            # Fortran D exponents (1.0D-03) are numbers; the message shows the word as written.
+            fixed = [w.replace("D", "E").replace("d", "e") for w in words]
+            bad = next((w for w, f in zip(words, fixed, strict=True) if not _is_number(f)), None)
+            if bad is not None:
+                where = "" if count is None else f" after {len(values)} of {count} values"
                 raise FormatError(
-                    f"non-numeric value {shown[:30]!r} in the data, expected numbers", path, index
+                    f"non-numeric value {bad[:30]!r}{where}, expected numbers", path, index
                 ) from None
-            values.extend(float(w) for w in words)
+            row = [float(f) for f in fixed]
+        values.extend(row)
     if count is not None and len(values) > count:
         raise FormatError(
             f"line holds values beyond the {count} stated, expected the block to end there",

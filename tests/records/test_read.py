@@ -1,0 +1,243 @@
+"""``read`` and the registry: sniffing, gzip input, components, and bad input in every format.
+
+Bad files are real files with one defect put in on purpose; each must give one line naming the
+file, the line and the problem, or read cleanly with a warning where the data are intact.
+"""
+
+from __future__ import annotations
+
+import gzip
+import warnings
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from stepframe.errors import InputError
+from stepframe.records import read
+from stepframe.records.formats import FORMATS, SNIFF_BYTES
+from stepframe.records.formats._text import FormatWarning
+
+DATA = Path(__file__).parents[1] / "data" / "formats"
+# Record files only (StationXML inventories, provenance and licences are not records).
+REAL = sorted(p for p in DATA.rglob("*") if p.is_file() and p.suffix not in {".md", ".txt", ".xml"})
+EXPECTED_FORMAT = {
+    "cosmos": "cosmos",
+    "dmg": "dmg",
+    "geonet": "geonet",
+    "esm": "esm",
+    "knet": "knet",
+    "kiknet": "knet",
+    "miniseed": "mseed",
+    "sac": "sac",
+    "kinemetrics": "kinemetrics_evt",
+    "peer_nga_west2": "at2",
+}
+
+
+def _plain_bytes(path: Path) -> bytes:
+    raw = path.read_bytes()
+    return gzip.decompress(raw) if raw[:2] == b"\x1f\x8b" else raw
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_sniffers_never_raise_on_random_bytes(seed: int, tmp_path: Path) -> None:
+    rng = np.random.default_rng(seed)
+    head = rng.integers(0, 256, size=int(rng.integers(0, SNIFF_BYTES))).astype(np.uint8).tobytes()
+    path = tmp_path / "random.bin"
+    path.write_bytes(head)
+    for fmt in FORMATS.values():
+        assert fmt.sniff(head, path) in (True, False)
+    assert fmt.sniff(b"", tmp_path / "missing") in (True, False)
+
+
+@pytest.mark.parametrize("path", REAL, ids=lambda p: p.name)
+def test_every_real_file_sniffed_as_its_format(path: Path, tmp_path: Path) -> None:
+    plain = tmp_path / path.name.removesuffix(".gz")
+    plain.write_bytes(_plain_bytes(path))
+    head = plain.read_bytes()[:SNIFF_BYTES]
+    matches = [name for name, fmt in FORMATS.items() if fmt.sniff(head, plain)]
+    assert matches and matches[0] == EXPECTED_FORMAT[path.parent.name]
+
+
+def test_gzip_reads_like_plain_and_names_the_gz(tmp_path: Path) -> None:
+    gz = DATA / "dmg" / "CICLC.v1.gz"
+    plain = tmp_path / "CICLC.v1"
+    plain.write_bytes(gzip.decompress(gz.read_bytes()))
+    a, b = read(gz), read(plain)
+    for x, y in zip(a, b, strict=True):
+        np.testing.assert_array_equal(x.data, y.data)
+    assert a[0].stats.stepframe.source_file == str(gz)
+    broken = tmp_path / "broken.v1.gz"
+    broken.write_bytes(gz.read_bytes()[:5000])
+    with pytest.raises(InputError, match=r"broken.v1.gz: corrupt gzip file"):
+        read(broken)
+
+
+def test_component_selection() -> None:
+    stream = read(DATA / "dmg" / "CICLC.v1.gz", component="360")
+    assert [t.stats.channel for t in stream] == ["360"]
+    with pytest.raises(InputError, match="no channel 'HNQ'"):
+        read(DATA / "dmg" / "CICLC.v1.gz", component="HNQ")
+
+
+def test_missing_empty_binary_directory(tmp_path: Path) -> None:
+    with pytest.raises(InputError, match="no such file"):
+        read(tmp_path / "none.AT2")
+    with pytest.raises(InputError, match="is a directory"):
+        read(tmp_path)
+    empty = tmp_path / "empty.AT2"
+    empty.write_bytes(b"")
+    with pytest.raises(InputError, match=r"empty.AT2: empty file"):
+        read(empty)
+    binary = tmp_path / "noise.V2"
+    binary.write_bytes(np.random.default_rng(1).integers(0, 256, 5000).astype(np.uint8).tobytes())
+    with pytest.raises(InputError, match=r"noise.V2: format not recognised"):
+        read(binary)
+    for name in ("at2", "cosmos", "dmg", "geonet", "esm", "text"):
+        with pytest.raises(InputError, match=r"noise.V2: binary content"):
+            read(binary, format=name)
+        with pytest.raises(InputError, match=r"empty.AT2: empty file"):
+            read(empty, format=name)
+
+
+Edit = Callable[[list[str]], list[str]]
+
+
+def _replace(line_no: int, old: str, new: str) -> Edit:
+    """Replace ``old`` by ``new`` on 1-based line ``line_no`` (checked to be there)."""
+
+    def edit(lines: list[str]) -> list[str]:
+        assert old in lines[line_no - 1], lines[line_no - 1]
+        lines[line_no - 1] = lines[line_no - 1].replace(old, new, 1)
+        return lines
+
+    return edit
+
+
+def _cut(n_lines: int) -> Edit:
+    return lambda lines: lines[:n_lines]
+
+
+def _drop(line_no: int) -> Edit:
+    return lambda lines: lines[: line_no - 1] + lines[line_no:]
+
+
+V2C = "cosmos/us1000hyfh_akbmrp_AKBMR--n.1000hyfh.BNZ.--.acc.V2c.gz"
+ESM = "esm/HI.ARS1..HNE.D.20190728.160908.C.ACC.ASC.gz"
+V2A = "geonet/20180212_211557_WPWS_20.V2A.gz"
+
+BAD = [
+    # (file, edit, message pattern with the line)
+    (V2C, _cut(1000), r":53: 947 values follow \(truncated\), expected NPTS = 42000"),
+    (
+        V2C,
+        _replace(53, "42000 acc", "42001 acc"),
+        r":42054: non-numeric value 'End-of-data for' after 42000 of 42001",
+    ),
+    (V2C, _replace(60, "e-04", "x-04"), r":60: non-numeric value '3.444521x-04'"),
+    (
+        V2C,
+        _replace(38, "       5.000000", "    -999.000000"),
+        r":1: sampling interval Real\(62\) unknown",
+    ),
+    (V2C, _replace(53, "cm/sec2(04)", "furlong/s2(04)"), r":53: unknown unit 'furlong/s2'"),
+    (
+        "dmg/CICLC.v1.gz",
+        _cut(2000),
+        r":28: 15776 values follow \(truncated\), expected NPTS = 31932",
+    ),
+    (
+        "dmg/CICLC.v1.gz",
+        _replace(28, "31932 Acc", "31933 Acc"),
+        r":4021: non-numeric value '/&  -----' after 31932 of 31933",
+    ),
+    (
+        "dmg/CICLC.v1.gz",
+        _replace(28, "at 100 pts", "at x00 pts"),
+        r":28: sampling .* not a positive number",
+    ),
+    (
+        "dmg/CICLC.v1.gz",
+        _replace(28, "units of g.", "units of furlongs."),
+        r":28: unknown unit 'furlongs'",
+    ),
+    (
+        "dmg/CICLC.v1.gz",
+        _replace(40, " -.000005", " -.0000x5"),
+        r":40: non-numeric value '-.0000x5'",
+    ),
+    (V2A, _replace(11, "data at 0.020 sec intervals", "data"), r":11: no sampling interval"),
+    (V2A, _replace(14, "mm/s/s at", "furlong/s/s at"), r":11: unknown unit 'furlong/s/s'"),
+    (
+        V2A,
+        _replace(20, "    5800    5800    5800", "    5801    5800    5800"),
+        r":607: line holds values beyond the 5801 stated",
+    ),
+    (V2A, _cut(300), r":27: 2740 values follow \(truncated\), expected NPTS = 5800"),
+    (ESM, _drop(29), r"no SAMPLING_INTERVAL_S in the header"),
+    (
+        ESM,
+        _replace(30, "19128", "19129"),
+        r":30: 19128 values follow \(truncated\), expected NPTS = 19129",
+    ),
+    (ESM, _replace(33, "cm/s^2", "furlong"), r":33: unknown unit 'furlong'"),
+    (ESM, _replace(29, "0.005000", "0.0O5"), r":29: SAMPLING_INTERVAL_S = '0.0O5' is not a number"),
+    (ESM, _replace(67, "0.000001", "0.0000x1"), r":67: non-numeric value '-0.0000x1'"),
+]
+
+
+def _edited(name: str, edit: Edit, tmp_path: Path) -> Path:
+    lines = _plain_bytes(DATA / name).decode("latin-1").splitlines()
+    path = tmp_path / Path(name).name.removesuffix(".gz")
+    path.write_text("\n".join(edit(lines)) + "\n", encoding="latin-1")
+    return path
+
+
+@pytest.mark.parametrize(("name", "edit", "pattern"), BAD)
+def test_bad_input_one_line_with_file_and_line(
+    name: str, edit: Edit, pattern: str, tmp_path: Path
+) -> None:
+    path = _edited(name, edit, tmp_path)
+    with pytest.raises(InputError) as info:
+        read(path)
+    message = str(info.value)
+    assert "\n" not in message and message.startswith(str(path))
+    assert __import__("re").search(pattern, message), message
+
+
+BAD_DATES = [
+    (V2C, _replace(19, "      11      30", "      13      30"), r":1: bad start time 2018-13-30"),
+    ("dmg/CICLC.v1.gz", _replace(4, " 7/06/19,", "13/06/19,"), r":4: bad start time"),
+    (
+        V2A,
+        _replace(17, "    2018       2      12", "    2018      14      12"),
+        r":17: bad start time 2018-14-12",
+    ),
+    (
+        ESM,
+        _replace(27, "20190728_160919.870", "20191328_160919.870"),
+        r":27: bad date '20191328_160919.870'",
+    ),
+]
+
+
+@pytest.mark.parametrize(("name", "edit", "pattern"), BAD_DATES)
+def test_bad_date_reads_cleanly_with_warning(
+    name: str, edit: Edit, pattern: str, tmp_path: Path
+) -> None:
+    path = _edited(name, edit, tmp_path)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        stream = read(path)
+    dates = [str(w.message) for w in caught if "bad" in str(w.message)]
+    assert len(dates) >= 1 and all(issubclass(w.category, FormatWarning) for w in caught)
+    assert __import__("re").search(pattern, dates[0]), dates[0]
+    assert all(t.stats.npts > 0 and np.isfinite(t.data).all() for t in stream)
+
+
+def test_header_peak_disagreeing_warns(tmp_path: Path) -> None:
+    path = _edited(ESM, _replace(40, "0.300022", "0.400022"), tmp_path)
+    with pytest.warns(FormatWarning, match=r":40: PGA_CM/S\^2: header peak 0.00400022"):
+        read(path)
