@@ -5,9 +5,14 @@ Method (weighted least squares, two stages):
 1. ω_p, ω_s, ω_r: eq. 6.10 with the record's t_max and t0 is evaluated on the frame grid and
    smoothed by the same kernel as the ω_g(t) estimate (so the fit compares like with like: a
    smoothed estimate against the smoothed model, which removes the bias of smoothing a convex
-   curve), then fitted to the strong-motion frames (I_g ≥ threshold · max I_g) with relative
-   residuals weighted by I_g/max I_g (``scipy.optimize.least_squares``, parameters
-   ``r, s - r, p - s ≥ 0`` so the order ω_p ≥ ω_s ≥ ω_r holds by construction).
+   curve), then fitted to the frames after t0 with I_g ≥ ``fit_threshold`` · max I_g (default
+   0.02: the late, weak frames carry the information on ω_r) with equal weights on residuals
+   scaled by √ω_model (the variance of a crossing count grows like its rate; against relative
+   residuals weighted by I_g this halves the ω_r error on synthetics). ``least_squares`` runs
+   over ω_p, ρ = (ω_s - ω_r)/(ω_p - ω_r) ∈ [0, 1] and f = ω_r/ω_p ∈ [0.01, 1), so
+   ω_p ≥ ω_s ≥ ω_r holds by construction; ω_p stays within [0.5, 1.5] × the measured range of
+   ω_g (not an extrapolation to a record start long before the motion); a bound reached is
+   flagged (``omega_p_at_bound``, ``omega_r_at_bound``, ``omega_not_decreasing``).
 2. ξ_p, ξ_r: eq. 6.11 is linear in (ω_p ξ_p, ω_r ξ_r) for a given ramp end, fitted to α_g(t) by
    weighted linear least squares; ξ = α/ω.
 
@@ -91,15 +96,31 @@ class FitResult:
         return out
 
 
+#: Lower bound of ω_r/ω_p in the fit: keeps ω_r inside two decades of ω_p.
+_MIN_R_OVER_P = 0.01
+
+
+def _psr(theta: NDArray[np.float64]) -> tuple[float, float, float]:
+    """(ω_p, ω_s, ω_r) from the fit's parameters θ = (ω_p, ρ, f): ω_r = f ω_p,
+    ω_s = ω_r + ρ (ω_p - ω_r); ρ = (ω_s - ω_r)/(ω_p - ω_r) ∈ [0, 1] is eq. 6.10's base."""
+    p, rho, f = float(theta[0]), float(theta[1]), float(theta[2])
+    r = f * p
+    return p, r + rho * (p - r), r
+
+
+def _psr_jacobian(theta: NDArray[np.float64]) -> NDArray[np.float64]:
+    """∂(ω_p, ω_s, ω_r)/∂(ω_p, ρ, f) for the delta method."""
+    p, rho, f = float(theta[0]), float(theta[1]), float(theta[2])
+    return np.array([[1.0, 0.0, 0.0], [f + rho * (1 - f), p * (1 - f), p * (1 - rho)], [f, 0.0, p]])
+
+
 def _omega_curve(
-    u: NDArray[np.float64], tau: NDArray[np.float64], t_max_s: float
+    theta: NDArray[np.float64], tau: NDArray[np.float64], t_max_s: float
 ) -> NDArray[np.float64]:
-    """Eq. 6.10 from (r, s - r, p - s); p = s (flat start) and s = r are handled."""
-    r, d1, d2 = float(u[0]), float(u[1]), float(u[2])
-    span = d1 + d2
-    if span <= 0:
-        return np.full(tau.shape, r)
-    return np.asarray(r + span * (d1 / span) ** (tau / t_max_s))
+    """Eq. 6.10 from θ = (ω_p, ρ, f); ρ = 0 (ω_s = ω_r) and ρ = 1 (ω_s = ω_p) are regular."""
+    p, rho, f = float(theta[0]), float(theta[1]), float(theta[2])
+    r = f * p
+    return np.asarray(r + (p - r) * np.power(rho, tau / t_max_s))
 
 
 def _fit_omega(
@@ -110,32 +131,39 @@ def _fit_omega(
     kernel: NDArray[np.float64],
     t_max_s: float,
     start: NDArray[np.float64],
+    p_bounds: tuple[float, float],
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     from scipy.optimize import least_squares
 
     sw = np.sqrt(weight[use])
 
-    def residual(u: NDArray[np.float64]) -> NDArray[np.float64]:
-        model = smooth(_omega_curve(u, tau, t_max_s), kernel)
+    def residual(theta: NDArray[np.float64]) -> NDArray[np.float64]:
+        model = smooth(_omega_curve(theta, tau, t_max_s), kernel)
         # Crossing counts are roughly Poisson: variance ∝ rate, so scale residuals by √model.
         return np.asarray(sw * (obs[use] - model[use]) / np.sqrt(model[use]))
 
-    scale = max(float(start[0]), 1e-3)
+    lower = [p_bounds[0], 0.0, _MIN_R_OVER_P]
+    upper = [p_bounds[1], 1.0, 1.0 - 1e-9]
+    x0 = np.clip(start, np.add(lower, 1e-9), np.subtract(upper, 1e-9))
     result = least_squares(
         residual,
-        start,
-        bounds=([1e-6 * scale, 0.0, 1e-9 * scale], [np.inf, np.inf, np.inf]),
-        x_scale=scale,
+        x0,
+        bounds=(lower, upper),
+        x_scale=[float(x0[0]), 0.1, 0.1],
         method="trf",
     )
-    u = np.asarray(result.x, dtype=np.float64)
-    return u, np.asarray(result.jac, dtype=np.float64), np.asarray(result.fun, dtype=np.float64)
+    theta = np.asarray(result.x, dtype=np.float64)
+    return (
+        theta,
+        np.asarray(result.jac, dtype=np.float64),
+        np.asarray(result.fun, dtype=np.float64),
+    )
 
 
 def _start(
     obs: NDArray[np.float64], tau: NDArray[np.float64], use: NDArray[np.bool_], t_max: float
 ) -> NDArray[np.float64]:
-    """Starting values (r, s - r, p - s) from late, near-peak and early frames."""
+    """Starting θ = (ω_p, ρ, f) from early, near-peak and late frames."""
     values, times = obs[use], tau[use]
     early = values[times <= max(0.25 * t_max, float(times.min()) + 1e-9)]
     late = values[times >= float(np.quantile(times, 0.75))]
@@ -144,8 +172,8 @@ def _start(
     s = float(np.median(near)) if near.size else float(np.median(values))
     p = float(np.max(early)) if early.size else s
     s = max(s, r)
-    p = max(p, s)
-    return np.array([r, s - r + 1e-3 * r, p - s + 1e-3 * r])
+    p = max(p, s * 1.01)
+    return np.array([p, (s - r) / (p - r) if p > r else 0.5, r / p])
 
 
 def _alpha_design(tau: NDArray[np.float64], ramp_s: float) -> NDArray[np.float64]:
@@ -215,17 +243,25 @@ def fit_model(
     t_max = features.t_max_s
     kernel = features.omega_kernel
     start = _start(obs_filled, tau, use, t_max)
-    u, jac, fun = _fit_omega(tau, obs_filled, weight, use, kernel, t_max, start)
-    r, s, p = u[0], u[0] + u[1], u[0] + u[1] + u[2]
-    if u[1] + u[2] <= 1e-6 * r:
+    # ω_g(t) of eq. 6.10 stays within [ω_r, ω_p]: keep ω_p near the measured range, not an
+    # extrapolation to a record start long before the motion (seen on real records: 1e9 rad/s).
+    measured = obs[use]
+    p_bounds = (0.5 * float(measured.min()), 1.5 * float(measured.max()))
+    theta, jac, fun = _fit_omega(tau, obs_filled, weight, use, kernel, t_max, start, p_bounds)
+    p, s, r = _psr(theta)
+    if theta[2] >= 0.999:
         flags.append("omega_not_decreasing")
+    if theta[0] >= 0.999 * p_bounds[1]:
+        flags.append("omega_p_at_bound")
+    if theta[2] <= 1.001 * _MIN_R_OVER_P:
+        flags.append("omega_r_at_bound")
     inflation = max(1.0, features.window_s / features.hop_s)
     dof = max(n - 3, 1)
     sigma2 = float(fun @ fun) / dof
-    cov_u = np.linalg.pinv(jac.T @ jac) * sigma2 * inflation
-    to_psr = np.array([[1.0, 1.0, 1.0], [1.0, 1.0, 0.0], [1.0, 0.0, 0.0]])
-    cov_psr = to_psr @ cov_u @ to_psr.T
-    omega_fit = smooth(_omega_curve(u, tau, t_max), kernel)
+    cov_theta = np.linalg.pinv(jac.T @ jac) * sigma2 * inflation
+    to_psr = _psr_jacobian(theta)
+    cov_psr = to_psr @ cov_theta @ to_psr.T
+    omega_fit = smooth(_omega_curve(theta, tau, t_max), kernel)
     fit_quality = math.sqrt(
         float(np.sum(weight[use] * ((obs[use] - omega_fit[use]) / omega_fit[use]) ** 2))
         / float(np.sum(weight[use]))
@@ -281,8 +317,9 @@ def fit_model(
     samples = None
     if bootstrap:
         samples = _bootstrap(
-            features, u, omega_fit, use, weight, kernel, tau, coef, ramp, bootstrap, seed
-        )
+            features, theta, p_bounds, omega_fit, use, weight, kernel, tau, coef, ramp,
+            bootstrap, seed,
+        )  # fmt: skip
         boot_se = np.std(samples, axis=0, ddof=1)
         for key, value in zip(PARAMETERS, boot_se, strict=True):
             stderr[f"{key}_bootstrap"] = float(value)
@@ -299,7 +336,8 @@ def fit_model(
 
 def _bootstrap(
     features: RecordFeatures,
-    u: NDArray[np.float64],
+    theta: NDArray[np.float64],
+    p_bounds: tuple[float, float],
     omega_fit: NDArray[np.float64],
     use: NDArray[np.bool_],
     weight: NDArray[np.float64],
@@ -323,8 +361,8 @@ def _bootstrap(
         pick = (starts[:, None] + np.arange(block)[None, :]).ravel()[: idx.size]
         obs = omega_fit.copy()
         obs[idx] = omega_fit[idx] * (1.0 + rel[pick])
-        u_b, _, _ = _fit_omega(tau, obs, weight, use, kernel, features.t_max_s, u)
-        r, s, p = u_b[0], u_b[0] + u_b[1], u_b[0] + u_b[1] + u_b[2]
+        theta_b, _, _ = _fit_omega(tau, obs, weight, use, kernel, features.t_max_s, theta, p_bounds)
+        p, s, r = _psr(theta_b)
         alpha_b = alpha_model + alpha_res[pick]
         design = _alpha_design(tau[idx], ramp)
         sw = np.sqrt(weight[idx])
