@@ -241,3 +241,29 @@ def test_header_peak_disagreeing_warns(tmp_path: Path) -> None:
     path = _edited(ESM, _replace(40, "0.300022", "0.400022"), tmp_path)
     with pytest.warns(FormatWarning, match=r":40: PGA_CM/S\^2: header peak 0.00400022"):
         read(path)
+
+
+def test_cosmos_channel_not_acceleration_skipped_with_warning(tmp_path: Path) -> None:
+    edit = _replace(2103, "raw accel.   pts", "angle pts")
+    path = _edited(
+        "cosmos/NP1795-n.305.v0c.gz",
+        lambda x: _replace(2103, "counts (50)", "deg (10)")(edit(x)),
+        tmp_path,
+    )
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        stream = read(path)
+    assert [t.stats.channel for t in stream] == ["HNE", "HNZ"]
+    skipped = [str(w.message) for w in caught if "skipped" in str(w.message)]
+    assert len(skipped) == 1 and "channel HNN holds angle (deg), not acceleration" in skipped[0]
+
+
+def test_cosmos_v0_without_sensitivity_refused(tmp_path: Path) -> None:
+    # Real(42), the sensor sensitivity 1.200000 V/g, set to unknown.
+    path = _edited(
+        "cosmos/NP1795-n.305.v0c.gz", _replace(34, "       1.200000", "    -999.000000"), tmp_path
+    )
+    with pytest.raises(
+        InputError, match=r":51: raw counts with no recorder LSB .* sensor sensitivity"
+    ):
+        read(path)
