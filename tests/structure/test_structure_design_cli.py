@@ -122,3 +122,34 @@ def test_unknown_toml_key_names_file_and_key(
     assert main(["structure", "design", "--input", str(path)]) == 2
     err = capsys.readouterr().err
     assert str(path) in err and "unknown key(s) ['W_s']" in err
+
+
+def test_paper_table_from_map_constants(capsys: pytest.CaptureFixture[str]) -> None:
+    # Example 2's caption constants in SI, the long-branch formula forced as in Table 1.
+    w = 0.0416774 / 0.3048
+    lam2 = 0.691857 * math.sqrt(0.3048)
+    args = ["structure", "design", "--w-per-m", repr(w), "--lambda-2-sqrt-m", repr(lam2),
+            "--sds-g", "1.038", "--sd1-g", "0.456", "--beta", "0.8", "--delta0-m", "0.00254",
+            "--branch", "long", "--max-iterations", "19"]  # fmt: skip
+    data = run_json(args, capsys)
+    (trace,) = data["iterations"]  # type: ignore[misc]
+    inches = [row["delta_m"] / 0.0254 for row in trace["rows"]]
+    assert len(inches) == 20
+    # Table 1, Case I, first and last printed iterates (2.2e-4: see docs/paper-notes.md).
+    assert inches[1] == pytest.approx(0.75794068, rel=2.5e-4)
+    assert inches[19] == pytest.approx(5.8620055, rel=2.5e-4)
+    assert "lies on the 'short' branch" in trace["notes"][0]
+    assert main([*args, "--trace"]) == 0
+    text = capsys.readouterr().out
+    assert "    19  1.4892" in text  # the full trace table
+
+
+def test_help_shows_worked_example(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["structure", "design", "--help"]) == 0
+    out = capsys.readouterr().out
+    assert "examples:" in out and "stepframe structure design --weight-super-n" in out
+
+
+def test_pier_and_map_options_together_is_an_error(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main([*EXAMPLE_2, "--w-per-m", "0.1", "--lambda-2-sqrt-m", "0.3"]) == 2
+    assert "expected one" in capsys.readouterr().err

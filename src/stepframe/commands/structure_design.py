@@ -19,6 +19,9 @@ EXAMPLES = """\
   stepframe structure design --weight-super-n 1.472e6 --weight-col-n 0 \\
       --weight-total-n 2.807e6 --footing-length-m 8.839 --block-width-m 1.166 \\
       --height-m 29.944 --sds-g 1.038 --sd1-g 0.456 --beta 0.8 --delta0-m 0.00254,0.3048
+  # The paper's Table 1 (Example 2, caption constants, long-branch formula forced), full trace:
+  stepframe structure design --w-per-m 0.136737 --lambda-2-sqrt-m 0.381964 --sds-g 1.038 \
+      --sd1-g 0.456 --beta 0.8 --delta0-m 0.00254,0.3048 --branch long --max-iterations 19 --trace
   # From a file, β from the velocity ratio at impact (eq. 4.17, Eurocode 8 reduction):
   stepframe structure design --template > pier.toml
   stepframe structure design --input pier.toml --c-r 0.9 --plot cobweb.png --json
@@ -113,6 +116,19 @@ def register(subparsers: Any) -> None:
         choices=("ec8", "ec8-1998", "aashto-isolation"),
         help="damping-reduction formula with --xi/--c-r (default ec8)",
     )
+    given_map = parser.add_argument_group("map constants instead of a pier (override [map])")
+    given_map.add_argument("--w-per-m", type=positive_float, help="w of eq. 2.3 [1/m]")
+    given_map.add_argument(
+        "--lambda-2-sqrt-m", type=positive_float, help="λ_2 of eq. 2.5 [m^½] (needs S_D1)"
+    )
+    parser.add_argument(
+        "--branch",
+        choices=("auto", "short", "long", "very-long"),
+        default="auto",
+        help="spectrum branch used by the iteration: auto (S_a at each T_i, the procedure) or "
+        "one branch's formula whatever T_i is (as the paper's Table 1 does)",
+    )
+    parser.add_argument("--trace", action="store_true", help="print every iterate (i, δ, K, T)")
     parser.add_argument(
         "--delta0-m", type=float_list, metavar="D,...", help="starts of the iteration [m]"
     )
@@ -150,6 +166,14 @@ def _merged_input(args: argparse.Namespace) -> dict[str, Any]:
     if pier:
         data.pop("map", None)
         data["pier"] = dict(data.get("pier", {})) | pier
+    given_map = {
+        k: getattr(args, k) for k in ("w_per_m", "lambda_2_sqrt_m") if getattr(args, k) is not None
+    }
+    if given_map:
+        if pier:
+            raise InputError("pier options and --w-per-m/--lambda-2-sqrt-m given, expected one")
+        data.pop("pier", None)
+        data["map"] = dict(data.get("map", {})) | given_map
     spectrum = {k: getattr(args, k) for k in _SPECTRUM_OPTIONS if getattr(args, k) is not None}
     if spectrum:
         base = dict(data.get("spectrum", {}))
@@ -201,7 +225,10 @@ def run(args: argparse.Namespace) -> CommandResult:
         closed_form_fixed_points(smap, spectrum) if isinstance(spectrum, TwoPeriodSpectrum) else ()
     )
     found = search_fixed_points(smap, spectrum)
-    traces = [iterate(smap, spectrum, d0, max_iterations=args.max_iterations) for d0 in starts]
+    traces = [
+        iterate(smap, spectrum, d0, branch=args.branch, max_iterations=args.max_iterations)
+        for d0 in starts
+    ]
     design = design_displacement(smap, spectrum, method)
 
     constants: dict[str, Any] = {
@@ -234,7 +261,8 @@ def run(args: argparse.Namespace) -> CommandResult:
     if args.plot:
         _plot_cobweb(args.plot, smap, spectrum, traces, [*closed, *found])
         data["plot"] = args.plot
-    return CommandResult(data, _text(constants, closed, found, traces, design, args.plot))
+    text = _text(constants, closed, found, traces, design, args.plot, trace_rows=args.trace)
+    return CommandResult(data, text)
 
 
 def _fmt(value: Any, spec: str = ".6g") -> str:
@@ -248,6 +276,8 @@ def _text(
     traces: Any,
     design: Any,
     plot: str | None,
+    *,
+    trace_rows: bool = False,
 ) -> str:
     lines = ["map constants:"]
     for key, value in constants.items():
@@ -272,6 +302,14 @@ def _text(
         )
     for trace in traces:
         first = trace.rows[0]
+        if trace_rows:
+            lines.append(f"  {'i':>4s} {'delta_m':>15s} {'K_n_m':>13s} {'period_s':>10s}  branch")
+            for row in trace.rows:
+                lines.append(
+                    f"  {row.i:4d} {row.delta_m:15.8e} {_fmt(row.stiffness_n_m, '13.6e'):>13s} "
+                    f"{row.period_s:10.6f}  {row.branch}"
+                )
+        lines.extend(f"  note: {note}" for note in trace.notes)
         lines.append(
             f"iteration from delta0 = {first.delta_m:.6g} m: {trace.status} after "
             f"{len(trace.rows) - 1} steps, delta = {trace.delta_m:.6g} m, "
