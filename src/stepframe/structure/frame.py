@@ -1,4 +1,4 @@
-"""Frame parameters of the stepping portal frame (paper eqs. 4.6-4.12).
+"""Frame parameters of stepping frames (paper eqs. 4.1-4.16).
 
 The equations of motion integrated by the simulator, for the dominant lateral displacement x [m]
 relative to the ground (eqs. 4.11-4.12)::
@@ -10,18 +10,60 @@ with impact at touchdown (|x| returning to x_c from outside) multiplying the vel
 velocity ratio C_r (eq. 4.3; Housner's energy ratio r is C_r²). x* = γ₁/ω₂² is the unstable
 equilibrium of the stepped phase.
 
-:class:`PortalFrame` holds these model constants. It is built from model constants directly or
-from physical inputs (``from_physical``); every convention the paper leaves open is an explicit
-argument with a documented default.
+:class:`PortalFrame` holds these model constants. It is built from model constants
+(:meth:`PortalFrame.from_constants`), from physical inputs (:meth:`PortalFrame.from_physical`,
+eqs. 4.6, 4.7, 4.10, 4.15-4.16) or as the linearised rigid (Housner) block
+(:meth:`PortalFrame.housner_block`, x_c = 0: impact at x = 0). Every convention the paper leaves
+open is an explicit argument with a documented default:
+
+- ``w_col_convention``: the symbol W_col in eqs. 4.6-4.7 is the weight of both columns
+  (``"total"``, default: it reproduces Example 4's printed ω₁ = 6.4581 rad/s, ω₂ = 0.6445 rad/s
+  and P₂ = 1.2680 from Example 2's weights) or of one column (``"per-column"``). Eq. 4.10 (the
+  axial force in one footing, "half of the weight of the superstructure and the column's weight")
+  and eqs. 4.15-4.16 (I_o = (2/3 m̄_col H_r + m̄_s L_F) H_r², which is the inertia of two columns
+  only if m̄_col is one column's mass per length) always use one column's weight.
+- ``l_m``: the length l in γ₁ (eq. 4.7) is not defined by the paper. Default L_F/2, the lever arm
+  of the weight about the pivot footing, for which x* → L_F/2 as the columns get light, as eq.
+  5.13 assumes.
+- ``c_r`` is the velocity ratio of eq. 4.3, never Housner's energy ratio.
+
+:class:`AFrame` holds the stepping A-frame of eqs. 4.1-4.2 (hysteretic damping in the unstepped
+phase, leg inclination θ).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
-from typing import Any
+from dataclasses import asdict, dataclass, fields
+from typing import Any, Literal, get_args
 
 from stepframe.errors import InputError
+
+WColConvention = Literal["total", "per-column"]
+W_COL_CONVENTIONS: tuple[str, ...] = get_args(WColConvention)
+
+#: Gravity used by the paper's worked examples [m/s²].
+PAPER_G_M_S2 = 9.81
+
+
+def _finite(name: str, value: object) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        raise InputError(f"{name} = {value!r}, expected a finite number")
+    return float(value)
+
+
+def _positive(name: str, value: object) -> float:
+    number = _finite(name, value)
+    if not number > 0:
+        raise InputError(f"{name} = {number!r}, expected > 0")
+    return number
+
+
+def _non_negative(name: str, value: object) -> float:
+    number = _finite(name, value)
+    if not number >= 0:
+        raise InputError(f"{name} = {number!r}, expected ≥ 0")
+    return number
 
 
 @dataclass(frozen=True)
@@ -41,12 +83,16 @@ class PortalFrame:
     xi_1, xi_2
         Viscous damping ratios of the two phases [-] (fractions, ≥ 0).
     x_c_m
-        Displacement at the onset of stepping x_c [m] (eq. 4.10); 0 < x_c < x*.
+        Displacement at the onset of stepping x_c [m] (eq. 4.10); 0 ≤ x_c < x*. x_c = 0 is the
+        rigid-block limit: no unstepped phase, impact at x = 0.
     c_r
         Velocity ratio at impact C_r (eq. 4.3), 0 ≤ C_r ≤ 1; Housner's energy ratio is C_r².
     x_cap_m
-        Displacement beyond which the frame is declared overturned [m] (None: the geometric
-        overturning displacement set by the builder, or no cap).
+        Displacement beyond which the frame is declared overturned [m] (None: no cap). The
+        physical constructors set it to the geometric overturning displacement.
+    h_r_m
+        Height of the superstructure above the footings H_r [m], for drift ratios (None:
+        unknown, drift ratios are not available).
     """
 
     omega_1_rad_s: float
@@ -59,19 +105,17 @@ class PortalFrame:
     x_c_m: float
     c_r: float
     x_cap_m: float | None = None
+    h_r_m: float | None = None
 
     def __post_init__(self) -> None:
         for name, value in asdict(self).items():
-            if value is None and name == "x_cap_m":
+            if value is None and name in ("x_cap_m", "h_r_m"):
                 continue
-            if not isinstance(value, int | float) or not math.isfinite(value):
-                raise InputError(f"{name} = {value!r}, expected a finite number")
-        for name in ("omega_1_rad_s", "omega_2_rad_s", "p_1", "p_2", "gamma_1_m_s2", "x_c_m"):
-            if not getattr(self, name) > 0:
-                raise InputError(f"{name} = {getattr(self, name)}, expected > 0")
-        for name in ("xi_1", "xi_2"):
-            if not getattr(self, name) >= 0:
-                raise InputError(f"{name} = {getattr(self, name)}, expected ≥ 0")
+            _finite(name, value)
+        for name in ("omega_1_rad_s", "omega_2_rad_s", "p_1", "p_2", "gamma_1_m_s2"):
+            _positive(name, getattr(self, name))
+        for name in ("xi_1", "xi_2", "x_c_m"):
+            _non_negative(name, getattr(self, name))
         if not 0 <= self.c_r <= 1:
             raise InputError(f"c_r = {self.c_r}, expected 0 ≤ c_r ≤ 1 (a velocity ratio)")
         if not self.x_c_m < self.x_star_m:
@@ -81,12 +125,472 @@ class PortalFrame:
             )
         if self.x_cap_m is not None and not self.x_cap_m > self.x_c_m:
             raise InputError(f"x_cap_m = {self.x_cap_m} m, expected > x_c_m = {self.x_c_m} m")
+        if self.h_r_m is not None:
+            _positive("h_r_m", self.h_r_m)
 
+    # ----------------------------------------------------------------- derived quantities
     @property
     def x_star_m(self) -> float:
         """Unstable equilibrium of the stepped phase x* = γ₁/ω₂² [m]."""
         return self.gamma_1_m_s2 / self.omega_2_rad_s**2
 
+    @property
+    def is_rigid_block(self) -> bool:
+        """True for x_c = 0: no unstepped phase, impact at x = 0 (Housner block)."""
+        return self.x_c_m == 0.0
+
+    @property
+    def uplift_acceleration_m_s2(self) -> float:
+        """Static ground acceleration that starts stepping, ω₁² x_c / P₁ [m/s²].
+
+        A constant ground acceleration a deflects the unstepped frame by P₁ a / ω₁² (eq. 4.11 at
+        rest); stepping starts when that reaches x_c.
+        """
+        return self.omega_1_rad_s**2 * self.x_c_m / self.p_1
+
+    @property
+    def drift_ratio_per_m(self) -> float | None:
+        """Drift ratio per metre of x, 1/H_r [1/m] (None when H_r is unknown)."""
+        return None if self.h_r_m is None else 1.0 / self.h_r_m
+
+    @property
+    def unstepped_period_s(self) -> float:
+        """Small-amplitude (fixed-base) period 2π/ω₁ [s]."""
+        return 2.0 * math.pi / self.omega_1_rad_s
+
+    # ----------------------------------------------------------------- dictionaries
     def to_dict(self) -> dict[str, Any]:
-        """Plain dictionary of the model constants."""
+        """Plain dictionary of the model constants (the keys of :meth:`from_dict`)."""
+        return asdict(self)
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> PortalFrame:
+        """Inverse of :meth:`to_dict`; unknown keys raise :class:`InputError` naming them."""
+        names = [f.name for f in fields(cls)]
+        unknown = sorted(set(data) - set(names))
+        if unknown:
+            raise InputError(f"unknown key(s) {', '.join(unknown)}, expected some of {names}")
+        required = [f.name for f in fields(cls) if f.name not in ("x_cap_m", "h_r_m")]
+        missing = [name for name in required if name not in data]
+        if missing:
+            raise InputError(f"missing key(s) {', '.join(missing)}")
+        return cls(**data)
+
+    # ----------------------------------------------------------------- constructors
+    @classmethod
+    def from_constants(
+        cls,
+        *,
+        omega_1_rad_s: float,
+        omega_2_rad_s: float,
+        p_1: float,
+        p_2: float,
+        gamma_1_m_s2: float,
+        xi_1: float,
+        xi_2: float,
+        x_c_m: float | None = None,
+        c_r: float | None = None,
+        x_cap_m: float | None = None,
+        h_r_m: float | None = None,
+        w_s_n: float | None = None,
+        w_col_n: float | None = None,
+        l_f_m: float | None = None,
+        k_a_n_m: float | None = None,
+        g_m_s2: float = PAPER_G_M_S2,
+    ) -> PortalFrame:
+        """A frame from its model constants, deriving x_c, C_r and the cap when not given.
+
+        Example 4 of the paper gives ω₁, ω₂, P₁, P₂, γ₁, ξ₁, ξ₂ but leaves x_c and C_r implicit;
+        they follow from the physical inputs through eq. 4.10 and eqs. 4.15-4.16.
+
+        Parameters
+        ----------
+        omega_1_rad_s, omega_2_rad_s, p_1, p_2, gamma_1_m_s2, xi_1, xi_2
+            Model constants (see the class attributes).
+        x_c_m
+            Onset of stepping [m]; None: solved from eq. 4.10 (needs ``k_a_n_m``, ``h_r_m``,
+            ``w_s_n``, ``w_col_n``).
+        c_r
+            Velocity ratio at impact; None: eqs. 4.15-4.16 (needs ``w_s_n``, ``w_col_n``,
+            ``h_r_m``, ``l_f_m``).
+        x_cap_m
+            Overturning cap [m]; None: the geometric overturning displacement when ``w_s_n``,
+            ``w_col_n``, ``h_r_m`` and ``l_f_m`` are given, else no cap.
+        h_r_m, w_s_n, w_col_n, l_f_m, k_a_n_m
+            Optional physical inputs [m, N, N, m, N/m]: H_r, W_S, the total weight of both
+            columns, L_F, and the axial stiffness K_a of one leg.
+        g_m_s2
+            Gravity [m/s²] (the paper's examples use 9.81).
+        """
+        g = _positive("g_m_s2", g_m_s2)
+        phys = {
+            "w_s_n": w_s_n,
+            "w_col_n": w_col_n,
+            "h_r_m": h_r_m,
+            "l_f_m": l_f_m,
+            "k_a_n_m": k_a_n_m,
+        }
+        for name, value in phys.items():
+            if value is not None:
+                (_non_negative if name == "w_col_n" else _positive)(name, value)
+
+        def need(purpose: str, names: tuple[str, ...]) -> list[float]:
+            missing = [name for name in names if phys[name] is None]
+            if missing:
+                raise InputError(f"{purpose} not given and cannot be derived: missing {missing}")
+            return [float(phys[name]) for name in names]  # type: ignore[arg-type]
+
+        if x_c_m is None:
+            k_a, h_r, w_s, w_col = need("x_c_m", ("k_a_n_m", "h_r_m", "w_s_n", "w_col_n"))
+            x_c_m = onset_of_stepping_m(k_a, h_r, w_s, w_col / 2.0)
+        if c_r is None:
+            w_s, w_col, h_r, l_f = need("c_r", ("w_s_n", "w_col_n", "h_r_m", "l_f_m"))
+            c_r = restitution_velocity_ratio(w_s, w_col / 2.0, h_r, l_f, g_m_s2=g)
+        if x_cap_m is None and all(phys[n] is not None for n in ("w_s_n", "w_col_n", "l_f_m")):
+            w_s, w_col, h_r, l_f = need("x_cap_m", ("w_s_n", "w_col_n", "h_r_m", "l_f_m"))
+            x_cap_m = overturning_displacement_m(w_s, w_col, h_r, l_f)
+        return cls(
+            omega_1_rad_s=omega_1_rad_s,
+            omega_2_rad_s=omega_2_rad_s,
+            p_1=p_1,
+            p_2=p_2,
+            gamma_1_m_s2=gamma_1_m_s2,
+            xi_1=xi_1,
+            xi_2=xi_2,
+            x_c_m=x_c_m,
+            c_r=c_r,
+            x_cap_m=x_cap_m,
+            h_r_m=h_r_m,
+        )
+
+    @classmethod
+    def from_physical(
+        cls,
+        *,
+        w_s_n: float,
+        w_col_n: float,
+        h_r_m: float,
+        l_f_m: float,
+        k_a_n_m: float,
+        k_b_n_m: float,
+        xi_1: float,
+        xi_2: float,
+        l_m: float | None = None,
+        c_r: float | None = None,
+        x_c_m: float | None = None,
+        x_cap_m: float | None = None,
+        g_m_s2: float = PAPER_G_M_S2,
+        w_col_convention: WColConvention = "total",
+    ) -> PortalFrame:
+        """A frame from its physical inputs through eqs. 4.6, 4.7, 4.10 and 4.15-4.16.
+
+        Parameters
+        ----------
+        w_s_n
+            Weight of the superstructure W_S [N].
+        w_col_n
+            Total weight of both columns [N] (W_T - W_S in the paper's examples).
+        h_r_m
+            Height of the superstructure above the footings H_r [m].
+        l_f_m
+            Distance between the footings L_F [m].
+        k_a_n_m, k_b_n_m
+            Resultant axial and bending stiffness of each leg K_a, K_b [N/m].
+        xi_1, xi_2
+            Viscous damping ratios of the unstepped and stepped phases [-].
+        l_m
+            The length l in γ₁ (eq. 4.7) [m]; None: L_F/2 (see the module docstring).
+        c_r
+            Velocity ratio at impact; None: eqs. 4.15-4.16 with one column's weight.
+        x_c_m
+            Onset of stepping [m]; None: the smallest root of eq. 4.10 with one column's weight.
+        x_cap_m
+            Overturning cap [m]; None: :func:`overturning_displacement_m`.
+        g_m_s2
+            Gravity [m/s²] (the paper's examples use 9.81).
+        w_col_convention
+            What W_col stands for in eqs. 4.6-4.7: ``"total"`` (both columns, default) or
+            ``"per-column"``.
+        """
+        w_s = _positive("w_s_n", w_s_n)
+        w_col_total = _non_negative("w_col_n", w_col_n)
+        h_r = _positive("h_r_m", h_r_m)
+        l_f = _positive("l_f_m", l_f_m)
+        k_a = _positive("k_a_n_m", k_a_n_m)
+        k_b = _positive("k_b_n_m", k_b_n_m)
+        g = _positive("g_m_s2", g_m_s2)
+        lever = l_f / 2.0 if l_m is None else _positive("l_m", l_m)
+        if w_col_convention == "total":
+            w_col = w_col_total
+        elif w_col_convention == "per-column":
+            w_col = w_col_total / 2.0
+        else:
+            raise InputError(
+                f"w_col_convention = {w_col_convention!r}, expected one of {W_COL_CONVENTIONS}"
+            )
+        # eq. 4.6
+        omega_1_sq = 2.0 * k_b * g / (w_s + 2.0 / 3.0 * w_col)
+        p_1 = (w_s + w_col) / (w_s + 2.0 / 3.0 * w_col)
+        # eq. 4.7
+        denominator = w_s + 5.0 / 9.0 * w_col
+        omega_2_sq = (w_s + w_col) / denominator * g / h_r
+        gamma_1 = (w_s + 2.0 * w_col) / denominator * g / h_r * lever
+        p_2 = (w_s + w_col) / denominator
+        if x_c_m is None:
+            x_c_m = onset_of_stepping_m(k_a, h_r, w_s, w_col_total / 2.0)
+        if c_r is None:
+            c_r = restitution_velocity_ratio(w_s, w_col_total / 2.0, h_r, l_f, g_m_s2=g)
+        if x_cap_m is None:
+            x_cap_m = overturning_displacement_m(w_s, w_col_total, h_r, l_f)
+        return cls(
+            omega_1_rad_s=math.sqrt(omega_1_sq),
+            omega_2_rad_s=math.sqrt(omega_2_sq),
+            p_1=p_1,
+            p_2=p_2,
+            gamma_1_m_s2=gamma_1,
+            xi_1=xi_1,
+            xi_2=xi_2,
+            x_c_m=x_c_m,
+            c_r=c_r,
+            x_cap_m=x_cap_m,
+            h_r_m=h_r,
+        )
+
+    @classmethod
+    def housner_block(
+        cls,
+        *,
+        half_width_m: float,
+        half_height_m: float,
+        g_m_s2: float = PAPER_G_M_S2,
+        c_r: float | None = None,
+        xi: float = 0.0,
+    ) -> PortalFrame:
+        """The linearised rigid rectangular block of Housner (1963) on a rigid base.
+
+        With θ the rotation and α = atan(b/h), I_o = (4/3) m R² and p² = 3g/(4R), the
+        linearised equation θ̈ - p²θ + p²α sign θ = -p² ẍ_g/g, written for the horizontal
+        displacement of the centre of mass x = h θ, is the stepped phase of eq. 4.12 with
+        ω₂ = p, γ₁ = p² α h, P₂ = p² h / g (so x* = α h and the free-rocking quarter period
+        from rest at x₀ is arccosh(1/(1 - x₀/x*))/p). There is no unstepped phase (x_c = 0):
+        impact happens at x = 0. ω₁ and P₁ are set to p and P₂ and never used.
+
+        Parameters
+        ----------
+        half_width_m, half_height_m
+            b and h of the block [m].
+        g_m_s2
+            Gravity [m/s²].
+        c_r
+            Velocity ratio at impact; None: Housner's 1 - 1.5 sin²α (angular momentum
+            conservation about the new pivot).
+        xi
+            Viscous damping ratio of the rocking phase [-] (0 in Housner's model).
+        """
+        b = _positive("half_width_m", half_width_m)
+        h = _positive("half_height_m", half_height_m)
+        g = _positive("g_m_s2", g_m_s2)
+        alpha = math.atan2(b, h)
+        radius = math.hypot(b, h)
+        p = math.sqrt(3.0 * g / (4.0 * radius))
+        if c_r is None:
+            c_r = 1.0 - 1.5 * math.sin(alpha) ** 2
+        return cls(
+            omega_1_rad_s=p,
+            omega_2_rad_s=p,
+            p_1=p * p * h / g,
+            p_2=p * p * h / g,
+            gamma_1_m_s2=p * p * alpha * h,
+            xi_1=xi,
+            xi_2=xi,
+            x_c_m=0.0,
+            c_r=c_r,
+            x_cap_m=None,
+            h_r_m=h,
+        )
+
+
+# --------------------------------------------------------------------- physical relations
+def onset_of_stepping_m(k_a_n_m: float, h_r_m: float, w_s_n: float, w_col_one_n: float) -> float:
+    """x_c: the smallest root of eq. 4.10, W_S/2 + W_col = ½ K_a x_c sin(2 x_c / H_r).
+
+    Parameters
+    ----------
+    k_a_n_m
+        Axial stiffness of one leg K_a [N/m].
+    h_r_m
+        Height H_r [m].
+    w_s_n
+        Weight of the superstructure W_S [N] (each footing carries half).
+    w_col_one_n
+        Weight of one column [N].
+
+    Returns
+    -------
+    float
+        x_c [m]. The right-hand side rises from 0 to its maximum at 2x/H_r = u_max (the root of
+        tan u = -u, u_max ≈ 2.0288); a footing load above that maximum never lifts off and
+        raises :class:`InputError`.
+    """
+    from scipy.optimize import brentq
+
+    k_a = _positive("k_a_n_m", k_a_n_m)
+    h_r = _positive("h_r_m", h_r_m)
+    load = _positive("w_s_n", w_s_n) / 2.0 + _non_negative("w_col_n", w_col_one_n)
+    u_max = brentq(lambda u: math.sin(u) + u * math.cos(u), 1.5, 3.0, xtol=1e-15)
+
+    def excess(x: float) -> float:
+        return 0.5 * k_a * x * math.sin(2.0 * x / h_r) - load
+
+    x_max = u_max * h_r / 2.0
+    if excess(x_max) <= 0:
+        raise InputError(
+            f"k_a_n_m = {k_a:.6g} N/m cannot lift a footing carrying {load:.6g} N (eq. 4.10 "
+            f"peaks at {load + excess(x_max):.6g} N), expected a stiffer leg"
+        )
+    return float(brentq(excess, 0.0, x_max, xtol=1e-15, rtol=1e-15, maxiter=200))
+
+
+def restitution_velocity_ratio(
+    w_s_n: float, w_col_one_n: float, h_r_m: float, l_f_m: float, g_m_s2: float = PAPER_G_M_S2
+) -> float:
+    """C_r of eqs. 4.15-4.16 (a velocity ratio) from angular momentum about the new pivot.
+
+    C_r = 1 - (m̄_col H_r L_F² + m̄_s L_F³/3) / I_o, I_o = (2/3 m̄_col H_r + m̄_s L_F) H_r²,
+    m̄_col = W_col/(g H_r) (one column), m̄_s = W_S/(g L_F). Equals the paper's
+    1 - c₂² (3 + c₁)/(2 + 3c₁) for W_S = c₁ W_col and L_F = c₂ H_r.
+
+    Returns
+    -------
+    float
+        C_r in [0, 1); a squat frame for which the formula is negative raises
+        :class:`InputError` (the momentum model does not apply; give C_r).
+    """
+    w_s = _positive("w_s_n", w_s_n)
+    w_col = _non_negative("w_col_n", w_col_one_n)
+    h_r = _positive("h_r_m", h_r_m)
+    l_f = _positive("l_f_m", l_f_m)
+    g = _positive("g_m_s2", g_m_s2)
+    m_col = w_col / (g * h_r)
+    m_s = w_s / (g * l_f)
+    inertia = (2.0 / 3.0 * m_col * h_r + m_s * l_f) * h_r**2
+    c_r = 1.0 - (m_col * h_r * l_f**2 + m_s * l_f**3 / 3.0) / inertia
+    if c_r < 0:
+        raise InputError(
+            f"c_r from eqs. 4.15-4.16 = {c_r:.4g} for L_F/H_r = {l_f / h_r:.4g}, expected ≥ 0 "
+            "(the frame is too squat for the momentum model: give c_r)"
+        )
+    return c_r
+
+
+def overturning_displacement_m(w_s_n: float, w_col_n: float, h_r_m: float, l_f_m: float) -> float:
+    """Geometric overturning displacement of the deck [m]: the default x_cap.
+
+    The frame, rocking rigidly about one footing, topples when its centre of mass (at L_F/2
+    from the pivot and at height h_cm = H_r (W_S + W_col/2)/(W_S + W_col), W_col the total column
+    weight) is above the pivot, at rotation φ = atan(L_F / (2 h_cm)). The deck's centre has then
+    moved (L_F/2)(1 - cos φ) + H_r sin φ sideways. Elastic drift at uplift shortens the lever arm
+    and the rotation needed by the same amount to first order, so it is not added.
+    """
+    w_s = _positive("w_s_n", w_s_n)
+    w_col = _non_negative("w_col_n", w_col_n)
+    h_r = _positive("h_r_m", h_r_m)
+    half = _positive("l_f_m", l_f_m) / 2.0
+    h_cm = h_r * (w_s + w_col / 2.0) / (w_s + w_col)
+    phi = math.atan2(half, h_cm)
+    return half * (1.0 - math.cos(phi)) + h_r * math.sin(phi)
+
+
+# --------------------------------------------------------------------- A-frame
+@dataclass(frozen=True)
+class AFrame:
+    """Lateral model of the stepping A-frame, eqs. 4.1-4.2 (vertical coordinates omitted).
+
+    ::
+
+        unstepped, |x| ≤ x_c:  ẍ + πξ₁ω₁² sign(ẋ)|x| + ω₁²x        = -P₁ ẍ_g
+        stepped,   |x| > x_c:  ẍ - ω₂² sec θ x + γ₁ sec θ sign(x)  = -P₂ sec θ ẍ_g
+
+    The hysteretic term dissipates 2πξ₁ω₁²A² per cycle of amplitude A, as much as viscous
+    damping ξ₁ at resonance, independent of frequency. The vertical coordinates x₃, x₄ of eqs.
+    4.1-4.2 decouple without vertical excitation and are not modelled. Impact at touchdown
+    multiplies the velocity by C_r (eq. 4.3).
+
+    Attributes
+    ----------
+    omega_1_rad_s, omega_2_rad_s
+        ω₁, ω₂ [rad/s] as defined by Beck and Skinner (1974).
+    p_1, p_2
+        Participation factors [-].
+    gamma_1_m_s2
+        γ₁ [m/s²].
+    xi_1
+        Hysteretic damping factor of the unstepped phase [-].
+    theta_rad
+        Inclination θ of the legs from the vertical [rad], 0 ≤ θ < π/2 (θ = 0: portal frame).
+    x_c_m
+        Onset of stepping [m], 0 < x_c < x*.
+    c_r
+        Velocity ratio at impact, 0 ≤ C_r ≤ 1.
+    x_cap_m
+        Overturning cap [m] or None.
+    """
+
+    omega_1_rad_s: float
+    omega_2_rad_s: float
+    p_1: float
+    p_2: float
+    gamma_1_m_s2: float
+    xi_1: float
+    theta_rad: float
+    x_c_m: float
+    c_r: float
+    x_cap_m: float | None = None
+
+    def __post_init__(self) -> None:
+        for name, value in asdict(self).items():
+            if value is None and name == "x_cap_m":
+                continue
+            _finite(name, value)
+        for name in ("omega_1_rad_s", "omega_2_rad_s", "p_1", "p_2", "gamma_1_m_s2", "x_c_m"):
+            _positive(name, getattr(self, name))
+        _non_negative("xi_1", self.xi_1)
+        if not 0 <= self.theta_rad < math.pi / 2:
+            raise InputError(f"theta_rad = {self.theta_rad}, expected 0 ≤ theta_rad < π/2")
+        if not 0 <= self.c_r <= 1:
+            raise InputError(f"c_r = {self.c_r}, expected 0 ≤ c_r ≤ 1 (a velocity ratio)")
+        if not self.x_c_m < self.x_star_m:
+            raise InputError(
+                f"x_c_m = {self.x_c_m} m ≥ x* = gamma_1/omega_2² = {self.x_star_m:.6g} m, "
+                "expected x_c < x*"
+            )
+        if self.x_cap_m is not None and not self.x_cap_m > self.x_c_m:
+            raise InputError(f"x_cap_m = {self.x_cap_m} m, expected > x_c_m = {self.x_c_m} m")
+
+    @property
+    def x_star_m(self) -> float:
+        """Unstable equilibrium of the stepped phase, γ₁/ω₂² [m] (sec θ cancels)."""
+        return self.gamma_1_m_s2 / self.omega_2_rad_s**2
+
+    @property
+    def stepped_constants(self) -> tuple[float, float, float]:
+        """(ω₂ √sec θ [rad/s], γ₁ sec θ [m/s²], P₂ sec θ): eq. 4.2 in the form of eq. 4.12."""
+        sec = 1.0 / math.cos(self.theta_rad)
+        return self.omega_2_rad_s * math.sqrt(sec), self.gamma_1_m_s2 * sec, self.p_2 * sec
+
+    def acceleration_m_s2(
+        self, x_m: float, v_m_s: float, ground_acc_m_s2: float, *, stepped: bool
+    ) -> float:
+        """ẍ of eq. 4.1 (``stepped=False``) or eq. 4.2 (``stepped=True``) [m/s²]."""
+        if not stepped:
+            w1 = self.omega_1_rad_s
+            hysteretic = math.pi * self.xi_1 * w1 * w1 * math.copysign(abs(x_m), v_m_s)
+            if v_m_s == 0.0:
+                hysteretic = 0.0
+            return -hysteretic - w1 * w1 * x_m - self.p_1 * ground_acc_m_s2
+        w2, gamma, p2 = self.stepped_constants
+        return w2 * w2 * x_m - gamma * math.copysign(1.0, x_m) - p2 * ground_acc_m_s2
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain dictionary of the constants."""
         return asdict(self)
