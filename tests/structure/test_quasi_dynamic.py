@@ -362,3 +362,19 @@ def test_iterate_rejects_bad_start() -> None:
     smap = SteppingMap(0.5, 0.1, 1.0)
     with pytest.raises(InputError, match="expected 0 ≤ delta0_m < 1/w = 2 m"):
         iterate(smap, TwoPeriodSpectrum(5.0, 2.0), 3.0)
+
+
+def test_long_period_transition_gives_constant_displacement_fixed_point() -> None:
+    # Example 1 with T_L = 4 s: δ_3* (T* = 5.5 s) falls beyond T_L, where S_d = βS_D1T_L/4π².
+    smap = SteppingMap.from_pier(example_1_pier(), 1.0)
+    spectrum = TwoPeriodSpectrum(5.2492 / 0.62, 5.2492, t_l_s=4.0)
+    points = closed_form_fixed_points(smap, spectrum)
+    assert not by_name(points, "delta_3").on_branch
+    d5 = by_name(points, "delta_5")
+    assert d5.delta_m == pytest.approx(5.2492 * 4.0 / (4 * math.pi**2))
+    assert d5.on_branch and d5.stable and d5.multiplier == 0.0
+    assert d5.period_s is not None and d5.period_s > 4.0
+    trace = iterate(smap, spectrum, 0.5)
+    assert trace.status == "converged"
+    assert trace.delta_m == pytest.approx(d5.delta_m, rel=1e-12)
+    assert design_displacement(smap, spectrum).delta_m == d5.delta_m
