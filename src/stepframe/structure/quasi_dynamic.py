@@ -800,7 +800,7 @@ def case_from_dict(data: Mapping[str, Any], where: str = "design input") -> Desi
         if name not in data:
             raise InputError(f"{where}: missing table [{name}]")
     pier = PierInputs.from_dict(data["pier"], f"{where} [pier]") if "pier" in data else None
-    g = pier.g_m_s2 if pier is not None else float(data["map"].get("g_m_s2", 9.81))
+    g = pier.g_m_s2 if pier is not None else _number("g_m_s2", data["map"].get("g_m_s2", 9.81))
     spectrum = spectrum_from_dict(data["spectrum"], g_m_s2=g, where=f"{where} [spectrum]")
     beta, xi, method = resolve_beta(data["damping"], f"{where} [damping]")
     if pier is not None:
