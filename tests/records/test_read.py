@@ -267,3 +267,20 @@ def test_cosmos_v0_without_sensitivity_refused(tmp_path: Path) -> None:
         InputError, match=r":51: raw counts with no recorder LSB .* sensor sensitivity"
     ):
         read(path)
+
+
+def test_options_contradicting_the_file_refused(tmp_path: Path) -> None:
+    at2 = DATA / "peer_nga_west2" / "RSN8883_14383980_13849090.AT2"
+    with pytest.raises(InputError, match=r"file states dt = 0.005 s but --dt-s 0.01"):
+        read(at2, dt=0.01)
+    assert read(at2, dt=0.005)[0].stats.delta == 0.005
+    with pytest.raises(InputError, match=r"defined by the header's scale factor"):
+        read(DATA / "knet" / "AOM0011801241951.EW.gz", units="g")
+    # The FEMA P695 layout states g in its definition; its reader takes no units option.
+    fema = tmp_path / "rec.txt"
+    fema.write_text("# RSN 1, component X/Y000\n# NPTS= 3 DT= 0.01 SEC\n0.1 0.2 -0.1\n")
+    assert read(fema)[0].stats.stepframe.units_in == "g"
+    with pytest.raises(InputError, match=r"rec.txt: file states units 'g' but --units 'gal'"):
+        read(fema, units="gal")
+    with pytest.raises(InputError, match=r"dt = -1 s, expected a positive"):
+        read(at2, dt=-1)

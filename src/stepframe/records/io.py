@@ -85,6 +85,7 @@ def read(
         stream = _read_gzip(file, format, options)
     else:
         stream = _read_plain(file, head, format, options)
+    _check_agreement(stream, options, file)
     if component is not None:
         stream = stream.select(channel=component)
         if len(stream) == 0:
@@ -154,3 +155,26 @@ def _sniff(head: bytes, file: Path) -> RecordFormat:
         "plain text or an obspy waveform format (give it with --format)",
         file,
     )
+
+
+def _check_agreement(stream: Any, options: ReadOptions, file: Path) -> None:
+    """Refuse ``units``/``dt`` options that contradict what the file states.
+
+    Readers use the options only where the file is silent; an option the file contradicts is a
+    user error, never silently ignored.
+    """
+    for trace in stream:
+        stated_units = trace.stats.stepframe.units_in
+        if options.units is not None and stated_units != options.units:
+            raise InputError(
+                f"file states units {stated_units!r} but --units {options.units!r} was given, "
+                "expected them to agree (omit --units)",
+                file,
+            )
+        delta = float(trace.stats.delta)
+        if options.dt_s is not None and abs(delta - options.dt_s) > 1e-9 * delta:
+            raise InputError(
+                f"file states dt = {delta:g} s but --dt-s {options.dt_s:g} was given, "
+                "expected them to agree (omit --dt-s)",
+                file,
+            )
