@@ -78,3 +78,12 @@ def test_from_dict_routes_and_unknown_keys() -> None:
         spectrum_from_dict({"sds": 1.0, "s_d1_g": 0.4})
     with pytest.raises(InputError, match="exactly one of s_ds_m_s2 or s_ds_g"):
         spectrum_from_dict({"s_ds_g": 1.0, "s_ds_m_s2": 9.8, "s_d1_g": 0.4})
+
+
+def test_round_trips() -> None:
+    two = TwoPeriodSpectrum(8.0, 4.0, t_l_s=6.0)
+    assert TwoPeriodSpectrum.from_dict(two.to_dict()) == two
+    table = TabulatedSpectrum((0.0, 1.0), (2.0, 1.0))
+    assert TabulatedSpectrum.from_dict(table.to_dict()) == table
+    with pytest.raises(InputError, match="expected s_ds and s_d1"):
+        TwoPeriodSpectrum.from_dict(table.to_dict())

@@ -378,3 +378,12 @@ def test_long_period_transition_gives_constant_displacement_fixed_point() -> Non
     assert trace.status == "converged"
     assert trace.delta_m == pytest.approx(d5.delta_m, rel=1e-12)
     assert design_displacement(smap, spectrum).delta_m == d5.delta_m
+
+
+def test_map_and_pier_round_trip() -> None:
+    pier = example_1_pier()
+    assert PierInputs.from_dict(pier.to_dict()) == pier
+    smap = SteppingMap.from_pier(pier, 0.9)
+    assert SteppingMap.from_dict(smap.to_dict()) == smap
+    with pytest.raises(InputError, match=r"unknown key\(s\) \['w'\]"):
+        SteppingMap.from_dict({"w": 1.0})

@@ -114,6 +114,14 @@ class TwoPeriodSpectrum:
         assert self.t_l_s is not None  # "very-long" exists only with T_L
         return self.s_d1_m_s * self.t_l_s / period_s**2
 
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any], *, g_m_s2: float = 9.81) -> TwoPeriodSpectrum:
+        """Inverse of :meth:`to_dict` (values in g accepted too, see :func:`spectrum_from_dict`)."""
+        spectrum = spectrum_from_dict(data, g_m_s2=g_m_s2)
+        if not isinstance(spectrum, TwoPeriodSpectrum):
+            raise InputError("a tabulated spectrum, expected s_ds and s_d1 of a two-period one")
+        return spectrum
+
     def to_dict(self) -> dict[str, Any]:
         """``{"s_ds_m_s2": ..., "s_d1_m_s": ..., "t_l_s": ...}`` (t_l_s omitted when None)."""
         out: dict[str, Any] = {"s_ds_m_s2": self.s_ds_m_s2, "s_d1_m_s": self.s_d1_m_s}
@@ -180,6 +188,14 @@ class TabulatedSpectrum:
                 hi = mid
         frac = (period_s - periods[lo]) / (periods[hi] - periods[lo])
         return values[lo] + frac * (values[hi] - values[lo])
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any], *, g_m_s2: float = 9.81) -> TabulatedSpectrum:
+        """Inverse of :meth:`to_dict` (``sa_g`` also accepted, see :func:`spectrum_from_dict`)."""
+        spectrum = spectrum_from_dict(data, g_m_s2=g_m_s2)
+        if not isinstance(spectrum, TabulatedSpectrum):
+            raise InputError("a two-period spectrum, expected periods_s and sa_m_s2 of a table")
+        return spectrum
 
     def to_dict(self) -> dict[str, Any]:
         """``{"periods_s": [...], "sa_m_s2": [...]}``."""

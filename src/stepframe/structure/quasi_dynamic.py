@@ -295,6 +295,15 @@ class SteppingMap:
         """The fields as a dictionary."""
         return asdict(self)
 
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> SteppingMap:
+        """Inverse of :meth:`to_dict`; unknown keys are an error naming the key."""
+        known = set(cls.__dataclass_fields__)
+        unknown = set(data) - known
+        if unknown:
+            raise InputError(f"unknown key(s) {sorted(unknown)}, expected {sorted(known)}")
+        return cls(**dict(data))
+
 
 @dataclass(frozen=True)
 class FixedPoint:
