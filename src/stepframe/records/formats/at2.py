@@ -25,7 +25,7 @@ from stepframe.records.formats import ReadOptions, RecordFormat, register
 from stepframe.records.formats._text import check_count, numbers, read_lines, resolve_units, warn
 from stepframe.records.units import factor_to_m_s2
 
-_NEW_STYLE = re.compile(r"NPTS\s*=\s*([^,\s]*)\s*,?\s*DT\s*=\s*(\S*?)\s*(?:SEC\S*)?\s*$", re.I)
+_NEW_STYLE = re.compile(r"NPTS\s*=\s*([^,\s]*)\s*,?\s*DT\s*=\s*([^\s,]*?)\s*(?:SEC\b|,|\s|$)", re.I)
 _OLD_STYLE = re.compile(r"^\s*(\S+)\s+(\S+)\s+NPTS\s*,\s*DT\b", re.I)
 _QUANTITY = re.compile(
     r"^\s*(ACCELERATION|VELOCITY|DISPLACEMENT)\b.*?(?:UNITS\s+OF\s+(.+?))?\s*$", re.I
