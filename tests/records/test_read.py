@@ -284,3 +284,16 @@ def test_options_contradicting_the_file_refused(tmp_path: Path) -> None:
         read(fema, units="gal")
     with pytest.raises(InputError, match=r"dt = -1 s, expected a positive"):
         read(at2, dt=-1)
+
+
+def test_fixed_width_fields_that_touch_and_fortran_d_exponents(tmp_path: Path) -> None:
+    from stepframe.records.formats._text import fortran_width, numbers
+
+    # A CSMIP real-header line: 8F10 fields, two of which touch.
+    lines = [" 98.200000  .2980232  .4776013      .000 5.0000000-999.00000 4.0000000      .000"]
+    values, end = numbers(lines, 0, tmp_path, count=8, width=fortran_width("(8f10.7)"))
+    np.testing.assert_array_equal(values, [98.2, 0.2980232, 0.4776013, 0, 5, -999, 4, 0])
+    assert end == 1
+    values, _ = numbers(["1.5D-03 -2.0d+01"], 0, tmp_path)
+    np.testing.assert_array_equal(values, [1.5e-3, -20.0])
+    assert fortran_width("Format=(1E15.6)") == 15 and fortran_width("(10I8)") == 8
