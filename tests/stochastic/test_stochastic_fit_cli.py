@@ -1,0 +1,135 @@
+"""``stepframe stochastic fit`` and ``features``: JSON keys, outputs, one-line errors."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from stepframe.cli import main
+from stepframe.records.units import STANDARD_GRAVITY_M_S2
+from stepframe.stochastic.model import GroundMotionModel
+from stepframe.stochastic.synthetic import synthetic_motions
+
+TRUE = GroundMotionModel.from_hz(7.43, 3.12, 1.11, 0.096, 0.655, t_max_s=5.0, t_dur_s=20.0)
+KEYS = (
+    "omega_p_rad_s",
+    "omega_s_rad_s",
+    "omega_r_rad_s",
+    "xi_p",
+    "xi_r",
+    "t_max_s",
+    "t_dur_s",
+    "t0_s",
+    "fit_quality",
+)
+
+
+def _write_fema(path: Path, acc_m_s2: np.ndarray, dt: float) -> None:
+    values = acc_m_s2 / STANDARD_GRAVITY_M_S2
+    lines = [f"# NPTS= {values.size} DT= {dt} SEC  PGA_g= {np.abs(values).max():.6f}"]
+    lines += [" ".join(f"{v:.8E}" for v in values[i : i + 5]) for i in range(0, values.size, 5)]
+    path.write_text("\n".join(lines) + "\n")
+
+
+@pytest.fixture(scope="module")
+def record(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    folder = tmp_path_factory.mktemp("records")
+    _, acc = synthetic_motions(TRUE, duration_s=40.0, dt_s=0.01, n_realisations=2, seed=8)
+    for i, x in enumerate(acc):
+        _write_fema(folder / f"syn{i}.txt", x, 0.01)
+    return folder / "syn0.txt"
+
+
+def test_fit_json_keys_plot_and_netcdf(
+    record: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    import xarray as xr
+
+    png, nc = tmp_path / "fit.png", tmp_path / "fit.nc"
+    code = main(["stochastic", "fit", str(record), "--json", "--plot", str(png), "--out", str(nc)])
+    out = capsys.readouterr().out
+    assert code == 0
+    data = json.loads(out)
+    for key in KEYS:
+        assert isinstance(data[key], float)
+    for key in KEYS[:5]:
+        assert data[f"{key}_stderr"] > 0
+    assert abs(data["omega_s_rad_s"] / TRUE.omega_s_rad_s - 1) < 0.3
+    assert data["t0_s"] == 0.0
+    assert png.stat().st_size > 10_000 and png.read_bytes()[:4] == b"\x89PNG"
+    with xr.open_dataset(nc, engine="h5netcdf") as saved:
+        assert saved["psd"].dims == ("time", "omega")
+        assert saved["omega"].attrs["units"] == "rad/s"
+        assert saved.attrs["omega_s_rad_s"] == pytest.approx(data["omega_s_rad_s"])
+    assert not list(tmp_path.glob(".*tmp*"))  # nothing half-written left behind
+
+
+def test_fit_text_and_options(record: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    args = ["stochastic", "fit", str(record), "--frequency", "ridge", "--spectrum", "wavelet"]
+    assert main(args) == 0
+    text = capsys.readouterr().out
+    assert "omega_s_rad_s" in text and "±" in text
+
+
+def test_features_folder_writes_table_and_failures(
+    record: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    (record.parent / "broken.txt").write_text("# NPTS= 10 DT= 0.01 SEC\n1 2 x\n")
+    out = tmp_path / "features.csv"
+    code = main(["stochastic", "features", str(record.parent), "-o", str(out), "--json"])
+    captured = capsys.readouterr()
+    assert code == 0
+    summary = json.loads(captured.out)
+    assert summary == {
+        "components": 2,
+        "plausible": summary["plausible"],
+        "failures": 1,
+        "output": str(out),
+        "failures_output": str(tmp_path / "features_failures.csv"),
+    }
+    table = pd.read_csv(out)
+    assert len(table) == 2 and "omega_s_rad_s_stderr" in table.columns
+    failures = pd.read_csv(tmp_path / "features_failures.csv")
+    assert list(failures["stage"]) == ["read"] and "broken.txt" in failures["file"].iloc[0]
+    assert "features:" in captured.err  # progress on stderr, stdout is only JSON
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["stochastic", "fit", "MISSING.AT2"], "no such file"),
+        (["stochastic", "features", "-o", "x.csv"], "exactly one"),
+        (["stochastic", "fit", "REC", "--window-s", "-1"], "not positive"),
+    ],
+)
+def test_errors_are_one_line_exit_2(
+    args: list[str], message: str, record: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    args = [str(record) if a == "REC" else a for a in args]
+    assert main(args) == 2
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    lines = captured.err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("stepframe: error: ") and message in lines[0]
+
+
+def test_record_too_short_for_window(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    short = tmp_path / "short.txt"
+    _write_fema(short, np.sin(np.arange(50.0)), 0.01)
+    assert main(["stochastic", "fit", str(short)]) == 2
+    err = capsys.readouterr().err
+    assert "shorter than the 2.0 s window" in err and str(short) in err
+
+
+def test_real_record_p_pick(shared_data: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """RSN 8883 (quiet until about 24 s): the AIC pick finds the onset, the fit is plausible."""
+    path = shared_data / "peer_nga_west2" / "RSN8883_14383980_13849090.AT2"
+    assert main(["stochastic", "fit", str(path), "--t0", "p-pick", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert 22.0 < data["p_onset_s"] < 26.0
+    assert data["omega_p_rad_s"] >= data["omega_s_rad_s"] >= data["omega_r_rad_s"]
+    assert data["omega_p_rad_s"] < 0.5 * np.pi / 0.005
