@@ -1,0 +1,201 @@
+"""Processing steps on a record, each recorded in ``stats.stepframe.processing`` once it succeeds.
+
+Every step works in place on an ``obspy.Trace`` in m/s² and returns it; the new samples are
+computed first and assigned only when the step has succeeded, then ``{"step": name, **params}``
+is appended to the history (gmprocess-style provenance). Nothing is applied unless asked for.
+:func:`process` runs an ordered list of named steps, as a workflow file gives them.
+
+Steps: ``demean``, ``detrend`` (least-squares line), ``baseline`` (polynomial fit to the
+displacement, its second derivative removed from the acceleration), ``bandpass`` (Butterworth,
+acausal by default; either corner may be omitted for a high- or low-pass), ``taper`` (Hann ends),
+``resample`` (FFT, band-limited) and ``trim`` (seconds from the first sample).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping, Sequence
+from typing import Any, Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from stepframe.errors import InputError
+from stepframe.records.intensity import displacement_m
+
+StepName = Literal["demean", "detrend", "baseline", "bandpass", "taper", "resample", "trim"]
+
+
+def _record(trace: Any, step: str, new_data: NDArray[np.float64], **params: Any) -> Any:
+    if not np.all(np.isfinite(new_data)):
+        raise InputError(f"step {step!r} produced non-finite samples, expected a finite record")
+    trace.data = np.ascontiguousarray(new_data, dtype=np.float64)
+    trace.stats.stepframe.processing.append({"step": step, **params})
+    return trace
+
+
+def demean(trace: Any) -> Any:
+    """Remove the mean of the record."""
+    data = np.asarray(trace.data, dtype=np.float64)
+    return _record(trace, "demean", data - data.mean())
+
+
+def detrend(trace: Any) -> Any:
+    """Remove the least-squares straight line of the record."""
+    data = np.asarray(trace.data, dtype=np.float64)
+    t = np.arange(data.size, dtype=np.float64)
+    slope, intercept = np.polyfit(t, data, 1)
+    return _record(trace, "detrend", data - (slope * t + intercept))
+
+
+def baseline(trace: Any, order: int = 6) -> Any:
+    """Polynomial baseline correction: fit u(t) ≈ Σ_{k=2}^{order} c_k t^k to the displacement.
+
+    The fitted polynomial has no constant or linear term (the record starts from rest), and its
+    second derivative is removed from the acceleration (Boore et al. practice, as in gmprocess).
+
+    Parameters
+    ----------
+    order
+        Degree of the polynomial, 2 to 10.
+    """
+    if not 2 <= order <= 10:
+        raise InputError(f"baseline polynomial order {order}, expected 2 to 10")
+    data = np.asarray(trace.data, dtype=np.float64)
+    dt = float(trace.stats.delta)
+    duration = dt * (data.size - 1)
+    # Scaled time keeps the normal equations well conditioned for high orders.
+    x = np.arange(data.size) * dt / duration
+    powers = np.arange(2, order + 1)
+    design = x[:, None] ** powers[None, :]
+    coeffs, *_ = np.linalg.lstsq(design, displacement_m(data, dt), rcond=None)
+    second = (powers * (powers - 1) * coeffs)[None, :] * x[:, None] ** (powers - 2)[None, :]
+    correction = second.sum(axis=1) / duration**2
+    return _record(trace, "baseline", data - correction, order=order)
+
+
+def bandpass(
+    trace: Any,
+    freqmin_hz: float | None,
+    freqmax_hz: float | None,
+    order: int = 4,
+    zero_phase: bool = True,
+) -> Any:
+    """Butterworth filter (second-order sections); acausal (forward-backward) by default.
+
+    Parameters
+    ----------
+    freqmin_hz, freqmax_hz
+        Corner frequencies [Hz]; None for a low-pass or high-pass only. The upper corner must be
+        below the Nyquist frequency.
+    order
+        Order of the Butterworth design (the acausal filter applies it twice).
+    zero_phase
+        Forward-backward filtering (no phase shift) when True; causal when False.
+    """
+    from scipy import signal
+
+    nyquist = 0.5 / float(trace.stats.delta)
+    if freqmin_hz is None and freqmax_hz is None:
+        raise InputError("bandpass without corners, expected freqmin_hz and/or freqmax_hz")
+    for name, value in (("freqmin_hz", freqmin_hz), ("freqmax_hz", freqmax_hz)):
+        if value is not None and not (math.isfinite(value) and 0 < value < nyquist):
+            raise InputError(f"{name} = {value}, expected 0 < f < Nyquist ({nyquist:g} Hz)")
+    if freqmin_hz is not None and freqmax_hz is not None and freqmin_hz >= freqmax_hz:
+        raise InputError(f"corners {freqmin_hz} >= {freqmax_hz} Hz, expected freqmin < freqmax")
+    if freqmin_hz is not None and freqmax_hz is not None:
+        sos = signal.butter(
+            order, [freqmin_hz, freqmax_hz], "bandpass", fs=2 * nyquist, output="sos"
+        )
+    elif freqmin_hz is not None:
+        sos = signal.butter(order, freqmin_hz, "highpass", fs=2 * nyquist, output="sos")
+    else:
+        sos = signal.butter(order, freqmax_hz, "lowpass", fs=2 * nyquist, output="sos")
+    data = np.asarray(trace.data, dtype=np.float64)
+    filtered = signal.sosfiltfilt(sos, data) if zero_phase else signal.sosfilt(sos, data)
+    return _record(
+        trace,
+        "bandpass",
+        filtered,
+        freqmin_hz=freqmin_hz,
+        freqmax_hz=freqmax_hz,
+        order=order,
+        zero_phase=zero_phase,
+    )
+
+
+def taper(trace: Any, fraction: float = 0.05) -> Any:
+    """Hann taper over ``fraction`` of the record at each end (0 < fraction <= 0.5)."""
+    if not 0 < fraction <= 0.5:
+        raise InputError(f"taper fraction {fraction}, expected 0 < fraction <= 0.5")
+    data = np.asarray(trace.data, dtype=np.float64)
+    width = max(int(fraction * data.size), 1)
+    ramp = 0.5 * (1 - np.cos(np.pi * np.arange(width) / width))
+    window = np.ones(data.size)
+    window[:width] = ramp
+    window[data.size - width :] = np.minimum(window[data.size - width :], ramp[::-1])
+    return _record(trace, "taper", data * window, fraction=fraction)
+
+
+def resample(trace: Any, dt_s: float) -> Any:
+    """Resample to interval ``dt_s`` [s] by FFT; when downsampling, content above the new
+    Nyquist frequency is removed (an ideal anti-alias filter)."""
+    from scipy import signal
+
+    if not (math.isfinite(dt_s) and dt_s > 0):
+        raise InputError(f"dt = {dt_s} s, expected a positive sampling interval")
+    data = np.asarray(trace.data, dtype=np.float64)
+    old_dt = float(trace.stats.delta)
+    npts = max(round(data.size * old_dt / dt_s), 2)
+    new = signal.resample(data, npts)
+    _record(trace, "resample", new, dt_s=dt_s, dt_in_s=old_dt)
+    trace.stats.delta = data.size * old_dt / npts
+    return trace
+
+
+def trim(trace: Any, start_s: float = 0.0, end_s: float | None = None) -> Any:
+    """Keep samples from ``start_s`` to ``end_s`` [s] after the first sample (inclusive)."""
+    data = np.asarray(trace.data, dtype=np.float64)
+    dt = float(trace.stats.delta)
+    first = math.ceil(start_s / dt - 1e-9)
+    last = data.size - 1 if end_s is None else math.floor(end_s / dt + 1e-9)
+    if not (0 <= first < last <= data.size - 1):
+        duration = dt * (data.size - 1)
+        raise InputError(
+            f"trim window {start_s}..{end_s} s, expected 0 <= start < end <= {duration:g} s"
+        )
+    starttime = trace.stats.starttime + first * dt
+    _record(trace, "trim", data[first : last + 1], start_s=start_s, end_s=end_s)
+    trace.stats.starttime = starttime
+    return trace
+
+
+STEPS: dict[str, Callable[..., Any]] = {
+    "demean": demean,
+    "detrend": detrend,
+    "baseline": baseline,
+    "bandpass": bandpass,
+    "taper": taper,
+    "resample": resample,
+    "trim": trim,
+}
+
+
+def process(trace: Any, steps: Sequence[Mapping[str, Any]]) -> Any:
+    """Apply named steps in order: ``[{"step": "bandpass", "freqmin_hz": 0.1, ...}, ...]``.
+
+    A failing step raises :class:`InputError` naming it; the steps before it stay applied and
+    recorded, the failing one leaves the record unchanged.
+    """
+    for number, spec in enumerate(steps, start=1):
+        params = dict(spec)
+        name = params.pop("step", None)
+        if name not in STEPS:
+            raise InputError(
+                f"processing step {number}: {name!r}, expected one of {', '.join(STEPS)}"
+            )
+        try:
+            STEPS[name](trace, **params)
+        except TypeError as exc:
+            raise InputError(f"processing step {number} ({name}): {exc}") from None
+    return trace
