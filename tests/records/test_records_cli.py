@@ -1,0 +1,138 @@
+"""``stepframe records info|spectrum|catalog``: JSON contents, errors with exit 2, outputs."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from stepframe.cli import main
+
+PEER = Path(__file__).parents[1] / "data" / "peer_nga_west2"
+H1 = PEER / "RSN8883_14383980_13849360.AT2"
+H2 = PEER / "RSN8883_14383980_13849090.AT2"
+
+
+def _json(capsys: pytest.CaptureFixture[str], *args: str) -> object:
+    assert main([*args, "--json"]) == 0
+    captured = capsys.readouterr()
+    assert captured.err == ""  # --json: nothing but JSON, and no progress lines
+    return json.loads(captured.out)
+
+
+def test_info_json(capsys: pytest.CaptureFixture[str]) -> None:
+    rows = _json(capsys, "records", "info", str(H1))
+    assert isinstance(rows, list) and len(rows) == 1
+    row = rows[0]
+    for key in (
+        "file",
+        "station",
+        "component",
+        "npts",
+        "dt_s",
+        "duration_s",
+        "units_in",
+        "pga_g",
+        "pgv_m_s",
+        "pgd_m",
+        "arias_m_s",
+        "d5_95_s",
+    ):
+        assert key in row
+    assert row["npts"] == 16396 and row["duration_s"] == pytest.approx(81.975)
+    words = [float(w) for line in H1.read_text().splitlines()[4:] for w in line.split()]
+    assert row["pga_g"] == pytest.approx(max(abs(w) for w in words), rel=1e-12)
+
+
+def test_spectrum_two_components_against_peer(capsys: pytest.CaptureFixture[str]) -> None:
+    reference = json.loads((PEER / "RSN8883_peer_spectra.json").read_text())
+    periods = reference["period"][::10]
+    data = _json(
+        capsys,
+        "records",
+        "spectrum",
+        str(H1),
+        str(H2),
+        "--periods-s",
+        ",".join(str(p) for p in periods),
+    )
+    assert isinstance(data, dict)
+    assert data["period_s"] == periods
+    peer5 = next(s for s in reference["spectra"] if s["damping"] == 0.05)
+    np.testing.assert_allclose(data["components"][0]["psa_g"], peer5["h1"][::10], rtol=0.05)
+    np.testing.assert_allclose(data["rotd50_g"], peer5["rotd50"][::10], rtol=0.10)
+    comp = data["components"][0]
+    omega = 2 * np.pi / np.array(periods)
+    np.testing.assert_allclose(comp["sd_m"], np.array(comp["psa_g"]) * 9.80665 / omega**2)
+    assert len(data["geomean_g"]) == len(data["rotd100_g"]) == len(periods)
+
+
+def test_spectrum_default_grid_and_plot(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    out = tmp_path / "psa.png"
+    data = _json(capsys, "records", "spectrum", str(H1), "--damping", "0.02", "--plot", str(out))
+    assert isinstance(data, dict)
+    assert len(data["period_s"]) == 91 and data["period_s"][0] == pytest.approx(0.01)
+    assert data["period_s"][-1] == pytest.approx(10.0) and "rotd50_g" not in data
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["records", "spectrum", str(H1), "--damping", "5"], "damping 5.0"),
+        (["records", "spectrum", str(H1), "--periods-s", "0.1,-2"], "positive"),
+        (["records", "spectrum", str(H1), str(H2), str(H1)], "one or two"),
+        (["records", "catalog", "/nonexistent/dir", "-o", "x.csv"], "no such file or folder"),
+    ],
+)
+def test_errors_are_one_line_exit_2(
+    capsys: pytest.CaptureFixture[str], args: list[str], message: str
+) -> None:
+    assert main(args) == 2
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    lines = captured.err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("stepframe: error: ") and message in lines[0]
+
+
+def test_bad_files_exit_2_without_traceback(tmp_path: Path) -> None:
+    truncated = tmp_path / "truncated.AT2"
+    truncated.write_text("\n".join(H1.read_text().splitlines()[:50]) + "\n")
+    binary = tmp_path / "binary.AT2"
+    binary.write_bytes(bytes(range(256)))
+    for bad in (truncated, binary):
+        result = subprocess.run(
+            [sys.executable, "-m", "stepframe.cli", "records", "info", str(bad)],
+            capture_output=True,
+            text=True,
+            timeout=120,
+        )
+        assert result.returncode == 2 and result.stdout == ""
+        assert result.stderr.startswith(f"stepframe: error: {bad}")
+        assert "Traceback" not in result.stderr and len(result.stderr.strip().splitlines()) == 1
+
+
+def test_catalog_cli(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    folder = tmp_path / "in"
+    folder.mkdir()
+    shutil.copy(H1, folder)
+    (folder / "bad.AT2").write_text("not a record\n")
+    out = tmp_path / "cat.csv"
+    assert main(["records", "catalog", str(folder), "-o", str(out)]) == 0
+    captured = capsys.readouterr()
+    assert "[1/2]" in captured.err and "[2/2]" in captured.err
+    assert "1 components" in captured.out
+    summary = _json(capsys, "records", "catalog", str(folder), "-o", str(out))
+    assert summary == {
+        "table": str(out),
+        "columns": str(tmp_path / "cat.columns.csv"),
+        "failures": str(tmp_path / "cat.failures.csv"),
+        "n_components": 1,
+        "n_failures": 1,
+    }
+    assert (tmp_path / "cat.failures.csv").read_text().splitlines()[0] == "file,stage,reason"
