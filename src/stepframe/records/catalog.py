@@ -14,14 +14,16 @@ import warnings
 from collections.abc import Callable, Iterable
 from os import PathLike
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import pandas as pd
 
 from stepframe.errors import InputError
 from stepframe.records.intensity import MEASURES, intensity_measures
 from stepframe.records.units import STANDARD_GRAVITY_M_S2
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 #: Periods [s] of the spectral ordinates in the table (those of the paper's Example 4 table).
 CATALOG_PERIODS_S = (0.2, 1.0)
@@ -52,6 +54,8 @@ def _psa_column(period_s: float) -> str:
 
 def column_dictionary() -> pd.DataFrame:
     """The catalogue's columns: ``column``, ``unit``, ``meaning``."""
+    import pandas as pd
+
     rows = [(name, unit, meaning) for name, (unit, meaning) in _METADATA.items()]
     rows += [(name, unit, meaning) for name, (unit, meaning) in MEASURES.items()]
     rows += [
@@ -66,7 +70,12 @@ def column_dictionary() -> pd.DataFrame:
     return pd.DataFrame(rows, columns=["column", "unit", "meaning"])
 
 
-COLUMNS: list[str] = list(column_dictionary()["column"])
+COLUMNS: list[str] = [
+    *_METADATA,
+    *MEASURES,
+    *(_psa_column(period) for period in CATALOG_PERIODS_S),
+    "warnings",
+]
 FAILURE_COLUMNS = ["file", "stage", "reason"]
 
 
@@ -107,6 +116,8 @@ def trace_row(trace: Any, file: str = "", warning_text: str = "") -> dict[str, A
 
 def intensity_table(stream: Iterable[Any]) -> pd.DataFrame:
     """The catalogue table of records already in memory (for example the example catalogue)."""
+    import pandas as pd
+
     table = pd.DataFrame([trace_row(trace) for trace in stream], columns=COLUMNS)
     table.attrs["column_dictionary"] = column_dictionary()
     return table
@@ -156,6 +167,8 @@ def catalog(
         ``file``, ``stage`` (``read`` or ``measures``) and ``reason`` of every file or component
         that could not be catalogued.
     """
+    import pandas as pd
+
     from stepframe.records.io import read
 
     files = record_files(path)
