@@ -11,7 +11,7 @@ from scipy.signal.windows import hann
 from stepframe.errors import InputError
 from stepframe.records.trace import make_trace
 from stepframe.stochastic.model import GroundMotionModel
-from stepframe.stochastic.spectra import evolutionary_spectrum, mean_square
+from stepframe.stochastic.spectra import evolutionary_spectrum, mean_square, stft_power
 from stepframe.stochastic.synthetic import synthetic_motions
 
 SITE = GroundMotionModel.from_hz(7.43, 3.12, 1.11, 0.096, 0.655, t_max_s=5.0, t_dur_s=20.0)
@@ -54,6 +54,17 @@ def test_pyfftw_matches_scipy_fft(motion: tuple[np.ndarray, np.ndarray]) -> None
     a = evolutionary_spectrum(x, 0.01, fft="pyfftw").values
     b = evolutionary_spectrum(x, 0.01, fft="scipy").values
     np.testing.assert_allclose(a, b, rtol=1e-8, atol=1e-12 * float(b.max()))
+
+
+@pytest.mark.parametrize("dt", [0.005, 0.01, 0.02])
+def test_batched_engine_equals_shorttimefft(
+    motion: tuple[np.ndarray, np.ndarray], dt: float
+) -> None:
+    _, x = motion
+    batched = stft_power(x, dt, engine="batched", fft="scipy")
+    reference = stft_power(x, dt, engine="shorttimefft", fft="scipy")
+    for a, b in zip(batched, reference, strict=True):
+        np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-14 * float(np.max(np.abs(b))))
 
 
 def test_dims_coords_units(motion: tuple[np.ndarray, np.ndarray]) -> None:

@@ -389,11 +389,18 @@ def peak_time_by_envelope(
             shape = np.exp(a * (np.log(tau) + 1.0 - tau))
         return np.asarray((amp * shape - intensity) / scale)
 
+    # A smooth 4-parameter curve: ~200 frames fix it as well as all of them, at a fraction of
+    # the cost (the fit's numerical Jacobian costs one pass per parameter).
+    stride = max(1, time_s.size // 200)
+    time_s, intensity = time_s[::stride], intensity[::stride]
     x0 = np.array([onset0, t_peak - onset0, peak, 2.0])
     lower = [float(time_s[0]) - 60.0, 1e-3, 0.0, 0.05]
     upper = [t_peak, float(time_s[-1] - time_s[0]) + 60.0, 10 * peak, 50.0]
     try:
-        result = least_squares(residual, x0, bounds=(lower, upper), method="trf")
+        # Tolerances of 1e-6 locate the peak to well under a frame; tighter only costs time.
+        result = least_squares(
+            residual, x0, bounds=(lower, upper), method="trf", ftol=1e-6, xtol=1e-6
+        )
     except ValueError:
         return None
     if not result.success:

@@ -151,6 +151,8 @@ def _fit_omega(
         bounds=(lower, upper),
         x_scale=[float(x0[0]), 0.1, 0.1],
         method="trf",
+        ftol=1e-6,  # parameters to ~1e-6 relative: far below their standard errors
+        xtol=1e-6,
     )
     theta = np.asarray(result.x, dtype=np.float64)
     return (

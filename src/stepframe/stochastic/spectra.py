@@ -31,6 +31,7 @@ if TYPE_CHECKING:
 
 SpectrumMethod = Literal["stft", "wavelet", "parametric"]
 FftBackend = Literal["pyfftw", "scipy"]
+StftEngine = Literal["batched", "shorttimefft"]
 SPECTRUM_METHODS: tuple[SpectrumMethod, ...] = ("stft", "wavelet", "parametric")
 
 #: Default STFT window length [s]: resolves 2π/2 s ≈ 3 rad/s, tracks changes over ~1 s.
@@ -114,8 +115,16 @@ def stft_power(
     window_s: float = DEFAULT_WINDOW_S,
     hop_s: float = DEFAULT_HOP_S,
     fft: FftBackend = "pyfftw",
+    engine: StftEngine = "batched",
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """STFT evolutionary spectrum as arrays.
+
+    Both engines use the window, frequencies and slice positions of one scipy ``ShortTimeFFT``
+    (slice p centred on sample p·hop, zeros outside the record) and FFTs through ``scipy.fft``
+    (so pyFFTW or scipy's own per ``fft``). ``"shorttimefft"`` calls ``ShortTimeFFT.stft``,
+    which transforms one slice per Python call; ``"batched"`` (default) transforms all slices
+    in one ``scipy.fft.rfft`` call on a strided view, 5-10x faster on records of a few thousand
+    samples; the two agree to rounding (tests/stochastic/test_spectra.py).
 
     Returns
     -------
@@ -128,9 +137,12 @@ def stft_power(
     window : numpy.ndarray
         The Hann window used (for its known spectral spread).
     """
+    import scipy.fft as sfft
     from scipy.signal import ShortTimeFFT
     from scipy.signal.windows import hann
 
+    if engine not in ("batched", "shorttimefft"):
+        raise InputError(f"engine = {engine!r}, expected 'batched' or 'shorttimefft'")
     npts = data.size
     m = window_samples(window_s, dt_s, npts)
     hop = max(1, round(hop_s / dt_s))
@@ -139,12 +151,18 @@ def stft_power(
     stft = ShortTimeFFT(win, hop, 1.0 / dt_s, fft_mode="onesided", mfft=mfft)
     p1 = (npts - 1) // hop + 1
     with fft_backend(fft):
-        spec = stft.stft(data, p0=0, p1=p1)
-    # ShortTimeFFT centres slice p at sample p·hop (window midpoint m//2).
+        if engine == "shorttimefft":
+            spec = stft.stft(data, p0=0, p1=p1).T
+        else:
+            mid = stft.m_num_mid
+            padded = np.zeros(npts + m + hop)
+            padded[mid : mid + npts] = data
+            frames = np.lib.stride_tricks.sliding_window_view(padded, m)[: p1 * hop : hop]
+            spec = sfft.rfft(frames * win, n=mfft, axis=-1)
     psd = (dt_s / float(np.sum(win**2))) * (spec.real**2 + spec.imag**2)
     time_s = np.arange(p1, dtype=np.float64) * hop * dt_s
     omega = 2 * math.pi * np.asarray(stft.f, dtype=np.float64)
-    return time_s, omega, np.ascontiguousarray(psd.T), np.asarray(win, dtype=np.float64)
+    return time_s, omega, np.ascontiguousarray(psd), np.asarray(win, dtype=np.float64)
 
 
 def wavelet_power(

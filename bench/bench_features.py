@@ -1,0 +1,99 @@
+"""Benchmark: features + B-P fit per component on the example catalogue; pyFFTW vs scipy FFT.
+
+Prints a Markdown table (docs/benchmarks.md, "Features"). The default method is STFT (pyFFTW) +
+zero crossings + least-squares fit, no bootstrap, t0 = record start. Timings are medians of
+``--repeat`` runs; the machine has 2 cores shared with other jobs, so absolute numbers are noisy
+and the ratios, measured in the same run, are what to compare.
+
+    python bench/bench_features.py [--repeat 5]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import time
+from typing import Any
+
+import numpy as np
+
+from stepframe.records.examples import fema_p695
+from stepframe.stochastic.catalog_features import catalog_features
+from stepframe.stochastic.features import record_features
+from stepframe.stochastic.fit import fit_model
+from stepframe.stochastic.spectra import stft_power
+
+TARGET_COMPONENTS = 43_000
+CORES = 2
+
+
+def _median_time(fn: Any, repeat: int, clock: Any = time.perf_counter) -> float:
+    times = []
+    for _ in range(repeat):
+        start = clock()
+        fn()
+        times.append(clock() - start)
+    return statistics.median(times)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--repeat", type=int, default=5)
+    args = parser.parse_args()
+    stream, meta = fema_p695()
+    records = [(np.asarray(tr.data, dtype=np.float64), float(tr.stats.delta)) for tr in stream]
+    n = len(records)
+    samples = sum(x.size for x, _ in records)
+
+    def stft_all(fft: str, engine: str = "batched") -> None:
+        for x, dt in records:
+            stft_power(x, dt, fft=fft, engine=engine)  # type: ignore[arg-type]
+
+    def features_all(fft: str) -> None:
+        for x, dt in records:
+            fit_model(record_features(x, dt, fft=fft))  # type: ignore[arg-type]
+
+    # Warm-up: imports, FFTW plans (cached by pyfftw.interfaces.cache), scipy's own caches.
+    stft_all("pyfftw")
+    stft_all("scipy")
+    features_all("pyfftw")
+    # CPU time of this process: what one core spends, whatever else shares the machine.
+    cpu = time.process_time
+    t_stft_fftw = _median_time(lambda: stft_all("pyfftw"), args.repeat, cpu)
+    t_stft_scipy = _median_time(lambda: stft_all("scipy"), args.repeat, cpu)
+    t_stft_slices = _median_time(lambda: stft_all("scipy", "shorttimefft"), 1, cpu)
+    t_feat_fftw = _median_time(lambda: features_all("pyfftw"), args.repeat, cpu)
+    t_feat_scipy = _median_time(lambda: features_all("scipy"), args.repeat, cpu)
+    t_feat_wall = _median_time(lambda: features_all("pyfftw"), 1)
+    lows = list(meta["lowest_usable_frequency_hz"])
+    t_parallel = _median_time(
+        lambda: catalog_features(stream, n_jobs=CORES, lowest_usable_hz=lows),
+        max(1, args.repeat // 2),
+    )
+    per_component = t_feat_fftw / n
+    extrapolated = TARGET_COMPONENTS * per_component / CORES
+    print(f"machine: {os.cpu_count()} CPUs (shared); {n} components, {samples:,} samples\n")
+    print("| quantity | value |")
+    print("|---|---|")
+    print(f"| STFT only, batched, pyFFTW, per component (CPU, median of {args.repeat}) | "
+          f"{1e3 * t_stft_fftw / n:.2f} ms |")  # fmt: skip
+    print(f"| STFT only, batched, scipy FFT, per component | {1e3 * t_stft_scipy / n:.2f} ms |")
+    print(f"| STFT speed-up pyFFTW / scipy FFT | {t_stft_scipy / t_stft_fftw:.2f} x |")
+    slices_ms, slices_ratio = 1e3 * t_stft_slices / n, t_stft_slices / t_stft_scipy
+    print(f"| STFT only, ShortTimeFFT.stft (one FFT call per slice), scipy FFT | "
+          f"{slices_ms:.2f} ms ({slices_ratio:.1f} x batched) |")  # fmt: skip
+    print(f"| features + fit, pyFFTW, per component, 1 core (CPU) | {1e3 * per_component:.1f} ms |")
+    print(f"| features + fit, scipy FFT, per component, 1 core (CPU) | "
+          f"{1e3 * t_feat_scipy / n:.1f} ms |")  # fmt: skip
+    print(f"| features + fit, pyFFTW, per component, wall clock | {1e3 * t_feat_wall / n:.1f} ms |")
+    print(
+        f"| catalogue of {n} with {CORES} processes, wall (incl. start-up) | {t_parallel:.2f} s |"
+    )
+    print(f"| parallel speed-up vs 1 core | {t_feat_fftw / t_parallel:.2f} x |")
+    print(f"| extrapolated: {TARGET_COMPONENTS:,} components on {CORES} cores | "
+          f"{extrapolated / 60:.1f} min (target < 20 min, ~50 ms/component/core) |")  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()
