@@ -1,0 +1,726 @@
+"""Numba kernels of the exact piecewise-analytic stepping-frame integrator.
+
+Within one sample interval the ground acceleration is linear, so each phase of eqs. 4.11-4.12 is a
+constant-coefficient linear ODE with linear forcing::
+
+    ẍ + 2βẋ + kx = q₀ + q₁σ        (σ: time since the segment start)
+
+with β = ξω and k = ω₁² (unstepped) or k = -ω₂² (stepped, q₀ holding -sγ₁). Its solution is the
+affine particular solution x_p = A + Bσ plus a homogeneous part y, and every derivative of y obeys
+the same rule::
+
+    f(σ) = f(0)·(E_C + βE_S) + f'(0)·E_S,   E_C = e^{-βσ}C(σ),  E_S = e^{-βσ}S(σ),
+
+where C = cos, cosh or 1 and S = sin(dσ)/d, sinh(dσ)/d or σ for d² = |β² - k| (under-damped,
+over-damped/negative stiffness, critical). One formula therefore covers every case, and stays
+continuous through critical damping.
+
+Events are found without sampling: the zeros of ẍ (inflections of x) are closed form, so the
+segment is cut into pieces where ẋ is monotone; each holds at most one zero of ẋ (a true extremum
+of x, found by bracketed Newton), which cuts it into pieces where x is monotone; on each of those a
+threshold crossing is bracketed by the end values and found by bracketed Newton. A brief excursion
+past x_c between two samples (grazing) is therefore never missed.
+
+Phase codes: 0 unstepped, +1/-1 stepped on that side, +2/-2 held at x = ±x_c with ẋ = 0 (the
+contact force balance keeps the frame on the switching surface; reached after a touchdown with
+C_r = 0 or with a negligible rebound velocity, which also ends Zeno impact sequences).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+from numba import njit, prange
+
+#: Status codes returned by the kernel.
+STATUS_OK = 0
+STATUS_NONFINITE = 1
+STATUS_TOO_MANY_EVENTS = 2
+
+#: Event kinds stored by the kernel.
+EVENT_LIFTOFF = 1
+EVENT_TOUCHDOWN = 2
+EVENT_CAP = 3
+EVENT_ESCAPE = 4
+
+#: Bound on events located inside one sample interval before the kernel gives up (a chattering
+#: trajectory the hold state did not catch).
+_MAX_EVENTS_PER_INTERVAL = 10_000
+
+#: Bound on free-vibration intervals added after the tail while an escaping frame reaches x_cap.
+_MAX_EXTRA_INTERVALS = 10_000_000
+
+_TWO_PI = 2.0 * math.pi
+
+
+@njit(cache=True, inline="always")
+def _ecs(beta: float, disc: float, sig: float) -> tuple[float, float]:
+    """E_C(σ), E_S(σ) for decay β and discriminant β² - k (sign selects the case)."""
+    if disc < 0.0:
+        d = math.sqrt(-disc)
+        e = math.exp(-beta * sig)
+        return e * math.cos(d * sig), e * (math.sin(d * sig) / d)
+    if disc > 0.0:
+        d = math.sqrt(disc)
+        z = d * sig
+        if z < 20.0:
+            e = math.exp(-beta * sig)
+            return e * math.cosh(z), e * (math.sinh(z) / d)
+        # Split the exponentials: e^{-βσ}cosh(dσ) overflows in parts but not as a whole.
+        ep = math.exp((d - beta) * sig)
+        em = math.exp(-(d + beta) * sig)
+        return 0.5 * (ep + em), 0.5 * (ep - em) / d
+    e = math.exp(-beta * sig)
+    return e, e * sig
+
+
+@njit(cache=True, inline="always")
+def _x_at(seg: Any, sig: float) -> float:
+    a_p, b_p, y0, y1, _y2, _y3, beta, _k, disc = seg
+    ec, es = _ecs(beta, disc, sig)
+    x: float = a_p + b_p * sig + y0 * (ec + beta * es) + y1 * es
+    return x
+
+
+@njit(cache=True, inline="always")
+def _v_at(seg: Any, sig: float) -> float:
+    _a, b_p, _y0, y1, y2, _y3, beta, _k, disc = seg
+    ec, es = _ecs(beta, disc, sig)
+    v: float = b_p + y1 * (ec + beta * es) + y2 * es
+    return v
+
+
+@njit(cache=True, inline="always")
+def _acc_at(seg: Any, sig: float) -> float:
+    _a, _b, _y0, _y1, y2, y3, beta, _k, disc = seg
+    ec, es = _ecs(beta, disc, sig)
+    a: float = y2 * (ec + beta * es) + y3 * es
+    return a
+
+
+@njit(cache=True)
+def _segment(beta: float, k: float, disc: float, q0: float, q1: float, x0: float, v0: float) -> Any:
+    """Coefficients of one phase segment from its start state and linear forcing q₀ + q₁σ."""
+    b_p = q1 / k
+    a_p = (q0 - 2.0 * beta * b_p) / k
+    y0 = x0 - a_p
+    y1 = v0 - b_p
+    y2 = -2.0 * beta * y1 - k * y0
+    y3 = -2.0 * beta * y2 - k * y1
+    return (a_p, b_p, y0, y1, y2, y3, beta, k, disc)
+
+
+@njit(cache=True)
+def _inflections(seg: Any, length: float) -> np.ndarray:
+    """Sorted zeros of ẍ in (0, length): closed form from ÿ = e^{-βσ}(u·C + w·S)."""
+    _a, _b, _y0, _y1, u, y3, beta, _k, disc = seg
+    w = y3 + beta * u
+    if disc < 0.0:
+        d = math.sqrt(-disc)
+        if w == 0.0:
+            if u == 0.0:
+                return np.empty(0)
+            z0 = 0.5 * math.pi
+        else:
+            # tan(dσ) = -u·d/w; atan keeps σ accurate when d is small (near-critical damping).
+            z0 = math.atan(-u * d / w)
+            if z0 <= 0.0:
+                z0 += math.pi
+        n = 0
+        if z0 < d * length:
+            n = int((d * length - z0) / math.pi) + 1
+        out = np.empty(n)
+        m = 0
+        for i in range(n):
+            s = (z0 + i * math.pi) / d
+            if 0.0 < s < length:
+                out[m] = s
+                m += 1
+        return out[:m]
+    if disc > 0.0:
+        d = math.sqrt(disc)
+        if w == 0.0:
+            return np.empty(0)
+        ratio = -u * d / w
+        if 0.0 < ratio < 1.0:
+            s = math.atanh(ratio) / d
+            if s < length:
+                out = np.empty(1)
+                out[0] = s
+                return out
+        return np.empty(0)
+    if w != 0.0:
+        s = -u / w
+        if 0.0 < s < length:
+            out = np.empty(1)
+            out[0] = s
+            return out
+    return np.empty(0)
+
+
+@njit(cache=True)
+def _root(seg: Any, lo: float, hi: float, target: float, deriv: int) -> float:
+    """Root of x(σ) - target (deriv = 0) or ẋ(σ) (deriv = 1) on a bracket where it is monotone.
+
+    Newton on the closed form (its derivative is ẋ or ẍ), kept inside the bracket by bisection.
+    """
+    f_lo = _x_at(seg, lo) - target if deriv == 0 else _v_at(seg, lo)
+    if f_lo == 0.0:
+        return lo
+    s = 0.5 * (lo + hi)
+    for _ in range(200):
+        if deriv == 0:
+            f = _x_at(seg, s) - target
+            df = _v_at(seg, s)
+        else:
+            f = _v_at(seg, s)
+            df = _acc_at(seg, s)
+        if f == 0.0:
+            return s
+        if (f > 0.0) == (f_lo > 0.0):
+            lo = s
+        else:
+            hi = s
+        step_ok = False
+        if df != 0.0:
+            s_new = s - f / df
+            if lo < s_new < hi:
+                step_ok = True
+        if not step_ok:
+            s_new = 0.5 * (lo + hi)
+        if abs(s_new - s) <= 2.2e-16 * abs(s_new) or hi - lo <= 4.4e-16 * hi:
+            return s_new
+        s = s_new
+    return s
+
+
+@njit(cache=True)
+def _phase_coeffs(
+    phase: int,
+    w1: float,
+    w2: float,
+    p1: float,
+    p2: float,
+    g1: float,
+    xi1: float,
+    xi2: float,
+    ag0: float,
+    slope: float,
+) -> tuple[float, float, float, float, float]:
+    """(β, k, β² - k, q₀, q₁) of a phase with ground acceleration ag0 + slope·σ."""
+    if phase == 0:
+        beta = xi1 * w1
+        k = w1 * w1
+        disc = w1 * w1 * (xi1 - 1.0) * (xi1 + 1.0)
+        return beta, k, disc, -p1 * ag0, -p1 * slope
+    s = 1.0 if phase > 0 else -1.0
+    beta = xi2 * w2
+    k = -w2 * w2
+    disc = w2 * w2 * (xi2 * xi2 + 1.0)
+    return beta, k, disc, -s * g1 - p2 * ag0, -p2 * slope
+
+
+@njit(cache=True)
+def _surface_phase(
+    s: float, ag: float, w1: float, w2: float, p1: float, p2: float, g1: float, xc: float
+) -> int:
+    """Phase taken at rest (ẋ = 0) on the surface x = s·x_c, from the outward accelerations."""
+    out_stepped = w2 * w2 * xc - g1 - s * p2 * ag
+    if out_stepped > 0.0:
+        return int(s)
+    if xc > 0.0:
+        out_unstepped = -w1 * w1 * xc - s * p1 * ag
+        if out_unstepped < 0.0:
+            return 0
+    elif -g1 + s * p2 * ag > 0.0:
+        # Rigid-block limit: both sides meet at x = 0, the push may tip it the other way.
+        return -int(s)
+    return 2 * int(s)
+
+
+@njit(cache=True)
+def integrate(
+    ag: np.ndarray,
+    dt: float,
+    n_tail: int,
+    w1: float,
+    w2: float,
+    p1: float,
+    p2: float,
+    g1: float,
+    xi1: float,
+    xi2: float,
+    xc: float,
+    cr: float,
+    xcap: float,
+    x0: float,
+    v0: float,
+    hist_x: np.ndarray,
+    hist_v: np.ndarray,
+    hist_p: np.ndarray,
+    ev_t: np.ndarray,
+    ev_kind: np.ndarray,
+    ev_v_in: np.ndarray,
+    ev_v_out: np.ndarray,
+    ev_peak: np.ndarray,
+) -> tuple[int, int, int, int, float, float, int, float, float, float, int, float]:
+    """Integrate eqs. 4.11-4.12 through the record ``ag`` [m/s²] and a free tail of n_tail steps.
+
+    Histories are written at every sample time when ``hist_x`` has room (length ≥ steps + 1).
+    Events are written while the event arrays have room and always counted; ``ev_peak`` holds,
+    for a lift-off, the peak |x| of the stepping episode it starts.
+
+    Returns
+    -------
+    (status, n_events, n_liftoffs, n_impacts, peak_abs_x, t_peak, overturned, t_overturn,
+    x_end, v_end, phase_end, t_end)
+    """
+    n_rec = ag.shape[0] - 1
+    cap_ev = ev_t.shape[0]
+    do_hist = hist_x.shape[0] > 0
+    x_star = g1 / (w2 * w2)
+    # Negative root of the stepped phase's characteristic equation (escape test, free motion).
+    lam2 = -w2 * (xi2 + math.sqrt(1.0 + xi2 * xi2))
+    v_eps = 1e-12 * max(xc, x_star) * max(w1, w2)
+
+    # Full-interval constants of the unstepped phase, for the event-free fast path.
+    beta1 = xi1 * w1
+    k1 = w1 * w1
+    disc1 = w1 * w1 * (xi1 - 1.0) * (xi1 + 1.0)
+    ec1, es1 = _ecs(beta1, disc1, dt)
+    wd1_sq = -disc1
+
+    x = x0
+    v = v0
+    if abs(x) < xc:
+        phase = 0
+    elif abs(x) > xc:
+        phase = 1 if x > 0.0 else -1
+    else:
+        s0 = 1.0 if x >= 0.0 else -1.0
+        if v * s0 > 0.0:
+            phase = int(s0)
+        elif v * s0 < 0.0:
+            phase = 0 if xc > 0.0 else -int(s0)
+        else:
+            phase = _surface_phase(s0, ag[0] if n_rec >= 0 else 0.0, w1, w2, p1, p2, g1, xc)
+    status = STATUS_OK
+    n_ev = 0
+    n_lift = 0
+    n_imp = 0
+    peak = abs(x)
+    t_peak = 0.0
+    overturned = 0
+    t_over = math.nan
+    cur_lift = -1
+    cur_side = 1.0
+    ep_peak = 0.0
+    if do_hist:
+        hist_x[0] = x
+        hist_v[0] = v
+        hist_p[0] = phase
+    if phase == 1 or phase == -1:
+        ep_peak = abs(x)
+        cur_side = 1.0 if phase > 0 else -1.0
+        if abs(x) == xc:
+            # Starting on the surface and leaving it outward is a lift-off at t = 0; starting
+            # beyond x_c is an episode already under way (no lift-off event).
+            n_lift += 1
+            cur_lift = 0
+            if cap_ev > 0:
+                ev_t[0] = 0.0
+                ev_kind[0] = EVENT_LIFTOFF
+                ev_v_in[0] = v
+                ev_v_out[0] = v
+                ev_peak[0] = cur_side * xc
+            n_ev = 1
+
+    n_total = n_rec + n_tail
+    i = 0
+    escape_checked = False
+    while True:
+        if i >= n_total:
+            # Free vibration beyond the tail: only while an escaping frame runs to x_cap.
+            if not (overturned == 1 and xcap < math.inf and math.isnan(t_over)):
+                break
+            if i >= n_total + _MAX_EXTRA_INTERVALS:
+                break
+        t0 = i * dt
+        if i < n_rec:
+            ag_a = ag[i]
+            ag_b = ag[i + 1]
+        else:
+            ag_a = 0.0
+            ag_b = 0.0
+        slope = (ag_b - ag_a) / dt
+        in_free = i >= n_rec
+        if in_free and not escape_checked:
+            escape_checked = True
+            if phase == 1 or phase == -1:
+                s = 1.0 if phase > 0 else -1.0
+                if s * v - lam2 * (s * x - x_star) > 0.0 and overturned == 0:
+                    overturned = 1
+                    if n_ev < cap_ev:
+                        ev_t[n_ev] = t0
+                        ev_kind[n_ev] = EVENT_ESCAPE
+                        ev_v_in[n_ev] = v
+                        ev_v_out[n_ev] = v
+                        ev_peak[n_ev] = x
+                    n_ev += 1
+                    if xcap == math.inf:
+                        t_over = t0
+                        break
+
+        # Fast path: unstepped over the whole interval, with an a-priori bound below x_c and
+        # below the running peak (then no event and no new peak can occur inside).
+        if phase == 0:
+            q0 = -p1 * ag_a
+            q1 = -p1 * slope
+            b_p = q1 / k1
+            a_p = (q0 - 2.0 * beta1 * b_p) / k1
+            y0 = x - a_p
+            y1 = v - b_p
+            m = max(abs(a_p), abs(a_p + b_p * dt))
+            lim = min(xc, peak) - m
+            fast = False
+            if lim > 0.0:
+                if wd1_sq > 0.0:
+                    q = y1 + beta1 * y0
+                    fast = y0 * y0 + q * q / wd1_sq < lim * lim
+                else:
+                    fast = abs(y0) + abs(y1 + beta1 * y0) * dt < lim
+            if fast:
+                y2 = -2.0 * beta1 * y1 - k1 * y0
+                x = a_p + b_p * dt + y0 * (ec1 + beta1 * es1) + y1 * es1
+                v = b_p + y1 * (ec1 + beta1 * es1) + y2 * es1
+                i += 1
+                if do_hist and i < hist_x.shape[0]:
+                    hist_x[i] = x
+                    hist_v[i] = v
+                    hist_p[i] = 0
+                if not (math.isfinite(x) and math.isfinite(v)):
+                    status = STATUS_NONFINITE
+                    break
+                continue
+
+        # Slow path: exact event location inside the interval.
+        tau = 0.0
+        fresh = False  # the segment starts on the surface just handled
+        n_here = 0
+        stop = False
+        while tau < dt:
+            n_here += 1
+            if n_here > _MAX_EVENTS_PER_INTERVAL:
+                status = STATUS_TOO_MANY_EVENTS
+                stop = True
+                break
+            ag_now = ag_a + slope * tau
+            length = dt - tau
+            if phase == 2 or phase == -2:
+                # Held on the surface: leaves when a phase's outward/inward acceleration turns.
+                s = 1.0 if phase > 0 else -1.0
+                o2a = w2 * w2 * xc - g1 - s * p2 * ag_now
+                o2s = -s * p2 * slope
+                o1a = -w1 * w1 * xc - s * p1 * ag_now
+                o1s = -s * p1 * slope
+                t_leave = math.inf
+                new_phase = phase
+                if o2s > 0.0:
+                    tl = -o2a / o2s
+                    if tl < length:
+                        t_leave = max(tl, 0.0)
+                        new_phase = int(s)
+                if xc > 0.0 and o1s < 0.0:
+                    tl = -o1a / o1s
+                    if tl < length and max(tl, 0.0) < t_leave:
+                        t_leave = max(tl, 0.0)
+                        new_phase = 0
+                if xc == 0.0 and s * p2 * slope > 0.0:
+                    tl = (g1 - s * p2 * ag_now) / (s * p2 * slope)
+                    if tl < length and max(tl, 0.0) < t_leave:
+                        t_leave = max(tl, 0.0)
+                        new_phase = -int(s)
+                if new_phase == phase:
+                    x = s * xc
+                    v = 0.0
+                    tau = dt
+                    break
+                tau += t_leave
+                phase = new_phase
+                x = s * xc
+                v = 0.0
+                fresh = True
+                if phase != 0:
+                    n_lift += 1
+                    cur_lift = n_ev
+                    cur_side = 1.0 if phase > 0 else -1.0
+                    ep_peak = xc
+                    if n_ev < cap_ev:
+                        ev_t[n_ev] = t0 + tau
+                        ev_kind[n_ev] = EVENT_LIFTOFF
+                        ev_v_in[n_ev] = 0.0
+                        ev_v_out[n_ev] = 0.0
+                        ev_peak[n_ev] = cur_side * xc
+                    n_ev += 1
+                continue
+
+            beta, k, disc, q0, q1 = _phase_coeffs(
+                phase, w1, w2, p1, p2, g1, xi1, xi2, ag_now, slope
+            )
+            seg = _segment(beta, k, disc, q0, q1, x, v)
+            infl = _inflections(seg, length)
+            # Walk the pieces where x is monotone, in time order.
+            n_knots = infl.shape[0]
+            a_k = 0.0
+            x_a = x
+            v_a = _v_at(seg, 0.0)
+            event_found = False
+            first_piece = True
+            for j in range(n_knots + 1):
+                b_k = infl[j] if j < n_knots else length
+                v_b = _v_at(seg, b_k)
+                # A zero of ẋ splits the piece (ẋ is monotone here: at most one).
+                ends = (b_k, b_k)
+                n_sub = 1
+                if (v_a > 0.0 and v_b < 0.0) or (v_a < 0.0 and v_b > 0.0):
+                    ends = (_root(seg, a_k, b_k, 0.0, 1), b_k)
+                    n_sub = 2
+                for sub in range(n_sub):
+                    e_k = ends[sub]
+                    x_b = _x_at(seg, e_k)
+                    ev_sig = -1.0
+                    ev_type = 0
+                    ev_target = 0.0
+                    if phase == 0:
+                        for sgn in (1.0, -1.0):
+                            fa = sgn * x_a - xc
+                            fb = sgn * x_b - xc
+                            if fb >= 0.0 and fa <= 0.0 and fb > fa:
+                                if fresh and first_piece and fa == 0.0:
+                                    continue
+                                ev_sig = _root(seg, a_k, e_k, sgn * xc, 0)
+                                ev_type = EVENT_LIFTOFF
+                                ev_target = sgn * xc
+                    else:
+                        s = 1.0 if phase > 0 else -1.0
+                        fa = s * x_a - xc
+                        fb = s * x_b - xc
+                        just_left = fresh and first_piece and fa == 0.0
+                        if fb <= 0.0 and fa >= 0.0 and fb < fa and not just_left:
+                            ev_sig = _root(seg, a_k, e_k, s * xc, 0)
+                            ev_type = EVENT_TOUCHDOWN
+                            ev_target = s * xc
+                        if xcap < math.inf and ev_type == 0:
+                            fa = s * x_a - xcap
+                            fb = s * x_b - xcap
+                            if fa < 0.0 and fb >= 0.0:
+                                ev_sig = _root(seg, a_k, e_k, s * xcap, 0)
+                                ev_type = EVENT_CAP
+                                ev_target = s * xcap
+                    if ev_type != 0:
+                        v_ev = _v_at(seg, ev_sig)
+                        t_ev = t0 + tau + ev_sig
+                        if abs(ev_target) > peak:
+                            peak = abs(ev_target)
+                            t_peak = t_ev
+                        x = ev_target
+                        tau += ev_sig
+                        if ev_type == EVENT_LIFTOFF:
+                            phase = 1 if ev_target > 0.0 or (xc == 0.0 and v_ev > 0) else -1
+                            v = v_ev
+                            n_lift += 1
+                            cur_lift = n_ev
+                            cur_side = 1.0 if phase > 0 else -1.0
+                            ep_peak = xc
+                            if n_ev < cap_ev:
+                                ev_t[n_ev] = t_ev
+                                ev_kind[n_ev] = EVENT_LIFTOFF
+                                ev_v_in[n_ev] = v_ev
+                                ev_v_out[n_ev] = v_ev
+                                ev_peak[n_ev] = cur_side * xc
+                            n_ev += 1
+                            if in_free:
+                                s = 1.0 if phase > 0 else -1.0
+                                if s * v - lam2 * (s * x - x_star) > 0.0 and overturned == 0:
+                                    overturned = 1
+                                    if xcap == math.inf:
+                                        t_over = t_ev
+                                        stop = True
+                        elif ev_type == EVENT_TOUCHDOWN:
+                            s = 1.0 if phase > 0 else -1.0
+                            v = cr * v_ev
+                            n_imp += 1
+                            if cur_lift >= 0 and cur_lift < cap_ev:
+                                ev_peak[cur_lift] = cur_side * ep_peak
+                            if n_ev < cap_ev:
+                                ev_t[n_ev] = t_ev
+                                ev_kind[n_ev] = EVENT_TOUCHDOWN
+                                ev_v_in[n_ev] = v_ev
+                                ev_v_out[n_ev] = v
+                                ev_peak[n_ev] = ep_peak
+                            n_ev += 1
+                            cur_lift = -1
+                            if abs(v) <= v_eps:
+                                v = 0.0
+                                phase = _surface_phase(
+                                    s, ag_a + slope * tau, w1, w2, p1, p2, g1, xc
+                                )
+                                if phase == 1 or phase == -1:
+                                    n_lift += 1
+                                    cur_lift = n_ev
+                                    cur_side = 1.0 if phase > 0 else -1.0
+                                    ep_peak = xc
+                                    if n_ev < cap_ev:
+                                        ev_t[n_ev] = t_ev
+                                        ev_kind[n_ev] = EVENT_LIFTOFF
+                                        ev_v_in[n_ev] = 0.0
+                                        ev_v_out[n_ev] = 0.0
+                                        ev_peak[n_ev] = cur_side * xc
+                                    n_ev += 1
+                            elif xc > 0.0:
+                                phase = 0
+                            else:
+                                # Rigid-block limit: impact at x = 0 passes to the other side.
+                                phase = -int(s)
+                                n_lift += 1
+                                cur_lift = n_ev
+                                cur_side = 1.0 if phase > 0 else -1.0
+                                ep_peak = 0.0
+                                if n_ev < cap_ev:
+                                    ev_t[n_ev] = t_ev
+                                    ev_kind[n_ev] = EVENT_LIFTOFF
+                                    ev_v_in[n_ev] = v
+                                    ev_v_out[n_ev] = v
+                                    ev_peak[n_ev] = 0.0
+                                n_ev += 1
+                        else:
+                            v = v_ev
+                            overturned = 1
+                            t_over = t_ev
+                            if n_ev < cap_ev:
+                                ev_t[n_ev] = t_ev
+                                ev_kind[n_ev] = EVENT_CAP
+                                ev_v_in[n_ev] = v_ev
+                                ev_v_out[n_ev] = v_ev
+                                ev_peak[n_ev] = ev_target
+                            n_ev += 1
+                            stop = True
+                        fresh = True
+                        event_found = True
+                        break
+                    # No event on this monotone piece: its end may be a true peak.
+                    if abs(x_b) > peak:
+                        peak = abs(x_b)
+                        t_peak = t0 + tau + e_k
+                    if phase != 0 and abs(x_b) > ep_peak:
+                        ep_peak = abs(x_b)
+                    a_k = e_k
+                    x_a = x_b
+                    first_piece = False
+                if event_found:
+                    break
+                v_a = v_b
+            if stop:
+                break
+            if not event_found:
+                x = _x_at(seg, length)
+                v = _v_at(seg, length)
+                tau = dt
+                if not (math.isfinite(x) and math.isfinite(v)):
+                    status = STATUS_NONFINITE
+                    stop = True
+                break
+        if stop:
+            if do_hist:
+                # Fill the rest of the history with the final state.
+                for jj in range(i + 1, hist_x.shape[0]):
+                    hist_x[jj] = x
+                    hist_v[jj] = v
+                    hist_p[jj] = phase
+            break
+        i += 1
+        if do_hist and i < hist_x.shape[0]:
+            hist_x[i] = x
+            hist_v[i] = v
+            hist_p[i] = phase
+    if cur_lift >= 0 and cur_lift < cap_ev:
+        ev_peak[cur_lift] = cur_side * ep_peak
+    t_end = i * dt
+    if not math.isnan(t_over):
+        t_end = t_over
+    return (
+        status,
+        n_ev,
+        n_lift,
+        n_imp,
+        peak,
+        t_peak,
+        overturned,
+        t_over,
+        x,
+        v,
+        phase,
+        t_end,
+    )
+
+
+@njit(cache=True, parallel=True)
+def integrate_batch(
+    flat_ag: np.ndarray,
+    offsets: np.ndarray,
+    rec_index: np.ndarray,
+    scales: np.ndarray,
+    dts: np.ndarray,
+    tails: np.ndarray,
+    params: np.ndarray,
+    out: np.ndarray,
+) -> None:
+    """Run :func:`integrate` for many (record, scale) pairs in parallel, summaries only.
+
+    ``params`` = (ω₁, ω₂, P₁, P₂, γ₁, ξ₁, ξ₂, x_c, C_r, x_cap, x₀, v₀); ``out[j]`` receives
+    (status, n_liftoffs, n_impacts, peak, t_peak, overturned, t_overturn, x_end, v_end, phase_end).
+    """
+    n_pairs = rec_index.shape[0]
+    empty_f = np.empty(0)
+    empty_i = np.empty(0, dtype=np.int8)
+    empty_k = np.empty(0, dtype=np.int8)
+    for j in prange(n_pairs):
+        r = rec_index[j]
+        ag = flat_ag[offsets[r] : offsets[r + 1]] * scales[j]
+        res = integrate(
+            ag,
+            dts[r],
+            tails[r],
+            params[0],
+            params[1],
+            params[2],
+            params[3],
+            params[4],
+            params[5],
+            params[6],
+            params[7],
+            params[8],
+            params[9],
+            params[10],
+            params[11],
+            empty_f,
+            empty_f,
+            empty_i,
+            empty_f,
+            empty_k,
+            empty_f,
+            empty_f,
+            empty_f,
+        )
+        out[j, 0] = res[0]
+        out[j, 1] = res[2]
+        out[j, 2] = res[3]
+        out[j, 3] = res[4]
+        out[j, 4] = res[5]
+        out[j, 5] = res[6]
+        out[j, 6] = res[7]
+        out[j, 7] = res[8]
+        out[j, 8] = res[9]
+        out[j, 9] = res[10]

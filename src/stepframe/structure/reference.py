@@ -1,0 +1,311 @@
+"""Independent cross-check of the exact integrator with ``scipy.integrate.solve_ivp``.
+
+The same model (eqs. 4.11-4.12, impact at touchdown) integrated by a general-purpose solver,
+restarted at every sample (so the linear interpolation of the ground acceleration is followed
+exactly and no step straddles a kink of the forcing) and after every switch, with terminal events
+whose direction is set per side: from the unstepped phase x = +x_c upward and x = -x_c downward;
+from the stepped phase on side s, s·x = x_c inward (touchdown) and s·x = x_cap outward. A
+non-terminal event on ẋ = 0 gives the true peaks. It shares no code with
+:mod:`stepframe.structure._exact` and is used by tests and benchmarks, never by default: it is
+orders of magnitude slower.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from stepframe.structure.simulator import Model, RawRun
+
+
+def _rhs(model: Model, phase: int, t0: float, a0: float, slope: float) -> Any:
+    w1, w2, p1, p2, g1, xi1, xi2 = model[:7]
+    if phase == 0:
+
+        def f(t: float, y: np.ndarray) -> list[float]:
+            ag = a0 + slope * (t - t0)
+            return [y[1], -2.0 * xi1 * w1 * y[1] - w1 * w1 * y[0] - p1 * ag]
+
+        return f
+    s = 1.0 if phase > 0 else -1.0
+
+    def g(t: float, y: np.ndarray) -> list[float]:
+        ag = a0 + slope * (t - t0)
+        return [y[1], -2.0 * xi2 * w2 * y[1] + w2 * w2 * y[0] - s * g1 - p2 * ag]
+
+    return g
+
+
+def _event(offset: float, sign: float, direction: float) -> Any:
+    def e(t: float, y: np.ndarray) -> float:
+        return float(sign * y[0] - offset)
+
+    e.terminal = True  # type: ignore[attr-defined]
+    e.direction = direction  # type: ignore[attr-defined]
+    return e
+
+
+def _velocity_zero(t: float, y: np.ndarray) -> float:
+    return float(y[1])
+
+
+def integrate_reference(
+    model: Model,
+    ag: np.ndarray,
+    dt_s: float,
+    n_tail: int,
+    x0: float,
+    v0: float,
+    method: str,
+    rtol: float,
+    atol: float,
+    record_history: bool,
+) -> RawRun:
+    """Integrate with ``solve_ivp`` (see the module docstring); same outputs as the kernel."""
+    from scipy.integrate import solve_ivp
+
+    w1, w2, p1, p2, g1, _xi1, xi2, xc, cr, xcap = model
+    x_star = g1 / (w2 * w2)
+    lam2 = -w2 * (xi2 + math.sqrt(1.0 + xi2 * xi2))
+    n_rec = ag.size - 1
+    n_total = n_rec + n_tail
+    hist_x: list[float] = [x0]
+    hist_v: list[float] = [v0]
+    hist_p: list[int] = []
+    ev_t: list[float] = []
+    ev_kind: list[int] = []
+    ev_v_in: list[float] = []
+    ev_v_out: list[float] = []
+    ev_peak: list[float] = []
+
+    def surface(side: float, agv: float) -> int:
+        if w2 * w2 * xc - g1 - side * p2 * agv > 0:
+            return int(side)
+        if xc > 0 and -w1 * w1 * xc - side * p1 * agv < 0:
+            return 0
+        if xc == 0 and -g1 + side * p2 * agv > 0:
+            return -int(side)
+        return 2 * int(side)
+
+    x, v = x0, v0
+    if abs(x) < xc:
+        phase = 0
+    elif abs(x) > xc:
+        phase = 1 if x > 0 else -1
+    else:
+        side0 = 1.0 if x >= 0 else -1.0
+        phase = int(side0) if v * side0 > 0 else (0 if v * side0 < 0 else surface(side0, ag[0]))
+    hist_p.append(phase)
+    peak, t_peak = abs(x), 0.0
+    n_lift = n_imp = 0
+    overturned, t_over = False, math.nan
+    status = 0
+    cur_lift, ep_peak = -1, abs(x)
+    if phase in (1, -1) and abs(x) == xc:
+        n_lift, cur_lift = 1, 0
+        ev_t.append(0.0)
+        ev_kind.append(1)
+        ev_v_in.append(v)
+        ev_v_out.append(v)
+        ev_peak.append(math.copysign(xc, phase))
+    v_eps = 1e-12 * max(xc, x_star) * max(w1, w2)
+
+    def liftoff(t: float, vel: float) -> None:
+        nonlocal n_lift, cur_lift, ep_peak
+        n_lift += 1
+        cur_lift = len(ev_t)
+        ep_peak = xc
+        side = 1.0 if phase > 0 else -1.0
+        ev_t.append(t)
+        ev_kind.append(1)
+        ev_v_in.append(vel)
+        ev_v_out.append(vel)
+        ev_peak.append(side * xc)
+
+    def close_episode() -> None:
+        if cur_lift >= 0:
+            ev_peak[cur_lift] = math.copysign(ep_peak, ev_peak[cur_lift])
+
+    i = 0
+    done = False
+    while not done:
+        if i >= n_total and not (overturned and xcap < math.inf and math.isnan(t_over)):
+            break
+        t0 = i * dt_s
+        t1 = t0 + dt_s
+        a0, a1 = (ag[i], ag[i + 1]) if i < n_rec else (0.0, 0.0)
+        slope = (a1 - a0) / dt_s
+        if i == n_rec and phase in (1, -1) and not overturned:
+            side = 1.0 if phase > 0 else -1.0
+            if side * v - lam2 * (side * x - x_star) > 0:
+                overturned = True
+                ev_t.append(t0)
+                ev_kind.append(4)
+                ev_v_in.append(v)
+                ev_v_out.append(v)
+                ev_peak.append(x)
+                if xcap == math.inf:
+                    t_over = t0
+                    break
+        t = t0
+        fresh = False
+        while t < t1:
+            agv = a0 + slope * (t - t0)
+            if phase in (2, -2):
+                side = 1.0 if phase > 0 else -1.0
+                # Held on the surface until a phase's acceleration changes sign.
+                o2 = w2 * w2 * xc - g1 - side * p2 * agv
+                o2_s = -side * p2 * slope
+                o1 = -w1 * w1 * xc - side * p1 * agv
+                o1_s = -side * p1 * slope
+                leave, new = math.inf, phase
+                if o2_s > 0 and -o2 / o2_s < t1 - t:
+                    leave, new = max(-o2 / o2_s, 0.0), int(side)
+                if xc > 0 and o1_s < 0 and max(-o1 / o1_s, 0.0) < min(leave, t1 - t):
+                    leave, new = max(-o1 / o1_s, 0.0), 0
+                if xc == 0 and side * p2 * slope > 0:
+                    other = (g1 - side * p2 * agv) / (side * p2 * slope)
+                    if max(other, 0.0) < min(leave, t1 - t):
+                        leave, new = max(other, 0.0), -int(side)
+                if new == phase:
+                    t = t1
+                    break
+                t += leave
+                phase = new
+                fresh = True
+                if phase != 0:
+                    liftoff(t, 0.0)
+                continue
+            if phase == 0:
+                events = [_event(xc, 1.0, 1.0), _event(xc, -1.0, 1.0)]
+            else:
+                side = 1.0 if phase > 0 else -1.0
+                events = [_event(xc, side, -1.0)]
+                if xcap < math.inf:
+                    events.append(_event(xcap, side, 1.0))
+            sol = solve_ivp(
+                _rhs(model, phase, t0, a0, slope),
+                (t, t1),
+                [x, v],
+                method=method,
+                rtol=rtol,
+                atol=atol,
+                events=[*events, _velocity_zero],
+            )
+            if sol.status == -1:
+                status = 3
+                done = True
+                break
+            for ye in sol.y_events[-1]:
+                if abs(ye[0]) > peak:
+                    peak = abs(ye[0])
+                    t_peak = float(sol.t_events[-1][0])
+                if phase != 0:
+                    ep_peak = max(ep_peak, abs(ye[0]))
+            hit = None
+            for k in range(len(events)):
+                if sol.t_events[k].size:
+                    te = float(sol.t_events[k][0])
+                    # A root at the restart point is the event just handled, not a new one.
+                    if fresh and te == t:
+                        continue
+                    if hit is None or te < hit[1]:
+                        hit = (k, te, sol.y_events[k][0])
+            if hit is None:
+                x, v = float(sol.y[0, -1]), float(sol.y[1, -1])
+                if abs(x) > peak:
+                    peak, t_peak = abs(x), float(sol.t[-1])
+                if phase != 0:
+                    ep_peak = max(ep_peak, abs(x))
+                t = t1
+                break
+            k, te, ye = hit
+            t = te
+            fresh = True
+            vel = float(ye[1])
+            if phase == 0:
+                x = xc if k == 0 else -xc
+                phase = 1 if k == 0 else -1
+                v = vel
+                peak = max(peak, xc)
+                liftoff(te, vel)
+                if i >= n_rec:
+                    side = float(phase)
+                    if side * v - lam2 * (side * x - x_star) > 0 and not overturned:
+                        overturned = True
+                        if xcap == math.inf:
+                            t_over = te
+                            done = True
+                            break
+            elif k == 0:
+                side = 1.0 if phase > 0 else -1.0
+                x = side * xc
+                v = cr * vel
+                n_imp += 1
+                close_episode()
+                ev_t.append(te)
+                ev_kind.append(2)
+                ev_v_in.append(vel)
+                ev_v_out.append(v)
+                ev_peak.append(ep_peak)
+                cur_lift = -1
+                if abs(v) <= v_eps:
+                    v = 0.0
+                    phase = surface(side, a0 + slope * (te - t0))
+                    if phase in (1, -1):
+                        liftoff(te, 0.0)
+                elif xc > 0:
+                    phase = 0
+                else:
+                    phase = -int(side)
+                    liftoff(te, v)
+            else:
+                x = float(ye[0])
+                v = vel
+                peak = max(peak, abs(x))
+                overturned = True
+                t_over = te
+                ev_t.append(te)
+                ev_kind.append(3)
+                ev_v_in.append(vel)
+                ev_v_out.append(vel)
+                ev_peak.append(x)
+                done = True
+                break
+        if done:
+            break
+        i += 1
+        hist_x.append(x)
+        hist_v.append(v)
+        hist_p.append(phase)
+    close_episode()
+    n_hist = n_total + 1 if record_history else 0
+    hx = np.full(n_hist, x)
+    hv = np.full(n_hist, v)
+    hp = np.full(n_hist, phase, dtype=np.int8)
+    m = min(len(hist_x), n_hist)
+    hx[:m] = hist_x[:m]
+    hv[:m] = hist_v[:m]
+    hp[:m] = hist_p[:m]
+    return RawRun(
+        status=status,
+        n_liftoffs=n_lift,
+        n_impacts=n_imp,
+        peak_abs_x=peak,
+        peak_time_s=t_peak,
+        overturned=overturned,
+        overturn_time_s=t_over,
+        x_end=x,
+        v_end=v,
+        phase_end=phase,
+        ev_t=np.asarray(ev_t, dtype=float),
+        ev_kind=np.asarray(ev_kind, dtype=np.int8),
+        ev_v_in=np.asarray(ev_v_in, dtype=float),
+        ev_v_out=np.asarray(ev_v_out, dtype=float),
+        ev_peak=np.asarray(ev_peak, dtype=float),
+        hist_x=hx,
+        hist_v=hv,
+        hist_p=hp,
+    )
