@@ -75,6 +75,15 @@ def test_x_c_is_the_smallest_root_of_eq_4_10() -> None:
 
 
 def test_stiff_enough_leg_is_required() -> None:
+    from stepframe.structure.frame import _U_MAX
+
+    assert math.sin(_U_MAX) + _U_MAX * math.cos(_U_MAX) == pytest.approx(0, abs=1e-15)
+    # Just stiff enough: the root sits below the peak of eq. 4.10 and still satisfies it.
+    load = W_S / 2 + W_COL / 2
+    k_a = 1.0001 * 2 * load / ((_U_MAX * H_R / 2) * math.sin(_U_MAX))
+    x_c = onset_of_stepping_m(k_a, H_R, W_S, W_COL / 2)
+    assert 0.5 * k_a * x_c * math.sin(2 * x_c / H_R) == pytest.approx(load, rel=1e-12)
+    assert x_c < _U_MAX * H_R / 2
     with pytest.raises(InputError, match="k_a_n_m = 1000 N/m cannot lift a footing"):
         onset_of_stepping_m(1e3, H_R, W_S, W_COL / 2)
 

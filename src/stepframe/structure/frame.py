@@ -432,23 +432,46 @@ def onset_of_stepping_m(k_a_n_m: float, h_r_m: float, w_s_n: float, w_col_one_n:
         tan u = -u, u_max ≈ 2.0288); a footing load above that maximum never lifts off and
         raises :class:`InputError`.
     """
-    from scipy.optimize import brentq
-
     k_a = _positive("k_a_n_m", k_a_n_m)
     h_r = _positive("h_r_m", h_r_m)
     load = _positive("w_s_n", w_s_n) / 2.0 + _non_negative("w_col_n", w_col_one_n)
-    u_max = brentq(lambda u: math.sin(u) + u * math.cos(u), 1.5, 3.0, xtol=1e-15)
 
     def excess(x: float) -> float:
         return 0.5 * k_a * x * math.sin(2.0 * x / h_r) - load
 
-    x_max = u_max * h_r / 2.0
+    def slope(x: float) -> float:
+        u = 2.0 * x / h_r
+        return 0.5 * k_a * (math.sin(u) + u * math.cos(u))
+
+    x_max = _U_MAX * h_r / 2.0
     if excess(x_max) <= 0:
         raise InputError(
             f"k_a_n_m = {k_a:.6g} N/m cannot lift a footing carrying {load:.6g} N (eq. 4.10 "
             f"peaks at {load + excess(x_max):.6g} N), expected a stiffer leg"
         )
-    return float(brentq(excess, 0.0, x_max, xtol=1e-15, rtol=1e-15, maxiter=200))
+    # excess is increasing on [0, x_max]: Newton from the small-angle root, kept inside a
+    # shrinking bracket (bisection when a step leaves it). Plain Python: no scipy import at
+    # frame construction, which the command line pays for on every run.
+    low, high = 0.0, x_max
+    x = min(math.sqrt(h_r * load / k_a), 0.5 * x_max)
+    for _ in range(200):
+        value = excess(x)
+        if value > 0:
+            high = x
+        else:
+            low = x
+        step = value / slope(x) if slope(x) > 0 else math.inf
+        candidate = x - step
+        if not low < candidate < high:
+            candidate = 0.5 * (low + high)
+        if abs(candidate - x) <= 4e-16 * x or high - low <= 4e-16 * high:
+            return candidate
+        x = candidate
+    return x
+
+
+#: Root of tan u = -u in (π/2, π): 2x/H_r at the maximum of the right side of eq. 4.10.
+_U_MAX = 2.028757838110434
 
 
 def restitution_velocity_ratio(
