@@ -122,3 +122,42 @@ def test_bad_amplitudes() -> None:
     assert np.isinf(out[1]) and np.isfinite(out[0])
     with pytest.raises(InputError, match="beyond_x_star"):
         period_amplitude(FRAME, 0.1, beyond_x_star="nan")  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("fraction", [1e-6, 0.5, 0.99, 1 - 1e-6], ids=lambda f: f"{f:g}")
+def test_closed_form_matches_the_exact_simulator(fraction: float) -> None:
+    from stepframe.structure.simulator import simulate
+
+    amplitude = FRAME.x_c_m + fraction * (FRAME.x_star_m - FRAME.x_c_m)
+    period = period_amplitude(FRAME, amplitude)
+    t_unstepped, t_stepped = quarter_periods_s(FRAME, amplitude)
+    free = simulate(
+        FRAME, np.zeros(2), 0.01, tail_s=1.6 * period, x0_m=amplitude, record_history=False
+    )
+    # Events alternate touchdown (side +), liftoff (side -), touchdown (-), liftoff (+), ...
+    times = free.switching_times_s
+    assert times[0] == pytest.approx(float(t_stepped), rel=1e-6, abs=1e-12)
+    assert times[1] - times[0] == pytest.approx(2 * float(t_unstepped), rel=1e-6)
+    quarter = times[0] + (times[1] - times[0]) / 2
+    assert 4 * quarter == pytest.approx(period, rel=1e-6)
+    assert not free.summary.overturned
+    if fraction < 0.999:
+        # A whole simulated cycle: the amplitude reached on the far side depends on the
+        # touchdown speed through (x* - A)² = (x* - x_c)² - v_c²/ω₂², a difference that loses
+        # all digits as A → x* (at 1 - 1e-6, a 1e-13 relative error in v_c moves T by 0.5 s).
+        assert times[4] - times[0] == pytest.approx(period, rel=1e-6)
+
+
+def test_housner_block_constructor_runs_in_the_simulator() -> None:
+    from stepframe.structure.simulator import simulate
+
+    block = PortalFrame.housner_block(half_width_m=0.25, half_height_m=1.0, g_m_s2=9.81)
+    theta0 = 0.1
+    quarter = float(period_amplitude(block, theta0 * 1.0)) / 4
+    free = simulate(block, np.zeros(2), 0.01, tail_s=3 * quarter, x0_m=theta0 * 1.0)
+    first_impact = free.switching_times_s[0]
+    assert first_impact == pytest.approx(quarter, rel=1e-6)
+    # Each impact multiplies the velocity by C_r = 1 - 1.5 sin²α (Housner's η).
+    speeds = np.abs(free.impact_velocities_m_s)
+    eta = 1 - 1.5 * math.sin(math.atan(0.25)) ** 2
+    assert speeds[1] / speeds[0] == pytest.approx(eta, rel=1e-6)

@@ -1,0 +1,121 @@
+"""`stepframe structure simulate` and `frame-template`: wiring, outputs and bad input."""
+
+from __future__ import annotations
+
+import json
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from stepframe.cli import main
+from stepframe.records import read
+from stepframe.structure.frame_file import FRAME_TEMPLATE, read_frame_file
+from stepframe.structure.simulator import simulate
+
+RECORD = "peer_nga_west2/RSN8883_14383980_13849360.AT2"
+
+
+@pytest.fixture
+def frame_file(tmp_path: Path) -> Path:
+    path = tmp_path / "FRAME.toml"
+    path.write_text(FRAME_TEMPLATE, encoding="utf-8")
+    return path
+
+
+def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
+    status = main(list(argv))
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def test_frame_template_prints_the_example_4_file(capsys: pytest.CaptureFixture[str]) -> None:
+    status, out, err = run(capsys, "structure", "frame-template")
+    assert (status, err) == (0, "")
+    assert tomllib.loads(out)["constants"]["gamma_1_m_s2"] == 0.1387
+    status, out, _ = run(capsys, "structure", "frame-template", "--json")
+    assert json.loads(out)["frame_toml"] == FRAME_TEMPLATE
+
+
+def test_simulate_json_matches_the_library(
+    capsys: pytest.CaptureFixture[str], frame_file: Path, data_dir: Path, tmp_path: Path
+) -> None:
+    record = str(data_dir / RECORD)
+    plot = tmp_path / "response.png"
+    status, out, err = run(
+        capsys, "structure", "simulate", "--frame", str(frame_file), record,
+        "--scale", "6", "--tail-s", "5", "--json", "--plot", str(plot),
+    )  # fmt: skip
+    assert (status, err) == (0, "")
+    summary = json.loads(out)
+    trace = read(record)[0]
+    expected = simulate(read_frame_file(frame_file), trace.data, trace.stats.delta, scale=6.0,
+                        tail_s=5.0).summary  # fmt: skip
+    for key in ("peak_abs_x_m", "residual_x_m", "n_stepping_episodes", "n_impacts", "overturned"):
+        assert summary[key] == getattr(expected, key), key
+    assert summary["overturn_time_s"] is None
+    # Scaled to 0.96 g (uplift at 0.68 g), the frame steps once and returns: x_c < peak < x*.
+    assert summary["n_stepping_episodes"] >= 1 and summary["n_impacts"] >= 1
+    assert 0.190426 < summary["peak_abs_x_m"] < 0.333911
+    assert summary["peak_drift_ratio"] == pytest.approx(summary["peak_abs_x_m"] / 29.944)
+    assert summary["pga_m_s2"] == pytest.approx(6 * np.max(np.abs(trace.data)))
+    assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["FRAME.toml", "response.png"]
+
+
+def test_simulate_text_reports_overturning(
+    capsys: pytest.CaptureFixture[str], frame_file: Path, data_dir: Path
+) -> None:
+    status, out, _ = run(
+        capsys, "structure", "simulate", "--frame", str(frame_file), str(data_dir / RECORD),
+        "--scale", "30",
+    )  # fmt: skip
+    assert status == 0
+    assert "OVERTURNED at" in out
+
+
+@pytest.mark.parametrize(
+    ("change", "args", "message"),
+    [
+        (("p_2 = 1.2680", "p2 = 1.2680"), (), "FRAME.toml:39: unknown key 'p2' in [constants]"),
+        (("xi_1 = 0.05", "xi_1 = -1"), (), "FRAME.toml:15: xi_1 = -1.0, expected ≥ 0"),
+        (None, ("--scale", "-2"), "argument --scale: '-2' is not positive"),
+        (None, ("--tail-s", "nan"), "argument --tail-s: 'nan', expected seconds ≥ 0"),
+    ],
+)
+def test_bad_input_exits_2_with_one_line(
+    capsys: pytest.CaptureFixture[str],
+    frame_file: Path,
+    data_dir: Path,
+    change: tuple[str, str] | None,
+    args: tuple[str, ...],
+    message: str,
+) -> None:
+    if change is not None:
+        frame_file.write_text(FRAME_TEMPLATE.replace(*change), encoding="utf-8")
+    status, out, err = run(
+        capsys, "structure", "simulate", "--frame", str(frame_file), str(data_dir / RECORD), *args
+    )
+    assert (status, out) == (2, "")
+    assert err.startswith("stepframe: error: ") and err.count("\n") == 1
+    assert message in err
+
+
+def test_non_finite_record_names_the_file(
+    capsys: pytest.CaptureFixture[str], frame_file: Path, tmp_path: Path
+) -> None:
+    record = tmp_path / "acc.txt"
+    record.write_text("0.0\n0.1\nnan\n0.2\n", encoding="utf-8")
+    status, out, err = run(
+        capsys, "structure", "simulate", "--frame", str(frame_file), str(record),
+        "--format", "text", "--units", "g", "--dt-s", "0.01",
+    )  # fmt: skip
+    assert (status, out) == (2, "")
+    assert f"{record}: sample 2 (t = 0.02 s) is nan" in err
+
+
+def test_missing_frame_option(capsys: pytest.CaptureFixture[str], data_dir: Path) -> None:
+    status, out, err = run(capsys, "structure", "simulate", str(data_dir / RECORD))
+    assert (status, out) == (2, "")
+    assert "--frame" in err
