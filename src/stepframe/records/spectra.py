@@ -147,6 +147,39 @@ def upsampling_factors(
     return np.minimum(np.maximum(factors, 1), MAX_UPSAMPLING)
 
 
+class _Upsampler:
+    """Band-limited interpolation of one record by integer factors, sharing one forward FFT.
+
+    The record is padded with zeros (a quarter of its length, rounded up to a fast FFT length)
+    so that the interpolated end does not wrap onto the start; original samples are reproduced
+    (to rounding).
+    """
+
+    def __init__(self, acc_m_s2: NDArray[np.float64]) -> None:
+        self.acc = acc_m_s2
+        self._spectrum: NDArray[np.complex128] | None = None
+        self._nfft = 0
+
+    def __call__(self, factor: int) -> NDArray[np.float64]:
+        if factor == 1:
+            return self.acc
+        from scipy.fft import irfft, next_fast_len, rfft
+
+        n = self.acc.size
+        if self._spectrum is None:
+            nfft = next_fast_len(n + n // 4 + 16, real=True)
+            self._nfft = nfft + nfft % 2  # even: the last bin is the Nyquist bin handled below
+            spectrum = rfft(self.acc, self._nfft)
+            # The original Nyquist bin is shared by ±f_N; once it is no longer the Nyquist bin
+            # of the longer series it must be halved to keep the same real cosine.
+            spectrum[-1] *= 0.5
+            self._spectrum = spectrum
+        padded = np.zeros(self._nfft * factor // 2 + 1, dtype=complex)
+        padded[: self._spectrum.size] = self._spectrum * factor
+        fine = irfft(padded, self._nfft * factor, overwrite_x=True)
+        return np.ascontiguousarray(fine[: (n - 1) * factor + 1])
+
+
 def upsample(acc_m_s2: NDArray[np.float64], factor: int) -> NDArray[np.float64]:
     """Band-limited interpolation by an integer factor (FFT zero padding of the padded record).
 
@@ -154,21 +187,7 @@ def upsample(acc_m_s2: NDArray[np.float64], factor: int) -> NDArray[np.float64]:
     so that the interpolated end does not wrap onto the start; original samples are reproduced
     (to rounding).
     """
-    if factor == 1:
-        return acc_m_s2
-    from scipy.fft import irfft, next_fast_len, rfft
-
-    n = acc_m_s2.size
-    nfft = next_fast_len(n + n // 4 + 16, real=True)
-    nfft += nfft % 2  # even, so that the last bin is the Nyquist bin handled below
-    spectrum = rfft(acc_m_s2, nfft)
-    # The original Nyquist bin is shared by ±f_N; once it is no longer the Nyquist bin of the
-    # longer series it must be halved to keep the same real cosine.
-    spectrum[-1] *= 0.5
-    padded = np.zeros(nfft * factor // 2 + 1, dtype=complex)
-    padded[: spectrum.size] = spectrum
-    fine = irfft(padded, nfft * factor) * factor
-    return np.ascontiguousarray(fine[: (n - 1) * factor + 1])
+    return _Upsampler(acc_m_s2)(factor)
 
 
 def _kernels() -> tuple[Any, Any]:
@@ -206,8 +225,9 @@ def peak_displacements_m(
     if method == "nigam_jennings":
         peak, _ = _kernels()
         out = np.empty(periods.size)
+        upsampler = _Upsampler(acc)
         for factor, index in _groups(periods, dt_s, points_per_period):
-            fine = upsample(acc, factor)
+            fine = upsampler(factor)
             coeffs = nigam_jennings_coefficients(2 * np.pi / periods[index], zeta, dt_s / factor)
             out[index] = peak(fine, coeffs)
         return out
