@@ -69,7 +69,7 @@ class Options:
     frequency: FrequencyMethod = "zero-crossing"
     t0: TimeOrigin = "start"
     window_s: float = DEFAULT_WINDOW_S
-    fft: FftBackend = "pyfftw"
+    fft: FftBackend = "scipy"
     record_options: tuple[tuple[str, Any], ...] = ()
 
 
@@ -192,7 +192,7 @@ def catalog_features(
     frequency: FrequencyMethod = "zero-crossing",
     t0: TimeOrigin = "start",
     window_s: float = DEFAULT_WINDOW_S,
-    fft: FftBackend = "pyfftw",
+    fft: FftBackend = "scipy",
     record_options: dict[str, Any] | None = None,
     lowest_usable_hz: Iterable[float | None] | None = None,
     chunk_size: int = 4,

@@ -238,7 +238,7 @@ def record_features(
     hop_s: float = DEFAULT_HOP_S,
     threshold: float = DEFAULT_DURATION_THRESHOLD,
     omega_max_rad_s: float | None = None,
-    fft: FftBackend = "pyfftw",
+    fft: FftBackend = "scipy",
     peak_method: PeakMethod = "envelope",
 ) -> RecordFeatures:
     """Features of one record (definitions and smoothing in the module docstring).

@@ -3,10 +3,11 @@
 Convention (DESIGN.md): ``S(ω, t)`` is two-sided in ω [rad/s], returned for ω ≥ 0 only, so the
 local mean square is ``(1/π) ∫_0^∞ S dω``.
 
-- ``"stft"``: scipy ``ShortTimeFFT`` with a Hann window of ``window_s``; FFTs through pyFFTW
-  (``scipy.fft.set_backend``) or scipy's own (``fft="scipy"``). ``S_k = dt |X_k|² / Σ w_n²`` makes
-  the identity exact: the trapezoid rule of ``(1/π)∫_0^∞ S dω`` equals the window-weighted mean
-  square ``Σ w_n² x_n² / Σ w_n²`` of the record around each frame centre (zeros outside it).
+- ``"stft"``: scipy ``ShortTimeFFT`` with a Hann window of ``window_s``; FFTs by scipy's own
+  (default) or pyFFTW (``fft="pyfftw"``, through ``scipy.fft.set_backend``).
+  ``S_k = dt |X_k|² / Σ w_n²`` makes the identity exact: the trapezoid rule of
+  ``(1/π)∫_0^∞ S dω`` equals the window-weighted mean square ``Σ w_n² x_n² / Σ w_n²`` of the
+  record around each frame centre (zeros outside it).
 - ``"wavelet"``: analytic Morlet (Gaussian band-pass, constant relative bandwidth
   ``1/morlet_q``) computed by FFT; ``S(ω_j, t) = √π |u_j(t)|² / (2 σ_j)`` with σ_j = ω_j/q,
   the density of a spectrum flat across the band. The identity holds approximately (the bands do
@@ -114,7 +115,7 @@ def stft_power(
     *,
     window_s: float = DEFAULT_WINDOW_S,
     hop_s: float = DEFAULT_HOP_S,
-    fft: FftBackend = "pyfftw",
+    fft: FftBackend = "scipy",
     engine: StftEngine = "batched",
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """STFT evolutionary spectrum as arrays.
@@ -213,7 +214,7 @@ def evolutionary_spectrum(
     *,
     window_s: float = DEFAULT_WINDOW_S,
     hop_s: float = DEFAULT_HOP_S,
-    fft: FftBackend = "pyfftw",
+    fft: FftBackend = "scipy",
     omega_rad_s: ArrayLike | None = None,
     morlet_q: float = 6.0,
     t0: Literal["start", "p-pick"] = "start",
@@ -231,7 +232,10 @@ def evolutionary_spectrum(
     window_s, hop_s
         STFT window length and frame spacing [s] (wavelet and parametric use ``hop_s``).
     fft
-        ``"pyfftw"`` (default) or ``"scipy"``: FFT used by the STFT.
+        ``"scipy"`` (default) or ``"pyfftw"``: FFT used by the STFT (pyFFTW through
+        ``scipy.fft.set_backend``). Measured on the example catalogue (docs/benchmarks.md,
+        Features), pyFFTW is not faster here: each record has its own number of frames, so FFTW
+        plans a new transform per record, and 512-point transforms are cheap for pocketfft.
     omega_rad_s
         Wavelet centre frequencies [rad/s] (default: 96 log-spaced up to 0.8 Nyquist).
     morlet_q
