@@ -119,3 +119,31 @@ def test_missing_frame_option(capsys: pytest.CaptureFixture[str], data_dir: Path
     status, out, err = run(capsys, "structure", "simulate", str(data_dir / RECORD))
     assert (status, out) == (2, "")
     assert "--frame" in err
+
+
+def test_multi_component_file_needs_component(
+    capsys: pytest.CaptureFixture[str], frame_file: Path, data_dir: Path
+) -> None:
+    record = str(data_dir / "formats/geonet/20180212_211557_WPWS_20.V2A.gz")
+    status, out, err = run(capsys, "structure", "simulate", "--frame", str(frame_file), record)
+    assert (status, out) == (2, "")
+    assert "3 components (S16W, S74E, Up), expected one: pick it with --component NAME" in err
+    status, out, _ = run(
+        capsys, "structure", "simulate", "--frame", str(frame_file), record,
+        "--component", "S16W", "--json",
+    )  # fmt: skip
+    summary = json.loads(out)
+    assert status == 0 and summary["component"] == "S16W" and summary["npts"] == 5800
+    # A weak record (PGA 0.004 g) leaves the frame linear: no stepping, no impacts.
+    assert summary["n_stepping_episodes"] == 0 and summary["n_impacts"] == 0
+    assert summary["peak_abs_x_m"] < 0.19
+    # Unstepped, eq. 4.11 is a linear oscillator: P₁ times the spectral displacement at ω₁, ξ₁
+    # (the records stage's Nigam-Jennings kernel, which interpolates the record band-limited
+    # rather than linearly: agreement to a fraction of a percent, not to rounding).
+    from stepframe.records.spectra import peak_displacements_m
+
+    frame = read_frame_file(frame_file)
+    trace = read(record, component="S16W")[0]
+    period_s = 2 * np.pi / frame.omega_1_rad_s
+    sd_m = peak_displacements_m(trace.data, trace.stats.delta, [period_s], frame.xi_1)[0]
+    assert summary["peak_abs_x_m"] == pytest.approx(frame.p_1 * sd_m, rel=1e-2)
