@@ -161,3 +161,17 @@ def test_housner_block_constructor_runs_in_the_simulator() -> None:
     speeds = np.abs(free.impact_velocities_m_s)
     eta = 1 - 1.5 * math.sin(math.atan(0.25)) ** 2
     assert speeds[1] / speeds[0] == pytest.approx(eta, rel=1e-6)
+
+
+def test_amplitude_for_period_inverts_the_law() -> None:
+    from stepframe.structure.period_amplitude import amplitude_for_period
+
+    x_c, x_star = FRAME.x_c_m, FRAME.x_star_m
+    amplitudes = x_c + np.array([1e-3, 0.2, 0.7, 0.99]) * (x_star - x_c)
+    recovered = amplitude_for_period(FRAME, period_amplitude(FRAME, amplitudes))
+    np.testing.assert_allclose(recovered, amplitudes, rtol=1e-12)
+    assert isinstance(amplitude_for_period(FRAME, 10.0), float)
+    with pytest.raises(InputError, match=r"period_s = 0\.5, expected a finite period > 0\.9729"):
+        amplitude_for_period(FRAME, [5.0, 0.5])
+    block = PortalFrame.housner_block(half_width_m=0.25, half_height_m=1.0)
+    assert period_amplitude(block, amplitude_for_period(block, 1.0)) == pytest.approx(1.0, 1e-12)

@@ -120,3 +120,49 @@ def period_amplitude(
     if period.ndim == 0:
         return float(period)
     return period
+
+
+def amplitude_for_period(frame: PortalFrame, period_s: npt.ArrayLike) -> Any:
+    """Inverse of :func:`period_amplitude` on the stepping branch: A with T(A) = period [m].
+
+    T(A) rises monotonically from 2π/ω₁ at A = x_c to infinity at A = x*, so every period above
+    the fixed-base period belongs to exactly one amplitude in (x_c, x*). Found by bisection
+    (60 halvings of the interval, vectorised): amplitude to about 1e-16 (x* - x_c).
+
+    Parameters
+    ----------
+    frame
+        The frame.
+    period_s
+        Periods T > 2π/ω₁ [s] (scalar or array); a rigid block (x_c = 0) takes any T > 0.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        A [m], shaped like ``period_s``.
+
+    Raises
+    ------
+    InputError
+        A period at or below the fixed-base period (no stepping amplitude has it) or non-finite.
+    """
+    periods = np.asarray(period_s, dtype=float)
+    shortest = 0.0 if frame.is_rigid_block else 2.0 * math.pi / frame.omega_1_rad_s
+    bad = ~np.isfinite(periods) | (periods <= shortest)
+    if np.any(bad):
+        first = periods.reshape(-1)[np.flatnonzero(bad.reshape(-1))[0]]
+        raise InputError(
+            f"period_s = {first}, expected a finite period > {shortest:.6g} s (the fixed-base "
+            "period 2π/ω₁: shorter periods belong to no stepping amplitude)"
+        )
+    low = np.full(periods.shape, frame.x_c_m)
+    high = np.full(periods.shape, frame.x_star_m)
+    for _ in range(60):
+        middle = 0.5 * (low + high)
+        longer = period_amplitude(frame, middle) > periods
+        high = np.where(longer, middle, high)
+        low = np.where(longer, low, middle)
+    amplitude = 0.5 * (low + high)
+    if amplitude.ndim == 0:
+        return float(amplitude)
+    return amplitude
