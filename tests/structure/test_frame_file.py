@@ -141,3 +141,44 @@ def test_missing_keys(tmp_path: Path) -> None:
         read_frame_file(write(tmp_path, text))
     with pytest.raises(InputError, match="missing table"):
         frame_from_mapping({"constants": {}})
+
+
+BLOCK = """\
+[frame]
+name = "rigid block"
+c_r = 0.9
+[block]
+half_width_m = 0.25
+half_height_m = 1.0
+[conventions]
+g_m_s2 = 9.81
+"""
+
+
+def test_rigid_block_route(tmp_path: Path) -> None:
+    frame = read_frame_file(write(tmp_path, BLOCK))
+    assert frame == PortalFrame.housner_block(
+        half_width_m=0.25, half_height_m=1.0, g_m_s2=9.81, c_r=0.9
+    )
+    assert frame.x_c_m == 0.0
+    housner = read_frame_file(write(tmp_path, BLOCK.replace("c_r = 0.9\n", "x_cap_m = 0.3\n")))
+    assert housner.c_r == pytest.approx(1 - 1.5 * (0.25**2 / (0.25**2 + 1.0)), rel=1e-14)
+    assert housner.x_cap_m == 0.3
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "message"),
+    [
+        ("c_r = 0.9", "c_r = 0.9\nxi_1 = 0.02", "[frame] xi_1 given with [block], expected none"),
+        ("half_height_m = 1.0", "", "missing key(s) half_height_m in [block]"),
+        ("half_width_m = 0.25", "half_width_m = -0.25", "half_width_m = -0.25, expected > 0"),
+        ("c_r = 0.9", "c_r = 1.9", "c_r = 1.9, expected 0 ≤ c_r ≤ 1"),
+        ("[block]", "[physical]\nh_r_m = 3.0\n[block]", "[physical] given with [block]"),
+    ],
+)
+def test_bad_rigid_block_files(tmp_path: Path, old: str, new: str, message: str) -> None:
+    text = BLOCK.replace(old, new)
+    path = write(tmp_path, text)
+    with pytest.raises(InputError, match=re.escape(message)) as caught:
+        read_frame_file(path)
+    assert caught.value.path == str(path) and caught.value.line is not None

@@ -5,12 +5,15 @@ Tables (keys carry their units; see docs/frame-file.md)::
     [frame]        xi_1, xi_2 (required); c_r, x_c_m, x_cap_m (optional overrides)
     [physical]     w_s_n, w_col_n, h_r_m, l_f_m, k_a_n_m, k_b_n_m
     [constants]    omega_1_rad_s, omega_2_rad_s, p_1, p_2, gamma_1_m_s2
+    [block]        half_width_m, half_height_m (the rigid-block route)
     [conventions]  w_col_convention, l_m, g_m_s2
 
 Two routes: with ``[constants]`` the model constants are taken as given and ``[physical]`` (if
 present) only supplies what eqs. 4.10 and 4.15-4.16 need for x_c, C_r and the overturning cap
 (:meth:`PortalFrame.from_constants`); without it, all constants follow from ``[physical]``
-through eqs. 4.6, 4.7, 4.10 and 4.15-4.16 (:meth:`PortalFrame.from_physical`). Unknown tables and
+through eqs. 4.6, 4.7, 4.10 and 4.15-4.16 (:meth:`PortalFrame.from_physical`). A ``[block]``
+table instead describes the linearised rigid (Housner) block (:meth:`PortalFrame.housner_block`;
+``[frame]`` then takes only c_r, xi_2 and x_cap_m, all optional). Unknown tables and
 keys, wrong types and non-physical values raise :class:`InputError` naming the file, the line and
 the key.
 """
@@ -51,6 +54,10 @@ TABLES: dict[str, dict[str, str]] = {
         "p_1": "participation factor, unstepped [-]",
         "p_2": "participation factor, stepped [-]",
         "gamma_1_m_s2": "stepped-phase restoring term [m/s²]",
+    },
+    "block": {
+        "half_width_m": "half-width b of a rigid block [m]",
+        "half_height_m": "half-height h of a rigid block [m]",
     },
     "conventions": {
         "w_col_convention": f"W_col in eqs. 4.6-4.7, one of {W_COL_CONVENTIONS}",
@@ -151,6 +158,8 @@ def frame_from_mapping(
                 values[table][key] = _number(value, table, key, where)
     frame_table, physical = values["frame"], values["physical"]
     constants, conventions = values["constants"], values["conventions"]
+    if "block" in data:
+        return _block(values, where)
     if "frame" not in data:
         raise where.error("missing table [frame], expected [frame] with xi_1 and xi_2", "")
     for key in ("xi_1", "xi_2"):
@@ -191,6 +200,43 @@ def frame_from_mapping(
             raise
         line = _line_of_message(error.what, where)
         raise InputError(error.what, where.path, line) from None
+
+
+def _block(values: dict[str, dict[str, Any]], where: _Where) -> PortalFrame:
+    """The rigid-block route: ``[block]`` with ``[frame]`` c_r, xi_2, x_cap_m and ``g_m_s2``."""
+    import dataclasses
+
+    for table in ("physical", "constants"):
+        if values[table]:
+            raise where.error(
+                f"[{table}] given with [block], expected one route: a rigid block or a frame",
+                table,
+            )
+    for key in ("xi_1", "x_c_m", "w_col_convention", "l_m"):
+        table = "conventions" if key in TABLES["conventions"] else "frame"
+        if key in values[table]:
+            raise where.error(
+                f"[{table}] {key} given with [block], expected none (a rigid block has no "
+                "unstepped phase: x_c = 0)",
+                table,
+                key,
+            )
+    block, frame_table = values["block"], values["frame"]
+    missing = sorted(set(TABLES["block"]) - set(block))
+    if missing:
+        raise where.error(f"missing key(s) {', '.join(missing)} in [block]", "block")
+    try:
+        frame = PortalFrame.housner_block(
+            **block,
+            c_r=frame_table.get("c_r"),
+            xi=frame_table.get("xi_2", 0.0),
+            **{k: v for k, v in values["conventions"].items() if k == "g_m_s2"},
+        )
+        if "x_cap_m" in frame_table:
+            frame = dataclasses.replace(frame, x_cap_m=frame_table["x_cap_m"])
+    except InputError as error:
+        raise InputError(error.what, where.path, _line_of_message(error.what, where)) from None
+    return frame
 
 
 def _line_of_message(what: str, where: _Where) -> int | None:
