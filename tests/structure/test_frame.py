@@ -219,3 +219,24 @@ def test_a_frame_hysteretic_damping_dissipates_like_viscous_at_resonance() -> No
     assert frame.x_star_m == pytest.approx(0.2 / 0.49)
     with pytest.raises(InputError, match="theta_rad"):
         AFrame(**{**frame.to_dict(), "theta_rad": 2.0})
+
+
+def test_a_frame_maps_onto_the_portal_form() -> None:
+    frame = AFrame(
+        omega_1_rad_s=5.0, omega_2_rad_s=0.7, p_1=1.1, p_2=1.2, gamma_1_m_s2=0.2,
+        xi_1=0.0, theta_rad=0.3, x_c_m=0.1, c_r=0.9,
+    )  # fmt: skip
+    portal = frame.to_portal_frame()
+    assert portal.x_star_m == pytest.approx(frame.x_star_m, rel=1e-15)
+    # Same accelerations in both phases, at states on either side.
+    for x, v, ag in ((0.05, 0.3, 1.0), (-0.08, -0.2, -2.0)):
+        expected = -(portal.omega_1_rad_s**2) * x - portal.p_1 * ag
+        assert frame.acceleration_m_s2(x, v, ag, stepped=False) == pytest.approx(expected)
+    for x, ag in ((0.2, 1.0), (-0.3, 0.5)):
+        w2, g1, p2 = portal.omega_2_rad_s, portal.gamma_1_m_s2, portal.p_2
+        expected = w2 * w2 * x - math.copysign(g1, x) - p2 * ag
+        assert frame.acceleration_m_s2(x, 0.1, ag, stepped=True) == pytest.approx(expected)
+    damped = AFrame(**{**frame.to_dict(), "xi_1": 0.03})
+    with pytest.raises(InputError, match=r"xi_1 = 0\.03 is hysteretic damping"):
+        damped.to_portal_frame()
+    assert damped.to_portal_frame("equivalent-viscous").xi_1 == 0.03

@@ -614,6 +614,44 @@ class AFrame:
         w2, gamma, p2 = self.stepped_constants
         return w2 * w2 * x_m - gamma * math.copysign(1.0, x_m) - p2 * ground_acc_m_s2
 
+    def to_portal_frame(
+        self, hysteretic: Literal["refuse", "equivalent-viscous"] = "refuse"
+    ) -> PortalFrame:
+        """The same lateral model in the form of eqs. 4.11-4.12, for the portal-frame tools.
+
+        The stepped phase maps exactly (:attr:`stepped_constants`, ξ₂ = 0). The unstepped phase
+        maps exactly only without hysteretic damping (ξ₁ = 0).
+
+        Parameters
+        ----------
+        hysteretic
+            ``"refuse"`` (default): raise :class:`InputError` when ξ₁ > 0.
+            ``"equivalent-viscous"``: replace the hysteretic term by viscous damping ξ₁, which
+            dissipates the same energy per cycle at ω = ω₁ (and more above, less below it).
+        """
+        if hysteretic not in ("refuse", "equivalent-viscous"):
+            raise InputError(
+                f"hysteretic = {hysteretic!r}, expected 'refuse' or 'equivalent-viscous'"
+            )
+        if self.xi_1 > 0 and hysteretic == "refuse":
+            raise InputError(
+                f"xi_1 = {self.xi_1} is hysteretic damping (eq. 4.1), expected 0 for an exact "
+                "portal-frame form, or hysteretic='equivalent-viscous'"
+            )
+        omega_2, gamma_1, p_2 = self.stepped_constants
+        return PortalFrame(
+            omega_1_rad_s=self.omega_1_rad_s,
+            omega_2_rad_s=omega_2,
+            p_1=self.p_1,
+            p_2=p_2,
+            gamma_1_m_s2=gamma_1,
+            xi_1=self.xi_1,
+            xi_2=0.0,
+            x_c_m=self.x_c_m,
+            c_r=self.c_r,
+            x_cap_m=self.x_cap_m,
+        )
+
     def to_dict(self) -> dict[str, Any]:
         """Plain dictionary of the constants."""
         return asdict(self)
