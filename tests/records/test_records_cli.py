@@ -136,3 +136,20 @@ def test_catalog_cli(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None
         "n_failures": 1,
     }
     assert (tmp_path / "cat.failures.csv").read_text().splitlines()[0] == "file,stage,reason"
+
+
+def test_spectrum_of_a_three_channel_file_uses_its_horizontals(
+    capsys: pytest.CaptureFixture[str], data_dir: Path
+) -> None:
+    """CSMIP V2 with H1, Up, H2: RotD from H1 and H2 only (the vertical is recognised)."""
+    from stepframe.records import read
+    from stepframe.records.rotd import rotd_spectrum
+
+    path = data_dir / "formats" / "dmg" / "CE58667.V2.gz"
+    data = _json(capsys, "records", "spectrum", str(path), "--periods-s", "0.2,1.0")
+    assert isinstance(data, dict)
+    assert [c["component"] for c in data["components"]] == ["H1", "Up", "H2"]
+    assert (data["h1"], data["h2"]) == ("H1", "H2")
+    traces = {t.stats.channel: t for t in read(path)}
+    expected = rotd_spectrum(traces["H1"].data, traces["H2"].data, 0.01, [0.2, 1.0], 0.05)
+    np.testing.assert_allclose(data["rotd50_g"], expected.in_g("rotd50"), rtol=1e-12)
