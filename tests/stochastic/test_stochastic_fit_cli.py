@@ -133,3 +133,10 @@ def test_real_record_p_pick(shared_data: Path, capsys: pytest.CaptureFixture[str
     assert 22.0 < data["p_onset_s"] < 26.0
     assert data["omega_p_rad_s"] >= data["omega_s_rad_s"] >= data["omega_r_rad_s"]
     assert data["omega_p_rad_s"] < 0.5 * np.pi / 0.005
+
+
+def test_dt_too_coarse_for_requested_band(record: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    # dt = 0.01 s: Nyquist 314 rad/s, below the 400 rad/s asked for.
+    assert main(["stochastic", "fit", str(record), "--omega-max-rad-s", "400"]) == 2
+    err = capsys.readouterr().err
+    assert "Nyquist" in err and str(record) in err

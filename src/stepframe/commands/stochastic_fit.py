@@ -111,6 +111,13 @@ def _add_estimation_options(parser: argparse.ArgumentParser) -> None:
         help="time origin of eqs. 6.10-6.11: record start (default) or picked P onset",
     )
     parser.add_argument(
+        "--omega-max-rad-s",
+        type=positive_float,
+        default=None,
+        metavar="W",
+        help="highest frequency of interest [rad/s]: error if above the record's Nyquist",
+    )
+    parser.add_argument(
         "--window-s",
         type=positive_float,
         default=2.0,
@@ -143,7 +150,11 @@ def run_fit(args: argparse.Namespace) -> CommandResult:
     for trace in stream:
         try:
             features = record_features(
-                trace, frequency=args.frequency, t0=args.t0, window_s=args.window_s
+                trace,
+                frequency=args.frequency,
+                t0=args.t0,
+                window_s=args.window_s,
+                omega_max_rad_s=args.omega_max_rad_s,
             )
             fitted = fit_model(features, bootstrap=args.bootstrap, seed=args.seed)
         except InputError as error:
@@ -287,6 +298,7 @@ def run_features(args: argparse.Namespace) -> CommandResult:
         "frequency": args.frequency,
         "t0": args.t0,
         "window_s": args.window_s,
+        "omega_max_rad_s": args.omega_max_rad_s,
     }
     if args.example:
         from stepframe.records.examples import fema_p695

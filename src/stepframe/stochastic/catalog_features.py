@@ -71,6 +71,7 @@ class Options:
     window_s: float = DEFAULT_WINDOW_S
     fft: FftBackend = "scipy"
     record_options: tuple[tuple[str, Any], ...] = ()
+    omega_max_rad_s: float | None = None
 
 
 @dataclass(frozen=True)
@@ -110,7 +111,7 @@ def component_row(
     try:
         features = record_features(
             data, dt_s, frequency=options.frequency, t0=options.t0, window_s=options.window_s,
-            fft=options.fft,
+            fft=options.fft, omega_max_rad_s=options.omega_max_rad_s,
         )  # fmt: skip
     except InputError as error:
         return None, ("features", error.one_line())
@@ -196,6 +197,7 @@ def catalog_features(
     record_options: dict[str, Any] | None = None,
     lowest_usable_hz: Iterable[float | None] | None = None,
     chunk_size: int = 4,
+    omega_max_rad_s: float | None = None,
 ) -> tuple[Any, Any]:
     """Features table of a catalogue: a folder of record files or an ``obspy.Stream``.
 
@@ -216,6 +218,9 @@ def catalog_features(
         For a Stream: each trace's lowest usable frequency [Hz] (or None), for the band check.
     chunk_size
         Items per task.
+    omega_max_rad_s
+        Highest frequency of interest [rad/s]: a component whose Nyquist frequency is below it
+        fails at stage ``features`` (dt too coarse for the band).
 
     Returns
     -------
@@ -230,7 +235,14 @@ def catalog_features(
     import pandas as pd
 
     items = _items(source, lowest_usable_hz)
-    options = Options(frequency, t0, window_s, fft, tuple(sorted((record_options or {}).items())))
+    options = Options(
+        frequency,
+        t0,
+        window_s,
+        fft,
+        tuple(sorted((record_options or {}).items())),
+        omega_max_rad_s,
+    )
     workers = n_jobs if n_jobs is not None else (os.cpu_count() or 1)
     if workers < 1:
         raise InputError(f"n_jobs = {n_jobs}, expected ≥ 1")

@@ -11,7 +11,7 @@ local mean square is ``(1/π) ∫_0^∞ S dω``.
 - ``"wavelet"``: analytic Morlet (Gaussian band-pass, constant relative bandwidth
   ``1/morlet_q``) computed by FFT; ``S(ω_j, t) = √π |u_j(t)|² / (2 σ_j)`` with σ_j = ω_j/q,
   the density of a spectrum flat across the band. The identity holds approximately (the bands do
-  not partition unity): within a few per cent for smooth spectra (tested).
+  not partition unity): within 8 % on a stationary eq. 6.12 process (tested).
 - ``"parametric"``: eq. 6.12 of the model fitted to the record (:mod:`stepframe.stochastic.fit`)
   times the record's I_g(t)² (:func:`stepframe.stochastic.features.record_features`).
 """
@@ -54,8 +54,9 @@ def record_samples(record_or_array: Any, dt_s: float | None) -> tuple[NDArray[np
     if stats is not None:
         data = np.asarray(record_or_array.data, dtype=np.float64)
         dt = float(stats.delta) if dt_s is None else float(dt_s)
-        name = str(getattr(stats.get("stepframe", {}), "get", lambda *_: None)("source_file"))
-        name = f"{name} {stats.channel}".strip() if name != "None" else str(stats.channel)
+        # Name the record in error messages by its file (when a reader set one) and channel.
+        source = (stats.get("stepframe") or {}).get("source_file")
+        name = f"{source or ''} {stats.channel}".strip() or "record"
     else:
         if dt_s is None:
             raise InputError("dt_s missing, expected the sampling interval of the array [s]")
