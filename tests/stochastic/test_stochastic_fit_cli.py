@@ -104,12 +104,15 @@ def test_features_folder_writes_table_and_failures(
         (["stochastic", "fit", "MISSING.AT2"], "no such file"),
         (["stochastic", "features", "-o", "x.csv"], "exactly one"),
         (["stochastic", "fit", "REC", "--window-s", "-1"], "not positive"),
+        (["stochastic", "fit", "REC", "--out", "/no/such/dir/x.nc"], "output folder"),
+        (["stochastic", "features", "DIR", "-o", "/no/such/dir/f.csv"], "output folder"),
     ],
 )
 def test_errors_are_one_line_exit_2(
     args: list[str], message: str, record: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    args = [str(record) if a == "REC" else a for a in args]
+    names = {"REC": str(record), "DIR": str(record.parent)}
+    args = [names.get(a, a) for a in args]
     assert main(args) == 2
     captured = capsys.readouterr()
     assert captured.out == ""

@@ -126,6 +126,12 @@ def _add_estimation_options(parser: argparse.ArgumentParser) -> None:
     )
 
 
+def _check_output(path: str | None) -> None:
+    """Fail before any work if an output's folder does not exist."""
+    if path is not None and not Path(path).resolve().parent.is_dir():
+        raise InputError("output folder does not exist, expected an existing folder", path)
+
+
 def _atomic_path(target: Path) -> Path:
     """A temporary name beside ``target`` with the same suffix (formats follow the suffix)."""
     return target.with_name(f".{target.stem}.{os.getpid()}.tmp{target.suffix}")
@@ -139,6 +145,8 @@ def run_fit(args: argparse.Namespace) -> CommandResult:
 
     if args.bootstrap < 0:
         raise InputError(f"--bootstrap {args.bootstrap}, expected an integer ≥ 0")
+    _check_output(args.plot)
+    _check_output(args.out)
     stream = read_record_file(args.record, args)
     if (args.plot or args.out) and len(stream) != 1:
         raise InputError(
@@ -279,6 +287,7 @@ def run_features(args: argparse.Namespace) -> CommandResult:
         raise InputError("give a folder DIR or --example fema-p695, expected exactly one")
     if args.jobs is not None and args.jobs < 1:
         raise InputError(f"--jobs {args.jobs}, expected ≥ 1")
+    _check_output(args.output)
     output = Path(args.output)
     failures_path = output.with_name(f"{output.stem}_failures.csv")
     options = {
