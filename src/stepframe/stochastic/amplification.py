@@ -302,9 +302,10 @@ def _monte_carlo_ratios(
 ) -> tuple[Floats, Floats, Floats, Floats, Floats, Floats]:
     """Cross-fitted peaks, and bootstrap percentile intervals of the two ratios.
 
-    Each resample draws N realisations with replacement (the same ones for the moving and the
-    fixed run: common random numbers, so the ratio is much tighter than either peak) and repeats
-    the cross-fitting, so the interval includes the randomness of the peak's time.
+    Each resample draws the realisations of each half with replacement from that half (the same
+    ones for the moving and the fixed run: common random numbers, so the ratio is much tighter
+    than either peak) and repeats the cross-fitting, so the interval includes the randomness of
+    the peak's time.
     """
     m1, _ = cross_fitted_peaks(moving.samples["x2"])
     m2, _ = cross_fitted_peaks(fixed.samples["x2"])
@@ -319,8 +320,10 @@ def _monte_carlo_ratios(
     for i in range(m1.size):
         ratios_fixed = np.empty(N_BOOTSTRAP)
         ratios_stat = np.empty(N_BOOTSTRAP)
+        half = n // 2
         for b in range(N_BOOTSTRAP):
-            pick = rng.integers(0, n, n)
+            # resample within each half, so that the halves stay independent as in the estimate
+            pick = np.concatenate([rng.integers(0, half, half), rng.integers(half, n, n - half)])
             p1 = cross_fitted_peaks(near1[i][None, pick])[0][0]
             p2 = cross_fitted_peaks(near2[i][None, pick])[0][0]
             ratios_fixed[b] = math.sqrt(p1 / p2)
