@@ -115,3 +115,26 @@ def test_example_catalogue_table_matches_its_metadata() -> None:
 def test_missing_folder() -> None:
     with pytest.raises(InputError, match="no such file or folder"):
         catalog("/nonexistent/folder")
+
+
+def test_failure_in_measures_is_recorded_and_the_batch_goes_on(
+    folder: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import sys
+
+    # ``stepframe.records.catalog`` is the function (the package exports it); patch the module.
+    module = sys.modules["stepframe.records.catalog"]
+    real = module.intensity_measures
+
+    def failing(acc: np.ndarray, dt: float) -> dict[str, float]:
+        if dt == 0.01:  # the three DMG channels
+            raise RuntimeError("simulated failure")
+        return real(acc, dt)
+
+    monkeypatch.setattr(module, "intensity_measures", failing)
+    table, failures = catalog(folder)
+    assert len(table) == 2
+    measured = failures[failures["stage"] == "measures"]
+    assert len(measured) == 3
+    assert set(measured["reason"]) == {"RuntimeError: simulated failure"}
+    assert all(f.endswith(("[H1]", "[H2]", "[Up]")) for f in measured["file"])
