@@ -6,6 +6,7 @@ import json
 import math
 from pathlib import Path
 
+import mpmath as mp
 import numpy as np
 import pytest
 from scipy import signal
@@ -67,31 +68,50 @@ def test_rsn8883_rotd50_matches_peer(rsn8883, damping) -> None:  # type: ignore[
     assert np.all((lo <= result.geomean_m_s2 * 1.0000001) & (result.geomean_m_s2 <= hi * 1.0000001))
 
 
-def test_coefficients_equal_matrix_exponential() -> None:
-    """Nigam-Jennings coefficients against the exact first-order-hold discretisation (expm)."""
-    periods = np.array([0.01, 0.1, 1.0, 10.0])
-    for damping in (0.0, 0.02, 0.05, 0.3):
-        for dt in (0.001, 0.005, 0.02):
-            coeffs = nigam_jennings_coefficients(2 * np.pi / periods, damping, dt)
-            for row, period in zip(coeffs, periods, strict=True):
-                w = 2 * np.pi / period
-                m = np.array(
-                    [[0, 1, 0, 0], [-w * w, -2 * damping * w, -1, 0], [0, 0, 0, 1], [0, 0, 0, 0.0]]
-                )
-                p = expm(m * dt)
-                expected = [
-                    p[0, 0],
-                    p[0, 1],
-                    p[1, 0],
-                    p[1, 1],
-                    p[0, 2] - p[0, 3] / dt,
-                    p[0, 3] / dt,
-                    p[1, 2] - p[1, 3] / dt,
-                    p[1, 3] / dt,
-                ]
-                # Entries near zero (a21 when ωΔt ≈ 2π) are compared on their natural scale.
-                scale = np.array([1, 1 / w, w, 1, 1 / w**2, 1 / w**2, 1 / w, 1 / w])
-                np.testing.assert_allclose(row, expected, rtol=1e-6, atol=1e-12 * scale.max())
+def _exact_coefficients(w: float, damping: float, dt: float) -> np.ndarray:
+    """40-digit exp(MΔt) of the oscillator with linear forcing (state u, v, a, ȧ)."""
+    mp.mp.dps = 40
+    wm, zm, dtm = mp.mpf(w), mp.mpf(damping), mp.mpf(dt)
+    m = mp.matrix([[0, 1, 0, 0], [-wm * wm, -2 * zm * wm, -1, 0], [0, 0, 0, 1], [0, 0, 0, 0]])
+    p = mp.expm(m * dtm)
+    values = [
+        p[0, 0],
+        p[0, 1],
+        p[1, 0],
+        p[1, 1],
+        p[0, 2] - p[0, 3] / dtm,
+        p[0, 3] / dtm,
+        p[1, 2] - p[1, 3] / dtm,
+        p[1, 3] / dtm,
+    ]
+    return np.array([float(v) for v in values])
+
+
+@pytest.mark.parametrize("damping", [0.0, 0.05, 0.3])
+def test_coefficients_against_40_digit_matrix_exponential(damping: float) -> None:
+    """Closed form (ωΔt >= 0.1) and series (below) against the exact discretisation."""
+    periods = np.array([0.01, 0.1, 1.0, 10.0, 100.0])
+    for dt in (0.001, 0.005, 0.02):
+        coeffs = nigam_jennings_coefficients(2 * np.pi / periods, damping, dt)
+        for row, period in zip(coeffs, periods, strict=True):
+            w = 2 * np.pi / period
+            expected = _exact_coefficients(w, damping, dt)
+            # Entries that vanish (sin ωΔt = 0 when ωΔt is a multiple of π) are compared on the
+            # natural scale of their coefficient: u per a ~ min(Δt², 1/ω²), v per a ~ min(Δt, 1/ω).
+            bu, bv = min(dt * dt, 1 / w**2), min(dt, 1 / w)
+            scale = np.array([1, 1 / w, w, 1, bu, bu, bv, bv])
+            error = np.abs(row - expected)
+            assert np.all(error <= 1e-12 * np.abs(expected) + 1e-14 * scale), (period, dt)
+
+
+def test_expm_agrees_too() -> None:
+    """scipy's expm (a second, independent float implementation) at one ordinary case."""
+    w, damping, dt = 2 * np.pi / 0.3, 0.05, 0.005
+    m = np.array([[0, 1, 0, 0], [-w * w, -2 * damping * w, -1, 0], [0, 0, 0, 1], [0, 0, 0, 0.0]])
+    p = expm(m * dt)
+    row = nigam_jennings_coefficients(np.array([w]), damping, dt)[0]
+    np.testing.assert_allclose(row[:4], [p[0, 0], p[0, 1], p[1, 0], p[1, 1]], rtol=1e-12)
+    np.testing.assert_allclose(row[5], p[0, 3] / dt, rtol=1e-9)
 
 
 def test_step_in_ground_acceleration_closed_form() -> None:

@@ -99,10 +99,20 @@ def check_record(acc_m_s2: ArrayLike, dt_s: float) -> NDArray[np.float64]:
     return acc
 
 
+#: Below this ωΔt the coefficients come from a Taylor series (the closed form loses digits there:
+#: its terms grow like 1/(ω³Δt) while the coefficients shrink like Δt²).
+SERIES_BELOW_OMEGA_DT = 0.1
+
+
 def nigam_jennings_coefficients(
     omega_rad_s: NDArray[np.float64], damping: float, dt_s: float
 ) -> NDArray[np.float64]:
     """Exact one-step coefficients of ü + 2ζωu̇ + ω²u = -a(t), a linear over each step.
+
+    Closed form of Nigam and Jennings (1969) where ωΔt >= :data:`SERIES_BELOW_OMEGA_DT`; below
+    it, the Taylor series of the same state-transition matrix (the closed form would cancel
+    digits: 2e-4 relative error at T = 100 s, Δt = 1 ms). Both are within 1e-12 of a 40-digit
+    evaluation on T = 0.01-100 s, Δt = 1-20 ms (tests).
 
     Returns
     -------
@@ -111,8 +121,15 @@ def nigam_jennings_coefficients(
         ``u' = a11 u + a12 v + b11 a_i + b12 a_{i+1}`` and
         ``v' = a21 u + a22 v + b21 a_i + b22 a_{i+1}`` (u [m], v [m/s], a [m/s²]).
     """
-    w = np.asarray(omega_rad_s, dtype=np.float64)
-    z = damping
+    w = np.atleast_1d(np.asarray(omega_rad_s, dtype=np.float64))
+    out = _closed_form(w, damping, dt_s)
+    small = w * dt_s < SERIES_BELOW_OMEGA_DT
+    if np.any(small):
+        out[small] = _series(w[small], damping, dt_s)
+    return out
+
+
+def _closed_form(w: NDArray[np.float64], z: float, dt_s: float) -> NDArray[np.float64]:
     root = math.sqrt(1.0 - z * z)
     wd = w * root
     e = np.exp(-z * w * dt_s)
@@ -133,6 +150,39 @@ def nigam_jennings_coefficients(
     b21 = e * ((k1 + z / w) * dc - (k2 + 1.0 / w**2) * ds) + 1.0 / (w * w * dt_s)
     b22 = -e * (k1 * dc - k2 * ds) - 1.0 / (w * w * dt_s)
     return np.ascontiguousarray(np.stack([a11, a12, a21, a22, b11, b12, b21, b22], axis=1))
+
+
+def _series(w: NDArray[np.float64], z: float, dt_s: float) -> NDArray[np.float64]:
+    """Coefficients from exp(MΔt) by its Taylor series, state (u, v, a, ȧ) with ȧ constant.
+
+    Every cycle through M multiplies by at most (ωΔt)² (u ↔ v), and the forcing enters through
+    a nilpotent chain, so 24 terms are exact to rounding for ωΔt < 0.1.
+    """
+    m = np.zeros((w.size, 4, 4))
+    m[:, 0, 1] = dt_s
+    m[:, 1, 0] = -w * w * dt_s
+    m[:, 1, 1] = -2.0 * z * w * dt_s
+    m[:, 1, 2] = -dt_s
+    m[:, 2, 3] = dt_s
+    term = np.broadcast_to(np.eye(4), m.shape).copy()
+    total = term.copy()
+    for k in range(1, 25):
+        term = term @ m / k
+        total += term
+    p = total
+    return np.stack(
+        [
+            p[:, 0, 0],
+            p[:, 0, 1],
+            p[:, 1, 0],
+            p[:, 1, 1],
+            p[:, 0, 2] - p[:, 0, 3] / dt_s,
+            p[:, 0, 3] / dt_s,
+            p[:, 1, 2] - p[:, 1, 3] / dt_s,
+            p[:, 1, 3] / dt_s,
+        ],
+        axis=1,
+    )
 
 
 def upsampling_factors(
