@@ -208,3 +208,12 @@ def test_nan_record_refused() -> None:
         response_spectrum(np.array([0.0, np.nan, 1.0]), 0.01, [0.1])
     with pytest.raises(InputError, match="damping > 0"):
         response_spectrum(np.ones(10), 0.01, [0.1], 0.0, method="frequency_domain")
+
+
+def test_two_sample_record_is_one_exact_step() -> None:
+    """Shortest record: the peak is |u(Δt)| = |b12·a1| of the exact discretisation (a0 = 0)."""
+    dt, a1 = 0.01, 3.0
+    for period in (0.5, 2.0):  # ωΔt >= 0.1 uses the closed form, below it the series
+        w = 2 * np.pi / period
+        sd = response_spectrum([0.0, a1], dt, [period], 0.05, points_per_period=0).sd_m[0]
+        assert sd == pytest.approx(abs(_exact_coefficients(w, 0.05, dt)[5] * a1), rel=1e-12)
