@@ -33,13 +33,13 @@ def test_vanmarcke_q_against_quadrature(zeta: float) -> None:
     assert float(vanmarcke_q(np.array([zeta]))[0]) == pytest.approx(q, rel=1e-6)
 
 
-@pytest.mark.parametrize("frequency", ["zero-crossing", "moment", "ridge"])
+@pytest.mark.parametrize("frequency", ["zero-crossing", "moment", "ridge", "wavelet-ridge"])
 def test_pure_tone_returns_its_frequency(frequency: str) -> None:
     t = np.arange(0, 30, 0.005)
     x = 0.3 * np.sin(2 * math.pi * 3.3 * t + 0.4)
     f = record_features(x, 0.005, frequency=frequency)  # type: ignore[arg-type]
     inner = f.omega_g_rad_s[20:-20]
-    tol = 0.005 if frequency == "ridge" else 1e-3
+    tol = 0.005 if frequency in ("ridge", "wavelet-ridge") else 1e-3
     np.testing.assert_allclose(inner, 2 * math.pi * 3.3, rtol=tol)
     assert float(np.median(f.alpha_g_rad_s[20:-20])) < 0.05  # a line has no bandwidth
 

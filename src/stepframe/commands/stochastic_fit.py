@@ -100,9 +100,9 @@ def register(subparsers: Any) -> None:
 def _add_estimation_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--frequency",
-        choices=("zero-crossing", "ridge", "moment"),
+        choices=("zero-crossing", "ridge", "moment", "wavelet-ridge"),
         default="zero-crossing",
-        help="ω_g(t) estimator (default zero-crossing)",
+        help="ω_g(t) estimator, fast to dear (default zero-crossing)",
     )
     parser.add_argument(
         "--t0",

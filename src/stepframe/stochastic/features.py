@@ -19,6 +19,8 @@ and smoothed over one window of ``window_s`` (default 2 s), stated for each:
   √(ω_g² - 2α_g²), so it is biased low for broad bands.
   ``"moment"``: √(λ2/λ0 - σ_w²) from STFT spectral moments, σ_w² the window's own spread; exact for
   eq. 6.12 (E[ẏ²]/E[y²] = ω_g²) up to leakage.
+  ``"wavelet-ridge"``: the maximum of the Morlet spectrum (160 log-spaced bands), the dearest
+  step of the ladder zero crossings → STFT ridge → wavelet ridge; biased like the STFT ridge.
 - ``α_g(t)``: from the local spectral width: Vanmarcke's ``q² = 1 - λ1²/(λ0 λ2)`` of the STFT
   (λ2 corrected by σ_w²) inverted through q(ζ) of eq. 6.12 (closed form, :func:`vanmarcke_q`),
   ``α_g = ζ ω_g``.
@@ -52,8 +54,13 @@ from stepframe.stochastic.spectra import (
 if TYPE_CHECKING:
     import xarray as xr
 
-FrequencyMethod = Literal["zero-crossing", "ridge", "moment"]
-FREQUENCY_METHODS: tuple[FrequencyMethod, ...] = ("zero-crossing", "ridge", "moment")
+FrequencyMethod = Literal["zero-crossing", "ridge", "moment", "wavelet-ridge"]
+FREQUENCY_METHODS: tuple[FrequencyMethod, ...] = (
+    "zero-crossing",
+    "ridge",
+    "moment",
+    "wavelet-ridge",
+)
 TimeOrigin = Literal["start", "p-pick"]
 PeakMethod = Literal["envelope", "argmax"]
 
@@ -304,9 +311,14 @@ def record_features(
     elif frequency == "moment":
         omega_g = omega_moment
         omega_kernel = _power_kernel(window, dt, hop)
-    else:
+    elif frequency == "ridge":
         omega_g = _ridge(omega, psd)
         omega_kernel = _power_kernel(window, dt, hop)
+    else:
+        omega_g = _wavelet_ridge(data, dt, hop, time_s.size)
+        # The Morlet's time support shrinks with frequency; no single kernel describes it, so the
+        # fit compares unsmoothed (its Gaussian time spread, 6/ω, is under a second above 1 Hz).
+        omega_kernel = np.ones(1)
     alpha_g = zeta * np.where(np.isfinite(omega_moment), omega_moment, omega_g)
     p_onset = s_arrival = None
     t0_s = 0.0
@@ -415,6 +427,31 @@ def _power_kernel(window: NDArray[np.float64], dt_s: float, hop_s: float) -> NDA
     grid = np.arange(-half, half + 1) * hop_s
     k = np.interp(grid, t, window**2)
     return np.asarray(k / k.sum())
+
+
+def _wavelet_ridge(
+    data: NDArray[np.float64], dt_s: float, hop_s: float, n_frames: int
+) -> NDArray[np.float64]:
+    """Ridge of the Morlet spectrum on the frame grid, parabola in log ω through three bands."""
+    from stepframe.stochastic.spectra import wavelet_power
+
+    nyquist = math.pi / dt_s
+    low = max(2 * math.pi / (data.size * dt_s) * 6.0, 0.2)
+    omega = np.geomspace(low, 0.8 * nyquist, 160)
+    _, omega, psd = wavelet_power(data, dt_s, hop_s=hop_s, omega_rad_s=omega)
+    # Ridge of |u|² = S·2σ_j/√π ∝ S·ω (the band's power, not its density): a line's band power
+    # peaks at its frequency, while its density (divided by σ_j ∝ ω_j) peaks ~1/q² lower.
+    psd = psd[:n_frames] * omega[None, :]
+    k = np.clip(np.argmax(psd, axis=1), 1, omega.size - 2)
+    rows = np.arange(psd.shape[0])
+    with np.errstate(divide="ignore"):
+        y0, y1, y2 = (np.log(psd[rows, k + j]) for j in (-1, 0, 1))
+    denom = y0 - 2 * y1 + y2
+    ok = np.isfinite(denom) & (denom < 0)
+    shift = np.where(ok, 0.5 * (y0 - y2) / np.where(ok, denom, -1.0), 0.0)
+    log_step = math.log(omega[1] / omega[0])
+    out = omega[k] * np.exp(np.clip(shift, -0.5, 0.5) * log_step)
+    return np.asarray(np.where(psd[rows, k] > 0, out, np.nan))
 
 
 def _ridge(omega: NDArray[np.float64], psd: NDArray[np.float64]) -> NDArray[np.float64]:
