@@ -283,6 +283,20 @@ def test_overturning_frame_stops_with_a_status_not_a_silent_nan() -> None:
     assert result.status.startswith("stopped at t =")
     assert "overturning" in result.status
     assert np.isnan(result.mean_square_m2[0, -1])
+    mc = mean_square_response(
+        SITE,
+        FrameDriven(law),
+        0.05,
+        method="monte-carlo",
+        time_s=grid[:161],
+        peak_intensity=3.0,
+        n_realisations=50,
+        seed=1,
+    )
+    assert mc.status.startswith("stopped at t =")
+    reached = np.isfinite(mc.mean_square_m2[0])
+    assert not reached[-1] and reached[:10].all()
+    assert np.all(mc.mean_square_m2[0, 1:][reached[1:]] > 0)  # no zeros left where it stopped
 
 
 # ----------------------------------------------------------------------- numerical extremes

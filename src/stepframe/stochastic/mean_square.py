@@ -18,8 +18,8 @@ frequency at the start of the analysis) and ``y`` the unit-variance eq. 6.12 pro
     ``P_{k+1} = Φ (P_k - P_∞) Φᵀ + P_∞`` with Φ = exp(A h) (closed-form 2×2 blocks; the coupling
     block by 4-point Gauss-Legendre) and P_∞ the closed-form stationary covariance of the frozen
     system. Exact for constant coefficients whatever h; O(h²) in the time variation of the
-    coefficients (1e-5 relative or better at 4,000 steps for the paper's site; see
-    bench/bench_mean_square.py). Cost: a numba kernel, O(n_osc · n_steps), about 0.1 µs per
+    coefficients (6e-7 relative at 4,000 steps over 40 s for the paper's site; see
+    bench/bench_mean_square.py). Cost: a numba kernel, O(n_osc · n_steps), about 0.2-0.4 µs per
     oscillator-step. Needs ξ_0 ≥ 1e-6 (P_∞ grows like 1/ξ_0).
 ``"monte-carlo"``: N synthetic motions (:func:`stepframe.stochastic.synthetic.synthetic_motions`)
     through the oscillator, stepped exactly for frozen ω with linear interpolation of the samples
@@ -807,7 +807,7 @@ def _monte_carlo(
             w_trial = path.omega(math.sqrt(float(np.mean(new_x**2))))
             if not math.isfinite(w_trial):
                 status = _overturned(float(fine[k + 1]), float(np.mean(new_x**2)), path)
-                squares[0, :, (k + 1) // sub + 1 :] = np.nan
+                squares[0, :, k // sub + 1 :] = np.nan  # grid times not reached
                 return omega_0, omegas, squares, forcing, status
         xs, vs, w_now = new_x, new_v, w_trial
         if (k + 1) % sub == 0:
