@@ -174,7 +174,7 @@ def test_scalar_equation_conserves_q11_omega_without_damping_and_input() -> None
         return np.where(t < 2.0, 1.0, 0.0)
 
     def omega(t: np.ndarray) -> np.ndarray:
-        return 15.0 / (1 + np.maximum(t - 2.0, 0.0) ** 2 / 4)  # falls from 15 to 2.3 rad/s
+        return 15.0 / (1 + np.maximum(t - 2.0, 0.0) ** 2 / 4)  # falls from 15 to 0.88 rad/s
 
     result = mean_square_response(
         SITE, Given(omega), 0.0, method="scalar", time_s=grid, envelope=envelope
