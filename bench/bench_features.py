@@ -72,6 +72,20 @@ def main() -> None:
         max(1, args.repeat // 2),
     )
     per_component = t_feat_scipy / n  # the default FFT
+    # Scaling: 4 copies of the catalogue (400 components), so start-up is a smaller share.
+    big = stream.copy() + stream.copy() + stream.copy() + stream.copy()
+    t_big = _median_time(
+        lambda: catalog_features(big, n_jobs=CORES, lowest_usable_hz=lows * 4, chunk_size=8), 1
+    )
+    ladder = {}
+    subset = records[:20]
+    for method in ("zero-crossing", "ridge", "moment", "wavelet-ridge"):
+
+        def run(method: str = method) -> None:
+            for x, dt in subset:
+                fit_model(record_features(x, dt, frequency=method))  # type: ignore[arg-type]
+
+        ladder[method] = _median_time(run, max(1, args.repeat // 2), cpu) / len(subset)
     extrapolated = TARGET_COMPONENTS * per_component / CORES
     print(f"machine: {os.cpu_count()} CPUs (shared); {n} components, {samples:,} samples\n")
     print("| quantity | value |")
@@ -94,6 +108,11 @@ def main() -> None:
         f"| catalogue of {n} with {CORES} processes, wall (incl. start-up) | {t_parallel:.2f} s |"
     )
     print(f"| parallel speed-up vs 1 core (CPU time) | {t_feat_scipy / t_parallel:.2f} x |")
+    print(f"| 4 × catalogue (400 components) with {CORES} processes, wall | {t_big:.2f} s "
+          f"({4 * n * per_component / t_big:.2f} x one core's CPU time) |")  # fmt: skip
+    for method, seconds in ladder.items():
+        print(f"| features + fit with ω_g by {method}, per component (first 20, CPU) | "
+              f"{1e3 * seconds:.1f} ms |")  # fmt: skip
     print(f"| extrapolated: {TARGET_COMPONENTS:,} components on {CORES} cores | "
           f"{extrapolated / 60:.1f} min (target < 20 min, ~50 ms/component/core) |")  # fmt: skip
 

@@ -71,7 +71,7 @@ def main() -> None:
     for name, true in SETS.items():
         phase = cumulative_trapezoid(true.omega_g(t), t, initial=0)
         x = default_envelope(t, true.t_max_s, true.t_dur_s) * np.cos(phase)
-        for method in ("zero-crossing", "ridge", "moment"):
+        for method in ("zero-crossing", "ridge", "moment", "wavelet-ridge"):
             features = record_features(x, 0.005, frequency=method)  # type: ignore[arg-type]
             e = _errors(fit_model(features).model, true)
             short = name.split(" (")[0]
