@@ -73,3 +73,20 @@ def test_bad_source(tmp_path: Path) -> None:
         catalog_features(tmp_path / "missing")
     with pytest.raises(InputError, match="n_jobs"):
         catalog_features(tmp_path, n_jobs=0)
+
+
+def test_unexpected_errors_are_recorded_not_fatal(monkeypatch: pytest.MonkeyPatch) -> None:
+    from obspy import Stream
+
+    import stepframe.stochastic.catalog_features as cf
+
+    def broken_fit(*args: object, **kwargs: object) -> None:
+        raise ZeroDivisionError("simulated numerical failure")
+
+    monkeypatch.setattr(cf, "fit_model", broken_fit)
+    acc = _motions(2)
+    traces = [make_trace(x, 0.01, channel=f"HN{i}") for i, x in enumerate(acc)]
+    table, failures = catalog_features(Stream(traces), n_jobs=1)
+    assert table.empty and len(failures) == 2
+    assert set(failures["stage"]) == {"fit"}
+    assert "ZeroDivisionError: simulated numerical failure" in failures["reason"].iloc[0]

@@ -115,10 +115,14 @@ def component_row(
         )  # fmt: skip
     except InputError as error:
         return None, ("features", error.one_line())
+    except Exception as error:  # a batch never stops for one item: record the unexpected too
+        return None, ("features", f"internal error {type(error).__name__}: {error}")
     try:
         result = fit_model(features)
     except InputError as error:
         return None, ("fit", error.one_line())
+    except Exception as error:  # numerical failure inside scipy: recorded, not fatal
+        return None, ("fit", f"internal error {type(error).__name__}: {error}")
     row: dict[str, Any] = {"dt_s": dt_s, "duration_s": dt_s * (data.size - 1)}
     fitted = result.to_dict()
     for key in (*PARAMETERS, "t_max_s", "t_dur_s", "t0_s", "fit_quality"):
@@ -151,7 +155,7 @@ def _run_item(item: Item, options: Options) -> list[tuple[dict[str, Any] | None,
             stream = read(item.file, **dict(options.record_options))
         except InputError as error:
             return [(None, (item.file, "", "read", error.one_line()))]
-        except (OSError, ValueError) as error:  # unreadable file: recorded, never fatal
+        except Exception as error:  # readers (obspy's too) raise many types: recorded, not fatal
             return [(None, (item.file, "", "read", f"{type(error).__name__}: {error}"))]
         if len(stream) == 0:
             return [(None, (item.file, "", "read", "no traces in the file"))]
