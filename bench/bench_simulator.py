@@ -1,0 +1,130 @@
+"""Stepping simulator: work-precision against solve_ivp, and batch throughput.
+
+Run: ``python bench/bench_simulator.py``. Prints Markdown tables for docs/benchmarks.md.
+
+Work-precision: the Example 4 frame (x_c = 0.05 m, C_r = 0.9) on FEMA P695 records scaled to
+step without overturning. Errors are against the exact integrator, whose own error is measured
+against solve_ivp DOP853 at rtol 1e-12 in the same table. solve_ivp runs through
+stepframe.structure.reference (restarted at every sample and after every switch, with events),
+the only way it follows the model's kinks. Times are medians of repeated runs; the machine has
+2 cores shared with other work, so absolute times are noisy, ratios less so.
+"""
+
+from __future__ import annotations
+
+import statistics
+import time
+from typing import Any
+
+import numba
+import numpy as np
+
+from stepframe.records.examples import fema_p695
+from stepframe.records.units import STANDARD_GRAVITY_M_S2
+from stepframe.structure.frame import PortalFrame
+from stepframe.structure.simulator import simulate, simulate_batch
+
+FRAME = PortalFrame(
+    omega_1_rad_s=6.4581, omega_2_rad_s=0.6445, p_1=1.0901, p_2=1.2680,
+    gamma_1_m_s2=0.1387, xi_1=0.05, xi_2=0.0, x_c_m=0.05, c_r=0.9, x_cap_m=0.6,
+)  # fmt: skip
+CASES = [(2, 0.1), (11, 0.1)]  # (catalogue index, scale): RSN 960 a, RSN 174 b
+SETTINGS: list[tuple[str, float]] = [
+    ("RK45", 1e-4), ("RK45", 1e-6), ("RK45", 1e-8), ("RK45", 1e-10),
+    ("DOP853", 1e-4), ("DOP853", 1e-6), ("DOP853", 1e-8), ("DOP853", 1e-10), ("DOP853", 1e-12),
+    ("Radau", 1e-4), ("Radau", 1e-6), ("Radau", 1e-8),
+    ("LSODA", 1e-4), ("LSODA", 1e-6), ("LSODA", 1e-8), ("LSODA", 1e-10),
+]  # fmt: skip
+
+
+def _timed(fn: Any, repeat: int) -> tuple[Any, float]:
+    times = []
+    out = None
+    for _ in range(repeat):
+        start = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - start)
+    return out, statistics.median(times)
+
+
+def _errors(run: Any, truth: Any) -> tuple[float, float]:
+    peak = abs(run.summary.peak_abs_x_m - truth.summary.peak_abs_x_m) / truth.summary.peak_abs_x_m
+    a, b = run.switching_times_s, truth.switching_times_s
+    switch = float(np.max(np.abs(a - b))) if a.size == b.size else float("inf")
+    return peak, switch
+
+
+def work_precision(stream: Any) -> None:
+    motions = []
+    for index, scale in CASES:
+        trace = stream[index]
+        motions.append((trace.data.astype(float) * STANDARD_GRAVITY_M_S2, trace.stats.delta, scale))
+    n_samples = sum(m[0].size for m in motions)
+    print(f"Records: FEMA P695 catalogue entries {[c[0] for c in CASES]} at scales "
+          f"{[c[1] for c in CASES]}, {n_samples} samples, tail 2 s.\n")  # fmt: skip
+    kw: dict[str, Any] = {"tail_s": 2.0, "record_history": False}
+    truths = [simulate(FRAME, ag, dt, scale=s, **kw) for ag, dt, s in motions]
+    rows = []
+    _, t_exact = _timed(
+        lambda: [simulate(FRAME, ag, dt, scale=s, **kw) for ag, dt, s in motions], repeat=21
+    )
+    refs = [
+        simulate(FRAME, ag, dt, scale=s, method="DOP853", rtol=1e-12, atol=1e-15, **kw)
+        for ag, dt, s in motions
+    ]
+    errs = [_errors(t, r) for t, r in zip(truths, refs, strict=True)]
+    rows.append(("exact", "-", max(e[0] for e in errs), max(e[1] for e in errs), t_exact))
+    for method, rtol in SETTINGS:
+        runs, wall = _timed(
+            lambda m=method, r=rtol: [
+                simulate(FRAME, ag, dt, scale=s, method=m, rtol=r, atol=r * 1e-3, **kw)
+                for ag, dt, s in motions
+            ],
+            repeat=3,
+        )
+        errs = [_errors(run, t) for run, t in zip(runs, truths, strict=True)]
+        rows.append((method, f"{rtol:g}", max(e[0] for e in errs), max(e[1] for e in errs), wall))
+    print("| method | rtol | max rel. error peak abs x | max error switching times [s] "
+          "| wall time [s] | time / exact |")  # fmt: skip
+    print("|---|---|---|---|---|---|")
+    for method, rtol, e_peak, e_sw, wall in rows:
+        ratio = wall / t_exact
+        print(f"| {method} | {rtol} | {e_peak:.1e} | {e_sw:.1e} | {wall:.4g} | {ratio:,.0f} |")
+    ok = [r for r in rows[1:] if r[2] <= 1e-6]
+    if ok:
+        best = min(ok, key=lambda r: r[4])
+        print(f"\nFastest solve_ivp setting with peak error ≤ 1e-6: {best[0]} rtol {best[1]}, "
+              f"{best[4]:.3g} s; exact {t_exact:.3g} s; ratio {best[4] / t_exact:,.0f}× "
+              "(target ≥ 1000×).\n")  # fmt: skip
+
+
+def throughput(stream: Any) -> None:
+    series = [(tr.data.astype(float) * STANDARD_GRAVITY_M_S2, tr.stats.delta) for tr in stream]
+    n_samples = sum(s[0].size for s in series)
+    print("| batch (100 FEMA P695 components, exact, tail 0) | threads | scales | input samples "
+          "| wall [s] | samples/s/core | stepping runs |")  # fmt: skip
+    print("|---|---|---|---|---|---|---|")
+    simulate_batch(FRAME, series[:2], [0.1], tail_s=0.0)  # compile / load the cached kernels
+    for label, scales in (("elastic (0.02)", [0.02]), ("IDA grid 0.05-0.4", [0.05, 0.1, 0.2, 0.4])):
+        for threads in (1, numba.config.NUMBA_NUM_THREADS):
+            numba.set_num_threads(threads)
+            table, wall = _timed(lambda sc=scales: simulate_batch(FRAME, series, sc, tail_s=0.0), 5)
+            stepping = int((table["n_stepping_episodes"] > 0).sum())
+            total = n_samples * len(scales)
+            rate = total / wall / threads
+            print(f"| {label} | {threads} | {len(scales)} | {total:,} | {wall:.4f} | "
+                  f"{rate:.3g} | {stepping}/{len(table)} |")  # fmt: skip
+    numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+
+
+def main() -> None:
+    stream, _ = fema_p695()
+    simulate(FRAME, np.zeros(3), 0.01)  # load the cached kernel before timing
+    print("## Work-precision\n")
+    work_precision(stream)
+    print("## Batch throughput (median of 5)\n")
+    throughput(stream)
+
+
+if __name__ == "__main__":
+    main()
