@@ -73,3 +73,27 @@ def test_block_at_rest_starts_rocking_only_above_g_tan_alpha() -> None:
     assert result.summary.residual_x_m == pytest.approx(
         -0.01 * ALPHA_RAD * (math.cosh(P_RAD_S * t_end) - 1.0), rel=1e-9
     )
+
+
+def test_portal_frame_housner_block_through_simulate() -> None:
+    from stepframe.structure.frame import PortalFrame
+    from stepframe.structure.simulator import simulate
+
+    block = PortalFrame.housner_block(half_width_m=0.3, half_height_m=1.2)
+    alpha = math.atan2(0.3, 1.2)
+    p = math.sqrt(3.0 * block_g() / (4.0 * math.hypot(0.3, 1.2)))
+    x0 = 0.5 * block.x_star_m
+    result = simulate(block, np.zeros(2), 0.01, x0_m=x0, tail_s=6.0)
+    first = result.switching_times_s[0]
+    assert first == pytest.approx(math.acosh(1.0 / (1.0 - x0 / block.x_star_m)) / p, rel=1e-6)
+    eta = 1.0 - 1.5 * math.sin(alpha) ** 2
+    theta1 = 1.0 - math.sqrt(1.0 - eta**2 * (1.0 - (1.0 - x0 / block.x_star_m) ** 2))
+    assert result.episodes["peak_abs_x_m"].iloc[0] == pytest.approx(
+        theta1 * block.x_star_m, rel=1e-6
+    )
+
+
+def block_g() -> float:
+    from stepframe.structure.frame import PAPER_G_M_S2
+
+    return float(PAPER_G_M_S2)
