@@ -142,7 +142,7 @@ def run_simulate(args: argparse.Namespace) -> CommandResult:
             "uplift_acceleration_m_s2": frame.uplift_acceleration_m_s2,
         },
         **summary,
-        "episodes": result.episodes.to_dict(orient="records"),
+        "episodes": result.episode_records(),
     }
     if args.plot is not None:
         name = os.path.basename(args.record)

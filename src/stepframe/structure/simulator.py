@@ -23,7 +23,8 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
+from functools import cached_property
 from typing import TYPE_CHECKING, Any, Literal, NamedTuple
 
 import numpy as np
@@ -139,6 +140,9 @@ class SimulationSummary:
 class SimulationResult:
     """Result of :func:`simulate`.
 
+    The tables are built from the integrator's arrays when first asked for, so a caller that
+    needs only the summary (the command line, a batch) never imports pandas or xarray.
+
     Attributes
     ----------
     summary
@@ -152,26 +156,99 @@ class SimulationResult:
         v_out_m_s (velocity before and after, C_r applied at touchdown).
     episodes
         ``pandas.DataFrame``: start_s, end_s (NaN if still stepped at the end), side (+1/-1),
-        peak_abs_x_m.
+        peak_abs_x_m; :meth:`episode_records` gives the same rows as dictionaries.
     """
 
     summary: SimulationSummary
-    history: xr.Dataset | None
-    events: pd.DataFrame
-    episodes: pd.DataFrame
+    raw: RawRun = field(repr=False)
+    dt_s: float
+    units: str
+
+    @cached_property
+    def history(self) -> xr.Dataset | None:
+        import xarray as xr
+
+        raw = self.raw
+        if not raw.hist_x.size:
+            return None
+        time_s = np.arange(raw.hist_x.size) * self.dt_s
+        units = self.units
+        return xr.Dataset(
+            {
+                "x": ("time", raw.hist_x, {"units": units, "long_name": "displacement x"}),
+                "v": ("time", raw.hist_v, {"units": units + "/s", "long_name": "velocity"}),
+                "phase": (
+                    "time",
+                    raw.hist_p,
+                    {"long_name": "phase: 0 unstepped, ±1 stepped, ±2 held at ±x_c"},
+                ),
+            },
+            coords={"time": ("time", time_s, {"units": "s"})},
+        )
+
+    @cached_property
+    def event_kinds(self) -> list[str]:
+        """Kind of each event in time order (liftoff, touchdown, cap, escape)."""
+        return [_EVENT_NAMES.get(int(k), "unknown") for k in self.raw.ev_kind]
+
+    @cached_property
+    def events(self) -> pd.DataFrame:
+        import pandas as pd
+
+        return pd.DataFrame(
+            {
+                "time_s": self.raw.ev_t,
+                "kind": self.event_kinds,
+                "v_in_m_s": self.raw.ev_v_in,
+                "v_out_m_s": self.raw.ev_v_out,
+            }
+        )
+
+    def episode_records(self) -> list[dict[str, float]]:
+        """Stepping episodes as dictionaries: start_s, end_s, side, peak_abs_x_m."""
+        raw, kinds = self.raw, self.event_kinds
+        rows: list[dict[str, float]] = []
+        for j, kind in enumerate(kinds):
+            if kind != "liftoff":
+                continue
+            # The kernel stores the episode peak signed by its side.
+            side = math.copysign(1.0, float(raw.ev_peak[j]))
+            end = math.nan
+            for jj in range(j + 1, len(kinds)):
+                if kinds[jj] == "touchdown":
+                    end = float(raw.ev_t[jj])
+                    break
+                if kinds[jj] == "liftoff":
+                    break
+            rows.append(
+                {
+                    "start_s": float(raw.ev_t[j]),
+                    "end_s": end,
+                    "side": side,
+                    "peak_abs_x_m": abs(float(raw.ev_peak[j])),
+                }
+            )
+        return rows
+
+    @cached_property
+    def episodes(self) -> pd.DataFrame:
+        import pandas as pd
+
+        return pd.DataFrame(
+            self.episode_records(), columns=["start_s", "end_s", "side", "peak_abs_x_m"]
+        )
 
     @property
     def impact_velocities_m_s(self) -> np.ndarray:
         """Velocities just before each impact [m/s]."""
-        kinds = self.events["kind"].to_numpy()
-        return np.asarray(self.events["v_in_m_s"].to_numpy()[kinds == "touchdown"], dtype=float)
+        touchdown = np.array([kind == "touchdown" for kind in self.event_kinds], dtype=bool)
+        return np.asarray(self.raw.ev_v_in[touchdown], dtype=float)
 
     @property
     def switching_times_s(self) -> np.ndarray:
         """Times of lift-offs and touchdowns, in order [s]."""
-        kinds = self.events["kind"].to_numpy()
-        keep = (kinds == "liftoff") | (kinds == "touchdown")
-        return np.asarray(self.events["time_s"].to_numpy()[keep], dtype=float)
+        keep = np.array([kind in ("liftoff", "touchdown") for kind in self.event_kinds], bool)
+        return np.asarray(self.raw.ev_t[keep], dtype=float)
 
 
 def model_of(frame: PortalFrame | Any) -> Model:
@@ -286,55 +363,6 @@ def _run_exact(
 
 
 def _result(raw: RawRun, dt_s: float, height: float | None, units: str) -> SimulationResult:
-    import pandas as pd
-    import xarray as xr
-
-    history = None
-    if raw.hist_x.size:
-        time_s = np.arange(raw.hist_x.size) * dt_s
-        history = xr.Dataset(
-            {
-                "x": ("time", raw.hist_x, {"units": units, "long_name": "displacement x"}),
-                "v": ("time", raw.hist_v, {"units": units + "/s", "long_name": "velocity"}),
-                "phase": (
-                    "time",
-                    raw.hist_p,
-                    {"long_name": "phase: 0 unstepped, ±1 stepped, ±2 held at ±x_c"},
-                ),
-            },
-            coords={"time": ("time", time_s, {"units": "s"})},
-        )
-    kinds = [_EVENT_NAMES.get(int(k), "unknown") for k in raw.ev_kind]
-    events = pd.DataFrame(
-        {
-            "time_s": raw.ev_t,
-            "kind": kinds,
-            "v_in_m_s": raw.ev_v_in,
-            "v_out_m_s": raw.ev_v_out,
-        }
-    )
-    rows: list[dict[str, float]] = []
-    for j, kind in enumerate(kinds):
-        if kind != "liftoff":
-            continue
-        # The kernel stores the episode peak signed by its side.
-        side = math.copysign(1.0, float(raw.ev_peak[j]))
-        end = math.nan
-        for jj in range(j + 1, len(kinds)):
-            if kinds[jj] == "touchdown":
-                end = float(raw.ev_t[jj])
-                break
-            if kinds[jj] == "liftoff":
-                break
-        rows.append(
-            {
-                "start_s": float(raw.ev_t[j]),
-                "end_s": end,
-                "side": side,
-                "peak_abs_x_m": abs(float(raw.ev_peak[j])),
-            }
-        )
-    episodes = pd.DataFrame(rows, columns=["start_s", "end_s", "side", "peak_abs_x_m"])
     summary = SimulationSummary(
         peak_abs_x_m=raw.peak_abs_x,
         peak_time_s=raw.peak_time_s,
@@ -349,7 +377,7 @@ def _result(raw: RawRun, dt_s: float, height: float | None, units: str) -> Simul
         residual_v_m_s=raw.v_end,
         status=_STATUS.get(raw.status, "solver_failed"),
     )
-    return SimulationResult(summary=summary, history=history, events=events, episodes=episodes)
+    return SimulationResult(summary=summary, raw=raw, dt_s=dt_s, units=units)
 
 
 def simulate(
