@@ -12,7 +12,7 @@ from stepframe.records import read
 from stepframe.records.formats._text import FormatWarning
 from stepframe.records.formats.at2 import sniff
 
-AT2_DIR = Path(__file__).parents[1] / "data" / "formats" / "peer_nga_west2"
+AT2_DIR = Path(__file__).parents[1] / "data" / "peer_nga_west2"
 H1 = AT2_DIR / "RSN8883_14383980_13849090.AT2"
 H2 = AT2_DIR / "RSN8883_14383980_13849360.AT2"
 

@@ -10,7 +10,7 @@ import pytest
 from stepframe.errors import FormatError
 from stepframe.records import read
 
-AT2 = Path(__file__).parents[1] / "data" / "formats" / "peer_nga_west2"
+AT2 = Path(__file__).parents[1] / "data" / "peer_nga_west2"
 H1 = AT2 / "RSN8883_14383980_13849090.AT2"
 
 

@@ -21,7 +21,9 @@ from stepframe.records.formats._text import FormatWarning
 
 DATA = Path(__file__).parents[1] / "data" / "formats"
 # Record files only (StationXML inventories, provenance and licences are not records).
-REAL = sorted(p for p in DATA.rglob("*") if p.is_file() and p.suffix not in {".md", ".txt", ".xml"})
+REAL = sorted(
+    p for p in DATA.rglob("*") if p.is_file() and p.suffix not in {".md", ".txt", ".xml"}
+) + sorted((DATA.parent / "peer_nga_west2").glob("*.AT2"))
 EXPECTED_FORMAT = {
     "cosmos": "cosmos",
     "dmg": "dmg",
@@ -270,7 +272,7 @@ def test_cosmos_v0_without_sensitivity_refused(tmp_path: Path) -> None:
 
 
 def test_options_contradicting_the_file_refused(tmp_path: Path) -> None:
-    at2 = DATA / "peer_nga_west2" / "RSN8883_14383980_13849090.AT2"
+    at2 = DATA.parent / "peer_nga_west2" / "RSN8883_14383980_13849090.AT2"
     with pytest.raises(InputError, match=r"file states dt = 0.005 s but --dt-s 0.01"):
         read(at2, dt=0.01)
     assert read(at2, dt=0.005)[0].stats.delta == 0.005

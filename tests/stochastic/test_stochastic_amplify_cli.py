@@ -71,7 +71,7 @@ def test_frame_route_uses_the_period_law(
 
 
 def test_record_route_fits_the_site(data_dir: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    record = data_dir / "formats" / "peer_nga_west2" / "RSN8883_14383980_13849360.AT2"
+    record = data_dir / "peer_nga_west2" / "RSN8883_14383980_13849360.AT2"
     code, out, err = _run(["--record", str(record), "--f0-hz", "2", "--json", *FAST], capsys)
     assert code == 0, err
     data = json.loads(out)
