@@ -88,3 +88,22 @@ def test_help_cold_start_avoids_heavy_imports() -> None:
         [sys.executable, "-c", code], capture_output=True, text=True, timeout=60
     )
     assert result.stdout.strip() == "[]"
+
+
+def test_reader_warning_is_one_line(data_dir: Path, tmp_path: Path) -> None:
+    """A header peak disagreeing with the data: the record is read, the warning is one line."""
+    import gzip
+
+    source = data_dir / "formats" / "esm" / "HI.ARS1..HNE.D.20190728.160908.C.ACC.ASC.gz"
+    lines = gzip.decompress(source.read_bytes()).decode("latin-1").splitlines()
+    assert "0.300022" in lines[39]
+    lines[39] = lines[39].replace("0.300022", "0.400022")
+    edited = tmp_path / "edited.ASC"
+    edited.write_text("\n".join(lines) + "\n", encoding="latin-1")
+    completed = run_cli("records", "info", str(edited), "--json")
+    assert completed.returncode == 0, completed.stderr
+    assert json.loads(completed.stdout)[0]["npts"] > 0
+    warning_lines = completed.stderr.strip().splitlines()
+    assert len(warning_lines) == 1
+    assert warning_lines[0].startswith("stepframe: warning: ")
+    assert "edited.ASC:40: PGA_CM/S^2: header peak" in warning_lines[0]

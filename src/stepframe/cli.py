@@ -2,7 +2,8 @@
 
 Conventions (DESIGN.md, Command line): every command takes ``--json`` and then prints only JSON on
 stdout; a user error prints one line on stderr, ``stepframe: error: <file:line: >what, expected
-what``, nothing on stdout, and exits 2 (``--debug`` shows the traceback). Sub-command groups live in
+what``, nothing on stdout, and exits 2 (``--debug`` shows the traceback); a warning is one line,
+``stepframe: warning: ...``, and the command goes on. Sub-command groups live in
 :mod:`stepframe.commands` (one module per group) and import the heavy libraries only when run, so
 ``stepframe --help`` starts fast.
 """
@@ -13,7 +14,9 @@ import argparse
 import json
 import sys
 import traceback
+import warnings
 from collections.abc import Sequence
+from typing import TextIO
 
 from stepframe import __version__
 from stepframe.commands import GROUPS, CommandResult, Parser, UserError, to_jsonable
@@ -64,10 +67,29 @@ def _print_result(result: CommandResult, as_json: bool) -> None:
         print(result.text)
 
 
+def _one_line_warning(
+    message: Warning | str,
+    category: type[Warning],
+    filename: str,
+    lineno: int,
+    file: TextIO | None = None,
+    line: str | None = None,
+) -> None:
+    """Show a warning (a skipped channel, a degraded result) as one line, like errors."""
+    print(f"stepframe: warning: {message}", file=sys.stderr if file is None else file)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit status (0 success, 2 user error, 1 internal error)."""
     args_list = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in args_list
+    with warnings.catch_warnings():
+        if not debug:
+            warnings.showwarning = _one_line_warning
+        return _run(args_list, debug)
+
+
+def _run(args_list: list[str], debug: bool) -> int:
     try:
         args = build_parser().parse_args(args_list)
         if getattr(args, "run", None) is None:
