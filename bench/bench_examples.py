@@ -6,20 +6,11 @@ Run: ``python bench/bench_examples.py``. Prints a Markdown table for docs/benchm
 from __future__ import annotations
 
 import shutil
-import statistics
-import subprocess
 import sys
 import time
 from importlib import resources
 
-
-def _time(command: list[str], repeat: int = 5) -> float:
-    samples = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        subprocess.run(command, check=True, capture_output=True)
-        samples.append(time.perf_counter() - start)
-    return statistics.median(samples)
+from fresh_process import fresh_process_walls
 
 
 def main() -> None:
@@ -27,8 +18,8 @@ def main() -> None:
     archive = data.joinpath("fema_p695.npz")
     size_mb = len(archive.read_bytes()) / 1e6
     load_code = "from stepframe.records.examples import fema_p695; fema_p695()"
-    load = _time([sys.executable, "-c", load_code])
-    python_only = _time([sys.executable, "-c", "pass"])
+    _, load = fresh_process_walls([sys.executable, "-c", load_code])
+    _, python_only = fresh_process_walls([sys.executable, "-c", "pass"])
     start = time.perf_counter()
     from stepframe.records.examples import fema_p695
 
@@ -36,8 +27,7 @@ def main() -> None:
     in_process = time.perf_counter() - start
     n_samples = sum(trace.stats.npts for trace in stream)
     exe = shutil.which("stepframe") or "stepframe"
-    _time([exe, "--help"], repeat=1)  # first run after install (bytecode compilation)
-    cold = _time([exe, "--help"])
+    _, cold = fresh_process_walls([exe, "--help"])
     print("| quantity | value |")
     print("|---|---|")
     print(f"| archive size (100 components, {n_samples:,} samples) | {size_mb:.2f} MB |")
