@@ -73,3 +73,14 @@ def test_dict_round_trip_and_unknown_key() -> None:
     assert GroundMotionModel.from_dict(SITE.to_dict()) == SITE
     with pytest.raises(InputError, match="unknown"):
         GroundMotionModel.from_dict({**SITE.to_dict(), "omega_x": 1.0})
+
+
+def test_corner_high_pass_in_the_spectrum() -> None:
+    """ω_c multiplies eq. 6.12 by ω⁴/(ω² + ω_c²)²: half-power-squared (1/4) at ω = ω_c."""
+    cornered = GroundMotionModel(**{**SITE.to_dict(), "omega_c_rad_s": 3.0})
+    omega = np.array([0.0, 3.0, 30.0, 300.0])
+    ratio = cornered.psd(omega, 2.0) / SITE.psd(omega, 2.0)
+    np.testing.assert_allclose(ratio, [0.0, 0.25, (900 / 909) ** 2, (90000 / 90009) ** 2])
+    np.testing.assert_allclose(cornered.omega_g([0, 5, 30]), SITE.omega_g([0, 5, 30]))
+    with pytest.raises(InputError, match="omega_c_rad_s"):
+        GroundMotionModel(**{**SITE.to_dict(), "omega_c_rad_s": -1.0})

@@ -61,11 +61,45 @@ def test_fit_json_keys_plot_and_netcdf(
     assert abs(data["omega_s_rad_s"] / TRUE.omega_s_rad_s - 1) < 0.3
     assert data["t0_s"] == 0.0
     assert png.stat().st_size > 10_000 and png.read_bytes()[:4] == b"\x89PNG"
-    with xr.open_dataset(nc, engine="h5netcdf") as saved:
-        assert saved["psd"].dims == ("time", "omega")
-        assert saved["omega"].attrs["units"] == "rad/s"
+    with xr.open_dataset(nc) as saved:  # xarray's default engine
+        psd = saved["psd"]
+        assert psd.dims == ("time", "omega")
+        assert saved["omega"].attrs["units"] == "rad/s" and saved["time"].attrs["units"] == "s"
+        assert psd.attrs["units"] == "(m/s2)2 s/rad"
+        assert saved["intensity"].attrs["units"] == "m/s2"
+        omega = saved["omega"].values
+        assert omega[0] == 0.0 and np.all(np.diff(omega) > 0)  # ω ≥ 0 only
+        # Two-sided S on ω ≥ 0: I_g² = (1/π)∫_0^∞ S dω, frame by frame, from the file alone.
+        mean_square = np.trapezoid(psd.values, omega, axis=-1) / np.pi
+        np.testing.assert_allclose(mean_square, saved["intensity"].values ** 2, rtol=1e-10)
         assert saved.attrs["omega_s_rad_s"] == pytest.approx(data["omega_s_rad_s"])
     assert not list(tmp_path.glob(".*tmp*"))  # nothing half-written left behind
+
+
+def test_parametric_spectrum_bootstrap_and_chosen_estimator(
+    record: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    import xarray as xr
+
+    nc = tmp_path / "para.nc"
+    args = ["stochastic", "fit", str(record), "--spectrum", "parametric", "--frequency", "ridge"]
+    args += ["--bootstrap", "20", "--seed", "1", "--out", str(nc), "--json"]
+    assert main(args) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["frequency_method"] == "ridge"
+    for key in KEYS[:5]:
+        assert data[f"{key}_bootstrap_stderr"] > 0
+    with xr.open_dataset(nc) as saved:
+        psd = saved["psd"]
+        # The drawn eq. 6.12 spectrum is the model printed (same estimator), and it integrates
+        # to the record's I_g² up to the tail beyond Nyquist.
+        for key in KEYS[:5]:
+            assert psd.attrs[key] == pytest.approx(data[key], rel=1e-12)
+        strong = saved["intensity"].values > 0.1 * float(saved["intensity"].max())
+        mean_square = np.trapezoid(psd.values, saved["omega"].values, axis=-1) / np.pi
+        np.testing.assert_allclose(
+            mean_square[strong], saved["intensity"].values[strong] ** 2, rtol=0.03
+        )
 
 
 def test_fit_text_and_options(record: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -118,6 +152,27 @@ def test_errors_are_one_line_exit_2(
     assert captured.out == ""
     lines = captured.err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("stepframe: error: ") and message in lines[0]
+
+
+@pytest.mark.parametrize(
+    ("values", "message"),
+    [
+        (np.zeros(3000), "all samples equal 0.0, expected a varying accelerogram"),
+        (np.r_[np.sin(np.arange(3000.0)), np.nan], "1 NaN/inf samples (first at sample 3000)"),
+    ],
+    ids=["all-zero", "nan"],
+)
+def test_bad_values_name_the_file_once(
+    values: np.ndarray, message: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path = tmp_path / "bad.txt"
+    lines = [f"# NPTS= {values.size} DT= 0.01 SEC"]
+    lines += [" ".join(f"{v:.8E}" for v in values[i : i + 5]) for i in range(0, values.size, 5)]
+    path.write_text("\n".join(lines) + "\n")
+    assert main(["stochastic", "fit", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"stepframe: error: {path}: {message}")
+    assert err.count(str(path)) == 1 and "\n" not in err
 
 
 def test_record_too_short_for_window(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -166,9 +166,11 @@ def run_fit(args: argparse.Namespace) -> CommandResult:
             )
             fitted = fit_model(features, bootstrap=args.bootstrap, seed=args.seed)
         except InputError as error:
-            raise InputError(
-                f"component {trace.stats.channel}: {error.what}", args.record
-            ) from None
+            source = (trace.stats.get("stepframe") or {}).get("source_file")
+            if source and error.what.startswith(str(source)):
+                raise  # the message already names the file and the component
+            channel = f"component {trace.stats.channel}: " if trace.stats.channel else ""
+            raise InputError(f"{channel}{error.what}", args.record) from None
         data: dict[str, Any] = {"file": args.record, "component": trace.stats.channel}
         full = fitted.to_dict()
         for key in FIT_KEYS:
@@ -183,8 +185,13 @@ def run_fit(args: argparse.Namespace) -> CommandResult:
         data["flags"] = list(fitted.flags)
         results.append(data)
         if args.plot or args.out:
+            # The parametric PSD refits with the same options: the model printed is the one drawn.
             spectrum = evolutionary_spectrum(
-                trace, method=args.spectrum, window_s=args.window_s, t0=args.t0
+                trace,
+                method=args.spectrum,
+                window_s=args.window_s,
+                t0=args.t0,
+                frequency=args.frequency,
             )
             if args.out:
                 _write_netcdf(Path(args.out), spectrum, features, fitted, data)

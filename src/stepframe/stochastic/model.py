@@ -52,7 +52,11 @@ class GroundMotionModel:
     alpha_reading
         ``"eq-6-11"`` (ramp ends at t_dur) or ``"paper"`` (ramp ends at t_max).
     omega_c_rad_s
-        Optional source corner frequency [rad/s] (None: no corner filter).
+        Optional source corner frequency [rad/s] (None: no corner filter). When set,
+        :meth:`psd` applies the high-pass ``ω⁴/(ω² + ω_c²)²`` to eq. 6.12 (as estimated by
+        ``fit_model(..., fit_corner=True)``); ω_g(t) and α_g(t) do not depend on it, and
+        :func:`stepframe.stochastic.synthetic.synthetic_motions` refuses it (it simulates
+        eq. 6.12 without the corner).
     """
 
     omega_p_rad_s: float
@@ -183,10 +187,14 @@ class GroundMotionModel:
         Returns
         -------
         numpy.ndarray
-            S [(m/s²)²·s/rad], so that (1/2π)∫S dω = I_g².
+            S [(m/s²)²·s/rad], so that (1/2π)∫S dω = I_g² without a corner; with
+            ``omega_c_rad_s`` set, S times ``ω⁴/(ω² + ω_c²)²`` (less than I_g²).
         """
         w = np.asarray(omega, dtype=np.float64)
         wg = self.omega_g(t)
         ag = self.alpha_g(t)
         i2 = np.asarray(intensity, dtype=np.float64) ** 2
-        return np.asarray(4 * ag * wg**2 * i2 / ((w**2 - wg**2) ** 2 + 4 * w**2 * ag**2))
+        value = 4 * ag * wg**2 * i2 / ((w**2 - wg**2) ** 2 + 4 * w**2 * ag**2)
+        if self.omega_c_rad_s is not None:
+            value = value * (w**2 / (w**2 + self.omega_c_rad_s**2)) ** 2
+        return np.asarray(value)

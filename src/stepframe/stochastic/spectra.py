@@ -219,6 +219,7 @@ def evolutionary_spectrum(
     omega_rad_s: ArrayLike | None = None,
     morlet_q: float = 6.0,
     t0: Literal["start", "p-pick"] = "start",
+    frequency: Literal["zero-crossing", "ridge", "moment", "wavelet-ridge"] = "zero-crossing",
 ) -> xr.DataArray:
     """Evolutionary power spectral density S(ω, t) of a record.
 
@@ -243,6 +244,9 @@ def evolutionary_spectrum(
         Wavelet relative bandwidth ω/σ (larger: finer in frequency, coarser in time).
     t0
         Time origin of the fitted model for ``"parametric"`` (``"start"`` or ``"p-pick"``).
+    frequency
+        ω_g(t) estimator of the fit for ``"parametric"`` (as
+        :func:`stepframe.stochastic.features.record_features`).
 
     Returns
     -------
@@ -276,7 +280,9 @@ def evolutionary_spectrum(
         from stepframe.stochastic.features import record_features
         from stepframe.stochastic.fit import fit_model
 
-        features = record_features(data, dt, window_s=window_s, hop_s=hop_s, fft=fft, t0=t0)
+        features = record_features(
+            data, dt, window_s=window_s, hop_s=hop_s, fft=fft, t0=t0, frequency=frequency
+        )
         fitted = fit_model(features)
         time_s = features.time_s
         omega = (
