@@ -3,7 +3,8 @@
 For each parameter set, ``--seeds`` realisations of :func:`synthetic_motions` (45 s, dt 0.01 s,
 default envelope) go through the default estimator (STFT + zero crossings + least squares,
 t0 = record start); prints Markdown tables of the relative errors (fitted/true - 1): median of
-the absolute error and the 10/50/90 % quantiles of the signed error, plus t_max and t_dur, and
+the absolute error and the whole distribution of the signed error (min, 10/25/50/75/90 %
+quantiles, max, and the share within ±15 % and ±30 %), plus t_max and t_dur, and
 the same for deterministic chirps. Output pasted into docs/stochastic-features.md.
 
     python bench/recovery_study.py [--seeds 100]
@@ -58,9 +59,13 @@ def main() -> None:
         print("| | " + " | ".join(NAMES) + " |")
         print("|---" * (len(NAMES) + 1) + "|")
         print("| median abs | " + " | ".join(f"{v:.1%}" for v in np.median(abs(errors), 0)) + " |")
-        for q in (10, 50, 90):
+        for q in (0, 10, 25, 50, 75, 90, 100):
             row = np.percentile(errors, q, axis=0)
-            print(f"| {q} % signed | " + " | ".join(f"{v:+.1%}" for v in row) + " |")
+            label = {0: "min", 100: "max"}.get(q, f"{q} %")
+            print(f"| {label} signed | " + " | ".join(f"{v:+.1%}" for v in row) + " |")
+        for bound in (0.15, 0.30):
+            share = np.mean(abs(errors) <= bound, axis=0)
+            print(f"| within ±{bound:.0%} | " + " | ".join(f"{v:.0%}" for v in share) + " |")
         print()
     print(
         "Deterministic chirps (instantaneous frequency eq. 6.10, default envelope, dt 0.005 s):\n"
