@@ -50,6 +50,7 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "omega_r_rad_s_stderr": ("rad/s", "standard error of omega_r_rad_s"),
     "xi_p_stderr": ("", "standard error of xi_p"),
     "xi_r_stderr": ("", "standard error of xi_r"),
+    "t_max_s_stderr": ("s", "standard error of t_max_s (envelope fit; empty if none)"),
     "fit_quality": ("", "weighted RMS relative misfit of ω_g(t) (0 is perfect)"),
     "max_intensity_m_s2": ("m/s2", "max I_g (RMS acceleration over the window)"),
     "omega_range_rad_s": ("rad/s", "ω_max - ω_min of the measured ω_g(t) in strong motion"),
@@ -127,8 +128,8 @@ def component_row(
     fitted = result.to_dict()
     for key in (*PARAMETERS, "t_max_s", "t_dur_s", "t0_s", "fit_quality"):
         row[key] = fitted[key]
-    for key in PARAMETERS:
-        row[f"{key}_stderr"] = result.stderr[key]
+    for key in (*PARAMETERS, "t_max_s"):
+        row[f"{key}_stderr"] = result.stderr.get(key, math.nan)
     strong = features.strong_motion() & np.isfinite(features.omega_g_rad_s)
     omega_strong = features.omega_g_rad_s[strong]
     row["max_intensity_m_s2"] = features.peak_intensity

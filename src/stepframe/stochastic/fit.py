@@ -63,7 +63,8 @@ class FitResult:
         The fitted model (t_max, t_dur, t0 from the features).
     stderr
         Standard error of each fitted value (keys of :data:`PARAMETERS`, plus ``omega_c_rad_s``
-        when fitted) [units of the value].
+        when fitted and ``t_max_s`` when t_max came from the envelope fit of the features)
+        [units of the value].
     fit_quality
         Weighted RMS relative misfit of ω_g(t) (0 is perfect).
     n_points
@@ -303,6 +304,8 @@ def fit_model(
         "xi_p": se_xi_p,
         "xi_r": se_xi_r,
     }
+    if features.t_max_stderr_s is not None:
+        stderr["t_max_s"] = features.t_max_stderr_s
     omega_c = None
     if fit_corner:
         corner = _fit_corner(spectrum, features, (p, s, r, clipped_p, clipped_r))
