@@ -183,12 +183,14 @@ def test_record_too_short_for_window(tmp_path: Path, capsys: pytest.CaptureFixtu
     assert "shorter than the 2.0 s window" in err and str(short) in err
 
 
-def test_real_record_p_pick(shared_data: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_real_record_p_pick(data_dir: Path, capsys: pytest.CaptureFixture[str]) -> None:
     """RSN 8883 (quiet until about 24 s): the AIC pick finds the onset, the fit is plausible."""
-    path = shared_data / "peer_nga_west2" / "RSN8883_14383980_13849090.AT2"
+    path = data_dir / "peer_nga_west2" / "RSN8883_14383980_13849090.AT2"
     assert main(["stochastic", "fit", str(path), "--t0", "p-pick", "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
     assert 22.0 < data["p_onset_s"] < 26.0
+    assert data["p_onset_s"] < data["s_arrival_s"] < data["p_onset_s"] + data["t_max_s"] + 1.0
+    assert data["t0_s"] == data["p_onset_s"]
     assert data["omega_p_rad_s"] >= data["omega_s_rad_s"] >= data["omega_r_rad_s"]
     assert data["omega_p_rad_s"] < 0.5 * np.pi / 0.005
 
