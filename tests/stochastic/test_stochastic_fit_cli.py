@@ -200,3 +200,18 @@ def test_dt_too_coarse_for_requested_band(record: Path, capsys: pytest.CaptureFi
     assert main(["stochastic", "fit", str(record), "--omega-max-rad-s", "400"]) == 2
     err = capsys.readouterr().err
     assert "Nyquist" in err and str(record) in err
+
+
+def test_corner_option(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """--corner on a record high-passed at ω_c = 4 rad/s: the documented low-biased estimate."""
+    from scipy import signal
+
+    omega_c = 4.0
+    _, acc = synthetic_motions(TRUE, duration_s=40.0, dt_s=0.01, seed=8)
+    b, a = signal.bilinear([1.0, 0.0, 0.0], [1.0, 2 * omega_c, omega_c**2], fs=100.0)
+    path = tmp_path / "high_passed.txt"
+    _write_fema(path, signal.lfilter(b, a, acc[0]), 0.01)
+    assert main(["stochastic", "fit", str(path), "--corner", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert 0.4 * omega_c < data["omega_c_rad_s"] < 1.05 * omega_c
+    assert 0 < data["omega_c_rad_s_stderr"] < data["omega_c_rad_s"]
