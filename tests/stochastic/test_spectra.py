@@ -155,3 +155,7 @@ def test_bad_options(motion: tuple[np.ndarray, np.ndarray]) -> None:
         evolutionary_spectrum(x, 0.01, window_s=0.1)
     with pytest.raises(InputError, match="fft"):
         evolutionary_spectrum(x, 0.01, fft="numpy")  # type: ignore[arg-type]
+    with pytest.raises(InputError, match="≥ 0"):
+        evolutionary_spectrum(x, 0.01, method="parametric", omega_rad_s=[-1.0, 2.0])
+    with pytest.raises(InputError, match="below Nyquist"):
+        evolutionary_spectrum(x, 0.01, method="wavelet", omega_rad_s=[1.0, 400.0])

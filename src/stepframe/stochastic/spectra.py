@@ -290,6 +290,8 @@ def evolutionary_spectrum(
             if omega_rad_s is None
             else np.asarray(omega_rad_s, dtype=np.float64)
         )
+        if omega.ndim != 1 or not np.all(np.isfinite(omega)) or np.any(omega < 0):
+            raise InputError("omega_rad_s must be finite frequencies ≥ 0 [rad/s] in a 1-D array")
         psd = fitted.model.psd(omega[None, :], time_s[:, None], features.intensity[:, None])
         attrs.update(fitted.model.to_dict())
         attrs["omega_c_rad_s"] = (
