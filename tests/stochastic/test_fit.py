@@ -139,5 +139,8 @@ def test_bad_input() -> None:
         fit_model(features, fit_threshold=0.999)
     with pytest.raises(InputError, match="bootstrap"):
         fit_model(features, bootstrap=-1)
+    offset = np.sin(2 * math.pi * 2 * t) * np.exp(-(((t - 3) / 1.5) ** 2)) + 5.0  # no crossings
+    with pytest.raises(InputError, match="baseline offset"):
+        fit_model(record_features(offset, 0.01))
     with pytest.raises(InputError, match="spectrum"):
         fit_model(features, fit_corner=True)

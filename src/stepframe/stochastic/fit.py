@@ -235,12 +235,18 @@ def fit_model(
     weight = np.ones_like(features.intensity)
     if not 0 < fit_threshold < 1:
         raise InputError(f"fit_threshold = {fit_threshold}, expected 0 < fit_threshold < 1")
-    use = (
-        (features.time_s >= features.t0_s)
-        & (features.intensity >= fit_threshold * features.peak_intensity)
-        & np.isfinite(obs)
+    strong = (features.time_s >= features.t0_s) & (
+        features.intensity >= fit_threshold * features.peak_intensity
     )
-    n = int(use.sum())
+    use = strong & np.isfinite(obs)
+    n, n_strong = int(use.sum()), int(strong.sum())
+    if n < 5 and n_strong >= 5:
+        # Frames strong enough but no ω_g: no zero crossings (or no spectral peak) in them.
+        raise InputError(
+            f"{n} of {n_strong} frames above the fit threshold have a frequency estimate, "
+            "expected ≥ 5 (does the record oscillate about zero? a baseline offset leaves no "
+            "zero crossings)"
+        )
     if n < 5:
         raise InputError(
             f"{n} frames above the fit threshold with a frequency estimate, expected ≥ 5 "
