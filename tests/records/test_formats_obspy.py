@@ -99,3 +99,38 @@ def test_inventory_errors(tmp_path: Path) -> None:
         read(mseed, inventory=tmp_path / "missing.xml")
     with pytest.raises(InputError, match="no response for"):
         read(SAC_UNKNOWN, inventory=FORMATS / "miniseed" / "CE.68150.stationxml.xml")
+
+
+def test_velocity_seismometer_response_removed_to_acceleration(tmp_path: Path) -> None:
+    """A broadband velocity channel (obspy's example BW.RJOB..EHZ, STS-2) read with its StationXML.
+
+    Independent check: inside the band where the STS-2 is flat in velocity (0.5-5 Hz, gain within
+    1 % of the sensitivity), the acceleration must equal the time derivative of counts divided by
+    the scalar sensitivity, without any pole-zero deconvolution.
+    """
+    import obspy
+    from scipy import signal
+
+    example = obspy.read().select(channel="EHZ")  # obspy's bundled example data
+    mseed = tmp_path / "rjob.mseed"
+    stationxml = tmp_path / "rjob.xml"
+    example.write(str(mseed), format="MSEED")
+    obspy.read_inventory().write(str(stationxml), format="STATIONXML")
+
+    trace = read(mseed, inventory=stationxml)[0]
+    assert trace.stats.stepframe.units_in == "counts"
+    step = trace.stats.stepframe.processing[0]
+    assert step["step"] == "remove_response" and step["output"] == "ACC"
+    assert step["input_units"] == "M/S"
+
+    counts = np.asarray(example[0].data, dtype=np.float64)
+    dt = example[0].stats.delta
+    velocity = (counts - counts.mean()) / 2.5168e9  # sensitivity from the StationXML [counts/(m/s)]
+    by_derivative = np.gradient(velocity, dt)
+    band = signal.butter(4, [0.5, 5.0], btype="bandpass", fs=1.0 / dt, output="sos")
+    ours = signal.sosfiltfilt(band, trace.data)
+    reference = signal.sosfiltfilt(band, by_derivative)
+    middle = slice(300, -300)  # away from the taper and filter edges
+    rms_ratio = np.sqrt(np.mean(ours[middle] ** 2) / np.mean(reference[middle] ** 2))
+    assert rms_ratio == pytest.approx(1.0, abs=0.02)  # measured 1.003
+    assert np.corrcoef(ours[middle], reference[middle])[0, 1] > 0.99  # measured 0.995
