@@ -37,8 +37,9 @@ MEASURES: dict[str, tuple[str, str]] = {
 TS_MULTIPLIERS = (4.0, 5.0)
 
 
-def _series(acc_m_s2: ArrayLike, dt_s: float) -> NDArray[np.float64]:
-    acc = np.asarray(acc_m_s2, dtype=np.float64)
+def check_record(acc_m_s2: ArrayLike, dt_s: float) -> NDArray[np.float64]:
+    """Samples as a contiguous 1-D float array; refuses NaN, fewer than 2 samples, bad dt."""
+    acc = np.ascontiguousarray(acc_m_s2, dtype=np.float64)
     if acc.ndim != 1 or acc.size < 2:
         raise InputError(f"record of shape {acc.shape}, expected a 1-D series of >= 2 samples")
     if not np.all(np.isfinite(acc)):
@@ -50,7 +51,7 @@ def _series(acc_m_s2: ArrayLike, dt_s: float) -> NDArray[np.float64]:
 
 def velocity_m_s(acc_m_s2: ArrayLike, dt_s: float) -> NDArray[np.float64]:
     """Ground velocity [m/s] from rest, exact for acceleration linear between samples."""
-    acc = _series(acc_m_s2, dt_s)
+    acc = check_record(acc_m_s2, dt_s)
     out = np.zeros(acc.size)
     np.cumsum(0.5 * dt_s * (acc[1:] + acc[:-1]), out=out[1:])
     return out
@@ -61,7 +62,7 @@ def displacement_m(acc_m_s2: ArrayLike, dt_s: float) -> NDArray[np.float64]:
 
     Per step, d_{i+1} = d_i + v_i Δt + Δt²(2a_i + a_{i+1})/6.
     """
-    acc = _series(acc_m_s2, dt_s)
+    acc = check_record(acc_m_s2, dt_s)
     vel = velocity_m_s(acc, dt_s)
     step = vel[:-1] * dt_s + dt_s * dt_s * (2.0 * acc[:-1] + acc[1:]) / 6.0
     out = np.zeros(acc.size)
@@ -71,7 +72,7 @@ def displacement_m(acc_m_s2: ArrayLike, dt_s: float) -> NDArray[np.float64]:
 
 def cumulative_arias_m_s(acc_m_s2: ArrayLike, dt_s: float) -> NDArray[np.float64]:
     """Arias intensity accumulated up to each sample, π/(2g)∫₀ᵗa²dt [m/s]."""
-    acc = _series(acc_m_s2, dt_s)
+    acc = check_record(acc_m_s2, dt_s)
     a0, a1 = acc[:-1], acc[1:]
     # ∫ of a linear piece squared over one step, exactly.
     step = dt_s * (a0 * a0 + a0 * a1 + a1 * a1) / 3.0
@@ -107,7 +108,7 @@ def significant_duration_s(
 
 def cav_m_s(acc_m_s2: ArrayLike, dt_s: float) -> float:
     """Cumulative absolute velocity ∫|a|dt [m/s], exact for linear pieces with sign changes."""
-    acc = _series(acc_m_s2, dt_s)
+    acc = check_record(acc_m_s2, dt_s)
     a0, a1 = np.abs(acc[:-1]), np.abs(acc[1:])
     crossing = np.sign(acc[:-1]) * np.sign(acc[1:]) < 0
     step = 0.5 * dt_s * (a0 + a1)
@@ -129,7 +130,7 @@ def fourier_amplitude(
     amplitude_m_s : numpy.ndarray
         Fourier amplitude [m/s].
     """
-    acc = _series(acc_m_s2, dt_s)
+    acc = check_record(acc_m_s2, dt_s)
     amplitude: NDArray[np.float64] = np.abs(np.fft.rfft(acc)) * dt_s
     frequency = np.fft.rfftfreq(acc.size, dt_s).astype(np.float64)
     return frequency, amplitude
@@ -150,7 +151,7 @@ def intensity_measures(acc_m_s2: ArrayLike, dt_s: float) -> dict[str, float]:
     dict
         Keys of :data:`MEASURES` (unit in the name). Durations are NaN for an all-zero record.
     """
-    acc = _series(acc_m_s2, dt_s)
+    acc = check_record(acc_m_s2, dt_s)
     vel = velocity_m_s(acc, dt_s)
     pga = float(np.max(np.abs(acc)))
     pgv = float(np.max(np.abs(vel)))

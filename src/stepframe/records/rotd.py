@@ -20,11 +20,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from stepframe.errors import InputError
+from stepframe.records.intensity import check_record
 from stepframe.records.spectra import (
     DEFAULT_PERIODS_S,
     check_damping,
     check_periods,
-    check_record,
     displacement_histories_m,
     upsampling_factors,
 )

@@ -27,6 +27,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from stepframe.errors import InputError
+from stepframe.records.intensity import check_record
 from stepframe.records.units import STANDARD_GRAVITY_M_S2
 
 SpectrumMethod = Literal["nigam_jennings", "frequency_domain"]
@@ -85,18 +86,6 @@ def check_damping(damping: float) -> float:
             f"damping {damping}, expected a fraction of critical in [0, 1) such as 0.05"
         )
     return float(damping)
-
-
-def check_record(acc_m_s2: ArrayLike, dt_s: float) -> NDArray[np.float64]:
-    """Samples as a contiguous 1-D float array; refuses NaN, fewer than 2 samples, bad dt."""
-    acc = np.ascontiguousarray(acc_m_s2, dtype=np.float64)
-    if acc.ndim != 1 or acc.size < 2:
-        raise InputError(f"record of shape {acc.shape}, expected a 1-D series of >= 2 samples")
-    if not np.all(np.isfinite(acc)):
-        raise InputError("record holds NaN or infinite samples, expected finite values")
-    if not (math.isfinite(dt_s) and dt_s > 0):
-        raise InputError(f"sampling interval {dt_s} s, expected a positive number")
-    return acc
 
 
 #: Below this ωΔt the coefficients come from a Taylor series (the closed form loses digits there:
