@@ -52,6 +52,7 @@ from stepframe.stochastic.spectra import (
     record_samples,
     stft_power,
 )
+from stepframe.stochastic.standard_errors import least_squares_covariance
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -431,9 +432,7 @@ def peak_time_by_envelope(
         return None
     spacing = float(time_s[1] - time_s[0]) if time_s.size > 1 else window_s
     inflation = max(1.0, window_s / spacing)
-    jac = np.asarray(result.jac, dtype=np.float64)
-    sigma2 = float(result.fun @ result.fun) / max(time_s.size - 4, 1)
-    cov = np.linalg.pinv(jac.T @ jac) * sigma2 * inflation
+    cov = least_squares_covariance(np.asarray(result.jac, dtype=np.float64), result.fun, inflation)
     grad = np.array([1.0, 1.0, 0.0, 0.0])  # ∂(onset + τ_p)/∂x
     return float(result.x[0] + result.x[1]), math.sqrt(max(float(grad @ cov @ grad), 0.0))
 

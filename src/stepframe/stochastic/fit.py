@@ -44,6 +44,7 @@ from numpy.typing import NDArray
 from stepframe.errors import InputError
 from stepframe.stochastic.features import RecordFeatures, smooth
 from stepframe.stochastic.model import AlphaReading, GroundMotionModel
+from stepframe.stochastic.standard_errors import least_squares_covariance
 
 #: Parameter keys of a fit, in output order.
 PARAMETERS = ("omega_p_rad_s", "omega_s_rad_s", "omega_r_rad_s", "xi_p", "xi_r")
@@ -269,9 +270,7 @@ def fit_model(
     if theta[2] <= 1.001 * _MIN_R_OVER_P:
         flags.append("omega_r_at_bound")
     inflation = max(1.0, features.window_s / features.hop_s)
-    dof = max(n - 3, 1)
-    sigma2 = float(fun @ fun) / dof
-    cov_theta = np.linalg.pinv(jac.T @ jac) * sigma2 * inflation
+    cov_theta = least_squares_covariance(jac, fun, inflation)
     to_psr = _psr_jacobian(theta)
     cov_psr = to_psr @ cov_theta @ to_psr.T
     omega_fit = smooth(_omega_curve(theta, tau, t_max), kernel)
@@ -289,13 +288,7 @@ def fit_model(
     solution = np.linalg.lstsq(design * sw[:, None], features.alpha_g_rad_s[alpha_use] * sw)
     coef: NDArray[np.float64] = np.asarray(solution[0], dtype=np.float64)
     resid = (features.alpha_g_rad_s[alpha_use] - design @ coef) * sw
-    a_dof = max(int(alpha_use.sum()) - 2, 1)
-    cov_a = (
-        np.linalg.pinv((design * sw[:, None]).T @ (design * sw[:, None]))
-        * float(resid @ resid)
-        / a_dof
-        * inflation
-    )
+    cov_a = least_squares_covariance(design * sw[:, None], resid, inflation)
     xi_p, xi_r = float(coef[0] / p), float(coef[1] / r)
     se_p, se_r = math.sqrt(max(cov_psr[0, 0], 0.0)), math.sqrt(max(cov_psr[2, 2], 0.0))
     se_xi_p = math.sqrt(cov_a[0, 0] / p**2 + (coef[0] * se_p / p**2) ** 2)
@@ -418,7 +411,6 @@ def _fit_corner(
         return np.asarray(log_ratio - x[1] - np.log(w**4 / (w**2 + wc**2) ** 2))
 
     result = least_squares(residual, [math.log(0.3 * r), 0.0])
-    dof = max(int(band.sum()) - 2, 1)
-    cov = np.linalg.pinv(result.jac.T @ result.jac) * float(result.fun @ result.fun) / dof
+    cov = least_squares_covariance(result.jac, result.fun)
     wc = math.exp(float(result.x[0]))
     return wc, wc * math.sqrt(max(float(cov[0, 0]), 0.0))
