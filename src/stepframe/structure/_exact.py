@@ -34,16 +34,16 @@ from typing import Any
 import numpy as np
 from numba import njit, prange
 
-#: Status codes returned by the kernel.
-STATUS_OK = 0
-STATUS_NONFINITE = 1
-STATUS_TOO_MANY_EVENTS = 2
-
-#: Event kinds stored by the kernel.
-EVENT_LIFTOFF = 1
-EVENT_TOUCHDOWN = 2
-EVENT_CAP = 3
-EVENT_ESCAPE = 4
+# Status codes and event kinds: one definition, shared with the reference and the result.
+from stepframe.structure.simulator import (
+    EVENT_CAP,
+    EVENT_ESCAPE,
+    EVENT_LIFTOFF,
+    EVENT_TOUCHDOWN,
+    STATUS_NONFINITE,
+    STATUS_OK,
+    STATUS_TOO_MANY_EVENTS,
+)
 
 #: Bound on events located inside one sample interval before the kernel gives up (a chattering
 #: trajectory the hold state did not catch).

@@ -17,7 +17,16 @@ from typing import Any
 
 import numpy as np
 
-from stepframe.structure.simulator import Model, RawRun
+from stepframe.structure.simulator import (
+    EVENT_CAP,
+    EVENT_ESCAPE,
+    EVENT_LIFTOFF,
+    EVENT_TOUCHDOWN,
+    STATUS_OK,
+    STATUS_SOLVER_FAILED,
+    Model,
+    RawRun,
+)
 
 
 def _rhs(model: Model, phase: int, t0: float, a0: float, slope: float) -> Any:
@@ -101,12 +110,12 @@ def integrate_reference(
     peak, t_peak = abs(x), 0.0
     n_lift = n_imp = 0
     overturned, t_over = False, math.nan
-    status = 0
+    status = STATUS_OK
     cur_lift, ep_peak = -1, abs(x)
     if phase in (1, -1) and abs(x) == xc:
         n_lift, cur_lift = 1, 0
         ev_t.append(0.0)
-        ev_kind.append(1)
+        ev_kind.append(EVENT_LIFTOFF)
         ev_v_in.append(v)
         ev_v_out.append(v)
         ev_peak.append(math.copysign(xc, phase))
@@ -119,7 +128,7 @@ def integrate_reference(
         ep_peak = xc
         side = 1.0 if phase > 0 else -1.0
         ev_t.append(t)
-        ev_kind.append(1)
+        ev_kind.append(EVENT_LIFTOFF)
         ev_v_in.append(vel)
         ev_v_out.append(vel)
         ev_peak.append(side * xc)
@@ -142,7 +151,7 @@ def integrate_reference(
             if side * v - lam2 * (side * x - x_star) > 0:
                 overturned = True
                 ev_t.append(t0)
-                ev_kind.append(4)
+                ev_kind.append(EVENT_ESCAPE)
                 ev_v_in.append(v)
                 ev_v_out.append(v)
                 ev_peak.append(x)
@@ -195,7 +204,7 @@ def integrate_reference(
                 events=[*events, _velocity_zero],
             )
             if sol.status == -1:
-                status = 3
+                status = STATUS_SOLVER_FAILED
                 done = True
                 break
             for ye in sol.y_events[-1]:
@@ -246,7 +255,7 @@ def integrate_reference(
                 n_imp += 1
                 close_episode()
                 ev_t.append(te)
-                ev_kind.append(2)
+                ev_kind.append(EVENT_TOUCHDOWN)
                 ev_v_in.append(vel)
                 ev_v_out.append(v)
                 ev_peak.append(ep_peak)
@@ -268,7 +277,7 @@ def integrate_reference(
                 overturned = True
                 t_over = te
                 ev_t.append(te)
-                ev_kind.append(3)
+                ev_kind.append(EVENT_CAP)
                 ev_v_in.append(vel)
                 ev_v_out.append(vel)
                 ev_peak.append(x)

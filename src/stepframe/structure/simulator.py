@@ -41,13 +41,29 @@ Method = Literal["exact", "RK45", "DOP853", "Radau", "LSODA"]
 Status = Literal["success", "nonfinite", "too_many_events", "solver_failed"]
 
 _METHODS: tuple[str, ...] = ("exact", "RK45", "DOP853", "Radau", "LSODA")
+#: Status codes of a run (:class:`RawRun`), set by the kernel and by the solve_ivp reference.
+STATUS_OK = 0
+STATUS_NONFINITE = 1
+STATUS_TOO_MANY_EVENTS = 2
+STATUS_SOLVER_FAILED = 3
 _STATUS: dict[int, Status] = {
-    0: "success",
-    1: "nonfinite",
-    2: "too_many_events",
-    3: "solver_failed",
+    STATUS_OK: "success",
+    STATUS_NONFINITE: "nonfinite",
+    STATUS_TOO_MANY_EVENTS: "too_many_events",
+    STATUS_SOLVER_FAILED: "solver_failed",
 }
-_EVENT_NAMES = {1: "liftoff", 2: "touchdown", 3: "cap", 4: "escape"}
+
+#: Event kinds stored in :attr:`RawRun.ev_kind`, by the kernel and by the solve_ivp reference.
+EVENT_LIFTOFF = 1
+EVENT_TOUCHDOWN = 2
+EVENT_CAP = 3
+EVENT_ESCAPE = 4
+_EVENT_NAMES = {
+    EVENT_LIFTOFF: "liftoff",
+    EVENT_TOUCHDOWN: "touchdown",
+    EVENT_CAP: "cap",
+    EVENT_ESCAPE: "escape",
+}
 
 #: Default free-vibration tail after the record [s].
 DEFAULT_TAIL_S = 10.0
@@ -241,13 +257,12 @@ class SimulationResult:
     @property
     def impact_velocities_m_s(self) -> np.ndarray:
         """Velocities just before each impact [m/s]."""
-        touchdown = np.array([kind == "touchdown" for kind in self.event_kinds], dtype=bool)
-        return np.asarray(self.raw.ev_v_in[touchdown], dtype=float)
+        return np.asarray(self.raw.ev_v_in[self.raw.ev_kind == EVENT_TOUCHDOWN], dtype=float)
 
     @property
     def switching_times_s(self) -> np.ndarray:
         """Times of lift-offs and touchdowns, in order [s]."""
-        keep = np.array([kind in ("liftoff", "touchdown") for kind in self.event_kinds], bool)
+        keep = np.isin(self.raw.ev_kind, (EVENT_LIFTOFF, EVENT_TOUCHDOWN))
         return np.asarray(self.raw.ev_t[keep], dtype=float)
 
 
