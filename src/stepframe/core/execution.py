@@ -1,0 +1,238 @@
+"""The one executor for batches: :func:`map_items`.
+
+A batch maps one function over many items (record files, components, simulations). Items go to
+workers in chunks (a few per task, so the hand-over cost stays small against the work); results
+come back in input order whatever the worker count, so runs are reproducible. An item whose
+function raises is recorded as a :class:`~stepframe.core.results.Failure` and the batch goes on.
+
+Where the work runs is the caller's choice: ``jobs=1`` in this process; ``jobs=N`` a process pool
+created once for the call (its workers die with this process, even on SIGKILL, on Linux); or any
+``concurrent.futures.Executor`` the caller owns (a Dask client's ``get_executor()``, a thread
+pool), which is used and left open.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import sys
+import time
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import Executor, Future, ProcessPoolExecutor
+from dataclasses import dataclass
+from typing import Any, Generic, TypeVar
+
+from stepframe.core.results import Failure
+from stepframe.errors import InputError
+
+Item = TypeVar("Item")
+Result = TypeVar("Result")
+
+
+@dataclass(frozen=True)
+class MapOutcome(Generic[Result]):
+    """What :func:`map_items` returns.
+
+    Attributes
+    ----------
+    results
+        The results of the items that succeeded, in input order.
+    failures
+        One :class:`Failure` per item that raised, in input order.
+    indices
+        ``indices[k]`` is the input position of ``results[k]``.
+    seconds
+        Wall time of the batch [s].
+    """
+
+    results: list[Result]
+    failures: list[Failure]
+    indices: list[int]
+    seconds: float
+
+    def __iter__(self) -> Iterator[Any]:
+        # Unpacks as ``results, failures = map_items(...)``.
+        return iter((self.results, self.failures))
+
+
+def default_jobs() -> int:
+    """Worker processes by default: the CPUs this process may use."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
+
+
+def default_chunk_size(n_items: int, workers: int) -> int:
+    """About four tasks per worker, at most 64 items a task."""
+    return max(1, min(64, math.ceil(n_items / max(1, 4 * workers))))
+
+
+def _die_with_parent() -> None:
+    """Process-pool initializer: ask Linux to SIGTERM this worker when its parent dies."""
+    if sys.platform.startswith("linux"):
+        import ctypes
+        import signal
+
+        pr_set_pdeathsig = 1
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(pr_set_pdeathsig, signal.SIGTERM)
+        # The parent may have died between fork and prctl.
+        if os.getppid() == 1:
+            os._exit(1)
+
+
+def _run_chunk(
+    function: Callable[[Any], Any],
+    chunk: Sequence[tuple[int, Any]],
+    stage: str,
+    name_of: Callable[[Any], str],
+) -> list[tuple[int, bool, Any]]:
+    """Run ``function`` on each (index, item); (index, True, result) or (index, False, Failure)."""
+    out: list[tuple[int, bool, Any]] = []
+    for index, item in chunk:
+        try:
+            out.append((index, True, function(item)))
+        except Exception as error:  # a batch never stops for one bad item
+            out.append((index, False, Failure.from_exception(name_of(item), stage, error)))
+    return out
+
+
+class _Progress:
+    """Count, rate and ETA on stderr (tqdm on a terminal; one summary line otherwise)."""
+
+    def __init__(self, total: int, label: str, enabled: bool) -> None:
+        self.total = total
+        self.label = label
+        self.enabled = enabled and total > 0
+        self.start = time.perf_counter()
+        self.failed = 0
+        self.bar: Any = None
+        if self.enabled and sys.stderr.isatty():
+            from tqdm import tqdm
+
+            self.bar = tqdm(total=total, desc=label, unit="item", file=sys.stderr, leave=False)
+
+    def update(self, done: int, failed: int) -> None:
+        self.failed += failed
+        if self.bar is not None:
+            self.bar.update(done)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+        if self.enabled:
+            seconds = time.perf_counter() - self.start
+            rate = self.total / seconds if seconds > 0 else float("inf")
+            print(
+                f"{self.label}: {self.total} items, {self.failed} failed, "
+                f"{seconds:.1f} s ({rate:.1f} items/s)",
+                file=sys.stderr,
+            )
+
+
+def map_items(
+    function: Callable[[Item], Result],
+    items: Sequence[Item],
+    *,
+    jobs: int | None = None,
+    executor: Executor | None = None,
+    chunk_size: int | None = None,
+    stage: str = "",
+    name_of: Callable[[Item], str] = str,
+    progress: bool | str = False,
+) -> MapOutcome[Result]:
+    """Apply ``function`` to every item, in parallel, recording failures instead of stopping.
+
+    Parameters
+    ----------
+    function
+        Called as ``function(item)``. With a process pool or a remote executor it and the items
+        must be picklable (a module-level function, plain data or paths: records are read on the
+        worker from their path).
+    items
+        The work.
+    jobs
+        Worker processes when no ``executor`` is given (default: the CPUs available; 1 runs in
+        this process).
+    executor
+        Any ``concurrent.futures.Executor`` (a Dask client's ``get_executor()``); used as given
+        and not shut down.
+    chunk_size
+        Items per task (default :func:`default_chunk_size`).
+    stage
+        The stage name written in each failure.
+    name_of
+        Names an item in its failure (default ``str``).
+    progress
+        False: silent. True or a label: a bar with count, rate and ETA on stderr when it is a
+        terminal, and one summary line at the end either way.
+
+    Returns
+    -------
+    MapOutcome
+        ``results`` (input order, successes only), ``failures``, ``indices``, ``seconds``;
+        unpacks as ``results, failures``.
+
+    Raises
+    ------
+    InputError
+        ``jobs`` or ``chunk_size`` below 1.
+    """
+    start = time.perf_counter()
+    workers = default_jobs() if jobs is None else jobs
+    if workers < 1:
+        raise InputError(f"jobs = {jobs}, expected ≥ 1")
+    if chunk_size is not None and chunk_size < 1:
+        raise InputError(f"chunk_size = {chunk_size}, expected ≥ 1")
+    indexed = list(enumerate(items))
+    size = chunk_size or default_chunk_size(len(indexed), workers)
+    chunks = [indexed[i : i + size] for i in range(0, len(indexed), size)]
+    label = progress if isinstance(progress, str) else (stage or "items")
+    bar = _Progress(len(indexed), label, bool(progress))
+    collected: list[tuple[int, bool, Any]] = []
+
+    def take(part: list[tuple[int, bool, Any]]) -> None:
+        collected.extend(part)
+        bar.update(len(part), sum(1 for _, ok, _ in part if not ok))
+
+    try:
+        if executor is None and (workers == 1 or len(chunks) <= 1):
+            for chunk in chunks:
+                take(_run_chunk(function, chunk, stage, name_of))
+        elif executor is not None:
+            _gather(executor, function, chunks, stage, name_of, take)
+        else:
+            with ProcessPoolExecutor(
+                max_workers=min(workers, len(chunks)), initializer=_die_with_parent
+            ) as pool:
+                _gather(pool, function, chunks, stage, name_of, take)
+    finally:
+        bar.close()
+    collected.sort(key=lambda entry: entry[0])
+    results = [value for _, ok, value in collected if ok]
+    indices = [index for index, ok, _ in collected if ok]
+    failures = [value for _, ok, value in collected if not ok]
+    return MapOutcome(results, failures, indices, time.perf_counter() - start)
+
+
+def _gather(
+    executor: Executor,
+    function: Callable[[Any], Any],
+    chunks: list[list[tuple[int, Any]]],
+    stage: str,
+    name_of: Callable[[Any], str],
+    take: Callable[[list[tuple[int, bool, Any]]], None],
+) -> None:
+    from concurrent.futures import as_completed
+
+    futures: list[Future[list[tuple[int, bool, Any]]]] = [
+        executor.submit(_run_chunk, function, chunk, stage, name_of) for chunk in chunks
+    ]
+    try:
+        for future in as_completed(futures):
+            take(future.result())
+    except BaseException:
+        for future in futures:
+            future.cancel()
+        raise

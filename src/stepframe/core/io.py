@@ -1,0 +1,156 @@
+"""The one way to write a user-visible file, and the one way to read a TOML file.
+
+Every file the user sees is written through :func:`atomic_write`: to a temporary file in the same
+folder, flushed and fsynced, then renamed over the target, so a reader sees the old file or the
+new one, never a half-written one; on any exception the temporary is removed and the target is
+left as it was. TOML (frame files, design cases, workflows) is read with :func:`read_toml`, whose
+errors are one line naming the file and line.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import re
+import tempfile
+import tomllib
+from collections.abc import Iterator
+from os import PathLike
+from pathlib import Path
+from typing import IO, Any, Literal
+
+from stepframe.errors import InputError
+
+#: Temporary names: ``.<target name>.<random>.tmp`` (hidden, same folder).
+TEMPORARY_SUFFIX = ".tmp"
+
+
+def _umask() -> int:
+    # os.umask can only be read by setting it; set it back at once.
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+@contextlib.contextmanager
+def atomic_write(
+    path: str | PathLike[str], mode: Literal["w", "wb"] = "w", *, encoding: str = "utf-8"
+) -> Iterator[IO[Any]]:
+    """Open a temporary file beside ``path``; on success it replaces ``path`` atomically.
+
+    Parameters
+    ----------
+    path
+        The file to (re)write. Its folder must exist.
+    mode
+        ``"w"`` (text, ``newline=""`` so CSV writers control line ends) or ``"wb"`` (bytes).
+    encoding
+        Text encoding for ``"w"``.
+
+    Yields
+    ------
+    file object
+        Write to it; when the ``with`` block ends without an exception the data is flushed,
+        fsynced and renamed to ``path`` (created with the user's umask, like ``open``). On any
+        exception (including KeyboardInterrupt) the temporary is removed and ``path`` is
+        untouched.
+
+    Raises
+    ------
+    InputError
+        The folder does not exist or is not writable.
+
+    Examples
+    --------
+    >>> with atomic_write("table.csv") as out:  # doctest: +SKIP
+    ...     table.to_csv(out, index=False)
+    """
+    target = Path(path)
+    folder = target.parent
+    if not folder.is_dir():
+        raise InputError("output folder does not exist, expected an existing folder", target)
+    try:
+        handle, temporary = tempfile.mkstemp(
+            prefix=f".{target.name}.", suffix=TEMPORARY_SUFFIX, dir=folder
+        )
+    except PermissionError:
+        raise InputError(
+            "output folder is not writable, expected a writable folder", target
+        ) from None
+    try:
+        # mkstemp creates 0600; a user file gets the mode open() would give it.
+        os.chmod(temporary, 0o666 & ~_umask())
+        if mode == "wb":
+            stream: IO[Any] = os.fdopen(handle, "wb")
+        else:
+            stream = os.fdopen(handle, "w", encoding=encoding, newline="")
+        with stream:
+            yield stream
+            stream.flush()
+            os.fsync(stream.fileno())
+        os.replace(temporary, target)
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise
+
+
+def write_text(path: str | PathLike[str], text: str) -> Path:
+    """Write ``text`` to ``path`` atomically (UTF-8); returns the path."""
+    with atomic_write(path) as out:
+        out.write(text)
+    return Path(path)
+
+
+def write_bytes(path: str | PathLike[str], data: bytes) -> Path:
+    """Write ``data`` to ``path`` atomically; returns the path."""
+    with atomic_write(path, "wb") as out:
+        out.write(data)
+    return Path(path)
+
+
+def read_toml(path: str | PathLike[str], what: str) -> tuple[dict[str, Any], str]:
+    """Read a TOML file as UTF-8; errors are one line with the file and line.
+
+    Parameters
+    ----------
+    path
+        The file.
+    what
+        What the file should be, for messages (``"a FRAME.toml"``, ``"a workflow file"``).
+
+    Returns
+    -------
+    data : dict
+        The parsed document.
+    text : str
+        The file's text (for callers that map keys back to lines).
+
+    Raises
+    ------
+    InputError
+        Missing, unreadable, not UTF-8, or not valid TOML (with the line of the error).
+    """
+    p = Path(path)
+    try:
+        raw = p.read_bytes()
+    except FileNotFoundError:
+        raise InputError(f"no such file, expected {what}", p) from None
+    except IsADirectoryError:
+        raise InputError(f"is a directory, expected {what}", p) from None
+    except OSError as exc:
+        raise InputError(f"cannot read ({exc.strerror}), expected {what}", p) from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        bad_line = raw[: exc.start].count(b"\n") + 1
+        raise InputError(
+            f"not UTF-8 text (byte {exc.start}), expected {what}", p, bad_line
+        ) from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        match = re.search(r"line (\d+)", str(exc))
+        line = int(match.group(1)) if match else None
+        reason = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(exc))
+        raise InputError(f"not valid TOML ({reason}), expected {what}", p, line) from None
+    return data, text

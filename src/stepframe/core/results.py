@@ -1,0 +1,124 @@
+"""The result contract: one status vocabulary and one failure-table layout.
+
+Every stage result says how it went with a :data:`Status` from :data:`STATUSES` and a one-line
+``message``; a result that is a number, table or array carries it beside the data. A batch never
+stops for one bad item: each item that fails becomes a :class:`Failure` (item, stage, error type,
+message), and a batch's failures are one table, :func:`failures_table`, written next to the output
+it belongs to under the name :func:`failures_path` gives.
+"""
+
+from __future__ import annotations
+
+import traceback
+from dataclasses import asdict, dataclass
+from os import PathLike
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Literal
+
+from stepframe.errors import InputError
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+#: Every status a result can have, with its meaning. ``ok`` is success; the others name what went
+#: wrong. Add a state here (with its meaning) rather than inventing a local string.
+STATUSES: dict[str, str] = {
+    "ok": "computed as asked",
+    "degraded": "computed, but a flag says part of the result is less reliable (see message)",
+    "lower_bound": "the run stopped early; the value is a lower bound of the true one",
+    "not_converged": "an iteration or solver did not reach its tolerance",
+    "too_many_events": "the event limit of a simulation was reached before the record ended",
+    "nonfinite": "a non-finite value appeared; the result is not usable",
+    "failed": "no result (see message)",
+}
+
+Status = Literal[
+    "ok", "degraded", "lower_bound", "not_converged", "too_many_events", "nonfinite", "failed"
+]
+
+#: Column dictionary of every failure table: column → meaning.
+FAILURE_COLUMNS: dict[str, str] = {
+    "item": "the item that failed (file, file [channel], or record name)",
+    "stage": "the stage it failed in (read, features, fit, simulate, ...)",
+    "error_type": "the kind of error (InputError, FormatError, ValueError, ...)",
+    "message": "what went wrong, one line",
+}
+
+
+@dataclass(frozen=True)
+class Failure:
+    """One item a batch could not process.
+
+    Parameters
+    ----------
+    item
+        The item's name (a file, ``file [channel]``, a record name).
+    stage
+        The stage it failed in.
+    error_type
+        The exception class name.
+    message
+        One line saying what went wrong (an :class:`~stepframe.errors.InputError` gives its
+        ``file:line: what, expected what``).
+    """
+
+    item: str
+    stage: str
+    error_type: str
+    message: str
+
+    @classmethod
+    def from_exception(cls, item: str, stage: str, error: BaseException) -> Failure:
+        """The failure record of ``error`` raised while processing ``item`` in ``stage``."""
+        if isinstance(error, InputError):
+            message = error.one_line()
+        else:
+            message = str(error).replace("\n", " ").strip()
+            if not message:
+                # An exception without text: name where it came from so it can be found.
+                frames = traceback.extract_tb(error.__traceback__)
+                message = f"raised at {frames[-1].filename}:{frames[-1].lineno}" if frames else ""
+        return cls(item, stage, type(error).__name__, message)
+
+    def to_dict(self) -> dict[str, str]:
+        """The failure as a table row."""
+        return asdict(self)
+
+
+def failures_table(failures: list[Failure] | tuple[Failure, ...]) -> pd.DataFrame:
+    """The failures as a DataFrame with columns :data:`FAILURE_COLUMNS` (empty if none)."""
+    import pandas as pd
+
+    table = pd.DataFrame([f.to_dict() for f in failures], columns=list(FAILURE_COLUMNS))
+    table.attrs["column_dictionary"] = pd.DataFrame(
+        [(name, "", meaning) for name, meaning in FAILURE_COLUMNS.items()],
+        columns=["column", "unit", "meaning"],
+    )
+    return table
+
+
+def failures_path(output: str | PathLike[str]) -> Path:
+    """Where the failures of an output go: ``X.failures.csv`` beside ``X.csv``, or
+    ``failures.csv`` inside an output folder.
+
+    Parameters
+    ----------
+    output
+        The output file (``catalog.csv``) or output folder (``selection/``).
+    """
+    target = Path(output)
+    if target.suffix == "" or target.is_dir():
+        return target / "failures.csv"
+    return target.with_name(f"{target.stem}.failures.csv")
+
+
+def check_status(status: str) -> Status:
+    """``status`` if it is in :data:`STATUSES`; ValueError otherwise (a programming error)."""
+    if status not in STATUSES:
+        raise ValueError(f"unknown status {status!r}, expected one of {sorted(STATUSES)}")
+    return status  # type: ignore[return-value]  # checked against the vocabulary just above
+
+
+def result_dict(status: str, message: str = "", **fields: Any) -> dict[str, Any]:
+    """A result's dictionary form: ``status``, ``message`` and its fields."""
+    return {"status": check_status(status), "message": message, **fields}
