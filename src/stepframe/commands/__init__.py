@@ -144,20 +144,31 @@ def float_list(text: str) -> list[float]:
         raise argparse.ArgumentTypeError(f"{text!r}, expected comma-separated numbers") from None
 
 
-def _groups() -> dict[str, tuple[str, ModuleType]]:
-    from stepframe.commands import records, stochastic, structure
+#: The command groups: name → (help, module). A module is named, not imported, so building the
+#: table needs no group module (they import this package for :func:`add_command`); the CLI imports
+#: each with :func:`group_module` when it builds the parser.
+GROUPS: dict[str, tuple[str, str]] = {
+    "records": (
+        "read accelerograms, intensity measures, spectra, catalogues",
+        "stepframe.commands.records",
+    ),
+    "stochastic": (
+        "evolutionary spectra, ground-motion model, mean square, amplification",
+        "stepframe.commands.stochastic",
+    ),
+    "structure": (
+        "frame parameters, quasi-dynamic design, stepping simulation",
+        "stepframe.commands.structure",
+    ),
+}
 
-    return {
-        "records": ("read accelerograms, intensity measures, spectra, catalogues", records),
-        "stochastic": (
-            "evolutionary spectra, ground-motion model, mean square, amplification",
-            stochastic,
-        ),
-        "structure": ("frame parameters, quasi-dynamic design, stepping simulation", structure),
-    }
 
+def group_module(name: str) -> ModuleType:
+    """The module of group ``name`` (it has ``register(subparsers)``)."""
+    import importlib
 
-GROUPS = _groups()
+    return importlib.import_module(GROUPS[name][1])
+
 
 __all__ = [
     "GROUPS",
@@ -168,6 +179,7 @@ __all__ = [
     "add_command",
     "add_record_options",
     "float_list",
+    "group_module",
     "positive_float",
     "read_record_file",
     "to_jsonable",

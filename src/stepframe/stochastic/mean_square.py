@@ -44,6 +44,7 @@ import numba
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from stepframe.core.results import Status
 from stepframe.errors import InputError
 from stepframe.stochastic.correlation import r_g
 from stepframe.stochastic.envelope import default_envelope
@@ -133,7 +134,11 @@ class MeanSquareResult:
     n_realisations, seed, confidence
         Monte Carlo settings (None for the other methods).
     status
-        ``"ok"``, or why the integration stopped (values after that time are NaN).
+        ``"ok"``, or ``"lower_bound"`` when the integration stopped early (a frame's period law
+        gave no finite period: overturning); values after that time are NaN, so the peak so far
+        is a lower bound of the true one.
+    message
+        Where and why it stopped (empty when ``"ok"``).
     """
 
     method: Method
@@ -149,7 +154,8 @@ class MeanSquareResult:
     n_realisations: int | None = None
     seed: int | None = None
     confidence: float | None = None
-    status: str = "ok"
+    status: Status = "ok"
+    message: str = ""
     samples: dict[str, Floats] = field(default_factory=dict, repr=False)
 
     @property
@@ -186,6 +192,7 @@ class MeanSquareResult:
                 "alpha_reading": self.alpha_reading,
                 "xi0": self.xi0,
                 "status": self.status,
+                "message": self.message,
             },
         )
 
@@ -613,7 +620,7 @@ def _covariance(
     if isinstance(path, _Path):
         omega_mid = path.at(mid)
         out = _covariance_run(omega_mid, beta, wg, ag, ig, pff, phif, frows, h, nodes, weights)
-        return path.omega_0, path.at(grid), out, "ok"
+        return path.omega_0, path.at(grid), out, ""
     # frame-driven: a predictor-corrector per step on the single oscillator
     out = np.full((1, grid.size), np.nan)
     omegas = np.full((1, grid.size), np.nan)
@@ -645,7 +652,7 @@ def _covariance(
                 _overturned(grid[k + 1], state[4], path),
             )
         omegas[0, k + 1] = w_next
-    return np.atleast_1d(path.omega_0), omegas, out, "ok"
+    return np.atleast_1d(path.omega_0), omegas, out, ""
 
 
 def _overturned(t: float, mean_square: float, law: _FrameLaw) -> str:
@@ -697,7 +704,7 @@ def _scalar(
         for k in range(grid.size - 1):
             action = decay * action + increments[:, k]
             out[:, k + 1] = action / wd[:, k + 1]
-        return omega_0, w_grid, out, "ok"
+        return omega_0, w_grid, out, ""
     out = np.full((1, grid.size), np.nan)
     omegas = np.full((1, grid.size), np.nan)
     out[0, 0], omegas[0, 0] = 0.0, path.omega_0
@@ -720,7 +727,7 @@ def _scalar(
         action_1 = new_action
         out[0, k + 1] = action_1 / math.sqrt(w_end**2 - b**2)
         omegas[0, k + 1] = w_end
-    return omega_0, omegas, out, "ok"
+    return omega_0, omegas, out, ""
 
 
 def _monte_carlo(
@@ -775,7 +782,7 @@ def _monte_carlo(
     v = np.zeros((n_osc, n_realisations))
     squares = np.zeros((n_osc, n_realisations, grid.size))
     omegas = np.full((n_osc, grid.size), np.nan)
-    status = "ok"
+    status = ""
     if isinstance(path, _Path):
         omegas[:] = path.at(grid)
         w_mid_all = path.at(fine[:-1] + h / 2)
@@ -892,30 +899,32 @@ def mean_square_response(
         "xi0": float(xi0),
     }
     if method == "covariance":
-        omega_0, omegas, out, status = _covariance(model, path, xi0, grid, env)
+        omega_0, omegas, out, stopped = _covariance(model, path, xi0, grid, env)
         return MeanSquareResult(
             "covariance",
             omega_0_rad_s=omega_0,
             omega_rad_s=omegas,
             mean_square_m2=out,
-            status=status,
+            status="lower_bound" if stopped else "ok",
+            message=stopped,
             **common,
         )
     if method == "scalar":
-        omega_0, omegas, out, status = _scalar(model, path, xi0, grid, env)
+        omega_0, omegas, out, stopped = _scalar(model, path, xi0, grid, env)
         return MeanSquareResult(
             "scalar",
             omega_0_rad_s=omega_0,
             omega_rad_s=omegas,
             mean_square_m2=out,
-            status=status,
+            status="lower_bound" if stopped else "ok",
+            message=stopped,
             **common,
         )
     if not (isinstance(n_realisations, int) and n_realisations >= 2):
         raise InputError(f"n_realisations = {n_realisations!r}, expected an integer ≥ 2")
     if not 0 < confidence < 1:
         raise InputError(f"confidence = {confidence}, expected 0 < confidence < 1")
-    omega_0, omegas, squares, _, status = _monte_carlo(
+    omega_0, omegas, squares, _, stopped = _monte_carlo(
         model, path, xi0, grid, env, n_realisations, seed, mc_dt_s
     )
     mean, lower, upper = chi_square_band(squares, confidence)
@@ -929,7 +938,8 @@ def mean_square_response(
         n_realisations=n_realisations,
         seed=seed,
         confidence=confidence,
-        status=status,
+        status="lower_bound" if stopped else "ok",
+        message=stopped,
         samples={"x2": squares} if keep_samples else {},
         **common,
     )
