@@ -113,14 +113,18 @@ def read_record_file(path: str, args: argparse.Namespace) -> Any:
     """Read ``path`` with the record options in ``args``; an ``obspy.Stream`` in m/s²."""
     from stepframe.records import read
 
-    return read(
-        path,
-        format=args.format,
-        units=args.units,
-        dt=args.dt_s,
-        inventory=args.inventory,
-        component=args.component,
-    )
+    return read(path, **record_options(args))
+
+
+def record_options(args: argparse.Namespace) -> dict[str, Any]:
+    """The record options in ``args`` as keyword arguments of :func:`stepframe.records.read`."""
+    return {
+        "format": args.format,
+        "units": args.units,
+        "dt": args.dt_s,
+        "inventory": args.inventory,
+        "component": args.component,
+    }
 
 
 def positive_float(text: str) -> float:
@@ -182,5 +186,6 @@ __all__ = [
     "group_module",
     "positive_float",
     "read_record_file",
+    "record_options",
     "to_jsonable",
 ]

@@ -227,11 +227,6 @@ def run_catalog(args: argparse.Namespace) -> CommandResult:
     """Catalogue a folder; progress on stderr unless --json."""
     from stepframe.records.catalog import catalog, write_catalog
 
-    show_progress = not getattr(args, "json", False)
-
-    def progress(number: int, total: int, file: str) -> None:
-        print(f"[{number}/{total}] {file}", file=sys.stderr, flush=True)
-
     table, failures = catalog(
         args.folder,
         format=args.format,
@@ -239,7 +234,7 @@ def run_catalog(args: argparse.Namespace) -> CommandResult:
         dt_s=args.dt_s,
         inventory=args.inventory,
         component=args.component,
-        progress=progress if show_progress else None,
+        progress=not getattr(args, "json", False),
     )
     paths = write_catalog(table, failures, args.output)
     data = {
