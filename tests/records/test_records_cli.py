@@ -135,7 +135,9 @@ def test_catalog_cli(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None
         "n_components": 1,
         "n_failures": 1,
     }
-    assert (tmp_path / "cat.failures.csv").read_text().splitlines()[0] == "item,stage,error_type,message"
+    assert (tmp_path / "cat.failures.csv").read_text().splitlines()[
+        0
+    ] == "item,stage,error_type,message"
 
 
 def test_spectrum_of_a_three_channel_file_uses_its_horizontals(

@@ -42,7 +42,9 @@ def test_folder_rows_failures_and_parallel_equals_serial(tmp_path: Path) -> None
     assert list(table.columns) == list(COLUMNS)
     assert len(table) == 3
     assert sorted(failures["stage"]) == ["features", "read"]
-    assert failures.set_index("stage").loc["features", "item"].startswith(str(tmp_path / "flat.txt"))
+    assert (
+        failures.set_index("stage").loc["features", "item"].startswith(str(tmp_path / "flat.txt"))
+    )
     assert "all samples equal" in failures.set_index("stage").loc["features", "message"]
     # Same rows in the same order from two processes.
     table2, failures2 = catalog_features(tmp_path, n_jobs=2, chunk_size=1)

@@ -8,7 +8,6 @@ spectra, and geometric mean / RotD50 / RotD100 of two horizontal components) and
 from __future__ import annotations
 
 import argparse
-import sys
 from typing import Any
 
 from stepframe.commands import (
@@ -124,6 +123,10 @@ def run_spectrum(args: argparse.Namespace) -> CommandResult:
 
     if len(args.paths) > 2:
         raise UserError("records spectrum: give one or two record files")
+    if args.plot:
+        from stepframe.pipeline.figures import check_figure_path
+
+        check_figure_path(args.plot)
     periods = np.asarray(
         DEFAULT_PERIODS_S if args.periods_s is None else args.periods_s, dtype=float
     )
@@ -164,7 +167,21 @@ def run_spectrum(args: argparse.Namespace) -> CommandResult:
             rotd100_g=rotd.in_g("rotd100"),
         )
     if args.plot:
-        _plot(data, args.plot)
+        from stepframe.pipeline.figures import save_figure
+        from stepframe.records.plots import response_spectra_figure
+
+        combined = {
+            name: data[key]
+            for key, name in (("rotd50_g", "RotD50"), ("rotd100_g", "RotD100"))
+            if key in data
+        }
+        figure = response_spectra_figure(
+            periods,
+            {c["component"]: c["psa_g"] for c in components},
+            damping=args.damping,
+            combined_g=combined,
+        )
+        save_figure(figure, args.plot)
     return CommandResult(data=data, text=_spectrum_text(data))
 
 
@@ -180,47 +197,6 @@ def _spectrum_text(data: dict[str, Any]) -> str:
     for i in range(len(data["period_s"])):
         lines.append("  ".join(f"{float(col[i]):12.5g}" for col in columns))
     return "\n".join(lines)
-
-
-def _plot(data: dict[str, Any], out: str) -> None:
-    import os
-    import tempfile
-    from pathlib import Path
-
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from stepframe.errors import InputError
-
-    target = Path(out)
-    if not target.parent.is_dir():
-        raise InputError("plot folder does not exist, expected an existing folder", target)
-    figure, axes = plt.subplots(figsize=(6.4, 4.2), layout="constrained")
-    for component in data["components"]:
-        axes.plot(data["period_s"], component["psa_g"], label=component["component"], lw=1)
-    for key, label in (("rotd50_g", "RotD50"), ("rotd100_g", "RotD100")):
-        if key in data:
-            axes.plot(data["period_s"], data[key], label=label, lw=2)
-    axes.set(
-        xscale="log",
-        xlabel="period T [s]",
-        ylabel="PSA [g]",
-        title=f"pseudo-spectral acceleration, damping {data['damping']:g}",
-    )
-    axes.grid(True, which="both", alpha=0.3)
-    axes.legend()
-    handle, temporary = tempfile.mkstemp(
-        prefix=f".{target.name}.", suffix=".png", dir=target.parent
-    )
-    os.close(handle)
-    try:
-        figure.savefig(temporary, dpi=120)
-        os.replace(temporary, target)
-    finally:
-        plt.close(figure)
-        Path(temporary).unlink(missing_ok=True)
 
 
 def run_catalog(args: argparse.Namespace) -> CommandResult:

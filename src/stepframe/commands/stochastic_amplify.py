@@ -33,6 +33,7 @@ EXAMPLES = """\
   stepframe stochastic amplify --record RSN8883.AT2 --frame frame.toml --json
 """
 
+
 def register(subparsers: Any) -> None:
     """Add ``amplify`` to the ``stochastic`` group."""
     parser = add_command(

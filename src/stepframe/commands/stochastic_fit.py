@@ -36,6 +36,7 @@ FEATURES_EXAMPLES = """\
   stepframe stochastic features records/ -o f.csv --format at2 --t0 p-pick --json
 """
 
+
 def register(subparsers: Any) -> None:
     """Add ``fit`` and ``features`` to the ``stochastic`` group."""
     fit = add_command(
@@ -74,7 +75,8 @@ def register(subparsers: Any) -> None:
         help="features and fitted parameters of every record in a folder",
         description=(
             "One CSV row per component (parameters with units in the column names, max I_g, "
-            "ω_max - ω_min, fit quality, P onset used); failures go to <OUT>.failures.csv, the column dictionary to <OUT>.columns.csv."
+            "ω_max - ω_min, fit quality, P onset used); failures go to <OUT>.failures.csv, "
+            "the column dictionary to <OUT>.columns.csv."
         ),
         examples=FEATURES_EXAMPLES,
         run=run_features,

@@ -107,6 +107,10 @@ def run_simulate(args: argparse.Namespace) -> CommandResult:
     from stepframe.structure.frame_file import read_frame_file
     from stepframe.structure.simulator import DEFAULT_TAIL_S, simulate
 
+    if args.plot is not None:
+        from stepframe.pipeline.figures import check_figure_path
+
+        check_figure_path(args.plot)
     frame = read_frame_file(args.frame)
     trace = _one_trace(read_record_file(args.record, args), args.record)
     dt_s = float(trace.stats.delta)
@@ -145,8 +149,11 @@ def run_simulate(args: argparse.Namespace) -> CommandResult:
         "episodes": result.episode_records(),
     }
     if args.plot is not None:
+        from stepframe.pipeline.figures import save_figure
+        from stepframe.structure.plots import response_figure
+
         name = os.path.basename(args.record)
-        _plot(result, frame, args.plot, title=f"{name} × {args.scale:g}")
+        save_figure(response_figure(result, frame, title=f"{name} × {args.scale:g}"), args.plot)
         data["plot"] = args.plot
     return CommandResult(data=data, text=_text(data))
 
@@ -171,43 +178,3 @@ def _text(data: dict[str, Any]) -> str:
     if "plot" in data:
         lines.append(f"plot written to {data['plot']}")
     return "\n".join(lines)
-
-
-def _plot(result: Any, frame: Any, out: str, *, title: str) -> None:
-    """x(t) with the stepped samples highlighted and ±x_c, ±x* marked; written atomically."""
-    import os
-    import tempfile
-
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    import numpy as np
-
-    history = result.history
-    time_s = history["time"].to_numpy()
-    x_m = history["x"].to_numpy()
-    stepped = history["phase"].to_numpy() != 0
-    fig, ax = plt.subplots(figsize=(9, 4))
-    ax.plot(time_s, x_m, lw=0.7, color="0.3", label="x (unstepped)")
-    ax.plot(time_s, np.where(stepped, x_m, np.nan), lw=1.4, color="tab:red", label="stepped")
-    for level, style, name in ((frame.x_c_m, ":", "±x_c"), (frame.x_star_m, "--", "±x*")):
-        ax.axhline(level, ls=style, color="tab:blue", lw=0.8, label=name)
-        ax.axhline(-level, ls=style, color="tab:blue", lw=0.8)
-    if result.summary.overturned:
-        ax.axvline(result.summary.overturn_time_s, color="k", lw=0.8, label="overturned")
-    ax.set_xlabel("time [s]")
-    ax.set_ylabel("x [m]")
-    ax.set_title(title)
-    ax.legend(loc="upper right", fontsize="small")
-    fig.tight_layout()
-    directory = os.path.dirname(os.path.abspath(out))
-    handle, temporary = tempfile.mkstemp(suffix=".png", dir=directory)
-    os.close(handle)
-    try:
-        fig.savefig(temporary, dpi=120)
-        os.replace(temporary, out)
-    finally:
-        plt.close(fig)
-        if os.path.exists(temporary):
-            os.remove(temporary)

@@ -25,9 +25,7 @@ def check_figure_path(path: str | PathLike[str], option: str = "--plot") -> Path
     """``path`` as a Path if its suffix is a figure format and its folder exists."""
     target = Path(path)
     if target.suffix.lower() not in FIGURE_SUFFIXES:
-        raise InputError(
-            f"{option} {path}: suffix {target.suffix!r}, expected .png, .pdf or .svg"
-        )
+        raise InputError(f"{option} {path}: suffix {target.suffix!r}, expected .png, .pdf or .svg")
     if not target.resolve().parent.is_dir():
         raise InputError("output folder does not exist, expected an existing folder", target)
     return target

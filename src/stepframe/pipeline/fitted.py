@@ -1,7 +1,9 @@
 """Stage: fitted records, the outputs of ``stepframe stochastic fit`` and ``features``.
 
 :func:`fit_record` estimates the features of one record component and fits the
-Beck-Papadimitriou parameters (:mod:`stepframe.stochastic.features`, :mod:`~stepframe.stochastic.fit`);
+Beck-Papadimitriou parameters (:mod:`stepframe.stochastic.features`, then
+:mod:`stepframe.stochastic.fit`);
+
 :func:`fitted_dataset` puts its evolutionary PSD, measured features and fitted ω_g(t) in one
 ``xarray.Dataset`` (NetCDF: :func:`write_fitted`, :func:`read_fitted`); :func:`fit_table` gathers
 fitted records into a table with a column dictionary. :func:`features_table` runs the features of
@@ -245,10 +247,7 @@ def fit_table(records: Iterable[FittedRecord]) -> pd.DataFrame:
 
     rows = []
     for record in records:
-        row = {
-            key: (math.nan if value is None else value)
-            for key, value in record.summary.items()
-        }
+        row = {key: (math.nan if value is None else value) for key, value in record.summary.items()}
         row["flags"] = ";".join(record.summary["flags"])
         rows.append(row)
     names = list(FIT_COLUMNS)

@@ -203,7 +203,9 @@ def read_site_model(path: str | PathLike[str]) -> SiteModel:
     except FileNotFoundError:
         raise InputError("no such file, expected a site model (JSON)", target) from None
     except (ValueError, KeyError, TypeError) as error:
-        raise InputError(f"not a site model ({error}), expected a site model JSON", target) from None
+        raise InputError(
+            f"not a site model ({error}), expected a site model JSON", target
+        ) from None
 
 
 __all__ = [

@@ -42,10 +42,7 @@ def column_dictionary(table: pd.DataFrame) -> pd.DataFrame:
         for row in given.itertuples(index=False):
             known[str(row.column)] = (str(row.unit), str(row.meaning))
     return pd.DataFrame(
-        [
-            (name, *known.get(str(name), ("", "")), str(table[name].dtype))
-            for name in table.columns
-        ],
+        [(name, *known.get(str(name), ("", "")), str(table[name].dtype)) for name in table.columns],
         columns=[*DICTIONARY_COLUMNS, "dtype"],
     )
 
@@ -88,7 +85,7 @@ def read_table(path: str | PathLike[str]) -> pd.DataFrame:
     numeric = [name for name in dtypes if name not in text]
     table = pd.read_csv(
         target,
-        dtype={name: str for name in text},
+        dtype=dict.fromkeys(text, str),
         keep_default_na=False,
         na_values={name: ["", "NaN", "nan"] for name in numeric},
     )

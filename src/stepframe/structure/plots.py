@@ -95,7 +95,7 @@ def response_figure(result: SimulationResult, frame: PortalFrame, *, title: str)
     for level, style, name in ((frame.x_c_m, ":", "±x_c"), (frame.x_star_m, "--", "±x*")):
         ax.axhline(level, ls=style, color="tab:blue", lw=0.8, label=name)
         ax.axhline(-level, ls=style, color="tab:blue", lw=0.8)
-    if result.summary.overturned:
+    if result.summary.overturned and result.summary.overturn_time_s is not None:
         ax.axvline(result.summary.overturn_time_s, color="k", lw=0.8, label="overturned")
     ax.set_xlabel("time [s]")
     ax.set_ylabel("x [m]")
