@@ -19,9 +19,6 @@ from stepframe.commands import (
     read_record_file,
 )
 
-#: Channel names of vertical components (SEED codes ending in Z are vertical too).
-_VERTICAL_NAMES = {"up", "ud", "ud1", "ud2", "z", "v", "ver", "vert", "vertical", "dwn", "down"}
-
 
 def register(subparsers: Any) -> None:
     """Add the ``records`` commands to ``subparsers``."""
@@ -109,17 +106,9 @@ def run_info(args: argparse.Namespace) -> CommandResult:
     return CommandResult(data=rows, text=text)
 
 
-def _is_vertical(channel: str) -> bool:
-    name = channel.strip().lower()
-    return name in _VERTICAL_NAMES or (len(name) == 3 and name.endswith("z"))
-
-
 def run_spectrum(args: argparse.Namespace) -> CommandResult:
     """Spectra of every component; RotD of two horizontal ones."""
-    import numpy as np
-
-    from stepframe.errors import InputError
-    from stepframe.records.spectra import DEFAULT_PERIODS_S, response_spectrum
+    from stepframe.pipeline.record_spectra import record_spectra, spectra_figure, spectra_text
 
     if len(args.paths) > 2:
         raise UserError("records spectrum: give one or two record files")
@@ -127,76 +116,13 @@ def run_spectrum(args: argparse.Namespace) -> CommandResult:
         from stepframe.pipeline.figures import check_figure_path
 
         check_figure_path(args.plot)
-    periods = np.asarray(
-        DEFAULT_PERIODS_S if args.periods_s is None else args.periods_s, dtype=float
-    )
     traces = [trace for path in args.paths for trace in read_record_file(path, args)]
-    components = []
-    for trace in traces:
-        result = response_spectrum(trace.data, float(trace.stats.delta), periods, args.damping)
-        components.append(
-            {
-                "component": trace.stats.channel,
-                "station": trace.stats.station,
-                "psa_g": result.psa_g,
-                "psv_m_s": result.psv_m_s,
-                "sd_m": result.sd_m,
-            }
-        )
-    data: dict[str, Any] = {
-        "period_s": periods,
-        "damping": args.damping,
-        "components": components,
-    }
-    horizontal = [t for t in traces if not _is_vertical(t.stats.channel)]
-    if len(horizontal) == 2:
-        from stepframe.records.rotd import rotd_spectrum
-
-        h1, h2 = horizontal
-        if float(h1.stats.delta) != float(h2.stats.delta):
-            raise InputError(
-                f"horizontal components sampled at {h1.stats.delta} s and {h2.stats.delta} s, "
-                "expected the same sampling interval"
-            )
-        rotd = rotd_spectrum(h1.data, h2.data, float(h1.stats.delta), periods, args.damping)
-        data.update(
-            h1=h1.stats.channel,
-            h2=h2.stats.channel,
-            geomean_g=rotd.in_g("geomean"),
-            rotd50_g=rotd.in_g("rotd50"),
-            rotd100_g=rotd.in_g("rotd100"),
-        )
+    data = record_spectra(traces, args.periods_s, args.damping)
     if args.plot:
         from stepframe.pipeline.figures import save_figure
-        from stepframe.records.plots import response_spectra_figure
 
-        combined = {
-            name: data[key]
-            for key, name in (("rotd50_g", "RotD50"), ("rotd100_g", "RotD100"))
-            if key in data
-        }
-        figure = response_spectra_figure(
-            periods,
-            {c["component"]: c["psa_g"] for c in components},
-            damping=args.damping,
-            combined_g=combined,
-        )
-        save_figure(figure, args.plot)
-    return CommandResult(data=data, text=_spectrum_text(data))
-
-
-def _spectrum_text(data: dict[str, Any]) -> str:
-    names = [c["component"] for c in data["components"]]
-    header = ["period_s"] + [f"psa_g[{n}]" for n in names]
-    columns = [data["period_s"]] + [c["psa_g"] for c in data["components"]]
-    for key in ("geomean_g", "rotd50_g", "rotd100_g"):
-        if key in data:
-            header.append(key)
-            columns.append(data[key])
-    lines = [f"damping {data['damping']}", "  ".join(f"{h:>12}" for h in header)]
-    for i in range(len(data["period_s"])):
-        lines.append("  ".join(f"{float(col[i]):12.5g}" for col in columns))
-    return "\n".join(lines)
+        save_figure(spectra_figure(data), args.plot)
+    return CommandResult(data=data, text=spectra_text(data))
 
 
 def run_catalog(args: argparse.Namespace) -> CommandResult:

@@ -144,27 +144,4 @@ def run_amplify(args: argparse.Namespace) -> CommandResult:
         )
         save_figure(figure, args.plot, dpi=110)
         data["plot"] = args.plot
-    return CommandResult(data=data, text=_describe(data))
-
-
-def _describe(data: dict[str, Any]) -> str:
-    lines = [
-        f"oscillator f0 = {data['f0_hz']:.4g} Hz, xi0 = {data['xi0']:.3g}, "
-        f"omega path: {data['omega_path']}, alpha reading: {data['alpha_reading']}",
-        f"  spectral ratio eq. 6.18 at f0          {data['spectral_ratio_eq_6_18']:.4g}",
-        f"  eq. 6.19 first approximation           {data['approx_eq_6_19_first']:.4g}",
-        f"  eq. 6.19 last approximation (ωp/ωs)²   {data['approx_eq_6_19_last']:.4g}",
-        f"  response amplification vs fixed       {data['response_amplification_vs_fixed']:.4g}",
-        "  response amplification vs stationary  "
-        f"{data['response_amplification_vs_stationary']:.4g}",
-    ]
-    mc = data.get("monte_carlo")
-    if mc:
-        lo, hi = mc["response_amplification_vs_fixed_band"]
-        lines.append(
-            f"  Monte Carlo (N = {mc['n_realisations']}): vs fixed "
-            f"{mc['response_amplification_vs_fixed']:.4g} [{lo:.4g}, {hi:.4g}] (95 %)"
-        )
-    if data["status"] != "ok":
-        lines.append(f"  status: {data['status']}")
-    return "\n".join(lines)
+    return CommandResult(data=data, text=result.describe())

@@ -164,23 +164,8 @@ def run_fit(args: argparse.Namespace) -> CommandResult:
 
             save_figure(fit_figure(trace, spectrum, record.features, record.fitted), args.plot)
     results = [record.to_dict() for record in records]
-    text = "\n\n".join(_describe(r) for r in results)
+    text = "\n\n".join(record.describe() for record in records)
     return CommandResult(data=results[0] if len(results) == 1 else results, text=text)
-
-
-def _describe(result: dict[str, Any]) -> str:
-    from stepframe.pipeline.fitted import FIT_KEYS
-
-    lines = [f"{result['file']} {result['component']}:"]
-    keys = (*FIT_KEYS, "omega_c_rad_s") if result.get("omega_c_rad_s") is not None else FIT_KEYS
-    for key in keys:
-        se = result.get(f"{key}_stderr")
-        value = result[key]
-        suffix = f" ± {se:.3g}" if se is not None else ""
-        lines.append(f"  {key:16s} {value:.4g}{suffix}")
-    if result["flags"]:
-        lines.append(f"  flags: {', '.join(result['flags'])}")
-    return "\n".join(lines)
 
 
 def run_features(args: argparse.Namespace) -> CommandResult:

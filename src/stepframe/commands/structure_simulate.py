@@ -101,11 +101,8 @@ def run_simulate(args: argparse.Namespace) -> CommandResult:
     """Read the frame and the record, simulate, summarise (and plot)."""
     import os
 
-    import numpy as np
-
-    from stepframe.errors import InputError
+    from stepframe.pipeline.response import simulate_record
     from stepframe.structure.frame_file import read_frame_file
-    from stepframe.structure.simulator import DEFAULT_TAIL_S, simulate
 
     if args.plot is not None:
         from stepframe.pipeline.figures import check_figure_path
@@ -113,68 +110,18 @@ def run_simulate(args: argparse.Namespace) -> CommandResult:
         check_figure_path(args.plot)
     frame = read_frame_file(args.frame)
     trace = _one_trace(read_record_file(args.record, args), args.record)
-    dt_s = float(trace.stats.delta)
-    samples = np.asarray(trace.data, dtype=float)
-    bad = np.flatnonzero(~np.isfinite(samples))
-    if bad.size:
-        raise InputError(
-            f"sample {bad[0]} (t = {bad[0] * dt_s:g} s) is {samples[bad[0]]} ({bad.size} "
-            "non-finite samples), expected finite accelerations",
-            args.record,
-        )
-    tail_s = DEFAULT_TAIL_S if args.tail_s is None else float(args.tail_s)
-    result = simulate(
-        frame,
-        samples,
-        dt_s,
-        scale=float(args.scale),
-        tail_s=tail_s,
-        record_history=args.plot is not None,
-    )
-    summary = result.summary.to_dict()
-    data: dict[str, Any] = {
-        "record": args.record,
-        "component": str(trace.stats.channel),
-        "npts": int(trace.stats.npts),
-        "dt_s": dt_s,
-        "scale": float(args.scale),
-        "pga_m_s2": float(np.max(np.abs(trace.data))) * float(args.scale),
-        "tail_s": tail_s,
-        "frame": {
-            **frame.to_dict(),
-            "x_star_m": frame.x_star_m,
-            "uplift_acceleration_m_s2": frame.uplift_acceleration_m_s2,
-        },
-        **summary,
-        "episodes": result.episode_records(),
-    }
+    response = simulate_record(
+        frame, trace, scale=args.scale, tail_s=args.tail_s, record_history=args.plot is not None,
+        name=args.record,
+    )  # fmt: skip
+    data = response.to_dict()
+    text = response.describe()
     if args.plot is not None:
         from stepframe.pipeline.figures import save_figure
         from stepframe.structure.plots import response_figure
 
-        name = os.path.basename(args.record)
-        save_figure(response_figure(result, frame, title=f"{name} × {args.scale:g}"), args.plot)
+        title = f"{os.path.basename(args.record)} × {args.scale:g}"
+        save_figure(response_figure(response.result, frame, title=title), args.plot)
         data["plot"] = args.plot
-    return CommandResult(data=data, text=_text(data))
-
-
-def _text(data: dict[str, Any]) -> str:
-    drift = data["peak_drift_ratio"]
-    lines = [
-        f"{data['record']} [{data['component']}] × {data['scale']:g}: {data['npts']} samples at "
-        f"{data['dt_s']:g} s, PGA {data['pga_m_s2']:.4g} m/s², tail {data['tail_s']:g} s",
-        f"peak |x| {data['peak_abs_x_m']:.6g} m at {data['peak_time_s']:.4f} s"
-        + ("" if drift is None else f" (drift ratio {drift:.4g})"),
-        f"x_c {data['frame']['x_c_m']:.6g} m, x* {data['frame']['x_star_m']:.6g} m; "
-        f"{data['n_stepping_episodes']} stepping episodes, {data['n_impacts']} impacts",
-        f"residual x {data['residual_x_m']:.6g} m",
-        (
-            f"OVERTURNED at {data['overturn_time_s']:.4f} s"
-            if data["overturned"]
-            else "not overturned"
-        )
-        + ("" if data["status"] == "success" else f"; numerical status: {data['status']}"),
-    ]
-    if "plot" in data:
-        lines.append(f"plot written to {data['plot']}")
-    return "\n".join(lines)
+        text += f"\nplot written to {args.plot}"
+    return CommandResult(data=data, text=text)

@@ -151,6 +151,10 @@ class AmplificationResult:
         """Whether the response values are lower bounds (a frame stopped the run)."""
         return self.status != "ok"
 
+    def describe(self) -> str:
+        """The result as text, one quantity a line (what ``stochastic amplify`` prints)."""
+        return _describe(self.to_dict())
+
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready form (what ``stepframe stochastic amplify --json`` prints)."""
         out = {key: value for key, value in self.__dict__.items() if key != "monte_carlo"}
@@ -248,6 +252,30 @@ def amplify(
         inputs={"ground_motion_model": model.to_dict(), **site.source, **oscillator.inputs},
         monte_carlo=check,
     )
+
+
+def _describe(data: dict[str, Any]) -> str:
+    """The result as text, one quantity a line."""
+    lines = [
+        f"oscillator f0 = {data['f0_hz']:.4g} Hz, xi0 = {data['xi0']:.3g}, "
+        f"omega path: {data['omega_path']}, alpha reading: {data['alpha_reading']}",
+        f"  spectral ratio eq. 6.18 at f0          {data['spectral_ratio_eq_6_18']:.4g}",
+        f"  eq. 6.19 first approximation           {data['approx_eq_6_19_first']:.4g}",
+        f"  eq. 6.19 last approximation (ωp/ωs)²   {data['approx_eq_6_19_last']:.4g}",
+        f"  response amplification vs fixed       {data['response_amplification_vs_fixed']:.4g}",
+        "  response amplification vs stationary  "
+        f"{data['response_amplification_vs_stationary']:.4g}",
+    ]
+    mc = data.get("monte_carlo")
+    if mc:
+        lo, hi = mc["response_amplification_vs_fixed_band"]
+        lines.append(
+            f"  Monte Carlo (N = {mc['n_realisations']}): vs fixed "
+            f"{mc['response_amplification_vs_fixed']:.4g} [{lo:.4g}, {hi:.4g}] (95 %)"
+        )
+    if data["status"] != "ok":
+        lines.append(f"  status: {data['status']}")
+    return "\n".join(lines)
 
 
 #: Column dictionary of an amplification curve: variable → (unit, meaning).

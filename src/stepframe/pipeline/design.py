@@ -30,6 +30,38 @@ if TYPE_CHECKING:
         Iteration,
     )
 
+#: A commented design input file (``stepframe structure design --template``).
+DESIGN_TEMPLATE = """\
+# Quasi-dynamic design input for `stepframe structure design --input THIS.toml`.
+# SI units throughout (N, m, s). Values below: the paper's Example 1 (Priestley et al. Ex. 6.6).
+
+[pier]                       # or [map] with w_per_m and lambda_2_sqrt_m (and optional g_m_s2)
+weight_super_n = 8.0e6       # W_s, seismic weight of the superstructure [N]
+weight_col_n = 2.12e5        # W_col [N]; the paper states 424 kN but substitutes 212 kN
+weight_total_n = 9.6e6       # W_T, gross weight on the footing [N]
+footing_length_m = 7.0       # L_F, footing length in the rocking direction [m]
+height_m = 27.0              # H_r, height of the centroid of the rocking mass [m]
+footing_width_m = 7.0        # B_F [m]  } a = W_T / (B_F q_n); or give block_width_m (a) instead
+bearing_capacity_pa = 1.0e6  # q_n [Pa] }
+col_weight_factor = 0.5      # share of W_col in the effective mass (eq. 1.2) [-]
+g_m_s2 = 9.81                # gravity [m/s²]; also converts s_ds_g, s_d1_g, sa_g
+
+[spectrum]                   # two-period: S_a = S_DS up to T_s = S_D1/S_DS, then S_D1/T
+s_ds_m_s2 = 8.4665           # or s_ds_g [g]
+s_d1_m_s = 5.2492            # or s_d1_g [g]; the paper gives the product β·S_D1 = 5.2492 m/s
+# t_l_s = 8.0                # optional long-period transition T_L [s]: S_a = S_D1 T_L / T²
+# Tabulated instead: periods_s = [0.0, 0.5, 1.0, 4.0] and sa_m_s2 = [...] (or sa_g = [...])
+
+[damping]                    # exactly one of beta, xi, c_r
+beta = 1.0                   # factor on the 5 %-damped spectrum [-]
+# xi = 0.15                  # equivalent viscous damping ratio (fraction)
+# c_r = 0.9                  # velocity ratio at impact: xi = 0.48 (1 - c_r²), eq. 4.17
+# method = "ec8"             # with xi or c_r: "ec8" (default), "ec8-1998", "aashto-isolation"
+
+[iteration]
+delta0_m = [0.05, 2.0]       # starts of the AASHTO/Priestley iteration [m]
+"""
+
 #: Keys of ``[pier]`` an override may set, with their meaning.
 PIER_KEYS = {
     "weight_super_n": "W_s, seismic weight of the superstructure [N]",
@@ -169,6 +201,11 @@ class DesignRun:
         """The design answer's status (``ok`` or ``failed``)."""
         return self.design.status
 
+    def describe(self, *, trace_rows: bool = False) -> str:
+        """The run as text: constants, fixed points, iterations (every iterate with
+        ``trace_rows``) and the design answer."""
+        return _describe(self, trace_rows)
+
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready form (what ``stepframe structure design --json`` prints)."""
         return {
@@ -248,6 +285,60 @@ def run_design(
     return DesignRun(case, constants, tuple(closed), tuple(found), traces, design)
 
 
+def _fmt(value: Any, spec: str = ".6g") -> str:
+    return "-" if value is None else format(value, spec)
+
+
+def _describe(run: DesignRun, trace_rows: bool) -> str:
+    constants, closed, found = run.constants, run.closed, run.found
+    traces, design = run.traces, run.design
+    lines = ["map constants:"]
+    for key, value in constants.items():
+        if value is not None:
+            lines.append(f"  {key:22s} {value if isinstance(value, str | bool) else _fmt(value)}")
+    header = f"  {'name':9s} {'formula':14s} {'branch':9s} {'delta_m':>12s} {'period_s':>10s} "
+    header += f"{'multiplier':>11s}  stable  on branch"
+    if closed:
+        lines += ["closed-form fixed points (eqs. 2.9, 2.14):", header]
+        for p in closed:
+            lines.append(
+                f"  {p.name:9s} {p.formula[:14]:14s} {p.branch:9s} {_fmt(p.delta_m):>12s} "
+                f"{_fmt(p.period_s):>10s} {_fmt(p.multiplier):>11s}  "
+                f"{'yes' if p.stable else 'no':6s}  {'yes' if p.on_branch else 'no'}"
+            )
+    lines += ["fixed points of the full map (numerical search):", header]
+    for p in found:
+        lines.append(
+            f"  {p.name:9s} {'search':14s} {p.branch:9s} {_fmt(p.delta_m):>12s} "
+            f"{_fmt(p.period_s):>10s} {_fmt(p.multiplier):>11s}  {'yes' if p.stable else 'no':6s}"
+            "  yes"
+        )
+    for trace in traces:
+        first = trace.rows[0]
+        if trace_rows:
+            lines.append(f"  {'i':>4s} {'delta_m':>15s} {'K_n_m':>13s} {'period_s':>10s}  branch")
+            for row in trace.rows:
+                lines.append(
+                    f"  {row.i:4d} {row.delta_m:15.8e} {_fmt(row.stiffness_n_m, '13.6e'):>13s} "
+                    f"{row.period_s:10.6f}  {row.branch}"
+                )
+        lines.extend(f"  note: {note}" for note in trace.notes)
+        lines.append(
+            f"iteration from delta0 = {first.delta_m:.6g} m: {trace.message} after "
+            f"{len(trace.rows) - 1} steps, delta = {trace.delta_m:.6g} m, "
+            f"T = {trace.period_s:.6g} s"
+        )
+    if design.delta_m is None:
+        lines.append(f"design ({design.method}): {design.message}")
+    else:
+        lines.append(
+            f"design ({design.method}): delta* = {design.delta_m:.6g} m, T* = "
+            f"{_fmt(design.period_s)} s, multiplier {_fmt(design.multiplier)}, "
+            f"branch {design.branch}, SE = {_fmt(design.stepping_effectiveness, '.4f')}"
+        )
+    return "\n".join(lines)
+
+
 def _jsonable(value: Any) -> Any:
     """Tuples as lists and non-finite floats as None (JSON has neither)."""
     if isinstance(value, Mapping):
@@ -281,6 +372,7 @@ def read_design_result(path: str | PathLike[str]) -> dict[str, Any]:
 
 __all__ = [
     "DAMPING_KEYS",
+    "DESIGN_TEMPLATE",
     "MAP_KEYS",
     "PIER_KEYS",
     "SPECTRUM_KEYS",

@@ -111,6 +111,24 @@ class FittedRecord:
         """The flat result (a copy of :attr:`summary`)."""
         return dict(self.summary)
 
+    def describe(self) -> str:
+        """The parameters with their standard errors, and flags, as text."""
+        return _describe(self.summary)
+
+
+def _describe(result: dict[str, Any]) -> str:
+    """A fitted record as text: the parameters with their standard errors, and flags."""
+    lines = [f"{result['file']} {result['component']}:"]
+    keys = (*FIT_KEYS, "omega_c_rad_s") if result.get("omega_c_rad_s") is not None else FIT_KEYS
+    for key in keys:
+        se = result.get(f"{key}_stderr")
+        value = result[key]
+        suffix = f" ± {se:.3g}" if se is not None else ""
+        lines.append(f"  {key:16s} {value:.4g}{suffix}")
+    if result["flags"]:
+        lines.append(f"  flags: {', '.join(result['flags'])}")
+    return "\n".join(lines)
+
 
 def fit_record(
     trace: Trace, options: FitOptions | None = None, *, file: str | PathLike[str] = ""
