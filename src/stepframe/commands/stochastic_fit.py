@@ -22,6 +22,7 @@ from stepframe.commands import (
     record_options,
 )
 from stepframe.errors import InputError
+from stepframe.stochastic.methods import FREQUENCY_METHOD_NAMES, SPECTRUM_METHOD_NAMES
 
 FIT_EXAMPLES = """\
   stepframe stochastic fit RSN8883_14383980_13849360.AT2
@@ -54,7 +55,7 @@ def register(subparsers: Any) -> None:
     _add_estimation_options(fit)
     fit.add_argument(
         "--spectrum",
-        choices=("stft", "wavelet", "parametric"),
+        choices=SPECTRUM_METHOD_NAMES,
         default="stft",
         help="evolutionary PSD drawn and written (default stft)",
     )
@@ -94,7 +95,7 @@ def register(subparsers: Any) -> None:
 def _add_estimation_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--frequency",
-        choices=("zero-crossing", "ridge", "moment", "wavelet-ridge"),
+        choices=FREQUENCY_METHOD_NAMES,
         default="zero-crossing",
         help="ω_g(t) estimator, fast to dear (default zero-crossing)",
     )

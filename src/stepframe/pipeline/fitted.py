@@ -29,9 +29,9 @@ if TYPE_CHECKING:
     import xarray as xr
     from obspy import Stream, Trace
 
-    from stepframe.stochastic.features import FrequencyMethod, RecordFeatures, TimeOrigin
+    from stepframe.stochastic.features import FrequencyEstimator, RecordFeatures, TimeOrigin
     from stepframe.stochastic.fit import FitResult
-    from stepframe.stochastic.spectra import SpectrumMethod
+    from stepframe.stochastic.methods import FrequencyMethod, SpectrumMethod
 
 #: Keys of the parameter set printed by ``fit`` (plus ``<key>_stderr`` for fitted values).
 FIT_KEYS = (
@@ -74,7 +74,7 @@ FIT_COLUMNS: dict[str, tuple[str, str]] = {
 class FitOptions:
     """How a record is fitted (the options of ``stepframe stochastic fit``)."""
 
-    frequency: FrequencyMethod = "zero-crossing"
+    frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing"
     t0: TimeOrigin = "start"
     window_s: float = 2.0
     omega_max_rad_s: float | None = None
@@ -187,7 +187,7 @@ def fit_record(
     data["p_onset_s"] = features.p_onset_s
     data["s_arrival_s"] = features.s_arrival_s
     data["alpha_reading"] = fitted.model.alpha_reading
-    data["frequency_method"] = opts.frequency
+    data["frequency_method"] = features.frequency_method
     data["flags"] = list(fitted.flags)
     return FittedRecord(data, features, fitted, opts)
 
@@ -291,7 +291,7 @@ def features_table(
     record_options: Mapping[str, Any] | None = None,
     lowest_usable_hz: Iterable[float | None] | None = None,
     progress: bool = False,
-    frequency: FrequencyMethod = "zero-crossing",
+    frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing",
     t0: TimeOrigin = "start",
     window_s: float = 2.0,
     omega_max_rad_s: float | None = None,

@@ -29,9 +29,10 @@ import numpy as np
 from stepframe.core.execution import map_items
 from stepframe.core.results import Failure, failures_table
 from stepframe.errors import InputError
-from stepframe.stochastic.features import FrequencyMethod, TimeOrigin, record_features
+from stepframe.stochastic.features import FrequencyEstimator, TimeOrigin, record_features
 from stepframe.stochastic.fit import PARAMETERS, fit_model
-from stepframe.stochastic.spectra import DEFAULT_WINDOW_S, FftBackend
+from stepframe.stochastic.methods import FrequencyMethod
+from stepframe.stochastic.transforms import DEFAULT_WINDOW_S, FftBackend
 
 #: Column dictionary of the features table: name → (unit, meaning).
 COLUMNS: dict[str, tuple[str, str]] = {
@@ -73,7 +74,7 @@ if TYPE_CHECKING:
 class Options:
     """Options of the per-component computation (picklable, passed to workers)."""
 
-    frequency: FrequencyMethod = "zero-crossing"
+    frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing"
     t0: TimeOrigin = "start"
     window_s: float = DEFAULT_WINDOW_S
     fft: FftBackend = "scipy"
@@ -198,7 +199,7 @@ def catalog_features(
     n_jobs: int | None = None,
     executor: Executor | None = None,
     progress: bool | str = False,
-    frequency: FrequencyMethod = "zero-crossing",
+    frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing",
     t0: TimeOrigin = "start",
     window_s: float = DEFAULT_WINDOW_S,
     fft: FftBackend = "scipy",

@@ -38,7 +38,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import Any, Protocol
 
 import numba
 import numpy as np
@@ -48,10 +48,10 @@ from stepframe.core.results import Status
 from stepframe.errors import InputError
 from stepframe.stochastic.correlation import r_g
 from stepframe.stochastic.envelope import default_envelope
+from stepframe.stochastic.methods import MeanSquareMethod
 from stepframe.stochastic.model import GroundMotionModel
 
-Method = Literal["scalar", "covariance", "monte-carlo"]
-METHODS: tuple[Method, ...] = ("scalar", "covariance", "monte-carlo")
+Method = MeanSquareMethod
 #: Smallest ξ_0 the covariance method accepts (its P_∞ grows like 1/ξ_0; see module docstring).
 MIN_XI0_COVARIANCE = 1e-6
 
@@ -824,12 +824,119 @@ def _monte_carlo(
     return omega_0, omegas, squares, forcing, status
 
 
+@dataclass(frozen=True)
+class MeanSquareProblem:
+    """What a mean-square method receives (see :func:`mean_square_response`).
+
+    Attributes
+    ----------
+    model
+        The ground-motion model.
+    path
+        The oscillator's frequency path: ``omega_0`` [rad/s] and either ``at(t)`` (a given
+        ω(t), shape ``(n_osc, n_t)``) or, for a frame, ``omega(amplitude_m)``.
+    xi0
+        Damping ratio at ω_0.
+    time_s
+        The uniform analysis grid [s].
+    envelope
+        I_g(t) [m/s²] as a callable of time.
+    n_realisations, seed, confidence, mc_dt_s, keep_samples
+        Monte Carlo settings (ignored by the other methods).
+    """
+
+    model: GroundMotionModel
+    path: _Path | _FrameLaw
+    xi0: float
+    time_s: Floats
+    envelope: Callable[[Floats], Floats]
+    n_realisations: int = 500
+    seed: int | None = None
+    confidence: float = 0.95
+    mc_dt_s: float | None = None
+    keep_samples: bool = False
+
+    def common(self) -> dict[str, Any]:
+        """The fields every :class:`MeanSquareResult` of this problem shares."""
+        return {
+            "omega_path": "frame" if isinstance(self.path, _FrameLaw) else self.path.name,
+            "alpha_reading": self.model.alpha_reading,
+            "time_s": self.time_s,
+            "xi0": self.xi0,
+        }
+
+
+class MeanSquareMethodFunction(Protocol):
+    """A mean-square method: a :class:`MeanSquareProblem` in, a :class:`MeanSquareResult` out."""
+
+    __name__: str
+
+    def __call__(self, problem: MeanSquareProblem, /) -> MeanSquareResult: ...
+
+
+def covariance_method(problem: MeanSquareProblem) -> MeanSquareResult:
+    """The exact covariance (Liapunov) ODE of the augmented linear system (module docstring)."""
+    p = problem
+    omega_0, omegas, out, stopped = _covariance(p.model, p.path, p.xi0, p.time_s, p.envelope)
+    return MeanSquareResult(
+        "covariance", omega_0_rad_s=omega_0, omega_rad_s=omegas, mean_square_m2=out,
+        status="lower_bound" if stopped else "ok", message=stopped, **p.common(),
+    )  # fmt: skip
+
+
+def scalar_method(problem: MeanSquareProblem) -> MeanSquareResult:
+    """The scalar slowly-varying eq. 6.4 (module docstring)."""
+    p = problem
+    omega_0, omegas, out, stopped = _scalar(p.model, p.path, p.xi0, p.time_s, p.envelope)
+    return MeanSquareResult(
+        "scalar", omega_0_rad_s=omega_0, omega_rad_s=omegas, mean_square_m2=out,
+        status="lower_bound" if stopped else "ok", message=stopped, **p.common(),
+    )  # fmt: skip
+
+
+def monte_carlo_method(problem: MeanSquareProblem) -> MeanSquareResult:
+    """Monte Carlo with simulated motions, χ² confidence band (module docstring)."""
+    p = problem
+    if not (isinstance(p.n_realisations, int) and p.n_realisations >= 2):
+        raise InputError(f"n_realisations = {p.n_realisations!r}, expected an integer ≥ 2")
+    if not 0 < p.confidence < 1:
+        raise InputError(f"confidence = {p.confidence}, expected 0 < confidence < 1")
+    omega_0, omegas, squares, _, stopped = _monte_carlo(
+        p.model, p.path, p.xi0, p.time_s, p.envelope, p.n_realisations, p.seed, p.mc_dt_s
+    )
+    mean, lower, upper = chi_square_band(squares, p.confidence)
+    return MeanSquareResult(
+        "monte-carlo",
+        omega_0_rad_s=omega_0,
+        omega_rad_s=omegas,
+        mean_square_m2=mean,
+        lower_m2=lower,
+        upper_m2=upper,
+        n_realisations=p.n_realisations,
+        seed=p.seed,
+        confidence=p.confidence,
+        status="lower_bound" if stopped else "ok",
+        message=stopped,
+        samples={"x2": squares} if p.keep_samples else {},
+        **p.common(),
+    )
+
+
+#: The mean-square methods by name, cheap to dear
+#: (:data:`stepframe.stochastic.methods.MeanSquareMethod` names them).
+METHODS: dict[str, MeanSquareMethodFunction] = {
+    "scalar": scalar_method,
+    "covariance": covariance_method,
+    "monte-carlo": monte_carlo_method,
+}
+
+
 def mean_square_response(
     model: GroundMotionModel,
     omega: OmegaSpec | float | Callable[[Floats], ArrayLike],
     xi0: float,
     *,
-    method: Method = "covariance",
+    method: Method | MeanSquareMethodFunction = "covariance",
     time_s: ArrayLike | None = None,
     envelope: EnvelopeFn | None = None,
     peak_intensity: float = 1.0,
@@ -875,8 +982,12 @@ def mean_square_response(
     InputError
         Bad arguments, or a method's limits (scalar: ω(t) ≤ β; covariance: ξ_0 < 1e-6).
     """
-    if method not in METHODS:
-        raise InputError(f"method = {method!r}, expected one of {METHODS}")
+    if callable(method):
+        implementation: MeanSquareMethodFunction = method
+    elif method in METHODS:
+        implementation = METHODS[method]
+    else:
+        raise InputError(f"method = {method!r}, expected one of {tuple(METHODS)} or a function")
     if not (isinstance(xi0, int | float) and math.isfinite(xi0) and xi0 >= 0):
         raise InputError(f"xi0 = {xi0!r}, expected a damping fraction ≥ 0")
     grid = analysis_grid(model) if time_s is None else _uniform_grid(time_s)
@@ -890,59 +1001,11 @@ def mean_square_response(
     path: _Path | _FrameLaw = (
         _FrameLaw(spec) if isinstance(spec, FrameDriven) else _Path(spec, model, grid)
     )
-    path_name = "frame" if isinstance(path, _FrameLaw) else path.name
     env = _envelope_fn(model, envelope, peak_intensity)
-    common: dict[str, Any] = {
-        "omega_path": path_name,
-        "alpha_reading": model.alpha_reading,
-        "time_s": grid,
-        "xi0": float(xi0),
-    }
-    if method == "covariance":
-        omega_0, omegas, out, stopped = _covariance(model, path, xi0, grid, env)
-        return MeanSquareResult(
-            "covariance",
-            omega_0_rad_s=omega_0,
-            omega_rad_s=omegas,
-            mean_square_m2=out,
-            status="lower_bound" if stopped else "ok",
-            message=stopped,
-            **common,
-        )
-    if method == "scalar":
-        omega_0, omegas, out, stopped = _scalar(model, path, xi0, grid, env)
-        return MeanSquareResult(
-            "scalar",
-            omega_0_rad_s=omega_0,
-            omega_rad_s=omegas,
-            mean_square_m2=out,
-            status="lower_bound" if stopped else "ok",
-            message=stopped,
-            **common,
-        )
-    if not (isinstance(n_realisations, int) and n_realisations >= 2):
-        raise InputError(f"n_realisations = {n_realisations!r}, expected an integer ≥ 2")
-    if not 0 < confidence < 1:
-        raise InputError(f"confidence = {confidence}, expected 0 < confidence < 1")
-    omega_0, omegas, squares, _, stopped = _monte_carlo(
-        model, path, xi0, grid, env, n_realisations, seed, mc_dt_s
+    problem = MeanSquareProblem(
+        model, path, float(xi0), grid, env, n_realisations, seed, confidence, mc_dt_s, keep_samples
     )
-    mean, lower, upper = chi_square_band(squares, confidence)
-    return MeanSquareResult(
-        "monte-carlo",
-        omega_0_rad_s=omega_0,
-        omega_rad_s=omegas,
-        mean_square_m2=mean,
-        lower_m2=lower,
-        upper_m2=upper,
-        n_realisations=n_realisations,
-        seed=seed,
-        confidence=confidence,
-        status="lower_bound" if stopped else "ok",
-        message=stopped,
-        samples={"x2": squares} if keep_samples else {},
-        **common,
-    )
+    return implementation(problem)
 
 
 def chi_square_band(squares: Floats, confidence: float) -> tuple[Floats, Floats, Floats]:
@@ -966,11 +1029,16 @@ __all__ = [
     "Constant",
     "FrameDriven",
     "Given",
+    "MeanSquareMethodFunction",
+    "MeanSquareProblem",
     "MeanSquareResult",
     "Method",
     "Tracking",
     "analysis_grid",
     "chi_square_band",
+    "covariance_method",
     "mean_square_response",
+    "monte_carlo_method",
+    "scalar_method",
     "white_noise_response",
 ]
