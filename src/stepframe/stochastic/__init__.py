@@ -1,7 +1,8 @@
 """Stochastic: evolutionary spectra, the Beck-Papadimitriou model, mean-square response.
 
 Modules: :mod:`~stepframe.stochastic.model` (eqs. 6.10-6.12),
-:mod:`~stepframe.stochastic.transforms` (STFT and wavelet power), :mod:`~stepframe.stochastic.spectra` (evolutionary spectra),
+:mod:`~stepframe.stochastic.transforms` (STFT and wavelet power),
+:mod:`~stepframe.stochastic.spectra` (evolutionary spectra),
 :mod:`~stepframe.stochastic.features` and :mod:`~stepframe.stochastic.fit` (parameters of a
 record), :mod:`~stepframe.stochastic.synthetic` (synthetic motions),
 :mod:`~stepframe.stochastic.catalog_features`, :mod:`~stepframe.stochastic.correlation` and
