@@ -210,13 +210,17 @@ def build(source_dir: Path, out_dir: Path) -> None:
         exponents.append(exponent)
         offsets.append(offsets[-1] + len(words))
     out_dir.mkdir(parents=True, exist_ok=True)
-    np.savez_compressed(
-        out_dir / _ARCHIVE,
-        mantissa=np.concatenate(mantissas),
-        exponent=np.concatenate(exponents),
-        offsets=np.asarray(offsets, dtype=np.int64),
-    )
-    table.to_csv(out_dir / _METADATA, index=False)
+    from stepframe.core.io import atomic_write
+
+    with atomic_write(out_dir / _ARCHIVE, "wb") as archive:
+        np.savez_compressed(
+            archive,
+            mantissa=np.concatenate(mantissas),
+            exponent=np.concatenate(exponents),
+            offsets=np.asarray(offsets, dtype=np.int64),
+        )
+    with atomic_write(out_dir / _METADATA) as out:
+        table.to_csv(out, index=False)
 
 
 if __name__ == "__main__":
