@@ -30,6 +30,7 @@ from stepframe.records.units import STANDARD_GRAVITY_M_S2
 
 if TYPE_CHECKING:
     import pandas as pd
+    from obspy import Trace
 
 #: Periods [s] of the spectral ordinates in the table (those of the paper's Example 4 table).
 CATALOG_PERIODS_S = (0.2, 1.0)
@@ -84,7 +85,7 @@ COLUMNS: list[str] = [
 ]
 
 
-def trace_row(trace: Any, file: str = "", warning_text: str = "") -> dict[str, Any]:
+def trace_row(trace: Trace, file: str = "", warning_text: str = "") -> dict[str, Any]:
     """The catalogue row of one record (``obspy.Trace`` in m/s²)."""
     from stepframe.records.spectra import response_spectrum
 
@@ -112,7 +113,7 @@ def trace_row(trace: Any, file: str = "", warning_text: str = "") -> dict[str, A
     return row
 
 
-def intensity_table(stream: Iterable[Any]) -> pd.DataFrame:
+def intensity_table(stream: Iterable[Trace]) -> pd.DataFrame:
     """The catalogue table of records already in memory (for example the example catalogue)."""
     import pandas as pd
 

@@ -17,9 +17,12 @@ from __future__ import annotations
 import sys
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from obspy import Stream
 import pandas as pd
 
 from stepframe.records.units import STANDARD_GRAVITY_M_S2
@@ -136,7 +139,7 @@ def _encode(text_values: list[str]) -> tuple[np.ndarray, np.ndarray]:
     return mantissa, exponent
 
 
-def fema_p695() -> tuple[Any, pd.DataFrame]:
+def fema_p695() -> tuple[Stream, pd.DataFrame]:
     """Load the 100 FEMA P695 components.
 
     Returns

@@ -38,10 +38,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Literal, Protocol
+from typing import TYPE_CHECKING, Literal, Protocol
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from stepframe.errors import InputError
 from stepframe.stochastic.envelope import DEFAULT_DURATION_THRESHOLD
@@ -57,6 +57,7 @@ from stepframe.stochastic.transforms import (
 
 if TYPE_CHECKING:
     import xarray as xr
+    from obspy import Trace
 
 TimeOrigin = Literal["start", "p-pick"]
 PeakMethod = Literal["envelope", "argmax"]
@@ -339,7 +340,7 @@ def _estimator_name(frequency: str | FrequencyEstimator) -> str:
 
 
 def record_features(
-    record_or_array: Any,
+    record_or_array: Trace | ArrayLike,
     dt_s: float | None = None,
     *,
     frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing",

@@ -38,7 +38,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numba
 import numpy as np
@@ -49,6 +49,9 @@ from stepframe.errors import InputError
 from stepframe.stochastic.correlation import r_g
 from stepframe.stochastic.envelope import default_envelope
 from stepframe.stochastic.methods import MeanSquareMethod
+
+if TYPE_CHECKING:
+    import xarray as xr
 from stepframe.stochastic.model import GroundMotionModel
 
 Method = MeanSquareMethod
@@ -168,7 +171,7 @@ class MeanSquareResult:
         """max_t σ_x [m] per oscillator, shape ``(n_osc,)`` (NaN-free part only)."""
         return np.asarray(np.sqrt(np.nanmax(self.mean_square_m2, axis=1)))
 
-    def to_dataset(self) -> Any:
+    def to_dataset(self) -> xr.Dataset:
         """The result as an ``xarray.Dataset`` with dims ``(oscillator, time)`` and units."""
         import xarray as xr
 

@@ -41,6 +41,7 @@ from stepframe.stochastic.transforms import (
 
 if TYPE_CHECKING:
     import xarray as xr
+    from obspy import Trace
 
 
 @dataclass(frozen=True)
@@ -136,7 +137,7 @@ def _spectrum_method(method: str | SpectrumFunction) -> SpectrumFunction:
 
 
 def evolutionary_spectrum(
-    record_or_array: Any,
+    record_or_array: Trace | ArrayLike,
     dt_s: float | None = None,
     method: SpectrumMethod | SpectrumFunction = "stft",
     *,

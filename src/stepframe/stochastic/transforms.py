@@ -11,9 +11,12 @@ from __future__ import annotations
 
 import math
 from contextlib import AbstractContextManager, nullcontext
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from obspy import Trace
 from numpy.typing import ArrayLike, NDArray
 
 from stepframe.errors import InputError
@@ -27,7 +30,9 @@ DEFAULT_WINDOW_S = 2.0
 DEFAULT_HOP_S = 0.1
 
 
-def record_samples(record_or_array: Any, dt_s: float | None) -> tuple[NDArray[np.float64], float]:
+def record_samples(
+    record_or_array: Trace | ArrayLike, dt_s: float | None
+) -> tuple[NDArray[np.float64], float]:
     """Samples [m/s²] and dt [s] of an ``obspy.Trace`` or an array, validated.
 
     Raises
@@ -38,7 +43,8 @@ def record_samples(record_or_array: Any, dt_s: float | None) -> tuple[NDArray[np
     """
     stats = getattr(record_or_array, "stats", None)
     if stats is not None:
-        data = np.asarray(record_or_array.data, dtype=np.float64)
+        trace: Any = record_or_array  # an obspy Trace (obspy ships no types)
+        data = np.asarray(trace.data, dtype=np.float64)
         dt = float(stats.delta) if dt_s is None else float(dt_s)
         # Name the record in error messages by its file (when a reader set one) and channel.
         source = (stats.get("stepframe") or {}).get("source_file")
