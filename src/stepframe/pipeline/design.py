@@ -10,7 +10,6 @@ answer, as a :class:`DesignRun` (``to_dict``; :func:`write_design_result` and
 
 from __future__ import annotations
 
-import json
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -18,7 +17,6 @@ from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
-from stepframe.core.io import atomic_write, read_toml
 from stepframe.errors import InputError
 
 if TYPE_CHECKING:
@@ -118,6 +116,8 @@ def merged_design_input(
     InputError
         Both pier and map values, no input at all, or a bad file (with its line).
     """
+    from stepframe.core.io import read_toml
+
     data: dict[str, Any] = {}
     if path:
         data, _ = read_toml(path, "a design input TOML file")
@@ -352,6 +352,10 @@ def _jsonable(value: Any) -> Any:
 
 def write_design_result(run: DesignRun, path: str | PathLike[str]) -> Path:
     """Write ``run.to_dict()`` as JSON (atomically); :func:`read_design_result` reads it back."""
+    import json
+
+    from stepframe.core.io import atomic_write
+
     with atomic_write(path) as out:
         json.dump(_jsonable(run.to_dict()), out, indent=2, allow_nan=False)
         out.write("\n")
@@ -360,6 +364,8 @@ def write_design_result(run: DesignRun, path: str | PathLike[str]) -> Path:
 
 def read_design_result(path: str | PathLike[str]) -> dict[str, Any]:
     """The dictionary written by :func:`write_design_result` (tuples come back as lists)."""
+    import json
+
     target = Path(path)
     try:
         data: dict[str, Any] = json.loads(target.read_text(encoding="utf-8"))
