@@ -24,7 +24,7 @@ from stepframe.commands import (
     CommandResult,
     Parser,
     UserError,
-    group_module,
+    group_modules,
     to_jsonable,
 )
 from stepframe.errors import InputError
@@ -62,7 +62,8 @@ def build_parser() -> argparse.ArgumentParser:
             formatter_class=argparse.RawDescriptionHelpFormatter,
         )
         sub = group.add_subparsers(dest="subcommand", metavar="SUBCOMMAND")
-        group_module(name).register(sub)
+        for module in group_modules(name):
+            module.register(sub)
         group.set_defaults(_group_parser=group)
     return parser
 

@@ -1,8 +1,9 @@
 """Shared machinery of the command groups: parser class, results, JSON, the record options.
 
-Each group module (``records``, ``stochastic``, ``structure``) has ``register(subparsers)``, which
-adds its commands with :func:`add_command`. A command's ``run(args)`` returns a
-:class:`CommandResult`; :mod:`stepframe.cli` prints it. Group modules import only argparse at
+Each command module (listed per group in :data:`GROUPS`) has ``register(subparsers)``, which adds
+its commands with :func:`add_command`. A command parses its options, calls one library function
+(mostly a :mod:`stepframe.pipeline` stage) and returns a :class:`CommandResult`;
+:mod:`stepframe.cli` prints it. Command modules import only argparse and light name modules at
 module level: the heavy imports happen inside ``run``.
 """
 
@@ -148,30 +149,30 @@ def float_list(text: str) -> list[float]:
         raise argparse.ArgumentTypeError(f"{text!r}, expected comma-separated numbers") from None
 
 
-#: The command groups: name → (help, module). A module is named, not imported, so building the
-#: table needs no group module (they import this package for :func:`add_command`); the CLI imports
-#: each with :func:`group_module` when it builds the parser.
-GROUPS: dict[str, tuple[str, str]] = {
+#: The command groups: name → (help, the modules whose ``register(subparsers)`` add its
+#: commands). Modules are named, not imported, so building the table needs none of them (they
+#: import this package for :func:`add_command`); :func:`group_modules` imports them.
+GROUPS: dict[str, tuple[str, tuple[str, ...]]] = {
     "records": (
         "read accelerograms, intensity measures, spectra, catalogues",
-        "stepframe.commands.records",
+        ("stepframe.commands.records",),
     ),
     "stochastic": (
         "evolutionary spectra, ground-motion model, mean square, amplification",
-        "stepframe.commands.stochastic",
+        ("stepframe.commands.stochastic_fit", "stepframe.commands.stochastic_amplify"),
     ),
     "structure": (
         "frame parameters, quasi-dynamic design, stepping simulation",
-        "stepframe.commands.structure",
+        ("stepframe.commands.structure_design", "stepframe.commands.structure_simulate"),
     ),
 }
 
 
-def group_module(name: str) -> ModuleType:
-    """The module of group ``name`` (it has ``register(subparsers)``)."""
+def group_modules(name: str) -> list[ModuleType]:
+    """The modules of group ``name``, each with ``register(subparsers)``."""
     import importlib
 
-    return importlib.import_module(GROUPS[name][1])
+    return [importlib.import_module(module) for module in GROUPS[name][1]]
 
 
 __all__ = [
@@ -183,7 +184,7 @@ __all__ = [
     "add_command",
     "add_record_options",
     "float_list",
-    "group_module",
+    "group_modules",
     "positive_float",
     "read_record_file",
     "record_options",
