@@ -86,3 +86,14 @@ def test_a_callable_mean_square_method_is_accepted_where_a_name_is() -> None:
     custom = mean_square_response(model, 8.0, 0.05, method=recorded, time_s=grid)
     assert len(calls) == 1 and calls[0].xi0 == 0.05
     np.testing.assert_array_equal(named.mean_square_m2, custom.mean_square_m2)
+
+
+def test_mean_square_result_to_dict_reports_the_status_and_peaks() -> None:
+    model = GroundMotionModel(20.0, 10.0, 5.0, 0.3, 0.6, t_max_s=5.0, t_dur_s=15.0)
+    grid = np.linspace(0.0, 20.0, 801)
+    result = mean_square_response(model, [6.0, 9.0], 0.05, time_s=grid)
+    summary = result.to_dict()
+    assert summary["status"] == "ok" and summary["message"] == ""
+    assert summary["omega_0_rad_s"] == [6.0, 9.0]
+    expected = np.sqrt(np.nanmax(result.mean_square_m2, axis=1))
+    np.testing.assert_allclose(summary["peak_rms_m"], expected, rtol=0)

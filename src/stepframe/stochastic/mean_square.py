@@ -171,6 +171,22 @@ class MeanSquareResult:
         """max_t σ_x [m] per oscillator, shape ``(n_osc,)`` (NaN-free part only)."""
         return np.asarray(np.sqrt(np.nanmax(self.mean_square_m2, axis=1)))
 
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready summary: method, path, reading, status, ω_0 [rad/s], peak σ_x [m]."""
+        return {
+            "method": self.method,
+            "omega_path": self.omega_path,
+            "alpha_reading": self.alpha_reading,
+            "status": self.status,
+            "message": self.message,
+            "xi0": self.xi0,
+            "omega_0_rad_s": self.omega_0_rad_s.tolist(),
+            "peak_rms_m": self.peak_rms_m.tolist(),
+            "n_realisations": self.n_realisations,
+            "seed": self.seed,
+            "confidence": self.confidence,
+        }
+
     def to_dataset(self) -> xr.Dataset:
         """The result as an ``xarray.Dataset`` with dims ``(oscillator, time)`` and units."""
         import xarray as xr
