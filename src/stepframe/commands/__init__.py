@@ -128,17 +128,24 @@ def record_options(args: argparse.Namespace) -> dict[str, Any]:
     }
 
 
-def positive_float(text: str) -> float:
-    """argparse type: a finite number > 0."""
+def _finite_float(text: str, accept: Callable[[float], bool], refused: str, expected: str) -> float:
     try:
         value = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"{text!r} is not a number, expected a positive number"
-        ) from None
-    if not (math.isfinite(value) and value > 0):
-        raise argparse.ArgumentTypeError(f"{text!r} is not positive, expected a positive number")
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number, expected {expected}") from None
+    if not (math.isfinite(value) and accept(value)):
+        raise argparse.ArgumentTypeError(f"{text!r}{refused}, expected {expected}")
     return value
+
+
+def positive_float(text: str) -> float:
+    """argparse type: a finite number > 0."""
+    return _finite_float(text, lambda v: v > 0, " is not positive", "a positive number")
+
+
+def non_negative_seconds(text: str) -> float:
+    """argparse type: a finite duration ≥ 0 [s]."""
+    return _finite_float(text, lambda v: v >= 0, "", "seconds ≥ 0")
 
 
 def float_list(text: str) -> list[float]:
@@ -185,6 +192,7 @@ __all__ = [
     "add_record_options",
     "float_list",
     "group_modules",
+    "non_negative_seconds",
     "positive_float",
     "read_record_file",
     "record_options",

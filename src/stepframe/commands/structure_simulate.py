@@ -10,6 +10,7 @@ from stepframe.commands import (
     UserError,
     add_command,
     add_record_options,
+    non_negative_seconds,
     positive_float,
     read_record_file,
 )
@@ -49,7 +50,7 @@ def register(subparsers: Any) -> None:
     )
     simulate.add_argument(
         "--tail-s",
-        type=_non_negative_float,
+        type=non_negative_seconds,
         default=None,
         metavar="T",
         help="free vibration after the record [s] (default: the simulator's, 10 s)",
@@ -63,20 +64,6 @@ def register(subparsers: Any) -> None:
         examples=TEMPLATE_EXAMPLES,
         run=run_frame_template,
     )
-
-
-def _non_negative_float(text: str) -> float:
-    import math
-
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"{text!r} is not a number, expected seconds ≥ 0"
-        ) from None
-    if not (math.isfinite(value) and value >= 0):
-        raise argparse.ArgumentTypeError(f"{text!r}, expected seconds ≥ 0")
-    return value
 
 
 def run_frame_template(args: argparse.Namespace) -> CommandResult:

@@ -17,10 +17,10 @@ from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from stepframe.core.io import atomic_write
 from stepframe.core.results import Status
 from stepframe.errors import InputError
 from stepframe.pipeline.site import SiteModel
+from stepframe.pipeline.tables import read_dataset, write_dataset
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -354,20 +354,12 @@ def amplification_curve(
 
 def write_curve(curve: xr.Dataset, path: str | PathLike[str]) -> Path:
     """Write an amplification curve as NetCDF (atomically); :func:`read_curve` reads it back."""
-    with atomic_write(path, "wb") as out:
-        out.write(curve.to_netcdf(engine="h5netcdf"))
-    return Path(path)
+    return write_dataset(curve, path)
 
 
 def read_curve(path: str | PathLike[str]) -> xr.Dataset:
     """An amplification curve written by :func:`write_curve` (loaded into memory)."""
-    import xarray as xr
-
-    target = Path(path)
-    if not target.is_file():
-        raise InputError("no such file, expected an amplification curve (NetCDF)", target)
-    with xr.open_dataset(target, engine="h5netcdf") as dataset:
-        return dataset.load()
+    return read_dataset(path, "an amplification curve (NetCDF)")
 
 
 __all__ = [

@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING, Any
 from stepframe.core.io import atomic_write
 from stepframe.core.results import failures_path
 from stepframe.errors import InputError
-from stepframe.pipeline.tables import write_table
+from stepframe.pipeline.tables import read_dataset, write_dataset, write_table
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -243,20 +243,12 @@ def fitted_dataset(spectrum: xr.DataArray, record: FittedRecord) -> xr.Dataset:
 
 def write_fitted(dataset: xr.Dataset, path: str | PathLike[str]) -> Path:
     """Write a fitted-record dataset as NetCDF (atomically); :func:`read_fitted` reads it."""
-    with atomic_write(path, "wb") as out:
-        out.write(dataset.to_netcdf(engine="h5netcdf"))
-    return Path(path)
+    return write_dataset(dataset, path)
 
 
 def read_fitted(path: str | PathLike[str]) -> xr.Dataset:
     """A dataset written by :func:`write_fitted`, loaded into memory."""
-    import xarray as xr
-
-    target = Path(path)
-    if not target.is_file():
-        raise InputError("no such file, expected a fitted record (NetCDF)", target)
-    with xr.open_dataset(target, engine="h5netcdf") as dataset:
-        return dataset.load()
+    return read_dataset(path, "a fitted record (NetCDF)")
 
 
 def fit_table(records: Iterable[FittedRecord]) -> pd.DataFrame:

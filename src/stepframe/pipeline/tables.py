@@ -1,10 +1,11 @@
-"""Tables on disk: a CSV with its column dictionary beside it, read back to an equal table.
+"""Tables and datasets on disk, each read back equal to what was written.
 
 A stage's table is a ``pandas.DataFrame`` whose column dictionary (``column``, ``unit``,
 ``meaning``) is in ``table.attrs["column_dictionary"]``. :func:`write_table` writes the table to
 ``X.csv`` and the dictionary, with each column's dtype, to ``X.columns.csv`` (both atomically);
 :func:`read_table` uses the dtypes to give back a table equal to the one written (text columns stay
-text, an empty text cell stays ``""``, numbers keep NaN).
+text, an empty text cell stays ``""``, numbers keep NaN). :func:`write_dataset` and
+:func:`read_dataset` do the same for an ``xarray.Dataset`` (NetCDF 4 through h5netcdf).
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from stepframe.errors import InputError
 
 if TYPE_CHECKING:
     import pandas as pd
+    import xarray as xr
 
 #: Columns of a column dictionary as written (``dtype`` is added on writing).
 DICTIONARY_COLUMNS = ("column", "unit", "meaning")
@@ -100,4 +102,35 @@ def read_table(path: str | PathLike[str]) -> pd.DataFrame:
     return table
 
 
-__all__ = ["column_dictionary", "columns_path", "read_table", "write_table"]
+def write_dataset(dataset: xr.Dataset, path: str | PathLike[str]) -> Path:
+    """Write ``dataset`` as NetCDF (h5netcdf), atomically; :func:`read_dataset` reads it back."""
+    with atomic_write(path, "wb") as out:
+        out.write(dataset.to_netcdf(engine="h5netcdf"))
+    return Path(path)
+
+
+def read_dataset(path: str | PathLike[str], what: str = "a NetCDF dataset") -> xr.Dataset:
+    """A dataset written by :func:`write_dataset`, loaded into memory (the file is closed).
+
+    Raises
+    ------
+    InputError
+        The file does not exist (``what`` says what was expected).
+    """
+    import xarray as xr
+
+    target = Path(path)
+    if not target.is_file():
+        raise InputError(f"no such file, expected {what}", target)
+    with xr.open_dataset(target, engine="h5netcdf") as dataset:
+        return dataset.load()
+
+
+__all__ = [
+    "column_dictionary",
+    "columns_path",
+    "read_dataset",
+    "read_table",
+    "write_dataset",
+    "write_table",
+]

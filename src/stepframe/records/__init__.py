@@ -7,8 +7,9 @@ The record type is an ``obspy.Trace`` in m/s² with ``stats.stepframe`` metadata
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from stepframe._lazy import lazy_exports
 
 # ``catalog`` is imported at once: the function shares its module's name, and a lazy export
 # would be shadowed by the submodule as soon as anything imported ``stepframe.records.catalog``.
@@ -42,12 +43,7 @@ _EXPORTS = {
 }
 
 
-def __getattr__(name: str) -> Any:
-    if name in _EXPORTS:
-        value = getattr(importlib.import_module(_EXPORTS[name]), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+__getattr__ = lazy_exports(__name__, _EXPORTS)
 
 
 __all__ = [

@@ -893,24 +893,30 @@ class MeanSquareMethodFunction(Protocol):
     def __call__(self, problem: MeanSquareProblem, /) -> MeanSquareResult: ...
 
 
-def covariance_method(problem: MeanSquareProblem) -> MeanSquareResult:
-    """The exact covariance (Liapunov) ODE of the augmented linear system (module docstring)."""
+def _deterministic(
+    name: Method,
+    solver: Callable[
+        [GroundMotionModel, _Path | _FrameLaw, float, Floats, Callable[[Floats], Floats]],
+        tuple[Floats, Floats, Floats, str],
+    ],
+    problem: MeanSquareProblem,
+) -> MeanSquareResult:
     p = problem
-    omega_0, omegas, out, stopped = _covariance(p.model, p.path, p.xi0, p.time_s, p.envelope)
+    omega_0, omegas, out, stopped = solver(p.model, p.path, p.xi0, p.time_s, p.envelope)
     return MeanSquareResult(
-        "covariance", omega_0_rad_s=omega_0, omega_rad_s=omegas, mean_square_m2=out,
+        name, omega_0_rad_s=omega_0, omega_rad_s=omegas, mean_square_m2=out,
         status="lower_bound" if stopped else "ok", message=stopped, **p.common(),
     )  # fmt: skip
+
+
+def covariance_method(problem: MeanSquareProblem) -> MeanSquareResult:
+    """The exact covariance (Liapunov) ODE of the augmented linear system (module docstring)."""
+    return _deterministic("covariance", _covariance, problem)
 
 
 def scalar_method(problem: MeanSquareProblem) -> MeanSquareResult:
     """The scalar slowly-varying eq. 6.4 (module docstring)."""
-    p = problem
-    omega_0, omegas, out, stopped = _scalar(p.model, p.path, p.xi0, p.time_s, p.envelope)
-    return MeanSquareResult(
-        "scalar", omega_0_rad_s=omega_0, omega_rad_s=omegas, mean_square_m2=out,
-        status="lower_bound" if stopped else "ok", message=stopped, **p.common(),
-    )  # fmt: skip
+    return _deterministic("scalar", _scalar, problem)
 
 
 def monte_carlo_method(problem: MeanSquareProblem) -> MeanSquareResult:

@@ -11,8 +11,9 @@ impact), :mod:`~stepframe.structure.period_amplitude` (the free-vibration law T(
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from stepframe._lazy import lazy_exports
 
 if TYPE_CHECKING:
     from stepframe.structure.design_spectrum import TabulatedSpectrum, TwoPeriodSpectrum
@@ -48,12 +49,7 @@ _EXPORTS = {
 }
 
 
-def __getattr__(name: str) -> Any:
-    if name in _EXPORTS:
-        value = getattr(importlib.import_module(_EXPORTS[name]), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+__getattr__ = lazy_exports(__name__, _EXPORTS)
 
 
 __all__ = [
