@@ -14,9 +14,15 @@ import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from types import ModuleType
-from typing import Any, NoReturn
+from typing import TYPE_CHECKING, Any, NoReturn
 
 from stepframe.errors import InputError
+
+if TYPE_CHECKING:
+    from obspy import Stream
+
+    #: What ``ArgumentParser.add_subparsers()`` returns (argparse names the class privately).
+    Subparsers = argparse._SubParsersAction[argparse.ArgumentParser]
 
 
 class UserError(Exception):
@@ -57,7 +63,7 @@ def to_jsonable(value: Any) -> Any:
 
 
 def add_command(
-    subparsers: Any,
+    subparsers: Subparsers,
     name: str,
     *,
     help: str,
@@ -110,7 +116,7 @@ def add_record_options(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--component", metavar="NAME", help="which channel of a multi-channel file")
 
 
-def read_record_file(path: str, args: argparse.Namespace) -> Any:
+def read_record_file(path: str, args: argparse.Namespace) -> Stream:
     """Read ``path`` with the record options in ``args``; an ``obspy.Stream`` in m/s²."""
     from stepframe.records import read
 

@@ -8,7 +8,7 @@ spectra, and geometric mean / RotD50 / RotD100 of two horizontal components) and
 from __future__ import annotations
 
 import argparse
-from typing import Any
+from typing import TYPE_CHECKING
 
 from stepframe.commands import (
     CommandResult,
@@ -19,8 +19,11 @@ from stepframe.commands import (
     read_record_file,
 )
 
+if TYPE_CHECKING:
+    from stepframe.commands import Subparsers
 
-def register(subparsers: Any) -> None:
+
+def register(subparsers: Subparsers) -> None:
     """Add the ``records`` commands to ``subparsers``."""
     info = add_command(
         subparsers,

@@ -11,7 +11,7 @@ the exact covariance method (optionally confirmed by Monte Carlo). The work is d
 from __future__ import annotations
 
 import argparse
-from typing import Any
+from typing import TYPE_CHECKING
 
 from stepframe.commands import (
     CommandResult,
@@ -21,6 +21,9 @@ from stepframe.commands import (
     record_options,
 )
 from stepframe.errors import InputError
+
+if TYPE_CHECKING:
+    from stepframe.commands import Subparsers
 
 EXAMPLES = """\
   # the paper's site (eq. 6.19: 5.67) and an oscillator at 3.12 Hz
@@ -34,7 +37,7 @@ EXAMPLES = """\
 """
 
 
-def register(subparsers: Any) -> None:
+def register(subparsers: Subparsers) -> None:
     """Add ``amplify`` to the ``stochastic`` group."""
     parser = add_command(
         subparsers,

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from stepframe.commands import (
     CommandResult,
@@ -23,6 +23,9 @@ from stepframe.commands import (
 )
 from stepframe.errors import InputError
 from stepframe.stochastic.methods import FREQUENCY_METHOD_NAMES, SPECTRUM_METHOD_NAMES
+
+if TYPE_CHECKING:
+    from stepframe.commands import Subparsers
 
 FIT_EXAMPLES = """\
   stepframe stochastic fit RSN8883_14383980_13849360.AT2
@@ -38,7 +41,7 @@ FEATURES_EXAMPLES = """\
 """
 
 
-def register(subparsers: Any) -> None:
+def register(subparsers: Subparsers) -> None:
     """Add ``fit`` and ``features`` to the ``stochastic`` group."""
     fit = add_command(
         subparsers,

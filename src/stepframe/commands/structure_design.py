@@ -12,10 +12,13 @@ iteration from each start, and the design answer δ*, T* and stepping effectiven
 from __future__ import annotations
 
 import argparse
-from typing import Any
+from typing import TYPE_CHECKING
 
 from stepframe.commands import CommandResult, add_command, float_list, positive_float
 from stepframe.pipeline.design import PIER_KEYS
+
+if TYPE_CHECKING:
+    from stepframe.commands import Subparsers
 
 EXAMPLES = """\
   # Example 2 of the paper (two-column steel frame), β = 0.8, W_col = 0 (the paper leaves it out):
@@ -40,7 +43,7 @@ _SPECTRUM_OPTIONS = {
 }
 
 
-def register(subparsers: Any) -> None:
+def register(subparsers: Subparsers) -> None:
     """Add ``design`` to the ``structure`` group."""
     parser = add_command(
         subparsers,

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import argparse
-from typing import Any
+from typing import TYPE_CHECKING
 
 from stepframe.commands import (
     CommandResult,
@@ -14,6 +14,11 @@ from stepframe.commands import (
     positive_float,
     read_record_file,
 )
+
+if TYPE_CHECKING:
+    from obspy import Stream, Trace
+
+    from stepframe.commands import Subparsers
 
 SIMULATE_EXAMPLES = """\
   stepframe structure frame-template > FRAME.toml
@@ -27,7 +32,7 @@ TEMPLATE_EXAMPLES = """\
 """
 
 
-def register(subparsers: Any) -> None:
+def register(subparsers: Subparsers) -> None:
     """Add ``simulate`` and ``frame-template`` to ``subparsers``."""
     simulate = add_command(
         subparsers,
@@ -74,7 +79,7 @@ def run_frame_template(args: argparse.Namespace) -> CommandResult:
     return CommandResult(data={"frame_toml": text}, text=text.rstrip("\n"))
 
 
-def _one_trace(stream: Any, path: str) -> Any:
+def _one_trace(stream: Stream, path: str) -> Trace:
     if len(stream) != 1:
         channels = ", ".join(str(trace.stats.channel) for trace in stream)
         raise UserError(
