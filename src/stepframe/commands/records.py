@@ -81,32 +81,10 @@ def register(subparsers: Subparsers) -> None:
 
 def run_info(args: argparse.Namespace) -> CommandResult:
     """One row per component of every file."""
-    from stepframe.records.intensity import intensity_measures
+    from stepframe.pipeline.record_spectra import info_text, record_info
 
-    rows = []
-    for path in args.paths:
-        for trace in read_record_file(path, args):
-            dt = float(trace.stats.delta)
-            measures = intensity_measures(trace.data, dt)
-            rows.append(
-                {
-                    "file": path,
-                    "station": trace.stats.station,
-                    "component": trace.stats.channel,
-                    "npts": int(trace.stats.npts),
-                    "dt_s": dt,
-                    "duration_s": dt * (int(trace.stats.npts) - 1),
-                    "units_in": trace.stats.stepframe.units_in,
-                    **{key: value for key, value in measures.items() if key != "pga_m_s2"},
-                }
-            )
-    text = "\n".join(
-        f"{r['file']} {r['station']} {r['component']}: {r['npts']} samples at {r['dt_s']} s, "
-        f"units {r['units_in']}, PGA {r['pga_g']:.4g} g, PGV {r['pgv_m_s']:.4g} m/s, "
-        f"PGD {r['pgd_m']:.4g} m, Arias {r['arias_m_s']:.4g} m/s, D5-95 {r['d5_95_s']:.4g} s"
-        for r in rows
-    )
-    return CommandResult(data=rows, text=text)
+    rows = [row for path in args.paths for row in record_info(read_record_file(path, args), path)]
+    return CommandResult(data=rows, text=info_text(rows))
 
 
 def run_spectrum(args: argparse.Namespace) -> CommandResult:

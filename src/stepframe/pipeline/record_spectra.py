@@ -1,13 +1,15 @@
-"""Stage: response spectra of a record's components, with RotD of two horizontal ones.
+"""Stage: a record's components described, and their response spectra with RotD.
 
-What ``stepframe records spectrum`` prints and draws: PSA [g], PSV [m/s] and SD [m] of each
-component (:func:`stepframe.records.spectra.response_spectrum`) and, with exactly two horizontal
+What ``stepframe records info`` prints (:func:`record_info`: sampling, units and intensity
+measures of each component), and what ``stepframe records spectrum`` prints and draws: PSA [g],
+PSV [m/s] and SD [m] of each component (:func:`stepframe.records.spectra.response_spectrum`) and, with exactly two horizontal
 components, their geometric mean, RotD50 and RotD100 (:mod:`stepframe.records.rotd`).
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from os import PathLike
 from typing import TYPE_CHECKING, Any
 
 from numpy.typing import ArrayLike
@@ -26,6 +28,41 @@ def is_vertical(channel: str) -> bool:
     """Whether a channel name is a vertical component (``UP``, ``Z``, SEED ``..Z``)."""
     name = channel.strip().lower()
     return name in VERTICAL_NAMES or (len(name) == 3 and name.endswith("z"))
+
+
+def record_info(traces: Sequence[Trace], file: str | PathLike[str] = "") -> list[dict[str, Any]]:
+    """One row per component: file, station, component, npts, dt [s], duration [s], the units
+    in the file, and the intensity measures of
+    :func:`stepframe.records.intensity.intensity_measures` (PGA in g only)."""
+    from stepframe.records.intensity import intensity_measures
+
+    rows = []
+    for trace in traces:
+        dt = float(trace.stats.delta)
+        measures = intensity_measures(trace.data, dt)
+        rows.append(
+            {
+                "file": str(file),
+                "station": trace.stats.station,
+                "component": trace.stats.channel,
+                "npts": int(trace.stats.npts),
+                "dt_s": dt,
+                "duration_s": dt * (int(trace.stats.npts) - 1),
+                "units_in": trace.stats.stepframe.units_in,
+                **{key: value for key, value in measures.items() if key != "pga_m_s2"},
+            }
+        )
+    return rows
+
+
+def info_text(rows: Sequence[Mapping[str, Any]]) -> str:
+    """:func:`record_info` rows as text, one line per component."""
+    return "\n".join(
+        f"{r['file']} {r['station']} {r['component']}: {r['npts']} samples at {r['dt_s']} s, "
+        f"units {r['units_in']}, PGA {r['pga_g']:.4g} g, PGV {r['pgv_m_s']:.4g} m/s, "
+        f"PGD {r['pgd_m']:.4g} m, Arias {r['arias_m_s']:.4g} m/s, D5-95 {r['d5_95_s']:.4g} s"
+        for r in rows
+    )
 
 
 def record_spectra(
@@ -124,4 +161,12 @@ def spectra_text(data: Mapping[str, Any]) -> str:
     return "\n".join(lines)
 
 
-__all__ = ["VERTICAL_NAMES", "is_vertical", "record_spectra", "spectra_figure", "spectra_text"]
+__all__ = [
+    "VERTICAL_NAMES",
+    "info_text",
+    "is_vertical",
+    "record_info",
+    "record_spectra",
+    "spectra_figure",
+    "spectra_text",
+]
