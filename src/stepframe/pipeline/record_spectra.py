@@ -2,8 +2,9 @@
 
 What ``stepframe records info`` prints (:func:`record_info`: sampling, units and intensity
 measures of each component), and what ``stepframe records spectrum`` prints and draws: PSA [g],
-PSV [m/s] and SD [m] of each component (:func:`stepframe.records.spectra.response_spectrum`) and, with exactly two horizontal
-components, their geometric mean, RotD50 and RotD100 (:mod:`stepframe.records.rotd`).
+PSV [m/s] and SD [m] of each component (:func:`stepframe.records.spectra.response_spectrum`)
+and, with exactly two horizontal components, their geometric mean, RotD50 and RotD100
+(:mod:`stepframe.records.rotd`).
 """
 
 from __future__ import annotations
