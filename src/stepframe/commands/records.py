@@ -71,7 +71,7 @@ def register(subparsers: Subparsers) -> None:
         help="catalogue a folder of records: one CSV row per component with intensity measures",
         examples="  stepframe records catalog records/ -o catalog.csv\n"
         "    writes catalog.csv, catalog.columns.csv (units and meanings) and\n"
-        "    catalog.failures.csv (item, stage, error type, message of each file it could not read)\n",
+        "    catalog.failures.csv (item, stage, error type, message of each unreadable file)\n",
         run=run_catalog,
     )
     catalog.add_argument("folder", metavar="DIR", help="folder walked recursively")
