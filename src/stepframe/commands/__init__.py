@@ -116,6 +116,11 @@ def add_record_options(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--component", metavar="NAME", help="which channel of a multi-channel file")
 
 
+def add_t0_option(parser: argparse.ArgumentParser | argparse._ArgumentGroup, help: str) -> None:
+    """``--t0 start|p-pick``: the time origin of eqs. 6.10-6.11 (default the record start)."""
+    parser.add_argument("--t0", choices=("start", "p-pick"), default="start", help=help)
+
+
 def read_record_file(path: str, args: argparse.Namespace) -> Stream:
     """Read ``path`` with the record options in ``args``; an ``obspy.Stream`` in m/s²."""
     from stepframe.records import read
@@ -196,6 +201,7 @@ __all__ = [
     "UserError",
     "add_command",
     "add_record_options",
+    "add_t0_option",
     "float_list",
     "group_modules",
     "non_negative_seconds",

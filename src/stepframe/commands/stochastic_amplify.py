@@ -17,6 +17,7 @@ from stepframe.commands import (
     CommandResult,
     add_command,
     add_record_options,
+    add_t0_option,
     positive_float,
     record_options,
 )
@@ -60,12 +61,7 @@ def register(subparsers: Subparsers) -> None:
     site.add_argument("--t-max-s", type=positive_float, metavar="T", help="time of peak I_g [s]")
     site.add_argument("--t-dur-s", type=positive_float, metavar="T", help="strong duration [s]")
     site.add_argument("--record", metavar="FILE", help="estimate the site from this record")
-    site.add_argument(
-        "--t0",
-        choices=("start", "p-pick"),
-        default="start",
-        help="with --record: time origin, record start (default) or picked P onset",
-    )
+    add_t0_option(site, "with --record: time origin, record start (default) or picked P onset")
     osc = parser.add_argument_group("oscillator (either --f0-hz or --frame)")
     osc.add_argument("--f0-hz", type=positive_float, metavar="F", help="small-amplitude f0 [Hz]")
     osc.add_argument("--frame", metavar="FRAME.toml", help="frame file: ω(t) = 2π/T(A)")

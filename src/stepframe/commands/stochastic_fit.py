@@ -17,6 +17,7 @@ from stepframe.commands import (
     CommandResult,
     add_command,
     add_record_options,
+    add_t0_option,
     positive_float,
     read_record_file,
     record_options,
@@ -102,12 +103,7 @@ def _add_estimation_options(parser: argparse.ArgumentParser) -> None:
         default="zero-crossing",
         help="ω_g(t) estimator, fast to dear (default zero-crossing)",
     )
-    parser.add_argument(
-        "--t0",
-        choices=("start", "p-pick"),
-        default="start",
-        help="time origin of eqs. 6.10-6.11: record start (default) or picked P onset",
-    )
+    add_t0_option(parser, "time origin of eqs. 6.10-6.11: record start (default) or picked P onset")
     parser.add_argument(
         "--omega-max-rad-s",
         type=positive_float,
