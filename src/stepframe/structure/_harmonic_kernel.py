@@ -83,7 +83,14 @@ def _coeffs(phase: int, prm: np.ndarray, amp: float) -> tuple[float, float, floa
 
 @njit(cache=True)
 def _segment(
-    beta: float, k: float, disc: float, q0: float, c: float, om: float, th0: float, x0: float,
+    beta: float,
+    k: float,
+    disc: float,
+    q0: float,
+    c: float,
+    om: float,
+    th0: float,
+    x0: float,
     v0: float,
 ) -> np.ndarray:
     """Closed-form coefficients of one phase from its start state (σ = 0 at angle θ₀)."""
@@ -187,10 +194,7 @@ def _hold_margins(s: float, ag: float, prm: np.ndarray) -> tuple[float, float]:
     """(outward push of the stepped side s, inward push) on the surface at rest; > 0 leaves."""
     w1, w2, p1, p2, g1, xc = prm[0], prm[1], prm[2], prm[3], prm[4], prm[7]
     out = w2 * w2 * xc - g1 - s * p2 * ag
-    if xc > 0.0:
-        inward = w1 * w1 * xc + s * p1 * ag
-    else:
-        inward = -g1 + s * p2 * ag
+    inward = w1 * w1 * xc + s * p1 * ag if xc > 0.0 else -g1 + s * p2 * ag
     return out, inward
 
 
@@ -261,7 +265,8 @@ def advance(
     x_star = g1 / (w2 * w2)
     lam1 = w2 * (math.sqrt(1.0 + xi2 * xi2) - xi2)
     lam2 = -w2 * (xi2 + math.sqrt(1.0 + xi2 * xi2))
-    esc = p2 * amp_bound / lam1
+    # Rounding margin: a state on the separatrix (z = 0 unforced) is not declared escaping.
+    esc = p2 * amp_bound / lam1 + 1e-11 * lam1 * x_star
     v_eps = 1e-11 * max(xc, x_star) * max(prm[0], w2)
     n_lift = 0
     n_imp = 0
@@ -484,8 +489,19 @@ def strobe(
     n_imp_total = 0
     for i in range(n_periods):
         st, x, v, phase, nl, ni, _pk, ov, _te = advance(
-            prm, amp, om, phi, i * period, (i + 1) * period, x, v, phase, jac, False,
-            max_events, abs(amp),
+            prm,
+            amp,
+            om,
+            phi,
+            i * period,
+            (i + 1) * period,
+            x,
+            v,
+            phase,
+            jac,
+            False,
+            max_events,
+            abs(amp),
         )
         n_imp_total += ni
         if st != K_OK:

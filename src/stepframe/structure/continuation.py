@@ -85,7 +85,13 @@ class _System:
 
     def map(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, bool]:
         s = stroboscopic_map(
-            self.frame, y[2], self.om, y[0], y[1], n_periods=self.n, phase_rad=self.phase,
+            self.frame,
+            y[2],
+            self.om,
+            y[0],
+            y[1],
+            n_periods=self.n,
+            phase_rad=self.phase,
             params=self.prm,
         )
         ok = s.status == "ok" and not s.overturned
@@ -103,8 +109,9 @@ class _System:
 
 
 def _tangent(d: np.ndarray) -> np.ndarray:
-    t = np.cross(d[0], d[1])
-    return t / np.linalg.norm(t)
+    t = np.asarray(np.cross(d[0], d[1]), dtype=float)
+    out: np.ndarray = t / float(np.linalg.norm(t))
+    return out
 
 
 def continue_orbit(
@@ -171,8 +178,9 @@ def continue_orbit(
     for _ in range(n_steps):
         mult = np.linalg.eigvals(jm)
         points.append(
-            BranchPoint(float(y[2]), float(y[0]), float(y[1]), mult,
-                        bool(np.all(np.abs(mult) < 1)), 0)
+            BranchPoint(
+                float(y[2]), float(y[0]), float(y[1]), mult, bool(np.all(np.abs(mult) < 1)), 0
+            )
         )
         h = step
         for _attempt in range(8):

@@ -277,7 +277,18 @@ def simulate_pulse(
         return PulseOutcome(True, float(pk), "ok", int(ni))
     phase = int(hk.start_phase(x, v, 0.0, prm)) if phase in (2, -2) else phase
     st2, x, v, phase, _nl2, ni2, pk2, ov2, _te2 = hk.advance(
-        prm, 0.0, om, phi, tp, tp * (1.0 + free_periods), x, v, phase, jac, False, max_events,
+        prm,
+        0.0,
+        om,
+        phi,
+        tp,
+        tp * (1.0 + free_periods),
+        x,
+        v,
+        phase,
+        jac,
+        False,
+        max_events,
         0.0,
     )
     peak = float(max(pk, pk2))
@@ -344,14 +355,23 @@ def stroboscopic_map(
     phases = []
     for i in range(n_periods):
         st, x, v, phase, nl, ni, _pk, ov, _te = hk.advance(
-            prm, amplitude_m_s2, omega_rad_s, phase_rad, i * period, (i + 1) * period, x, v,
-            phase, jac, True, max_events, amplitude_m_s2,
+            prm,
+            amplitude_m_s2,
+            omega_rad_s,
+            phase_rad,
+            i * period,
+            (i + 1) * period,
+            x,
+            v,
+            phase,
+            jac,
+            True,
+            max_events,
+            amplitude_m_s2,
         )
         n_imp += ni
         n_lift += nl
         phases.append(int(phase))
         if st != hk.K_OK or ov:
-            return MapStep(
-                x, v, jac, _KERNEL_STATUS[int(st)], bool(ov), n_imp, n_lift, phases
-            )
+            return MapStep(x, v, jac, _KERNEL_STATUS[int(st)], bool(ov), n_imp, n_lift, phases)
     return MapStep(x, v, jac, "ok", False, n_imp, n_lift, phases)

@@ -121,7 +121,13 @@ def find_periodic_orbit(
 
     def residual(z: np.ndarray) -> tuple[np.ndarray, np.ndarray, Any]:
         step = stroboscopic_map(
-            frame, amplitude_m_s2, om, z[0], z[1], n_periods=n_periods, phase_rad=phase_rad,
+            frame,
+            amplitude_m_s2,
+            om,
+            z[0],
+            z[1],
+            n_periods=n_periods,
+            phase_rad=phase_rad,
             params=prm,
         )
         f = np.array([step.x_m, step.v_m_s]) - z
@@ -194,8 +200,9 @@ def _is_symmetric(
     half = n * math.pi / om
     jac = np.eye(2)
     phase = int(hk.start_phase(z[0], z[1], amp * math.cos(phi), prm))
-    st, x, v, *_ = hk.advance(prm, amp, om, phi, 0.0, half, z[0], z[1], phase, jac, False,
-                              200_000, amp)
+    st, x, v, *_ = hk.advance(
+        prm, amp, om, phi, 0.0, half, z[0], z[1], phase, jac, False, 200_000, amp
+    )
     if st != hk.K_OK:
         return False
     size = max(abs(z[0]), abs(z[1]) / om, prm[7], 1e-300)
@@ -226,8 +233,14 @@ def finite_difference_jacobian(
             z = [x_m, v_m_s]
             z[col] += sign * steps[col]
             s = stroboscopic_map(
-                frame, amplitude_m_s2, omega_rad_s, z[0], z[1], n_periods=n_periods,
-                phase_rad=phase_rad, params=prm,
+                frame,
+                amplitude_m_s2,
+                omega_rad_s,
+                z[0],
+                z[1],
+                n_periods=n_periods,
+                phase_rad=phase_rad,
+                params=prm,
             )
             pts.append(np.array([s.x_m, s.v_m_s]))
         jac[:, col] = (pts[0] - pts[1]) / (2.0 * steps[col])
@@ -284,8 +297,21 @@ def symmetric_orbit_guess(
     phi0 = psi - 0.5 * math.pi
     quarter = 0.5 * math.pi / omega_rad_s
     jac = np.eye(2)
-    st, x, v, *_ = hk.advance(prm, amplitude_m_s2, omega_rad_s, phi0, 0.0, quarter, 0.0, v0, 1,
-                              jac, False, 200_000, amplitude_m_s2)
+    st, x, v, *_ = hk.advance(
+        prm,
+        amplitude_m_s2,
+        omega_rad_s,
+        phi0,
+        0.0,
+        quarter,
+        0.0,
+        v0,
+        1,
+        jac,
+        False,
+        200_000,
+        amplitude_m_s2,
+    )
     if st != hk.K_OK:
         return None
     return phi0 + omega_rad_s * quarter, float(x), float(v)
