@@ -267,7 +267,11 @@ def advance(
     lam2 = -w2 * (xi2 + math.sqrt(1.0 + xi2 * xi2))
     # Rounding margin: a state on the separatrix (z = 0 unforced) is not declared escaping.
     esc = p2 * amp_bound / lam1 + 1e-11 * lam1 * x_star
-    v_eps = 1e-11 * max(xc, x_star) * max(prm[0], w2)
+    # Rebound speeds below v_eps end an impact sequence in the hold state: the excursion they
+    # allow, v²/γ₁, would be below the rounding of x (~1e-16·x*) once v < 1e-8·ω₂x*, where root
+    # finding on the closed form stops being meaningful; the energy left is ~1e-14 of the
+    # separatrix energy.
+    v_eps = 1e-7 * w2 * x_star
     n_lift = 0
     n_imp = 0
     n_ev = 0
