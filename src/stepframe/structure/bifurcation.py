@@ -37,6 +37,10 @@ def _chunk(item: tuple[Any, ...]) -> tuple[np.ndarray, np.ndarray]:
     return np.asarray(out), np.asarray(flags)
 
 
+def _chunk_name(item: tuple[Any, ...]) -> str:
+    return f"A = {item[1][0]:.6g}..{item[1][-1]:.6g} m/s²"
+
+
 def initial_states(frame: Any, n: int, *, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
     """n initial states spread over the region the frame can survive from.
 
@@ -132,7 +136,7 @@ def bifurcation_diagram(
     ]
     outcome = map_items(
         _chunk, items, jobs=jobs, executor=executor, chunk_size=1, stage="bifurcation",
-        name_of=lambda it: f"A = {it[1][0]:.6g}..{it[1][-1]:.6g} m/s²",
+        name_of=_chunk_name,
     )
     pts = np.full((amps.size, x0.size, n_keep, 4), np.nan)
     code = np.full((amps.size, x0.size), OUTCOME_STOPPED, dtype=np.int8)
