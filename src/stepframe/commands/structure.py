@@ -7,7 +7,8 @@ from typing import Any
 
 def register(subparsers: Any) -> None:
     """Add the ``structure`` commands: design (quasi-dynamic) and frame/simulation commands."""
-    from stepframe.commands import structure_design, structure_simulate
+    from stepframe.commands import structure_design, structure_dynamics, structure_simulate
 
     structure_design.register(subparsers)
     structure_simulate.register(subparsers)
+    structure_dynamics.register(subparsers)

@@ -118,7 +118,9 @@ def bifurcation_diagram(
     if not (math.isfinite(omega_rad_s) and omega_rad_s > 0):
         raise InputError(f"omega_rad_s = {omega_rad_s}, expected > 0")
     if n_keep < 1 or n_periods < n_keep:
-        raise InputError(f"n_keep = {n_keep}, n_periods = {n_periods}, expected 1 ≤ n_keep ≤ n_periods")
+        raise InputError(
+            f"n_keep = {n_keep}, n_periods = {n_periods}, expected 1 ≤ n_keep ≤ n_periods"
+        )
     if x0_m is None or v0_m_s is None:
         x0, v0 = initial_states(frame, n_initial, seed=seed)
     else:
@@ -130,12 +132,26 @@ def bifurcation_diagram(
     size = chunk_amplitudes or max(1, math.ceil(amps.size / (4 * max(workers, 1))))
     starts = list(range(0, amps.size, size))
     items = [
-        (prm, amps[s : s + size], float(omega_rad_s), float(phase_rad), x0, v0, int(n_periods),
-         int(n_keep), DEFAULT_MAX_EVENTS)
+        (
+            prm,
+            amps[s : s + size],
+            float(omega_rad_s),
+            float(phase_rad),
+            x0,
+            v0,
+            int(n_periods),
+            int(n_keep),
+            DEFAULT_MAX_EVENTS,
+        )
         for s in starts
     ]
     outcome = map_items(
-        _chunk, items, jobs=jobs, executor=executor, chunk_size=1, stage="bifurcation",
+        _chunk,
+        items,
+        jobs=jobs,
+        executor=executor,
+        chunk_size=1,
+        stage="bifurcation",
         name_of=_chunk_name,
     )
     pts = np.full((amps.size, x0.size, n_keep, 4), np.nan)
@@ -150,8 +166,11 @@ def bifurcation_diagram(
             "x_m": (("amplitude", "initial", "sample"), pts[..., 0], {"units": "m"}),
             "v_m_s": (("amplitude", "initial", "sample"), pts[..., 1], {"units": "m/s"}),
             "impacts": (("amplitude", "initial", "sample"), pts[..., 2], {"units": "1/period"}),
-            "outcome": (("amplitude", "initial"), code,
-                        {"meaning": "0 survives, 1 overturns, 2 stopped (kernel status)"}),
+            "outcome": (
+                ("amplitude", "initial"),
+                code,
+                {"meaning": "0 survives, 1 overturns, 2 stopped (kernel status)"},
+            ),
             "x0_m": (("initial",), x0, {"units": "m"}),
             "v0_m_s": (("initial",), v0, {"units": "m/s"}),
         },
@@ -208,15 +227,26 @@ def basin_of_overturning(
     vs = np.asarray(v_m_s, dtype=float)
     gx, gv = np.meshgrid(xs, vs)
     ds = bifurcation_diagram(
-        frame, [amplitude_m_s2], omega_rad_s, x0_m=gx.ravel(), v0_m_s=gv.ravel(),
-        n_periods=n_periods, n_keep=1, phase_rad=phase_rad, jobs=jobs, executor=executor,
+        frame,
+        [amplitude_m_s2],
+        omega_rad_s,
+        x0_m=gx.ravel(),
+        v0_m_s=gv.ravel(),
+        n_periods=n_periods,
+        n_keep=1,
+        phase_rad=phase_rad,
+        jobs=jobs,
+        executor=executor,
     )
     grid = ds["outcome"].values[0].reshape(gv.shape)
     return xr.DataArray(
         grid,
         dims=("v", "x"),
         coords={"x": ("x", xs, {"units": "m"}), "v": ("v", vs, {"units": "m/s"})},
-        attrs={"meaning": "0 survives, 1 overturns, 2 stopped (kernel status)",
-               "amplitude_m_s2": float(amplitude_m_s2), "omega_rad_s": float(omega_rad_s)},
+        attrs={
+            "meaning": "0 survives, 1 overturns, 2 stopped (kernel status)",
+            "amplitude_m_s2": float(amplitude_m_s2),
+            "omega_rad_s": float(omega_rad_s),
+        },
         name="outcome",
     )

@@ -243,10 +243,12 @@ def fixed_step_runs(items: Sequence[ItemIda], settings: IdaSettings) -> int:
     """
     total = 0
     for item in items:
-        top = item.first_overturning if item.first_overturning is not None else (
-            item.intensity[-1] if item.intensity else settings.start
+        top = (
+            item.first_overturning
+            if item.first_overturning is not None
+            else (item.intensity[-1] if item.intensity else settings.start)
         )
-        total += int(math.floor((top - settings.start) / settings.resolution + 1e-9)) + 1
+        total += math.floor((top - settings.start) / settings.resolution + 1e-9) + 1
     return total
 
 
@@ -277,8 +279,9 @@ def capacity_fractiles(
 ) -> dict[str, float]:
     """Fractiles of the first-overturning intensity over items (lower bounds count as found)."""
     vals = [
-        it.first_overturning if it.first_overturning is not None else
-        (it.intensity[-1] if it.intensity else math.nan)
+        it.first_overturning
+        if it.first_overturning is not None
+        else (it.intensity[-1] if it.intensity else math.nan)
         for it in items
     ]
     arr = np.asarray(vals, dtype=float)
@@ -310,7 +313,8 @@ def ida_records(
         Intensity of the unscaled record (acc [m/s²], dt [s]) in the unit of the settings;
         default PGA [g] (9.80665 m/s² per g).
     tail_s
-        Free vibration after each record [s] (as in :func:`~stepframe.structure.simulator.simulate`).
+        Free vibration after each record [s] (as in
+        :func:`~stepframe.structure.simulator.simulate`).
     """
     from stepframe.structure.simulator import simulate_batch
 
