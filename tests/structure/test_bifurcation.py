@@ -23,8 +23,7 @@ BLOCK = PortalFrame.housner_block(half_width_m=0.25, half_height_m=1.0, c_r=0.9)
 def test_diagram_points_are_the_iterated_map() -> None:
     amps = np.array([0.3, 0.5]) * 9.81
     x0, v0 = initial_states(BLOCK, 3, seed=1)
-    ds = bifurcation_diagram(BLOCK, amps, 16.0, x0_m=x0, v0_m_s=v0, n_periods=12, n_keep=4,
-                             jobs=1)
+    ds = bifurcation_diagram(BLOCK, amps, 16.0, x0_m=x0, v0_m_s=v0, n_periods=12, n_keep=4, jobs=1)
     for a, amp in enumerate(amps):
         for j in range(3):
             step = stroboscopic_map(BLOCK, amp, 16.0, x0[j], v0[j], n_periods=12)
