@@ -49,8 +49,8 @@ def test_free_rocking_basin_is_the_separatrix() -> None:
                 continue
             first = z > 0
             if not first and side * v < 0:
-                # Moving inwards: it crosses to the other side with speed √(v² + p²(x*² - (x*-|x|)²))
-                # ... minus the impact; escape there needs C_r·speed > p·x*.
+                # Moving inwards it reaches x = 0 with speed √(v² + p²(x*² - (x* - |x|)²)) and
+                # leaves the impact with C_r times that: escape there needs C_r·speed > p·x*.
                 speed = math.sqrt(v * v - p * p * ((x_star - abs(x)) ** 2 - x_star**2))
                 first = BLOCK.c_r * speed > p * x_star
             assert basin.values[i, j] == int(first), (x, v)
