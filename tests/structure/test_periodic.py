@@ -108,3 +108,31 @@ def test_floquet_multiplier_crosses_plus_one_at_the_fold() -> None:
     # Both orbits of the pair have a multiplier near +1 just above the saddle-node.
     for m in mults:
         assert np.min(np.abs(m - 1.0)) < 0.02
+
+
+def test_symmetry_breaking_branch_point_is_where_stability_is_lost() -> None:
+    omega_bar = 2.0
+    omega = omega_bar * P
+    amp = 1.05 * eq_5_15(omega_bar, 0.9, 1) * G_ALPHA
+    phase, x, v = symmetric_orbit_guess(BLOCK, amp, omega, branch=1)  # type: ignore[misc]
+    branch = continue_orbit(
+        BLOCK,
+        omega,
+        amp,
+        x,
+        v,
+        phase_rad=phase,
+        n_steps=300,
+        direction=1.0,
+        amplitude_range_m_s2=(0.0, 3.0 * G_ALPHA),
+    )
+    assert branch.branch_points_m_s2, branch.message
+    a_bp = branch.branch_points_m_s2[0]
+    # Independently: the closed-form symmetric orbit's multipliers from finite differences of the
+    # simulated map are inside the unit circle just below and outside just above.
+    radii = []
+    for factor in (1 - 1e-4, 1 + 1e-4):
+        ph, xs, vs = symmetric_orbit_guess(BLOCK, a_bp * factor, omega, branch=1)  # type: ignore[misc]
+        fd = finite_difference_jacobian(BLOCK, a_bp * factor, omega, xs, vs, phase_rad=ph)
+        radii.append(np.max(np.abs(np.linalg.eigvals(fd))))
+    assert radii[0] < 1.0 < radii[1]

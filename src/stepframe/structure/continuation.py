@@ -9,7 +9,9 @@ t·(y - y_pred) = 0 (Keller 1977), which passes folds where A turns back.
 Along the branch: a fold (saddle-node) is where the A-component of the tangent changes sign
 (a Floquet multiplier crosses +1, det(J - I) = 0); it is then located by Newton on the extended
 system G = 0, det(J - I) = 0 in (x, ẋ, A). A period doubling is where det(J + I) changes sign
-(a multiplier crosses -1); its amplitude is interpolated.
+(a multiplier crosses -1); its amplitude is interpolated. Where det(J - I) changes sign while A
+keeps its sense the branch meets another (a pitchfork: for symmetric orbits of the rocking block,
+the symmetry-breaking bifurcation to asymmetric orbits); it is located like a fold.
 """
 
 from __future__ import annotations
@@ -47,6 +49,9 @@ class Branch:
         Amplitudes of the folds (saddle-nodes) found [m/s²], located by Newton.
     period_doublings_m_s2
         Amplitudes where a multiplier crossed -1 [m/s²] (linear interpolation).
+    branch_points_m_s2
+        Amplitudes where a multiplier crossed +1 while A kept its sense [m/s²]: a pitchfork,
+        for symmetric orbits the symmetry-breaking bifurcation (located like a fold).
     status
         ``ok``, or ``not_converged`` when a corrector failed and the branch stopped early
         (``message`` says where).
@@ -55,6 +60,7 @@ class Branch:
     points: list[BranchPoint]
     folds_m_s2: list[float] = field(default_factory=list)
     period_doublings_m_s2: list[float] = field(default_factory=list)
+    branch_points_m_s2: list[float] = field(default_factory=list)
     status: Status = "ok"
     message: str = ""
 
@@ -67,6 +73,7 @@ class Branch:
             "stable": [p.stable for p in self.points],
             "folds_m_s2": self.folds_m_s2,
             "period_doublings_m_s2": self.period_doublings_m_s2,
+            "branch_points_m_s2": self.branch_points_m_s2,
             "status": self.status,
             "message": self.message,
         }
@@ -172,6 +179,8 @@ def continue_orbit(
     if np.sign(t_prev[2]) != np.sign(direction) and t_prev[2] != 0:
         t_prev = -t_prev
     pd_prev = float(np.linalg.det(jm + np.eye(2)))
+    bp_prev = float(np.linalg.det(jm - np.eye(2)))
+    bps: list[float] = []
     status: Status = "ok"
     message = ""
     ys = y * w
@@ -210,20 +219,28 @@ def continue_orbit(
         t_new = _tangent(d / w)
         if t_new @ t_prev < 0:
             t_new = -t_new
+        bp_new = float(np.linalg.det(jm_new - np.eye(2)))
         if np.sign(t_new[2]) != np.sign(t_prev[2]):
             fold = _locate_fold(sys_, z / w)
             if fold is not None:
                 folds.append(fold)
+        elif np.sign(bp_new) != np.sign(bp_prev):
+            a0, a1 = ys[2] / w[2], z[2] / w[2]
+            guess = a0 + (a1 - a0) * bp_prev / (bp_prev - bp_new)
+            located = _locate_fold(sys_, z / w)
+            ok_loc = located is not None and min(a0, a1) <= located <= max(a0, a1)
+            bps.append(float(located) if ok_loc else float(guess))  # type: ignore[arg-type]
+        bp_prev = bp_new
         pd_new = float(np.linalg.det(jm_new + np.eye(2)))
         if np.sign(pd_new) != np.sign(pd_prev):
-            a0, a1 = ys[2], z[2]
+            a0, a1 = ys[2] / w[2], z[2] / w[2]
             pds.append(float(a0 + (a1 - a0) * pd_prev / (pd_prev - pd_new)))
         pd_prev = pd_new
         ys, t_prev, jm = z, t_new, jm_new
         y = ys / w
         if not amplitude_range_m_s2[0] <= y[2] <= amplitude_range_m_s2[1]:
             break
-    return Branch(points, folds, pds, status, message)
+    return Branch(points, folds, pds, bps, status, message)
 
 
 def _locate_fold(sys_: _System, y0: np.ndarray) -> float | None:
