@@ -205,3 +205,22 @@ def test_pulse_below_uplift_does_nothing_and_bad_input_raises() -> None:
         simulate_harmonic(block, -1.0, 1.0, 1.0)
     with pytest.raises(InputError):
         simulate_pulse(block, 1.0, 1.0, kind="square")  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(("factor", "lifts"), [(1 - 1e-9, False), (1.0, None), (1 + 1e-6, True)])
+def test_grazing_steady_state_at_the_switching_surface(factor: float, lifts: bool | None) -> None:
+    # The unstepped steady state whose amplitude is exactly x_c touches the surface tangentially
+    # once per half period; started on it there is no transient.
+    frame = example3_frame()
+    om = 7.854
+    h = 1 / complex(frame.omega_1_rad_s**2 - om**2, 2 * frame.xi_1 * frame.omega_1_rad_s * om)
+    amp_graze = frame.x_c_m / (frame.p_1 * abs(h))
+    amp = factor * amp_graze
+    x0 = (-frame.p_1 * amp * h).real
+    v0 = (-frame.p_1 * amp * 1j * om * h).real
+    run = simulate_harmonic(frame, amp, om, 20 * 2 * math.pi / om, x0_m=x0, v0_m_s=v0)
+    assert run.status == "ok" and np.all(np.isfinite(run.x_m))
+    if lifts is not None:
+        assert (run.n_liftoffs > 0) is lifts
+    if lifts is False:
+        assert run.peak_abs_x_m == pytest.approx(factor * frame.x_c_m, rel=1e-9)

@@ -439,11 +439,9 @@ def run_ida(args: argparse.Namespace) -> CommandResult:
     ]
     for row in data["items"][:50]:
         first = row["first_overturning"]
-        lines.append(
-            f"  {row['item']}: first overturning {first if first is None else round(first, 6)}"
-            f" ({row['status']})"
-            + (f", resurrections {row['resurrections']}" if row["resurrected"] else "")
-        )
+        shown = "none found" if first is None or first != first else f"{first:.6g}"
+        extra = f", resurrections {row['resurrections']}" if row["resurrected"] else ""
+        lines.append(f"  {row['item']}: first overturning {shown} ({row['status']}){extra}")
     lines.append(
         "fractiles of the first overturning: " + ", ".join(f"{k} {v:.4g}" for k, v in fr.items())
     )

@@ -50,7 +50,8 @@ class PeriodicOrbit:
         Newton iterations used.
     status
         ``ok``; ``not_converged`` when Newton stalled; ``failed`` when the map overturned or
-        stopped.
+        stopped; ``degraded`` for a state held on the switching surface (multipliers not
+        meaningful).
     """
 
     x_m: float
@@ -173,6 +174,20 @@ def find_periodic_orbit(
     res = float(np.linalg.norm((np.array([final.x_m, final.v_m_s]) - z) * scale))
     if status == "ok" and not res <= 10 * tol_m:
         status = "not_converged"
+    xc = prm[7]
+    if (
+        status == "ok"
+        and final.n_impacts == 0
+        and final.n_liftoffs == 0
+        and abs(z[0]) == xc
+        and z[1] == 0.0
+        and all(abs(ph) == 2 for ph in final.phases)
+    ):
+        # Held on the switching surface (at rest on the base for x_c = 0) the whole time: the map
+        # is the identity there but a perturbation off the surface starts motion, so the
+        # multipliers say nothing about stability.
+        status = "degraded"
+        message = "held on the switching surface: multipliers not meaningful"
     symmetric = False
     if n_periods % 2 == 1 and status == "ok":
         symmetric = _is_symmetric(prm, amplitude_m_s2, om, phase_rad, z, n_periods, tol_m)
