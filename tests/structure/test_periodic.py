@@ -90,8 +90,8 @@ def test_continuation_fold_is_the_saddle_node_of_eq_5_15(omega_bar: float, n: in
     amp = 1.3 * r_sn * G_ALPHA
     phase, x, v = symmetric_orbit_guess(BLOCK, amp, omega, n=n, branch=1)  # type: ignore[misc]
     branch = continue_orbit(BLOCK, omega, amp, x, v, phase_rad=phase, n_periods=n, n_steps=150)
-    assert branch.folds_m_s2, branch.message
-    assert branch.folds_m_s2[0] / G_ALPHA == pytest.approx(r_sn, rel=1e-9)
+    assert branch.folds, branch.message
+    assert branch.folds[0] / G_ALPHA == pytest.approx(r_sn, rel=1e-9)
     # Below the fold there is no symmetric orbit.
     assert symmetric_orbit_guess(BLOCK, 0.999 * r_sn * G_ALPHA, omega, n=n) is None
 
@@ -124,10 +124,10 @@ def test_symmetry_breaking_branch_point_is_where_stability_is_lost() -> None:
         phase_rad=phase,
         n_steps=300,
         direction=1.0,
-        amplitude_range_m_s2=(0.0, 3.0 * G_ALPHA),
+        parameter_range=(0.0, 3.0 * G_ALPHA),
     )
-    assert branch.branch_points_m_s2, branch.message
-    a_bp = branch.branch_points_m_s2[0]
+    assert branch.branch_points, branch.message
+    a_bp = branch.branch_points[0]
     # Independently: the closed-form symmetric orbit's multipliers from finite differences of the
     # simulated map are inside the unit circle just below and outside just above.
     radii = []
@@ -136,3 +136,27 @@ def test_symmetry_breaking_branch_point_is_where_stability_is_lost() -> None:
         fd = finite_difference_jacobian(BLOCK, a_bp * factor, omega, xs, vs, phase_rad=ph)
         radii.append(np.max(np.abs(np.linalg.eigvals(fd))))
     assert radii[0] < 1.0 < radii[1]
+
+
+def test_continuation_in_frequency_finds_the_eq_5_15_fold() -> None:
+    # Eq. 5.15 (n = 1) rises with ω̄: at fixed r the symmetric (2, 1) orbits exist below the
+    # ω̄ where eq. 5.15 = r, and the family folds there.
+    r = 0.115
+    omega_bar = 1.5
+    amp = r * G_ALPHA
+    assert eq_5_15(omega_bar, 0.9, 1) < r
+    phase, x, v = symmetric_orbit_guess(BLOCK, amp, omega_bar * P, branch=1)  # type: ignore[misc]
+    branch = continue_orbit(
+        BLOCK,
+        omega_bar * P,
+        amp,
+        x,
+        v,
+        phase_rad=phase,
+        parameter="omega_rad_s",
+        n_steps=300,
+        direction=1.0,
+    )
+    assert branch.parameter == "omega_rad_s" and branch.folds, branch.message
+    omega_fold_bar = branch.folds[0] / P
+    assert eq_5_15(omega_fold_bar, 0.9, 1) == pytest.approx(r, rel=1e-8)

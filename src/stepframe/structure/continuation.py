@@ -1,14 +1,15 @@
-"""Pseudo-arclength continuation of periodic orbits in the forcing amplitude.
+"""Pseudo-arclength continuation of periodic orbits in the forcing amplitude or frequency.
 
-Unknowns y = (x, ẋ, A); equations G(y) = P^n(x, ẋ; A) - (x, ẋ) = 0. The state columns of ∂G
-are the exact Jacobian of the map minus I; the amplitude column is a central difference. The
+Unknowns y = (x, ẋ, λ) with λ the forcing amplitude A or frequency ω; equations
+G(y) = P^n(x, ẋ; λ) - (x, ẋ) = 0. The state columns of ∂G are the exact Jacobian of the map minus
+I; the parameter column is a central difference. The
 tangent is the null vector of the 2×3 matrix ∂G (the cross product of its rows); each step
 predicts along it and corrects by Newton on G = 0 with the arclength condition
 t·(y - y_pred) = 0 (Keller 1977), which passes folds where A turns back.
 
 Along the branch: a fold (saddle-node) is where the A-component of the tangent changes sign
 (a Floquet multiplier crosses +1, det(J - I) = 0); it is then located by Newton on the extended
-system G = 0, det(J - I) = 0 in (x, ẋ, A). A period doubling is where det(J + I) changes sign
+system G = 0, det(J - I) = 0 in (x, ẋ, λ). A period doubling is where det(J + I) changes sign
 (a multiplier crosses -1); its amplitude is interpolated. Where det(J - I) changes sign while A
 keeps its sense the branch meets another (a pitchfork: for symmetric orbits of the rocking block,
 the symmetry-breaking bifurcation to asymmetric orbits); it is located like a fold.
@@ -17,11 +18,12 @@ the symmetry-breaking bifurcation to asymmetric orbits); it is located like a fo
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 
 from stepframe.core.results import Status
+from stepframe.errors import InputError
 from stepframe.structure.harmonic import frame_parameters, stroboscopic_map
 
 
@@ -30,11 +32,11 @@ class BranchPoint:
     """One orbit on a continued branch."""
 
     amplitude_m_s2: float
+    omega_rad_s: float
     x_m: float
     v_m_s: float
     multipliers: np.ndarray
     stable: bool
-    n_impacts: int
 
 
 @dataclass(frozen=True)
@@ -45,12 +47,15 @@ class Branch:
     ----------
     points
         Orbits in arclength order.
-    folds_m_s2
-        Amplitudes of the folds (saddle-nodes) found [m/s²], located by Newton.
-    period_doublings_m_s2
-        Amplitudes where a multiplier crossed -1 [m/s²] (linear interpolation).
-    branch_points_m_s2
-        Amplitudes where a multiplier crossed +1 while A kept its sense [m/s²]: a pitchfork,
+    parameter
+        The continued parameter: ``"amplitude_m_s2"`` (A) or ``"omega_rad_s"`` (ω); the
+        bifurcation values below are in its unit.
+    folds
+        Parameter values of the folds (saddle-nodes) found, located by Newton.
+    period_doublings
+        Values where a multiplier crossed -1 (linear interpolation).
+    branch_points
+        Values where a multiplier crossed +1 while the parameter kept its sense: a pitchfork,
         for symmetric orbits the symmetry-breaking bifurcation (located like a fold).
     status
         ``ok``, or ``not_converged`` when a corrector failed and the branch stopped early
@@ -58,43 +63,52 @@ class Branch:
     """
 
     points: list[BranchPoint]
-    folds_m_s2: list[float] = field(default_factory=list)
-    period_doublings_m_s2: list[float] = field(default_factory=list)
-    branch_points_m_s2: list[float] = field(default_factory=list)
+    parameter: str = "amplitude_m_s2"
+    folds: list[float] = field(default_factory=list)
+    period_doublings: list[float] = field(default_factory=list)
+    branch_points: list[float] = field(default_factory=list)
     status: Status = "ok"
     message: str = ""
 
     def to_dict(self) -> dict[str, Any]:
         """Plain values."""
         return {
+            "parameter": self.parameter,
             "amplitude_m_s2": [p.amplitude_m_s2 for p in self.points],
+            "omega_rad_s": [p.omega_rad_s for p in self.points],
             "x_m": [p.x_m for p in self.points],
             "v_m_s": [p.v_m_s for p in self.points],
             "stable": [p.stable for p in self.points],
-            "folds_m_s2": self.folds_m_s2,
-            "period_doublings_m_s2": self.period_doublings_m_s2,
-            "branch_points_m_s2": self.branch_points_m_s2,
+            "folds": self.folds,
+            "period_doublings": self.period_doublings,
+            "branch_points": self.branch_points,
             "status": self.status,
             "message": self.message,
         }
 
 
 class _System:
-    def __init__(self, frame: Any, omega: float, phase: float, n: int) -> None:
+    def __init__(
+        self, frame: Any, omega: float, amp: float, phase: float, n: int, by_omega: bool
+    ) -> None:
         self.frame = frame
         self.prm = frame_parameters(frame)
         self.om = omega
+        self.amp = amp
         self.phase = phase
         self.n = n
+        self.by_omega = by_omega
         # Scaled unknowns of comparable size, all in metres: ẋ/ω, and A by the stepped phase's
-        # quasi-static response P₂A/(ω² + ω₂²) (eq. 5.6).
-        self.w = np.array([1.0, 1.0 / omega, self.prm[3] / (omega**2 + self.prm[1] ** 2)])
+        # quasi-static response P₂A/(ω² + ω₂²) (eq. 5.6), or ω relative to its start times x*.
+        x_star = self.prm[4] / self.prm[1] ** 2
+        w3 = x_star / omega if by_omega else self.prm[3] / (omega**2 + self.prm[1] ** 2)
+        self.w = np.array([1.0, 1.0 / omega, w3])
 
     def map(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, bool]:
         s = stroboscopic_map(
             self.frame,
-            y[2],
-            self.om,
+            self.amp if self.by_omega else y[2],
+            y[2] if self.by_omega else self.om,
             y[0],
             y[1],
             n_periods=self.n,
@@ -133,10 +147,11 @@ def continue_orbit(
     step_m: float | None = None,
     n_steps: int = 200,
     direction: float = -1.0,
-    amplitude_range_m_s2: tuple[float, float] = (0.0, np.inf),
+    parameter: Literal["amplitude_m_s2", "omega_rad_s"] = "amplitude_m_s2",
+    parameter_range: tuple[float, float] = (0.0, np.inf),
     tol: float = 1e-11,
 ) -> Branch:
-    """Follow the period-n orbit through (x, ẋ) at amplitude A by pseudo-arclength.
+    """Follow the period-n orbit through (x, ẋ) at (A, ω) by pseudo-arclength in A or ω.
 
     Parameters
     ----------
@@ -154,21 +169,29 @@ def continue_orbit(
     n_steps
         Steps taken at most.
     direction
-        Initial sense of A along the tangent (-1: decreasing A).
-    amplitude_range_m_s2
-        The branch stops when A leaves this range.
+        Initial sense of the parameter along the tangent (-1: decreasing).
+    parameter
+        ``"amplitude_m_s2"`` (continue in A at fixed ω) or ``"omega_rad_s"`` (in ω at fixed A;
+        the section stays at the forcing phase ``phase_rad``).
+    parameter_range
+        The branch stops when the parameter leaves this range.
     tol
         Corrector tolerance on |G| [m].
     """
-    sys_ = _System(frame, float(omega_rad_s), float(phase_rad), int(n_periods))
+    if parameter not in ("amplitude_m_s2", "omega_rad_s"):
+        raise InputError(f"parameter = {parameter!r}, expected 'amplitude_m_s2' or 'omega_rad_s'")
+    by_omega = parameter == "omega_rad_s"
+    sys_ = _System(
+        frame, float(omega_rad_s), float(amplitude_m_s2), float(phase_rad), int(n_periods), by_omega
+    )
     w = sys_.w
     step = sys_.prm[4] / sys_.prm[1] ** 2 / 200.0 if step_m is None else float(step_m)
-    y = np.array([x_m, v_m_s, amplitude_m_s2], dtype=float)
+    y = np.array([x_m, v_m_s, omega_rad_s if by_omega else amplitude_m_s2], dtype=float)
     # Correct the first point at fixed A.
     for _ in range(50):
         g, d, jm, ok = sys_.jacobian(y)
         if not ok:
-            return Branch([], status="failed", message="the start point overturned")
+            return Branch([], parameter, status="failed", message="the start point overturned")
         if np.linalg.norm(g * w[:2]) < tol:
             break
         y[:2] += np.linalg.solve(d[:, :2], -g)
@@ -188,7 +211,12 @@ def continue_orbit(
         mult = np.linalg.eigvals(jm)
         points.append(
             BranchPoint(
-                float(y[2]), float(y[0]), float(y[1]), mult, bool(np.all(np.abs(mult) < 1)), 0
+                float(sys_.amp if by_omega else y[2]),
+                float(y[2] if by_omega else sys_.om),
+                float(y[0]),
+                float(y[1]),
+                mult,
+                bool(np.all(np.abs(mult) < 1)),
             )
         )
         h = step
@@ -213,7 +241,7 @@ def continue_orbit(
             h *= 0.5
         else:
             status = "not_converged"
-            message = f"corrector failed near A = {y[2]:.6g} m/s²"
+            message = f"corrector failed near {parameter} = {y[2]:.6g}"
             break
         g, d, jm_new, _ok = sys_.jacobian(z / w)
         t_new = _tangent(d / w)
@@ -238,9 +266,9 @@ def continue_orbit(
         pd_prev = pd_new
         ys, t_prev, jm = z, t_new, jm_new
         y = ys / w
-        if not amplitude_range_m_s2[0] <= y[2] <= amplitude_range_m_s2[1]:
+        if not parameter_range[0] <= y[2] <= parameter_range[1]:
             break
-    return Branch(points, folds, pds, bps, status, message)
+    return Branch(points, parameter, folds, pds, bps, status, message)
 
 
 def _locate_fold(sys_: _System, y0: np.ndarray) -> float | None:
