@@ -65,3 +65,20 @@ def test_orbit_period_and_bad_input() -> None:
         bifurcation_diagram(BLOCK, [-1.0], 1.0)
     with pytest.raises(InputError):
         bifurcation_diagram(BLOCK, [1.0], 0.0)
+
+
+def test_frequency_diagram_points_are_the_iterated_map() -> None:
+    from stepframe.structure.bifurcation import frequency_diagram
+
+    oms = np.array([8.0, 16.0, 30.0])
+    x0, v0 = initial_states(BLOCK, 2, seed=3)
+    ds = frequency_diagram(
+        BLOCK, 0.3 * 9.81, oms, x0_m=x0, v0_m_s=v0, n_periods=10, n_keep=2, jobs=1
+    )
+    assert list(ds["omega"].values) == list(oms)
+    for k, om in enumerate(oms):
+        for j in range(2):
+            step = stroboscopic_map(BLOCK, 0.3 * 9.81, om, x0[j], v0[j], n_periods=10)
+            assert (ds["outcome"].values[k, j] == 1) == step.overturned
+            if not step.overturned:
+                assert ds["x_m"].values[k, j, -1] == pytest.approx(step.x_m, abs=1e-12)

@@ -51,7 +51,7 @@ def test_harmonic_json_matches_the_library_and_finds_a_stable_orbit(
     assert plot.stat().st_size > 1000
 
 
-def test_bifurcation_and_ida_commands(capsys: pytest.CaptureFixture[str]) -> None:
+def test_bifurcation_and_ida_commands(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
     status, out, err = run(
         capsys,
         "structure",
@@ -71,7 +71,7 @@ def test_bifurcation_and_ida_commands(capsys: pytest.CaptureFixture[str]) -> Non
         "--json",
     )
     assert (status, err) == (0, "")
-    rows = json.loads(out)["amplitudes"]
+    rows = json.loads(out)["points"]
     assert [round(r["amplitude_g"], 6) for r in rows] == [0.1, 0.2, 0.3]
     status, out, err = run(
         capsys,
@@ -108,6 +108,7 @@ def test_bifurcation_and_ida_commands(capsys: pytest.CaptureFixture[str]) -> Non
             "--amplitudes-g",
             "0.5,0.1,3",
         ],
+        ["structure", "bifurcation", "--block", "0.25,1", "--amplitude-g", "0.1"],
         ["structure", "ida", "--block", "0.25,1"],
         ["structure", "ida", "--block", "0.25,1", "--pulse", "cosine"],
         ["structure", "ida", "--frame", "/nonexistent/FRAME.toml", "--fema-p695", "1"],

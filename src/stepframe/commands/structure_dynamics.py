@@ -26,6 +26,7 @@ HARMONIC_EXAMPLES = """\
 BIFURCATION_EXAMPLES = """\
   stepframe structure bifurcation --frame FRAME.toml --omega-rad-s 7.854 \\
       --amplitudes-g 0.05,0.5,200 --initial 50 --periods 100 --plot diagram.png
+  stepframe structure bifurcation --block 0.25,1.0 --amplitude-g 0.3 --omegas-rad-s 5,40,100
 """
 
 IDA_EXAMPLES = """\
@@ -98,16 +99,23 @@ def register(subparsers: Any) -> None:
     bif.add_argument(
         "--omega-rad-s",
         type=positive_float,
-        required=True,
         metavar="W",
-        help="forcing circular frequency [rad/s]",
+        help="forcing circular frequency [rad/s] (sweeping --amplitudes-g)",
     )
     bif.add_argument(
-        "--amplitudes-g",
+        "--amplitudes-g", type=_range, metavar="LO,HI,N", help="N amplitudes from LO to HI [g]"
+    )
+    bif.add_argument(
+        "--amplitude-g",
+        type=_non_negative,
+        metavar="R",
+        help="forcing amplitude [g] (sweeping --omegas-rad-s)",
+    )
+    bif.add_argument(
+        "--omegas-rad-s",
         type=_range,
-        required=True,
         metavar="LO,HI,N",
-        help="N amplitudes from LO to HI [g]",
+        help="N circular frequencies from LO to HI [rad/s]",
     )
     bif.add_argument(
         "--initial",
@@ -317,46 +325,63 @@ def run_harmonic(args: argparse.Namespace) -> CommandResult:
 
 # ------------------------------------------------------------------ bifurcation
 def run_bifurcation(args: argparse.Namespace) -> CommandResult:
-    """Brute-force diagram; summary per amplitude."""
+    """Brute-force diagram over amplitudes or frequencies; summary per value."""
     import numpy as np
 
-    from stepframe.structure.bifurcation import bifurcation_diagram, orbit_period
+    from stepframe.structure.bifurcation import (
+        bifurcation_diagram,
+        frequency_diagram,
+        orbit_period,
+    )
 
     frame = _frame(args)
-    lo, hi, n = args.amplitudes_g
-    amps = np.linspace(lo, hi, n) * G_M_S2
-    ds = bifurcation_diagram(
-        frame,
-        amps,
-        args.omega_rad_s,
-        n_initial=args.initial,
-        n_periods=args.periods,
-        n_keep=min(20, args.periods),
-        jobs=args.jobs,
-    )
+    by_amp = args.amplitudes_g is not None and args.omega_rad_s is not None
+    by_omega = args.omegas_rad_s is not None and args.amplitude_g is not None
+    if by_amp == by_omega:
+        raise UserError(
+            "give --omega-rad-s W with --amplitudes-g LO,HI,N, or --amplitude-g R with "
+            "--omegas-rad-s LO,HI,N, expected exactly one sweep"
+        )
+    common = {
+        "n_initial": args.initial,
+        "n_periods": args.periods,
+        "n_keep": min(20, args.periods),
+        "jobs": args.jobs,
+    }
+    if by_amp:
+        lo, hi, n = args.amplitudes_g
+        values = np.linspace(lo, hi, n)
+        ds = bifurcation_diagram(frame, values * G_M_S2, args.omega_rad_s, **common)
+        key, unit, fixed = "amplitude_g", "g", f"ω = {args.omega_rad_s:g} rad/s"
+    else:
+        lo, hi, n = args.omegas_rad_s
+        if lo <= 0:
+            raise UserError(f"--omegas-rad-s starts at {lo:g}, expected > 0")
+        values = np.linspace(lo, hi, n)
+        ds = frequency_diagram(frame, args.amplitude_g * G_M_S2, values, **common)
+        key, unit, fixed = "omega_rad_s", "rad/s", f"A = {args.amplitude_g:g} g"
     rows = []
     for a in range(n):
         periods = [orbit_period(ds["x_m"].values[a, j]) for j in range(args.initial)]
         outcome = ds["outcome"].values[a]
         rows.append(
             {
-                "amplitude_g": float(amps[a] / G_M_S2),
+                key: float(values[a]),
                 "overturned_fraction": float((outcome == 1).mean()),
                 "stopped": int((outcome == 2).sum()),
                 "periods_found": sorted({p for p in periods if p > 0}),
             }
         )
     data: dict[str, Any] = {
+        "sweep": key,
         "omega_rad_s": args.omega_rad_s,
-        "amplitudes": rows,
+        "amplitude_g": args.amplitude_g,
+        "points": rows,
         "failures": ds.attrs["failures"],
     }
-    lines = [
-        f"{n} amplitudes × {args.initial} initial states × {args.periods} periods at "
-        f"ω = {args.omega_rad_s:g} rad/s"
-    ]
+    lines = [f"{n} values × {args.initial} initial states × {args.periods} periods at {fixed}"]
     lines += [
-        f"  A = {r['amplitude_g']:.4g} g: overturn {r['overturned_fraction']:.2f}, "
+        f"  {r[key]:.4g} {unit}: overturn {r['overturned_fraction']:.2f}, "
         f"periods {r['periods_found'] or '-'}"
         for r in rows[:: max(1, n // 20)]
     ]

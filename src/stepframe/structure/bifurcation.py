@@ -41,6 +41,25 @@ def _chunk_name(item: tuple[Any, ...]) -> str:
     return f"A = {item[1][0]:.6g}..{item[1][-1]:.6g} m/s²"
 
 
+def _omega_chunk(item: tuple[Any, ...]) -> tuple[np.ndarray, np.ndarray]:
+    """One amplitude at several frequencies (picklable)."""
+    from stepframe.structure import _harmonic_kernel as hk
+
+    prm, amp, oms, phi, x0s, v0s, n_periods, n_keep, max_events = item
+    outs, flags = [], []
+    for om in oms:
+        out, flag = hk.strobe_grid(
+            prm, np.array([amp]), float(om), phi, x0s, v0s, n_periods, n_keep, max_events
+        )
+        outs.append(out[0])
+        flags.append(flag[0])
+    return np.asarray(outs), np.asarray(flags)
+
+
+def _omega_chunk_name(item: tuple[Any, ...]) -> str:
+    return f"ω = {item[2][0]:.6g}..{item[2][-1]:.6g} rad/s"
+
+
 def initial_states(frame: Any, n: int, *, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
     """n initial states spread over the region the frame can survive from.
 
@@ -249,4 +268,88 @@ def basin_of_overturning(
             "omega_rad_s": float(omega_rad_s),
         },
         name="outcome",
+    )
+
+
+def frequency_diagram(
+    frame: Any,
+    amplitude_m_s2: float,
+    omegas_rad_s: Any,
+    *,
+    x0_m: Any = None,
+    v0_m_s: Any = None,
+    n_initial: int = 50,
+    n_periods: int = 100,
+    n_keep: int = 20,
+    phase_rad: float = 0.0,
+    jobs: int | None = None,
+    executor: Executor | None = None,
+    seed: int = 0,
+) -> xr.Dataset:
+    """:func:`bifurcation_diagram` over the forcing frequency at one amplitude.
+
+    Same outputs with the dimension ``omega`` [rad/s] in place of ``amplitude``; each frequency's
+    runs last ``n_periods`` of its own forcing periods.
+    """
+    import os
+
+    import xarray as xr
+
+    from stepframe.core.execution import map_items
+
+    prm = frame_parameters(frame)
+    oms = np.atleast_1d(np.asarray(omegas_rad_s, dtype=float))
+    if oms.size == 0 or not np.all(np.isfinite(oms)) or np.any(oms <= 0):
+        raise InputError("omegas_rad_s must be finite and > 0, expected at least one")
+    if not (math.isfinite(amplitude_m_s2) and amplitude_m_s2 >= 0):
+        raise InputError(f"amplitude_m_s2 = {amplitude_m_s2}, expected a finite number ≥ 0")
+    if n_keep < 1 or n_periods < n_keep:
+        raise InputError(
+            f"n_keep = {n_keep}, n_periods = {n_periods}, expected 1 ≤ n_keep ≤ n_periods"
+        )
+    if x0_m is None or v0_m_s is None:
+        x0, v0 = initial_states(frame, n_initial, seed=seed)
+    else:
+        x0 = np.atleast_1d(np.asarray(x0_m, dtype=float))
+        v0 = np.atleast_1d(np.asarray(v0_m_s, dtype=float))
+        if x0.shape != v0.shape:
+            raise InputError("x0_m and v0_m_s have different lengths, expected equal")
+    workers = jobs if jobs is not None else (os.cpu_count() or 1)
+    size = max(1, math.ceil(oms.size / (4 * max(workers, 1))))
+    starts = list(range(0, oms.size, size))
+    items = [
+        (prm, float(amplitude_m_s2), oms[s : s + size], float(phase_rad), x0, v0, int(n_periods),
+         int(n_keep), DEFAULT_MAX_EVENTS)
+        for s in starts
+    ]  # fmt: skip
+    outcome = map_items(
+        _omega_chunk, items, jobs=jobs, executor=executor, chunk_size=1, stage="bifurcation",
+        name_of=_omega_chunk_name,
+    )  # fmt: skip
+    pts = np.full((oms.size, x0.size, n_keep, 4), np.nan)
+    code = np.full((oms.size, x0.size), OUTCOME_STOPPED, dtype=np.int8)
+    for idx, (out, flags) in zip(outcome.indices, outcome.results, strict=True):
+        s = starts[idx]
+        pts[s : s + out.shape[0]] = out
+        code[s : s + out.shape[0]] = np.where(flags[..., 0] != 0, OUTCOME_STOPPED, flags[..., 1])
+    return xr.Dataset(
+        {
+            "x_m": (("omega", "initial", "sample"), pts[..., 0], {"units": "m"}),
+            "v_m_s": (("omega", "initial", "sample"), pts[..., 1], {"units": "m/s"}),
+            "impacts": (("omega", "initial", "sample"), pts[..., 2], {"units": "1/period"}),
+            "outcome": (
+                ("omega", "initial"),
+                code,
+                {"meaning": "0 survives, 1 overturns, 2 stopped (kernel status)"},
+            ),
+            "x0_m": (("initial",), x0, {"units": "m"}),
+            "v0_m_s": (("initial",), v0, {"units": "m/s"}),
+        },
+        coords={"omega": ("omega", oms, {"units": "rad/s"})},
+        attrs={
+            "amplitude_m_s2": float(amplitude_m_s2),
+            "phase_rad": float(phase_rad),
+            "n_periods": int(n_periods),
+            "failures": [f.message for f in outcome.failures],
+        },
     )

@@ -21,12 +21,14 @@ if TYPE_CHECKING:
 
 
 def bifurcation_figure(ds: xr.Dataset, *, g_m_s2: float = 9.81, title: str = "") -> Figure:
-    """Stroboscopic x against amplitude [g] (all initial states), overturned runs marked.
+    """Stroboscopic x against amplitude [g] or frequency (all initial states) with the fraction
+    of initial states that overturn.
 
     Parameters
     ----------
     ds
-        A :func:`~stepframe.structure.bifurcation.bifurcation_diagram` result.
+        A :func:`~stepframe.structure.bifurcation.bifurcation_diagram` or
+        :func:`~stepframe.structure.bifurcation.frequency_diagram` result.
     g_m_s2
         Gravity used to express amplitudes in g.
     """
@@ -34,8 +36,9 @@ def bifurcation_figure(ds: xr.Dataset, *, g_m_s2: float = 9.81, title: str = "")
 
     fig = Figure(figsize=(8, 5))
     ax = fig.add_subplot(1, 1, 1)
-    amps = ds["amplitude"].values / g_m_s2
-    x = ds["x_m"].values  # amplitude, initial, sample
+    by_amp = "amplitude" in ds.dims
+    amps = ds["amplitude"].values / g_m_s2 if by_amp else ds["omega"].values
+    x = ds["x_m"].values  # parameter, initial, sample
     a_grid = np.broadcast_to(amps[:, None, None], x.shape)
     ok = np.isfinite(x)
     ax.plot(a_grid[ok], x[ok], ".", ms=1.5, color="k", alpha=0.5)
@@ -44,9 +47,14 @@ def bifurcation_figure(ds: xr.Dataset, *, g_m_s2: float = 9.81, title: str = "")
     ax2.plot(amps, frac, color="tab:red", lw=1.0)
     ax2.set_ylabel("fraction of initial states overturning", color="tab:red")
     ax2.set_ylim(0, 1.05)
-    ax.set_xlabel("forcing amplitude [g]")
+    ax.set_xlabel("forcing amplitude [g]" if by_amp else "forcing frequency ω [rad/s]")
     ax.set_ylabel("x at t = kT [m]")
-    ax.set_title(title or f"bifurcation diagram, ω = {ds.attrs.get('omega_rad_s', 0):.4g} rad/s")
+    fixed = (
+        f"ω = {ds.attrs.get('omega_rad_s', 0):.4g} rad/s"
+        if by_amp
+        else f"A = {ds.attrs.get('amplitude_m_s2', 0) / g_m_s2:.4g} g"
+    )
+    ax.set_title(title or f"bifurcation diagram, {fixed}")
     fig.tight_layout()
     return fig
 
