@@ -306,9 +306,8 @@ def symmetric_orbit_guess(
     sin_p, cos_p = math.sin(psi), math.cos(psi)
     b = ((c - 1.0) + big_r * sin_p * (c + 1.0)) / s
     v0 = (big_r * wb * cos_p + b) * x_star * p
-    # Forcing r sin(ω̄τ + ψ) on the right of u'' means ẍ_g = -(γ₁/P₂)(-r sin) ... sign: the
-    # block equation is u'' - u + 1 = -ẍ_g/(gα), so ẍ_g = -gα·(-r sin(.)) is not what we want:
-    # the derivation uses u'' - u + 1 = -r sin(ω̄τ + ψ), i.e. ẍ_g = A sin(ωt + ψ).
+    # u'' - u + 1 = -ẍ_g/(gα) = -r sin(ω̄τ + ψ) is the forcing ẍ_g = A sin(ωt + ψ), i.e.
+    # A cos(ωt + ψ - π/2) with t = 0 at the impact that starts the half-orbit.
     phi0 = psi - 0.5 * math.pi
     quarter = 0.5 * math.pi / omega_rad_s
     jac = np.eye(2)
