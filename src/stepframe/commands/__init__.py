@@ -16,6 +16,7 @@ from types import ModuleType
 from typing import Any, NoReturn
 
 from stepframe.errors import InputError
+from stepframe.records.formats import format_names_help
 
 
 class UserError(Exception):
@@ -86,9 +87,7 @@ def add_command(
     return parser
 
 
-FORMAT_NAMES_HELP = (
-    "at2, cosmos, dmg, geonet, esm, text, fema, or an obspy format name in lower case"
-)
+FORMAT_NAMES_HELP = format_names_help()
 
 
 def add_record_options(parser: argparse.ArgumentParser) -> None:

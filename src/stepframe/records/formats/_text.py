@@ -207,11 +207,19 @@ def check_peak(
 
 
 def resolution_of(text: str) -> float:
-    """Value of the last printed digit of a decimal (``"27.114"`` → 0.001, ``"4"`` → 1)."""
-    mantissa = text.strip().lower().split("e")[0]
+    """Value of the last printed digit of a decimal (``"27.114"`` → 0.001, ``"4"`` → 1).
+
+    Call it on text already checked to be a finite number; the exponent is clamped so that no
+    header can make it overflow.
+    """
+    parts = text.strip().lower().replace("d", "e").split("e")
+    mantissa = parts[0]
     decimals = len(mantissa.split(".")[1]) if "." in mantissa else 0
-    scale = 10.0 ** int(text.lower().split("e")[1]) if "e" in text.lower() else 1.0
-    return 10.0**-decimals * scale
+    try:
+        exponent = int(parts[1]) if len(parts) > 1 else 0
+    except ValueError:
+        exponent = 0
+    return 10.0 ** float(min(max(exponent - decimals, -300), 300))
 
 
 def warn(message: str, path: Path, line: int | None = None) -> None:
