@@ -225,8 +225,9 @@ def _plot(data: dict[str, Any], out: str) -> None:
 
 def run_catalog(args: argparse.Namespace) -> CommandResult:
     """Catalogue a folder; progress on stderr unless --json."""
-    from stepframe.records.catalog import catalog, write_catalog
+    from stepframe.records.catalog import catalog, check_output, write_catalog
 
+    outputs = check_output(args.output)  # before the work, not after it
     show_progress = not getattr(args, "json", False)
 
     def progress(number: int, total: int, file: str) -> None:
@@ -240,6 +241,7 @@ def run_catalog(args: argparse.Namespace) -> CommandResult:
         inventory=args.inventory,
         component=args.component,
         progress=progress if show_progress else None,
+        exclude=outputs,
     )
     paths = write_catalog(table, failures, args.output)
     data = {

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from stepframe.core.text import spreadsheet_safe
 from stepframe.errors import InputError
 from stepframe.records.intensity import MEASURES, intensity_measures
 from stepframe.records.units import STANDARD_GRAVITY_M_S2
@@ -123,9 +124,42 @@ def intensity_table(stream: Iterable[Any]) -> pd.DataFrame:
     return table
 
 
-def record_files(path: str | PathLike[str]) -> list[Path]:
-    """Files under ``path`` (or ``path`` itself), sorted, hidden files and folders skipped."""
+#: Files in a record folder that are documentation, not records (never counted as failures).
+_NOT_RECORD_NAMES = ("license", "licence", "readme", "provenance", "copying", "notice")
+_NOT_RECORD_SUFFIXES = (".md", ".rst", ".html", ".pdf", ".png", ".json", ".toml", ".nc", ".py")
+#: Names of the files stepframe writes beside a catalogue (excluded when scanning).
+_OUTPUT_SUFFIXES = (".columns.csv", ".failures.csv")
+
+
+def _is_record_candidate(path: Path) -> bool:
+    name = path.name.lower()
+    if name.startswith(_NOT_RECORD_NAMES) or name.endswith(_NOT_RECORD_SUFFIXES):
+        return False
+    return not (name.endswith(_OUTPUT_SUFFIXES) or name == "failures.csv")
+
+
+def record_files(
+    path: str | PathLike[str], *, exclude: Iterable[str | PathLike[str]] = ()
+) -> list[Path]:
+    """Record files under ``path`` (or ``path`` itself), sorted.
+
+    Skipped: hidden files and folders; anything that is not a regular file (a FIFO or a device
+    would block or never end, a socket cannot be read); documentation beside records (LICENSE,
+    README, PROVENANCE, ``*.md``, ``*.json``, ...); stepframe's own outputs (``*.columns.csv``,
+    ``*.failures.csv``) and the paths in ``exclude`` (a catalogue written inside the folder it
+    scans must not be read back as a record on the next run).
+
+    Parameters
+    ----------
+    path
+        A folder (walked recursively) or one file.
+    exclude
+        Files never listed (the outputs of the run).
+    """
+    import stat
+
     root = Path(path)
+    excluded = {Path(p).resolve() for p in exclude}
     if root.is_file():
         return [root]
     if not root.is_dir():
@@ -133,7 +167,16 @@ def record_files(path: str | PathLike[str]) -> list[Path]:
     files = []
     for folder, dirs, names in os.walk(root):
         dirs[:] = sorted(d for d in dirs if not d.startswith("."))
-        files += [Path(folder) / name for name in sorted(names) if not name.startswith(".")]
+        for name in sorted(names):
+            file = Path(folder) / name
+            if name.startswith(".") or not _is_record_candidate(file):
+                continue
+            try:
+                regular = stat.S_ISREG(file.stat().st_mode)
+            except OSError:
+                regular = True  # let read() report a dangling link or a permission problem
+            if regular and file.resolve() not in excluded:
+                files.append(file)
     return files
 
 
@@ -146,6 +189,7 @@ def catalog(
     inventory: str | PathLike[str] | None = None,
     component: str | None = None,
     progress: Callable[[int, int, str], None] | None = None,
+    exclude: Iterable[str | PathLike[str]] = (),
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
     """Catalogue every record under a folder: one row per component.
 
@@ -157,6 +201,8 @@ def catalog(
         Record options applied to every file (see :func:`stepframe.records.read`); None sniffs.
     progress
         Called as ``progress(i, n, file)`` before the i-th of n files (1-based).
+    exclude
+        Files not to catalogue (the run's own outputs when they are inside ``path``).
 
     Returns
     -------
@@ -171,7 +217,7 @@ def catalog(
 
     from stepframe.records.io import read
 
-    files = record_files(path)
+    files = record_files(path, exclude=exclude)
     rows: list[dict[str, Any]] = []
     failures: list[dict[str, str]] = []
     for number, file in enumerate(files, start=1):
@@ -207,7 +253,7 @@ def _write_atomic(frame: pd.DataFrame, target: Path) -> None:
     handle, temporary = tempfile.mkstemp(prefix=f".{target.name}.", dir=target.parent)
     try:
         with os.fdopen(handle, "w", newline="") as stream:
-            frame.to_csv(stream, index=False)
+            spreadsheet_safe(frame).to_csv(stream, index=False)
         os.replace(temporary, target)
     except BaseException:
         Path(temporary).unlink(missing_ok=True)
@@ -224,13 +270,28 @@ def output_paths(out: str | PathLike[str]) -> tuple[Path, Path, Path]:
     )
 
 
+def check_output(out: str | PathLike[str]) -> tuple[Path, Path, Path]:
+    """The output paths of :func:`write_catalog`, refused before any work if they cannot be written.
+
+    Raises
+    ------
+    InputError
+        The folder does not exist, or one of the paths is a folder.
+    """
+    paths = output_paths(out)
+    if not paths[0].parent.is_dir():
+        raise InputError("output folder does not exist, expected an existing folder", paths[0])
+    for target in paths:
+        if target.is_dir():
+            raise InputError("is a folder, expected a file name for the output", target)
+    return paths
+
+
 def write_catalog(
     table: pd.DataFrame, failures: pd.DataFrame, out: str | PathLike[str]
 ) -> tuple[Path, Path, Path]:
     """Write the table, its column dictionary and the failures (each via temporary + rename)."""
-    paths = output_paths(out)
-    if not paths[0].parent.is_dir():
-        raise InputError("output folder does not exist, expected an existing folder", paths[0])
+    paths = check_output(out)
     _write_atomic(table, paths[0])
     _write_atomic(table.attrs.get("column_dictionary", column_dictionary()), paths[1])
     _write_atomic(failures, paths[2])
