@@ -124,3 +124,9 @@ def no_warnings_as_errors() -> Iterator[None]:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         yield
+
+
+@pytest.fixture
+def cli() -> Any:
+    """The in-process runner :func:`run_cli` (exit status, output, and any problem)."""
+    return run_cli

@@ -32,11 +32,11 @@ MAX_SEED = 2**64 - 1
 def _real(name: str, value: object) -> float:
     """``value`` as a float if it is a real number (bools and strings are not)."""
     if isinstance(value, bool | str | bytes) or value is None:
-        raise InputError(f"{name} = {value!r}, expected a number")
+        raise InputError(f"{name} = {value!r}, expected a finite number")
     try:
         number = float(value)  # type: ignore[arg-type]
     except (TypeError, ValueError, OverflowError):
-        raise InputError(f"{name} = {value!r}, expected a number") from None
+        raise InputError(f"{name} = {_short(value)}, expected a finite number") from None
     return number
 
 
@@ -107,21 +107,33 @@ def in_range(
     return number
 
 
-def damping_fraction(name: str, value: object) -> float:
-    """A damping ratio as a fraction in [0, 1), with a hint when it looks like a percentage.
+def damping_fraction(name: str, value: object, *, high: float = 1.0) -> float:
+    """A damping ratio as a fraction in [0, high), with a hint when it looks like a percentage.
+
+    Parameters
+    ----------
+    name
+        The parameter's name.
+    value
+        The ratio.
+    high
+        Excluded upper bound: 1 (under-damped, every user-facing parameter) by default; a library
+        object that also models over-damped systems passes a larger one.
 
     Raises
     ------
     InputError
-        Not finite, negative, or ≥ 1 (``5`` says "did you mean 0.05?").
+        Not finite, negative, or ≥ ``high`` (``5`` says "a fraction: 5 % is 0.05").
     """
     number = finite(name, value)
-    if 0 <= number < 1:
+    if number < 0:
+        raise InputError(f"{name} = {number!r}, expected ≥ 0 (a damping fraction)")
+    if number < high:
         return number
     hint = ""
     if 1 <= number <= 100:
         hint = f" (a fraction: {number:g} % is {number / 100:g})"
-    raise InputError(f"{name} = {number:g}, expected a damping fraction in [0, 1){hint}")
+    raise InputError(f"{name} = {number!r}, expected a damping fraction in [0, {high:g}){hint}")
 
 
 def frequency(name: str, value: object, *, unit: str = "Hz", high: float = 1e4) -> float:

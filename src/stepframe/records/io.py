@@ -363,20 +363,23 @@ def _check_plausible(stream: Any, file: Path, max_abs_g: float | None) -> None:
     for trace in stream:
         data = np.asarray(trace.data, dtype=np.float64)
         name = trace.stats.channel or trace.stats.station or "record"
+        channel = f" (channel {name})" if len(stream) > 1 else ""
         bad = ~np.isfinite(data)
         if bad.any():
+            first = int(np.argmax(bad))
+            time_s = first * float(trace.stats.delta)
             raise FormatError(
-                f"channel {name}: {int(bad.sum())} sample(s) not finite (first at index "
-                f"{int(np.argmax(bad))}), expected finite accelerations",
+                f"sample {first} (t = {time_s:g} s) is {data[first]}{channel}, "
+                f"{int(bad.sum())} not finite in all, expected finite accelerations",
                 file,
             )
         if data.size and not np.any(data):
-            raise FormatError(f"channel {name}: every sample is zero, expected a record", file)
+            raise FormatError(f"every sample is zero{channel}, expected a record", file)
         if max_abs_g is not None and data.size:
             peak_g = float(np.max(np.abs(data))) / STANDARD_GRAVITY_M_S2
             if peak_g > max_abs_g:
                 raise FormatError(
-                    f"channel {name}: peak {peak_g:.3g} g, expected at most {max_abs_g:g} g "
+                    f"peak {peak_g:.3g} g{channel}, expected at most {max_abs_g:g} g "
                     "(wrong units or a damaged file; max_abs_g= overrides)",
                     file,
                 )
