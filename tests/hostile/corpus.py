@@ -79,9 +79,7 @@ def _edit_number(text: str, rng: random.Random, first_lines: int, values: tuple[
     """Replace one number among the first ``first_lines`` lines (header) by a bad value."""
     lines = text.split("\n")
     limit = min(first_lines, len(lines))
-    candidates = [
-        (i, m.start(), m.end()) for i in range(limit) for m in _NUMBER.finditer(lines[i])
-    ]
+    candidates = [(i, m.start(), m.end()) for i in range(limit) for m in _NUMBER.finditer(lines[i])]
     if not candidates:
         return text
     i, start, end = rng.choice(candidates)
@@ -143,7 +141,9 @@ def damages(data: bytes, rng: random.Random) -> list[tuple[str, bytes]]:
     if _is_text(data):
         text = data.decode("latin-1")
         for k in range(12):
-            out.append((f"header_number{k}", _edit_number(text, rng, 40, BAD_NUMBERS).encode("latin-1")))
+            out.append(
+                (f"header_number{k}", _edit_number(text, rng, 40, BAD_NUMBERS).encode("latin-1"))
+            )
         for k in range(3):
             out.append((f"sample{k}", _edit_sample(text, rng).encode("latin-1")))
         out.append(("crlf", text.replace("\n", "\r\n").encode("latin-1")))

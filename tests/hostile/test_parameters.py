@@ -41,7 +41,7 @@ FRAME_EDITS: tuple[tuple[str, str], ...] = (
 
 #: Whole frame files that are not TOML text.
 FRAME_BYTES: tuple[tuple[str, bytes], ...] = (
-    ("latin-1", "[frame]\nname = \"Pont d'\xe9t\xe9\"\nxi_1 = 0.05\n".encode("latin-1")),
+    ("latin-1", '[frame]\nname = "Pont d\'\xe9t\xe9"\nxi_1 = 0.05\n'.encode("latin-1")),
     ("utf-16", "[frame]\nxi_1 = 0.05\n".encode("utf-16")),
     ("binary", bytes(range(256)) * 4),
     ("empty", b""),
@@ -97,7 +97,9 @@ def _edited(template: Path, folder: Path, key: str, value: str) -> Path:
     return path
 
 
-@pytest.mark.parametrize(("key", "value"), FRAME_EDITS, ids=[f"{k}={v[:12]}" for k, v in FRAME_EDITS])
+@pytest.mark.parametrize(
+    ("key", "value"), FRAME_EDITS, ids=[f"{k}={v[:12]}" for k, v in FRAME_EDITS]
+)
 def test_frame_value_refused(
     cli: Callable[..., Any], frame_file: Path, tmp_path: Path, key: str, value: str
 ) -> None:
@@ -114,7 +116,9 @@ def test_frame_file_refused(
     _assert_refused(cli(["structure", "simulate", "--frame", str(path), str(RECORD)]))
 
 
-@pytest.mark.parametrize("argv", COMMANDS, ids=[" ".join(a[:4]) + " " + a[-1][:8] for a in COMMANDS])
+@pytest.mark.parametrize(
+    "argv", COMMANDS, ids=[" ".join(a[:4]) + " " + a[-1][:8] for a in COMMANDS]
+)
 def test_option_refused(cli: Callable[..., Any], frame_file: Path, argv: tuple[str, ...]) -> None:
     filled = [a.format(record=RECORD, frame=frame_file) for a in argv]
     _assert_refused(cli(filled))

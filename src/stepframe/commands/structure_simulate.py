@@ -103,6 +103,7 @@ def run_simulate(args: argparse.Namespace) -> CommandResult:
 
     import numpy as np
 
+    from stepframe.core.validation import in_range, length
     from stepframe.errors import InputError
     from stepframe.structure.frame_file import read_frame_file
     from stepframe.structure.simulator import DEFAULT_TAIL_S, simulate
@@ -118,12 +119,13 @@ def run_simulate(args: argparse.Namespace) -> CommandResult:
             "non-finite samples), expected finite accelerations",
             args.record,
         )
-    tail_s = DEFAULT_TAIL_S if args.tail_s is None else float(args.tail_s)
+    tail_s = DEFAULT_TAIL_S if args.tail_s is None else length("--tail-s", args.tail_s, high=1e5)
+    scale = in_range("--scale", args.scale, 0.0, 1e3, low_open=True)
     result = simulate(
         frame,
         samples,
         dt_s,
-        scale=float(args.scale),
+        scale=scale,
         tail_s=tail_s,
         record_history=args.plot is not None,
     )
@@ -133,8 +135,8 @@ def run_simulate(args: argparse.Namespace) -> CommandResult:
         "component": str(trace.stats.channel),
         "npts": int(trace.stats.npts),
         "dt_s": dt_s,
-        "scale": float(args.scale),
-        "pga_m_s2": float(np.max(np.abs(trace.data))) * float(args.scale),
+        "scale": scale,
+        "pga_m_s2": float(np.max(np.abs(trace.data))) * scale,
         "tail_s": tail_s,
         "frame": {
             **frame.to_dict(),

@@ -133,7 +133,7 @@ def damping_fraction(name: str, value: object, *, high: float = 1.0) -> float:
     hint = ""
     if 1 <= number <= 100:
         hint = f" (a fraction: {number:g} % is {number / 100:g})"
-    raise InputError(f"{name} = {number!r}, expected a damping fraction in [0, {high:g}){hint}")
+    raise InputError(f"{name} {number!r}, expected a damping fraction in [0, {high:g}){hint}")
 
 
 def frequency(name: str, value: object, *, unit: str = "Hz", high: float = 1e4) -> float:
@@ -220,13 +220,12 @@ def finite_array(
     except (TypeError, ValueError, OverflowError):
         raise InputError(f"{name} = {_short(values)}, expected numbers") from None
     if array.ndim != 1 or array.size < min_size:
-        raise InputError(
-            f"{name} has shape {array.shape}, expected a list of at least {min_size} numbers"
-        )
+        wanted = "a non-empty list" if min_size == 1 else f"a list of at least {min_size}"
+        raise InputError(f"{name} of shape {array.shape}, expected {wanted} of numbers")
     if not np.all(np.isfinite(array)):
         raise InputError(f"{name} = {_short(values)}, expected finite numbers")
     if positive_values and not np.all(array > 0):
-        raise InputError(f"{name} = {_short(values)}, expected numbers > 0")
+        raise InputError(f"{name} = {_short(values)}, expected positive numbers")
     return array
 
 

@@ -369,12 +369,14 @@ def _check_plausible(stream: Any, file: Path, max_abs_g: float | None) -> None:
             first = int(np.argmax(bad))
             time_s = first * float(trace.stats.delta)
             raise FormatError(
-                f"sample {first} (t = {time_s:g} s) is {data[first]}{channel}, "
-                f"{int(bad.sum())} not finite in all, expected finite accelerations",
+                f"{int(bad.sum())} NaN/inf samples (first at sample {first}){channel}: sample "
+                f"{first} (t = {time_s:g} s) is {data[first]}, expected finite accelerations",
                 file,
             )
         if data.size and not np.any(data):
-            raise FormatError(f"every sample is zero{channel}, expected a record", file)
+            raise FormatError(
+                f"all samples equal 0.0{channel}, expected a varying accelerogram", file
+            )
         if max_abs_g is not None and data.size:
             peak_g = float(np.max(np.abs(data))) / STANDARD_GRAVITY_M_S2
             if peak_g > max_abs_g:

@@ -44,6 +44,7 @@ import numba
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from stepframe.core import validation
 from stepframe.errors import InputError
 from stepframe.stochastic.correlation import r_g
 from stepframe.stochastic.envelope import default_envelope
@@ -439,8 +440,8 @@ def analysis_grid(
         duration_s = model.t0_s + 2.0 * model.t_dur_s
     if not (math.isfinite(duration_s) and duration_s > 0):
         raise InputError(f"duration_s = {duration_s}, expected a positive number")
-    if not (isinstance(n_steps, int) and n_steps >= 2):
-        raise InputError(f"n_steps = {n_steps!r}, expected an integer ≥ 2")
+    # The covariance and Monte Carlo paths keep a few float64 arrays per step.
+    n_steps = validation.count("n_steps", n_steps, bytes_each=8 * 16, low=2)
     return np.linspace(0.0, duration_s, n_steps + 1)
 
 
@@ -523,11 +524,17 @@ class _Path:
         return np.asarray(out)
 
 
+#: Oscillator frequencies accepted [rad/s] (periods from 63 µs to 6,000 s): outside, the time
+#: step or the transient of the Liapunov solution leaves floating point.
+OMEGA_RANGE_RAD_S = (1e-3, 1e5)
+
+
 def _positive_vector(values: ArrayLike, name: str) -> Floats:
-    v = np.atleast_1d(np.asarray(values, dtype=np.float64))
-    if v.ndim != 1 or v.size == 0 or not np.all(np.isfinite(v)) or not np.all(v > 0):
-        raise InputError(f"{name} = {values!r}, expected positive finite numbers")
-    return v
+    vector = validation.finite_array(name, values, positive_values=True)
+    low, high = OMEGA_RANGE_RAD_S
+    for value in vector:
+        validation.in_range(name, float(value), low, high, unit="rad/s")
+    return vector
 
 
 class _FrameLaw:
@@ -870,8 +877,8 @@ def mean_square_response(
     """
     if method not in METHODS:
         raise InputError(f"method = {method!r}, expected one of {METHODS}")
-    if not (isinstance(xi0, int | float) and math.isfinite(xi0) and xi0 >= 0):
-        raise InputError(f"xi0 = {xi0!r}, expected a damping fraction ≥ 0")
+    # Over-damped oscillators are modelled (ξ₀ up to 5); 5 and above read as a percentage.
+    xi0 = validation.damping_fraction("xi0", xi0, high=5.0)
     grid = analysis_grid(model) if time_s is None else _uniform_grid(time_s)
     spec: OmegaSpec
     if isinstance(omega, Constant | Tracking | Given | FrameDriven):
@@ -911,8 +918,10 @@ def mean_square_response(
             status=status,
             **common,
         )
-    if not (isinstance(n_realisations, int) and n_realisations >= 2):
-        raise InputError(f"n_realisations = {n_realisations!r}, expected an integer ≥ 2")
+    # Each realisation keeps its squared response on the grid and its motion (float64 each).
+    n_realisations = validation.count(
+        "n_realisations", n_realisations, bytes_each=8 * 2 * grid.size, low=2
+    )
     if not 0 < confidence < 1:
         raise InputError(f"confidence = {confidence}, expected 0 < confidence < 1")
     omega_0, omegas, squares, _, status = _monte_carlo(
