@@ -45,9 +45,11 @@ def spreadsheet_cell(value: Any) -> Any:
 
 def spreadsheet_safe(frame: pd.DataFrame) -> pd.DataFrame:
     """A copy of ``frame`` whose text cells (and column names) pass :func:`spreadsheet_cell`."""
+    from pandas.api.types import is_numeric_dtype
+
     safe = frame.copy()
     for column in safe.columns:
-        if safe[column].dtype == object:
+        if not is_numeric_dtype(safe[column]):
             safe[column] = safe[column].map(spreadsheet_cell)
     safe.columns = [spreadsheet_cell(str(c)) for c in safe.columns]
     safe.attrs = dict(frame.attrs)
