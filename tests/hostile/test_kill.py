@@ -8,6 +8,7 @@ parent dies (prctl PR_SET_PDEATHSIG, Linux).
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import subprocess
@@ -76,7 +77,5 @@ def test_sigkill_of_parent_leaves_no_worker(tmp_path: Path) -> None:
         if parent.poll() is None:
             parent.kill()
         for pid_file in pids.glob("*.pid"):  # never leave a sleeper behind, even on failure
-            try:
+            with contextlib.suppress(ProcessLookupError):
                 os.kill(int(pid_file.stem), signal.SIGKILL)
-            except ProcessLookupError:
-                pass

@@ -148,7 +148,8 @@ def start_time(
         year_, month, day, hour, minute = (int(v) for v in numbers)
         if not (MIN_YEAR <= year_ <= MAX_YEAR and math.isfinite(sec) and 0 <= sec < 61):
             raise ValueError(text)
-        return UTCDateTime(year_, month, day, hour, minute) + sec
+        start: object = UTCDateTime(year_, month, day, hour, minute) + sec
+        return start
     except (ValueError, TypeError, OverflowError):
         warn(
             f"bad {what} {text[:40]}, expected a calendar date and time; start time left at 0",

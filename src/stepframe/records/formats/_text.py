@@ -219,7 +219,8 @@ def resolution_of(text: str) -> float:
         exponent = int(parts[1]) if len(parts) > 1 else 0
     except ValueError:
         exponent = 0
-    return 10.0 ** float(min(max(exponent - decimals, -300), 300))
+    power: float = 10.0 ** float(min(max(exponent - decimals, -300), 300))
+    return power
 
 
 def warn(message: str, path: Path, line: int | None = None) -> None:
