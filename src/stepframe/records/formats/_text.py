@@ -15,6 +15,11 @@ import numpy as np
 from stepframe.errors import FormatError
 from stepframe.records.units import normalize_units
 
+#: Largest magnitude accepted for a number in a data block (any unit): far above any real
+#: value in counts, g, cm/s² or header codes; a larger one is damage, and would overflow to
+#: infinity on conversion to m/s².
+MAX_VALUE = 1e100
+
 
 class FormatWarning(UserWarning):
     """A file read cleanly whose header has a problem that does not touch the data."""
@@ -102,6 +107,13 @@ def numbers(
                     f"non-numeric value {bad[:30]!r}{where}, expected numbers", path, index
                 ) from None
             row = [float(f) for f in fixed]
+        if not all(abs(v) <= MAX_VALUE for v in row):  # also false for NaN
+            bad = next(w for w, v in zip(words, row, strict=True) if not abs(v) <= MAX_VALUE)
+            raise FormatError(
+                f"value {bad[:30]!r} is not a finite number below {MAX_VALUE:g}, expected data",
+                path,
+                index,
+            )
         values.extend(row)
     if count is not None and len(values) > count:
         raise FormatError(
