@@ -37,6 +37,7 @@ from stepframe.records.formats import (
     format_labels,
     registered_formats,
 )
+from stepframe.records.formats._header import MAX_DT_S, MIN_DT_S
 from stepframe.records.units import STANDARD_GRAVITY_M_S2, normalize_units
 
 _GZIP_MAGIC = b"\x1f\x8b"
@@ -116,6 +117,8 @@ def read(
         validation.positive("max_abs_g", max_abs_g)
     if dt is not None and not (isinstance(dt, int | float) and dt > 0 and dt < float("inf")):
         raise InputError(f"dt = {dt} s, expected a positive sampling interval")
+    if dt is not None:
+        validation.in_range("dt", dt, MIN_DT_S, MAX_DT_S, unit="s")
     options = ReadOptions(
         units=None if units is None else normalize_units(units),
         dt_s=dt,
