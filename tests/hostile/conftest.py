@@ -9,7 +9,6 @@ import json
 import math
 import signal
 import sys
-from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from types import FrameType, ModuleType
@@ -114,16 +113,6 @@ def frame_file(tmp_path_factory: pytest.TempPathFactory) -> Path:
     run = run_cli(["structure", "frame-template"])
     path.write_text(run.stdout)
     return path
-
-
-@contextlib.contextmanager
-def no_warnings_as_errors() -> Iterator[None]:
-    """Warnings are part of a clean run (one line each); the suite's filters must not raise."""
-    import warnings
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        yield
 
 
 @pytest.fixture
