@@ -25,11 +25,16 @@ AT2 = (
     / "peer_nga_west2"
     / "RSN8883_14383980_13849090.AT2"
 )
+#: The child reports VmHWM, the peak resident memory of its own address space (ru_maxrss would
+#: count pages shared with the forking parent before exec).
 CHILD = """
-import resource, sys
+import sys
+from pathlib import Path
 from stepframe.cli import main
 code = main(sys.argv[1:])
-print(f"peak_kib={resource.getrusage(resource.RUSAGE_SELF).ru_maxrss}", file=sys.stderr)
+status = Path("/proc/self/status").read_text().splitlines()
+peak_kib = next(int(x.split()[1]) for x in status if x.startswith("VmHWM:"))
+print(f"peak_kib={peak_kib}", file=sys.stderr)
 sys.exit(code)
 """
 REPEATS = 3

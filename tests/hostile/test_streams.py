@@ -24,12 +24,16 @@ AT2 = Path(__file__).parents[1] / "data" / "peer_nga_west2" / "RSN8883_14383980_
 GUARD_S = 60
 
 
-#: Runs the command and reports the child's own peak memory on its last stderr line.
+#: Runs the command and reports the child's own peak memory on its last stderr line. VmHWM is
+#: the peak of this program's address space (getrusage's ru_maxrss would also count the pages
+#: the child shared with the forking test process before exec).
 _CHILD = """
-import resource, sys
+import sys
+from pathlib import Path
 from stepframe.cli import main
 code = main(sys.argv[1:])
-peak_kib = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+status = Path("/proc/self/status").read_text().splitlines()
+peak_kib = next(int(x.split()[1]) for x in status if x.startswith("VmHWM:"))
 print(f"peak_kib={peak_kib}", file=sys.stderr)
 sys.exit(code)
 """
