@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pandas as pd
@@ -49,6 +50,9 @@ def test_catalogue_csv_and_terminal_are_safe(
     write_catalog(table, failures, out)
     text = out.read_text()
     assert "'=HYPERLINK" in text and ",=HYPERLINK" not in text
+    umask = os.umask(0)
+    os.umask(umask)
+    assert out.stat().st_mode & 0o777 == 0o666 & ~umask  # the user's umask, not mkstemp's 0600
     assert main(["records", "info", str(folder / "rec.AT2")]) == 0
     printed = capsys.readouterr().out
     assert "\x1b" not in printed and "\\x1b[2J" in printed

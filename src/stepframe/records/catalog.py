@@ -9,7 +9,6 @@ so a killed run leaves either the old files or the new ones, never half a file.
 from __future__ import annotations
 
 import os
-import tempfile
 import warnings
 from collections.abc import Callable, Iterable
 from os import PathLike
@@ -18,6 +17,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from stepframe.core.io import atomic_write
 from stepframe.core.text import spreadsheet_safe
 from stepframe.errors import InputError
 from stepframe.records.intensity import MEASURES, intensity_measures
@@ -250,14 +250,9 @@ def catalog(
 
 
 def _write_atomic(frame: pd.DataFrame, target: Path) -> None:
-    handle, temporary = tempfile.mkstemp(prefix=f".{target.name}.", dir=target.parent)
-    try:
-        with os.fdopen(handle, "w", newline="") as stream:
-            spreadsheet_safe(frame).to_csv(stream, index=False)
-        os.replace(temporary, target)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
+    # Temporary beside the target, renamed on success, created with the user's umask.
+    with atomic_write(target) as stream:
+        spreadsheet_safe(frame).to_csv(stream, index=False)
 
 
 def output_paths(out: str | PathLike[str]) -> tuple[Path, Path, Path]:
