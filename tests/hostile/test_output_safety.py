@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import shutil
 from pathlib import Path
 
 import pandas as pd
@@ -116,3 +117,31 @@ def test_validation_accepts() -> None:
     assert validation.count("n", 3.0, bytes_each=8) == 3
     assert validation.seed("seed", None) is None and validation.seed("seed", 7) == 7
     assert validation.in_range("t", 1, 0, 1) == 1.0
+
+
+def test_catalogue_outputs_replaced_together(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import stepframe.records.catalog as catalog_module
+
+    folder = tmp_path / "in"
+    folder.mkdir()
+    shutil.copy(AT2, folder / AT2.name)
+    table, failures = catalog(folder)
+    out = tmp_path / "cat.csv"
+    paths = write_catalog(table, failures, out)
+    before = {p: p.read_bytes() for p in paths}
+    calls = []
+
+    def failing(frame: pd.DataFrame) -> pd.DataFrame:
+        calls.append(1)
+        if len(calls) == 3:  # the last of the three outputs fails mid-write
+            raise OSError("disk full")
+        return spreadsheet_safe(frame)
+
+    monkeypatch.setattr(catalog_module, "spreadsheet_safe", failing)
+    changed = table.assign(station="other")
+    with pytest.raises(OSError, match="disk full"):
+        write_catalog(changed, failures, out)
+    assert {p: p.read_bytes() for p in paths} == before  # no output replaced
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["in", *(p.name for p in paths)])

@@ -8,6 +8,7 @@ so a killed run leaves either the old files or the new ones, never half a file.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import warnings
 from collections.abc import Callable, Iterable
@@ -249,12 +250,6 @@ def catalog(
     return table, pd.DataFrame(failures, columns=FAILURE_COLUMNS)
 
 
-def _write_atomic(frame: pd.DataFrame, target: Path) -> None:
-    # Temporary beside the target, renamed on success, created with the user's umask.
-    with atomic_write(target) as stream:
-        spreadsheet_safe(frame).to_csv(stream, index=False)
-
-
 def output_paths(out: str | PathLike[str]) -> tuple[Path, Path, Path]:
     """``OUT.csv``, ``<stem>.columns.csv`` and ``<stem>.failures.csv`` beside it."""
     target = Path(out)
@@ -285,9 +280,18 @@ def check_output(out: str | PathLike[str]) -> tuple[Path, Path, Path]:
 def write_catalog(
     table: pd.DataFrame, failures: pd.DataFrame, out: str | PathLike[str]
 ) -> tuple[Path, Path, Path]:
-    """Write the table, its column dictionary and the failures (each via temporary + rename)."""
+    """Write the table, its column dictionary and the failures, together.
+
+    All three are written to temporaries beside their targets first; only when every one is
+    complete are they renamed, failures and columns first and the table last, so a run killed
+    while writing leaves the previous outputs untouched, and one that fails leaves no
+    temporary. Files get the user's umask; text cells are spreadsheet-safe.
+    """
     paths = check_output(out)
-    _write_atomic(table, paths[0])
-    _write_atomic(table.attrs.get("column_dictionary", column_dictionary()), paths[1])
-    _write_atomic(failures, paths[2])
+    frames = (table, table.attrs.get("column_dictionary", column_dictionary()), failures)
+    with contextlib.ExitStack() as stack:
+        # Entered table first, so exited (renamed) last.
+        for frame, target in zip(frames, paths, strict=True):
+            stream = stack.enter_context(atomic_write(target))
+            spreadsheet_safe(frame).to_csv(stream, index=False)
     return paths
