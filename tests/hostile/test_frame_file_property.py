@@ -58,7 +58,7 @@ def test_any_values(tmp_path: Path, changes: list[tuple[str, object]]) -> None:
     for key, value in changes:
         pattern = re.compile(rf"^#?\s*{re.escape(key)}\s*=.*$", re.M)
         line = f"{key} = {_toml(value)}"
-        text = pattern.sub(lambda _: line, text, count=1)
+        text = pattern.sub(lambda _, line=line: line, text, count=1)
     path = tmp_path / "frame.toml"
     path.write_text(text)
     try:
