@@ -166,7 +166,7 @@ def _text(data: dict[str, Any]) -> str:
             if data["overturned"]
             else "not overturned"
         )
-        + ("" if data["status"] == "success" else f"; numerical status: {data['status']}"),
+        + ("" if data["status"] == "ok" else f"; numerical status: {data['status']}"),
     ]
     if "plot" in data:
         lines.append(f"plot written to {data['plot']}")

@@ -22,8 +22,15 @@ threshold crossing is bracketed by the end values and found by bracketed Newton.
 past x_c between two samples (grazing) is therefore never missed.
 
 Phase codes: 0 unstepped, +1/-1 stepped on that side, +2/-2 held at x = ±x_c with ẋ = 0 (the
-contact force balance keeps the frame on the switching surface; reached after a touchdown with
-C_r = 0 or with a negligible rebound velocity, which also ends Zeno impact sequences).
+contact force balance keeps the frame on the switching surface). An impact whose rebound is too
+small to follow by root finding is handled by :func:`_impact_rule`: its excursion, or the whole
+accumulating sequence of impacts (chatter), is summed in closed form and the frame is seated
+until the ground can lift it again (docs/paper-notes.md, "Chatter").
+
+Without a cap, a stepped state beyond reach of return, s·ẋ - λ₂(s·x - y_e) > 0 with
+y_e = (γ₁ + P₂·max|ẍ_g| over the rest of the record)/ω₂², is an overturn from that sample on
+(the comparison argument is in docs/paper-notes.md); a run that does not overturn therefore never
+passes y_e, and one that does is reported as failed rather than as a success.
 """
 
 from __future__ import annotations
@@ -34,12 +41,16 @@ from typing import Any
 import numpy as np
 from numba import njit, prange
 
-# Status codes and event kinds: one definition, shared with the reference and the result.
-from stepframe.structure.simulator import (
+from stepframe.structure.status import (
+    CHATTER_EPS,
     EVENT_CAP,
     EVENT_ESCAPE,
     EVENT_LIFTOFF,
+    EVENT_SETTLE,
     EVENT_TOUCHDOWN,
+    INVARIANT_RTOL,
+    STATUS_IMPOSSIBLE,
+    STATUS_INVARIANT,
     STATUS_NONFINITE,
     STATUS_OK,
     STATUS_TOO_MANY_EVENTS,
@@ -241,6 +252,80 @@ def _surface_phase(
 
 
 @njit(cache=True)
+def _impact_rule(
+    s: float,
+    w: float,
+    ag_now: float,
+    rem: float,
+    w1: float,
+    w2: float,
+    p1: float,
+    p2: float,
+    g1: float,
+    xc: float,
+    cr: float,
+    w_tiny: float,
+) -> tuple[int, float, float]:
+    """What follows a touchdown on the surface x = s·x_c with rebound speed w = C_r·|ẋ| ≥ 0.
+
+    Returns (kind, delay, w_back): kind 0, follow the rebound by root finding (it enters the
+    inner phase with speed w); kind 1, a rebound too small to follow returns to the surface
+    after ``delay`` and lifts off again on side s with speed ``w_back``; kind 2, the impacts
+    accumulate (chatter) at ``delay`` after this one and the frame is seated from then on.
+    C_r = 0 is the limit C_r → 0+: w = 0 gives delay 0, and the inner phase is preferred.
+    """
+    # Accelerations at rest on the surface, positive away from it: into the inner phase (the
+    # unstepped phase, or for the rigid block the stepped phase on the other side) and back out.
+    p_in = w1 * w1 * xc + s * p1 * ag_now if xc > 0.0 else -g1 + s * p2 * ag_now
+    p_back = w2 * w2 * xc - g1 - s * p2 * ag_now
+    if p_in >= 0.0 or w > w_tiny:
+        return 0, 0.0, w
+    t_in = 2.0 * w / -p_in
+    # Returning from the other side, a rigid block strikes again (x = 0 is its only surface).
+    w_back = w if xc > 0.0 else cr * w
+    if p_back > 0.0:
+        if t_in > rem:
+            return 0, 0.0, w
+        return 1, t_in, w_back
+    if p_back == 0.0:
+        return 0, 0.0, w
+    # Each cycle (in and back out) takes 2w(1/|p_in| + C_back/|p_back|) and multiplies w by
+    # C_r (portal frame: one impact per cycle, C_back = 1) or C_r² (block: two, C_back = C_r).
+    c_back = 1.0 if xc > 0.0 else cr
+    ratio = cr if xc > 0.0 else cr * cr
+    cycle = 2.0 * w * (1.0 / -p_in + c_back / -p_back)
+    # C_r = 1 does not accumulate; a rebound below w_tiny is then taken as rest after one cycle.
+    delay = cycle / (1.0 - ratio) if ratio < 1.0 else cycle
+    if delay > rem:
+        return 0, 0.0, w
+    return 2, delay, 0.0
+
+
+@njit(cache=True)
+def _push(
+    n_ev: int,
+    ev_t: np.ndarray,
+    ev_kind: np.ndarray,
+    ev_v_in: np.ndarray,
+    ev_v_out: np.ndarray,
+    ev_peak: np.ndarray,
+    t: float,
+    kind: int,
+    v_in: float,
+    v_out: float,
+    peak: float,
+) -> int:
+    """Store one event if there is room; returns the new event count."""
+    if n_ev < ev_t.shape[0]:
+        ev_t[n_ev] = t
+        ev_kind[n_ev] = kind
+        ev_v_in[n_ev] = v_in
+        ev_v_out[n_ev] = v_out
+        ev_peak[n_ev] = peak
+    return n_ev + 1
+
+
+@njit(cache=True)
 def integrate(
     ag: np.ndarray,
     dt: float,
@@ -283,7 +368,16 @@ def integrate(
     x_star = g1 / (w2 * w2)
     # Negative root of the stepped phase's characteristic equation (escape test, free motion).
     lam2 = -w2 * (xi2 + math.sqrt(1.0 + xi2 * xi2))
-    v_eps = 1e-12 * max(xc, x_star) * max(w1, w2)
+    x_ref = max(xc, x_star)
+    w_tiny = CHATTER_EPS * max(w1, w2) * x_ref
+    tol_x = INVARIANT_RTOL * x_ref
+    # Without a cap: the largest |ẍ_g| still to come from each sample (0 in the free tail), for
+    # the certain-escape test during the record.
+    no_cap = xcap == math.inf
+    suffix = np.zeros(n_rec + 2 if no_cap else 0)
+    if no_cap:
+        for jj in range(n_rec, -1, -1):
+            suffix[jj] = max(abs(ag[jj]), suffix[jj + 1])
 
     # Full-interval constants of the unstepped phase, for the event-free fast path.
     beta1 = xi1 * w1
@@ -356,6 +450,16 @@ def integrate(
             ag_b = 0.0
         slope = (ag_b - ag_a) / dt
         in_free = i >= n_rec
+        if no_cap and overturned == 0 and (phase == 1 or phase == -1):
+            # Beyond reach of return whatever the rest of the record does (paper-notes).
+            s = 1.0 if phase > 0 else -1.0
+            y_e = (g1 + p2 * (suffix[i] if i < n_rec else 0.0)) / (w2 * w2)
+            if s * v - lam2 * (s * x - y_e) > 0.0:
+                overturned = 1
+                t_over = t0
+                n_ev = _push(n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak,
+                             t0, EVENT_ESCAPE, v, v, x)  # fmt: skip
+                break
         if in_free and not escape_checked:
             escape_checked = True
             if phase == 1 or phase == -1:
@@ -550,51 +654,56 @@ def integrate(
                                         stop = True
                         elif ev_type == EVENT_TOUCHDOWN:
                             s = 1.0 if phase > 0 else -1.0
-                            v = cr * v_ev
+                            w_reb = cr * abs(v_ev)
                             n_imp += 1
                             if cur_lift >= 0 and cur_lift < cap_ev:
                                 ev_peak[cur_lift] = cur_side * ep_peak
-                            if n_ev < cap_ev:
-                                ev_t[n_ev] = t_ev
-                                ev_kind[n_ev] = EVENT_TOUCHDOWN
-                                ev_v_in[n_ev] = v_ev
-                                ev_v_out[n_ev] = v
-                                ev_peak[n_ev] = ep_peak
-                            n_ev += 1
                             cur_lift = -1
-                            if abs(v) <= v_eps:
-                                v = 0.0
-                                phase = _surface_phase(
-                                    s, ag_a + slope * tau, w1, w2, p1, p2, g1, xc
-                                )
-                                if phase == 1 or phase == -1:
+                            kind, delay, w_back = _impact_rule(
+                                s, w_reb, ag_a + slope * tau, dt - tau,
+                                w1, w2, p1, p2, g1, xc, cr, w_tiny,
+                            )  # fmt: skip
+                            n_ev = _push(
+                                n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak,
+                                t_ev, EVENT_TOUCHDOWN, v_ev, -s * w_reb, ep_peak,
+                            )  # fmt: skip
+                            if kind == 0:
+                                v = -s * w_reb
+                                if xc > 0.0:
+                                    phase = 0
+                                else:
+                                    # Rigid-block limit: impact at x = 0 passes to the other side.
+                                    phase = -int(s)
                                     n_lift += 1
                                     cur_lift = n_ev
-                                    cur_side = 1.0 if phase > 0 else -1.0
-                                    ep_peak = xc
-                                    if n_ev < cap_ev:
-                                        ev_t[n_ev] = t_ev
-                                        ev_kind[n_ev] = EVENT_LIFTOFF
-                                        ev_v_in[n_ev] = 0.0
-                                        ev_v_out[n_ev] = 0.0
-                                        ev_peak[n_ev] = cur_side * xc
-                                    n_ev += 1
-                            elif xc > 0.0:
-                                phase = 0
-                            else:
-                                # Rigid-block limit: impact at x = 0 passes to the other side.
-                                phase = -int(s)
+                                    cur_side = -s
+                                    ep_peak = 0.0
+                                    n_ev = _push(n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak,
+                                                 t_ev, EVENT_LIFTOFF, v, v, 0.0)  # fmt: skip
+                            elif kind == 1:
+                                tau += delay
+                                t_ev += delay
+                                if xc == 0.0:
+                                    # The block's return strikes again before it lifts off.
+                                    n_imp += 1
+                                    n_ev = _push(n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak,
+                                                 t_ev, EVENT_TOUCHDOWN, s * w_reb, s * w_back,
+                                                 0.0)  # fmt: skip
+                                phase = int(s)
+                                v = s * w_back
                                 n_lift += 1
                                 cur_lift = n_ev
-                                cur_side = 1.0 if phase > 0 else -1.0
-                                ep_peak = 0.0
-                                if n_ev < cap_ev:
-                                    ev_t[n_ev] = t_ev
-                                    ev_kind[n_ev] = EVENT_LIFTOFF
-                                    ev_v_in[n_ev] = v
-                                    ev_v_out[n_ev] = v
-                                    ev_peak[n_ev] = 0.0
-                                n_ev += 1
+                                cur_side = s
+                                ep_peak = xc
+                                n_ev = _push(n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak,
+                                             t_ev, EVENT_LIFTOFF, v, v, s * xc)  # fmt: skip
+                            else:
+                                tau += delay
+                                t_ev += delay
+                                v = 0.0
+                                phase = 2 * int(s)
+                                n_ev = _push(n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak,
+                                             t_ev, EVENT_SETTLE, -s * w_reb, 0.0, 0.0)  # fmt: skip
                         else:
                             v = v_ev
                             overturned = 1
@@ -631,6 +740,12 @@ def integrate(
                 if not (math.isfinite(x) and math.isfinite(v)):
                     status = STATUS_NONFINITE
                     stop = True
+                elif (phase == 0 and abs(x) > xc + tol_x) or (
+                    phase != 0 and (1.0 if phase > 0 else -1.0) * x < xc - tol_x
+                ):
+                    # The state left its phase's side without an event: not a solution.
+                    status = STATUS_INVARIANT
+                    stop = True
                 break
         if stop:
             if do_hist:
@@ -645,8 +760,21 @@ def integrate(
             hist_x[i] = x
             hist_v[i] = v
             hist_p[i] = phase
+    if do_hist:
+        # A run that stopped early holds its final state to the end of the history.
+        for jj in range(i + 1, hist_x.shape[0]):
+            hist_x[jj] = x
+            hist_v[jj] = v
+            hist_p[jj] = phase
     if cur_lift >= 0 and cur_lift < cap_ev:
         ev_peak[cur_lift] = cur_side * ep_peak
+    if status == STATUS_OK and overturned == 0:
+        # A frame that neither passed the cap nor escaped cannot be beyond either bound.
+        bound = xcap
+        if no_cap:
+            bound = max(abs(x0), (g1 + p2 * suffix[0]) / (w2 * w2)) * (1.0 + INVARIANT_RTOL)
+        if not peak <= bound:
+            status = STATUS_IMPOSSIBLE
     t_end = i * dt
     if not math.isnan(t_over):
         t_end = t_over
