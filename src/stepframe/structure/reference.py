@@ -142,14 +142,18 @@ def integrate_reference(
         # side for the block) and back out into the stepped phase on this side.
         into = (w1**2 * xc + side * p1 * agv) if xc > 0 else (side * p2 * agv - g1)
         out = w2**2 * xc - g1 - side * p2 * agv
-        if w > w_small or into >= 0:
+        # Within rounding of zero an acceleration's sign is noise: seated decides instead.
+        noise = INVARIANT_RTOL * max(w1, w2) ** 2 * x_ref
+        if w > w_small or into > noise:
             return "follow", 0.0, w
+        if abs(into) <= noise:
+            return ("seat", 0.0, 0.0) if w == 0 else ("follow", 0.0, w)
         first = 2 * w / abs(into)
         block = xc == 0
-        if out > 0:
+        if out > noise or (abs(out) <= noise and w > 0):
             return ("lift", first, cr * w if block else w) if first <= left else ("follow", 0, w)
-        if out == 0:
-            return "follow", 0.0, w
+        if abs(out) <= noise:
+            return "seat", 0.0, 0.0
         # The rebound speeds after each impact form a geometric series: w, C_r w, C_r² w, ...
         # (the block strikes at both ends of a cycle, the portal frame once).
         per_cycle = cr**2 if block else cr
@@ -284,21 +288,29 @@ def integrate_reference(
             t = te
             fresh = True
             vel = float(ye[1])
+            touch = phase != 0 and k == 0
+            cap = phase != 0 and k != 0
             if phase == 0:
                 x = xc if k == 0 else -xc
                 phase = 1 if k == 0 else -1
                 v = vel
                 peak = max(peak, xc)
                 liftoff(te, vel)
-                if i >= n_rec:
-                    side = float(phase)
-                    if side * v - lam2 * (side * x - x_star) > 0 and not overturned:
-                        overturned = True
-                        if xcap == math.inf:
-                            t_over = te
-                            done = True
-                            break
-            elif k == 0:
+                side = float(phase)
+                back = w2**2 * xc - g1 - side * p2 * (a0 + slope * (te - t0))
+                if abs(vel) <= w_small and back < 0 and te + 2 * abs(vel) / -back <= t1:
+                    # Grazing lift-off: pulled straight back, touchdown at the same speed.
+                    te += 2 * abs(vel) / -back
+                    t = te
+                    vel = -vel
+                    touch = True
+                elif i >= n_rec and side * v - lam2 * (side * x - x_star) > 0 and not overturned:
+                    overturned = True
+                    if xcap == math.inf:
+                        t_over = te
+                        done = True
+                        break
+            if touch:
                 side = 1.0 if phase > 0 else -1.0
                 x = side * xc
                 v = cr * vel
@@ -337,7 +349,7 @@ def integrate_reference(
                     ev_peak.append(0.0)
                     v = 0.0
                     phase = 2 * int(side)
-            else:
+            elif cap:
                 x = float(ye[0])
                 v = vel
                 peak = max(peak, abs(x))

@@ -36,8 +36,12 @@ from stepframe.structure.status import (
     EVENT_LIFTOFF,
     EVENT_NAMES,
     EVENT_TOUCHDOWN,
+    INVARIANT_RTOL,
+    STATUS_IMPOSSIBLE,
     STATUS_MESSAGES,
     STATUS_NAMES,
+    STATUS_NONFINITE,
+    STATUS_OK,
     Model,
     RawRun,
     SimulationStatus,
@@ -251,7 +255,12 @@ class FrameLike(Protocol):
 
 
 def model_of(frame: FrameLike) -> Model:
-    """Model constants of a frame (any object with the fields of PortalFrame)."""
+    """Model constants of a frame (any object with the fields of PortalFrame).
+
+    An x_c below ``INVARIANT_RTOL``·x* (1e-9 x*) is taken as the rigid-block limit x_c = 0: the
+    unstepped phase is then narrower than the rounding of x near the surface, so no integrator
+    can tell which side of it a state is on, and crossing it takes no time at any finite speed.
+    """
     names = Model._fields
     values = []
     for name in names:
@@ -267,6 +276,9 @@ def model_of(frame: FrameLike) -> Model:
     for name in ("omega_1_rad_s", "omega_2_rad_s", "gamma_1_m_s2"):
         if not getattr(model, name) > 0:
             raise InputError(f"{name} = {getattr(model, name)}, expected > 0")
+    x_star = model.gamma_1_m_s2 / model.omega_2_rad_s**2
+    if model.x_c_m < INVARIANT_RTOL * x_star:
+        model = model._replace(x_c_m=0.0)
     return model
 
 
@@ -416,7 +428,28 @@ METHODS: dict[str, Integrator] = {
 }
 
 
-def _result(raw: RawRun, dt_s: float, height: float | None, units: str) -> SimulationResult:
+def _checked_status(raw: RawRun, model: Model, ag: np.ndarray, x0: float) -> int:
+    """The run's status, downgraded when the result is not physically possible.
+
+    Applied to every method (a user's callable too): non-finite values are never "ok", and a
+    frame that did not overturn can pass neither its cap nor y_e = (γ₁ + P₂ max|ẍ_g|)/ω₂², the
+    displacement beyond which a stepped frame moving outward cannot return (docs/paper-notes.md).
+    """
+    if raw.status != STATUS_OK:
+        return raw.status
+    values = (raw.peak_abs_x, raw.x_end, raw.v_end)
+    if not all(math.isfinite(value) for value in values):
+        return STATUS_NONFINITE
+    if raw.overturned:
+        return STATUS_OK
+    reach = (model.gamma_1_m_s2 + model.p_2 * float(np.max(np.abs(ag)))) / model.omega_2_rad_s**2
+    bound = min(model.x_cap_m, max(abs(x0), reach) * (1.0 + INVARIANT_RTOL))
+    return STATUS_OK if raw.peak_abs_x <= bound else STATUS_IMPOSSIBLE
+
+
+def _result(
+    raw: RawRun, dt_s: float, height: float | None, units: str, status: int
+) -> SimulationResult:
     summary = SimulationSummary(
         peak_abs_x_m=raw.peak_abs_x,
         peak_time_s=raw.peak_time_s,
@@ -429,8 +462,8 @@ def _result(raw: RawRun, dt_s: float, height: float | None, units: str) -> Simul
         n_impacts=raw.n_impacts,
         residual_x_m=raw.x_end,
         residual_v_m_s=raw.v_end,
-        status=STATUS_NAMES.get(raw.status, "failed"),
-        message=STATUS_MESSAGES.get(raw.status, f"unknown status code {raw.status}"),
+        status=STATUS_NAMES.get(status, "failed"),
+        message=STATUS_MESSAGES.get(status, f"unknown status code {status}"),
     )
     return SimulationResult(summary=summary, raw=raw, dt_s=dt_s, units=units)
 
@@ -522,8 +555,9 @@ def simulate(
             raise InputError(f"{name} = {tol!r}, expected a finite tolerance > 0")
     height = _height(frame, height_m)
     n_tail = math.ceil(tail_s / dt_s - 1e-9)
-    raw = integrator(model, ag * scale, float(dt_s), n_tail, x0, v0, record_history, rtol, atol)
-    return _result(raw, float(dt_s), height, "m")
+    ag = ag * scale
+    raw = integrator(model, ag, float(dt_s), n_tail, x0, v0, record_history, rtol, atol)
+    return _result(raw, float(dt_s), height, "m", _checked_status(raw, model, ag, x0))
 
 
 def simulate_rigid_block(
@@ -574,16 +608,10 @@ def simulate_rigid_block(
     ag = _check_motion(ground_acc_m_s2, dt_s)
     tail_s = _check_scalar("tail_s", tail_s, minimum=0.0)
     n_tail = math.ceil(tail_s / dt_s - 1e-9)
-    raw = _run_exact(
-        model,
-        ag,
-        float(dt_s),
-        n_tail,
-        _check_scalar("theta0_rad", theta0_rad),
-        _check_scalar("omega0_rad_s", omega0_rad_s),
-        record_history,
-    )
-    return _result(raw, float(dt_s), None, "rad")
+    theta0 = _check_scalar("theta0_rad", theta0_rad)
+    omega0 = _check_scalar("omega0_rad_s", omega0_rad_s)
+    raw = _run_exact(model, ag, float(dt_s), n_tail, theta0, omega0, record_history)
+    return _result(raw, float(dt_s), None, "rad", _checked_status(raw, model, ag, theta0))
 
 
 @dataclass(frozen=True)
