@@ -819,8 +819,7 @@ def integrate(
     )
 
 
-@njit(cache=True, parallel=True)
-def integrate_batch(
+def _batch(
     flat_ag: np.ndarray,
     offsets: np.ndarray,
     rec_index: np.ndarray,
@@ -877,3 +876,10 @@ def integrate_batch(
         out[j, 7] = res[8]
         out[j, 8] = res[9]
         out[j, 9] = res[10]
+
+
+#: All cores through numba's parallel loop (the default, from a process's main thread).
+integrate_batch = njit(cache=True, parallel=True)(_batch)
+#: The same loop on one thread: for worker threads of an executor, where a parallel launch from
+#: several threads at once is not safe with every numba threading layer (workqueue aborts).
+integrate_batch_serial = njit(cache=True)(_batch)

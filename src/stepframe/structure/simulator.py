@@ -639,14 +639,23 @@ class _BatchBlock:
 
 
 def _run_block(block: _BatchBlock) -> np.ndarray:
-    """Summaries of one block, all cores through numba's ``prange`` (see docs/benchmarks.md)."""
+    """Summaries of one block, all cores through numba's ``prange`` (see docs/benchmarks.md).
+
+    In a worker thread (a thread-pool executor) the block runs on that thread alone.
+    """
+    import threading
+
     from stepframe.structure import _exact
+
+    kernel = _exact.integrate_batch
+    if threading.current_thread() is not threading.main_thread():
+        kernel = _exact.integrate_batch_serial
 
     offsets = np.zeros(len(block.series) + 1, dtype=np.int64)
     offsets[1:] = np.cumsum([a.size for a in block.series])
     out = np.empty((block.scales.size, 10))
-    _exact.integrate_batch(np.concatenate(block.series), offsets, block.rec_local, block.scales,
-                           block.dts, block.tails, block.params, out)  # fmt: skip
+    kernel(np.concatenate(block.series), offsets, block.rec_local, block.scales,
+           block.dts, block.tails, block.params, out)  # fmt: skip
     return out
 
 
