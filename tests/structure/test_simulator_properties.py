@@ -66,7 +66,7 @@ def cases(draw: Any) -> tuple[PortalFrame, np.ndarray, float]:
     return frame, window * scale, dt
 
 
-@settings(max_examples=200, deadline=None, derandomize=True)
+@settings(max_examples=200, deadline=None, derandomize=True, database=None)
 @given(cases())
 def test_every_run_overturns_or_stays_on_the_side_of_its_phase(
     case: tuple[PortalFrame, np.ndarray, float],
