@@ -145,6 +145,9 @@ def test_batch_through_an_executor_equals_the_in_process_batch() -> None:
     local = simulate_batch(FRAME, records, scales, tail_s=2.0)
     with ThreadPoolExecutor(max_workers=2) as pool:
         spread = simulate_batch(FRAME, records, scales, tail_s=2.0, executor=pool)
+    # A process pool after this process ran numba's parallel loop (fork would be killed).
+    pooled = simulate_batch(FRAME, records, scales, tail_s=2.0, jobs=2)
+    np.testing.assert_array_equal(local["peak_abs_x_m"], pooled["peak_abs_x_m"])
     assert list(local.columns) == list(spread.columns)
     assert (local["status"] == "ok").all() and (local["message"] == "").all()
     np.testing.assert_array_equal(local["peak_abs_x_m"], spread["peak_abs_x_m"])

@@ -15,8 +15,20 @@ when, in free vibration after the record, a stepped state lies on the escaping b
 stepped phase in free motion, u = s·x - x* and w = s·ẋ (s the side) obey ü + 2ξ₂ω₂u̇ - ω₂²u = 0,
 whose solution is c₁e^{λ₁t} + c₂e^{λ₂t} with λ₁ > 0 > λ₂; the frame escapes exactly when
 c₁ ∝ w - λ₂u > 0. For ξ₂ = 0 this is w + ω₂u > 0, which contains the set E = ẋ² - ω₂²(x - x*)² ≥ 0
-with ẋ outward (see docs/paper-notes.md). Under forcing a trajectory may return from beyond x*, so
-nothing is decided before the record ends.
+with ẋ outward (see docs/paper-notes.md). Under forcing a trajectory may return from beyond x*;
+without a cap it is declared overturned at the first sample where it cannot return whatever the
+rest of the record does (the same test with x* replaced by (γ₁ + P₂·max remaining |ẍ_g|)/ω₂²).
+
+Impacts that accumulate (chatter, the Zeno sequence of a rocking frame or block coming to rest)
+are summed in closed form and the frame is then seated on the surface until the ground can lift
+it again; C_r = 0 is the limit C_r → 0+. A result that is not a solution of the model (a state on
+the wrong side of its phase) or not physically possible (past the cap, or past the bound a
+frame that does not escape respects, without an overturn verdict) has status "failed", never
+"ok" (docs/paper-notes.md, "Chatter, C_r → 0+ and the certain-escape verdict").
+
+Methods are a registry, :data:`METHODS` (``{name: Integrator}``); ``method=`` takes a name or
+any :class:`Integrator` callable. Status and event codes live in
+:mod:`stepframe.structure.status`, shared by every integrator.
 """
 
 from __future__ import annotations
@@ -641,14 +653,18 @@ class _BatchBlock:
 def _run_block(block: _BatchBlock) -> np.ndarray:
     """Summaries of one block, all cores through numba's ``prange`` (see docs/benchmarks.md).
 
-    In a worker thread (a thread-pool executor) the block runs on that thread alone.
+    In a worker (a thread of a thread pool, or a process of a pool) the block runs on that one
+    thread: the pool is the parallelism there, and numba's OpenMP layer must not be used in a
+    process forked after its parent used it (the child is killed).
     """
+    import multiprocessing
     import threading
 
     from stepframe.structure import _exact
 
     kernel = _exact.integrate_batch
-    if threading.current_thread() is not threading.main_thread():
+    worker_thread = threading.current_thread() is not threading.main_thread()
+    if worker_thread or multiprocessing.parent_process() is not None:
         kernel = _exact.integrate_batch_serial
 
     offsets = np.zeros(len(block.series) + 1, dtype=np.int64)
@@ -761,10 +777,23 @@ def simulate_batch(
     spread = executor is not None or jobs > 1
     n_blocks = 4 * max(1, jobs) if spread else 1
     blocks = _blocks(series, dts, rec_index, pair_scales, tail_s, params, n_blocks)
-    outcome = map_items(
-        _run_block, blocks, jobs=jobs, executor=executor, chunk_size=1, stage="simulate",
-        progress=progress,
-    )  # fmt: skip
+    if executor is None and jobs > 1:
+        # A forked child of a process that ran numba's OpenMP loop is killed by the OpenMP
+        # runtime, so the pool starts its workers from a fork server instead.
+        import multiprocessing
+        from concurrent.futures import ProcessPoolExecutor
+
+        context = multiprocessing.get_context("forkserver")
+        with ProcessPoolExecutor(max_workers=jobs, mp_context=context) as pool:
+            outcome = map_items(
+                _run_block, blocks, executor=pool, chunk_size=1, stage="simulate",
+                progress=progress,
+            )  # fmt: skip
+    else:
+        outcome = map_items(
+            _run_block, blocks, jobs=jobs, executor=executor, chunk_size=1, stage="simulate",
+            progress=progress,
+        )  # fmt: skip
     out = np.full((rec_index.size, 10), np.nan)
     messages = [""] * rec_index.size
     codes: list[int | None] = [None] * rec_index.size
