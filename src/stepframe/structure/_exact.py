@@ -306,7 +306,7 @@ def _impact_rule(
     return 2, delay, 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _push(
     n_ev: int,
     ev_t: np.ndarray,
