@@ -47,8 +47,8 @@ def _motion(stream: Any, index: int) -> tuple[np.ndarray, float]:
     return trace.data.astype(float) * STANDARD_GRAVITY_M_S2, float(trace.stats.delta)
 
 
-def _reference(frame: Any, ag: np.ndarray, dt: float, **kw: Any) -> Any:
-    return simulate(frame, ag, dt, method="DOP853", rtol=1e-12, atol=1e-15, **kw)
+def _reference(frame: Any, ag: np.ndarray, dt: float, atol: float = 1e-15, **kw: Any) -> Any:
+    return simulate(frame, ag, dt, method="DOP853", rtol=1e-12, atol=atol, **kw)
 
 
 @pytest.mark.parametrize("index", [2, 8])
@@ -62,10 +62,14 @@ def test_docs_block_under_real_records_agrees_with_reference(
     block = frame_from_mapping(DOCS_BLOCK)
     ag, dt = _motion(stream, index)
     exact = simulate(block, ag, dt, scale=scale, tail_s=5.0, record_history=False)
-    ref = _reference(block, ag, dt, scale=scale, tail_s=5.0, record_history=False)
+    # Flights just above the closed-form threshold rise ~1e-12 m: an atol far below that.
+    ref = _reference(block, ag, dt, atol=1e-20, scale=scale, tail_s=5.0, record_history=False)
     assert exact.summary.status == ref.summary.status == "ok"
     assert exact.summary.overturned == ref.summary.overturned
-    assert exact.summary.n_impacts == ref.summary.n_impacts
+    # Whether the last impacts before an accumulation are located one by one or summed depends
+    # on tests at a threshold (rebound ≤ w_tiny, the sum fitting in the sample), which two
+    # integrators can decide differently within rounding: counts agree to a couple of impacts.
+    assert abs(exact.summary.n_impacts - ref.summary.n_impacts) <= 2
     reach = (block.gamma_1_m_s2 + block.p_2 * scale * np.abs(ag).max()) / block.omega_2_rad_s**2
     assert exact.summary.peak_abs_x_m < reach
     if exact.summary.overturned:
@@ -198,3 +202,25 @@ def test_c_r_zero_prefers_the_unstepped_phase_when_it_pulls_inward() -> None:
     assert result.history is not None
     assert result.history["phase"].to_numpy()[1] == 0
     assert result.summary.n_stepping_episodes == 0
+
+
+def test_portal_frame_with_small_x_c_chatters_settles_and_agrees_with_reference(
+    stream: Any,
+) -> None:
+    """Example 4 with x_c = 0.5 mm and C_r = 0.5: its uplift acceleration ω₁²x_c/P₁ = 0.019
+    m/s² is below the stepped phase's restoring (γ₁ - ω₂²x_c)/P₂ = 0.109 m/s², so between the two
+    the frame chatters on its footing and is seated; entry 8 at 0.02 does so three times."""
+    frame = PortalFrame(**{**EXAMPLE_4, "x_c_m": 0.0005}, c_r=0.5, x_cap_m=0.6)
+    ag, dt = _motion(stream, 8)
+    exact = simulate(frame, ag, dt, scale=0.02, tail_s=5.0)
+    # The chatter flights here rise ~1e-13 m: the reference needs an atol far below that (with
+    # 1e-15 its event times are off by ~1 %, and its last sequences end differently).
+    ref = _reference(frame, ag, dt, atol=1e-20, scale=0.02, tail_s=5.0)
+    assert exact.summary.status == ref.summary.status == "ok"
+    assert not exact.summary.overturned and not ref.summary.overturned
+    assert exact.event_kinds.count("settle") == ref.event_kinds.count("settle") == 3
+    assert exact.summary.n_impacts == ref.summary.n_impacts
+    assert exact.summary.peak_abs_x_m == pytest.approx(ref.summary.peak_abs_x_m, rel=1e-9)
+    np.testing.assert_allclose(exact.switching_times_s, ref.switching_times_s, rtol=0, atol=1e-9)
+    assert exact.history is not None and ref.history is not None
+    np.testing.assert_allclose(exact.history["x"], ref.history["x"], rtol=0, atol=1e-12)

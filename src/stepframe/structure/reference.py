@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 
 from stepframe.structure.status import (
+    CHATTER_DRIFT,
     CHATTER_EPS,
     EVENT_CAP,
     EVENT_ESCAPE,
@@ -136,7 +137,9 @@ def integrate_reference(
     # Largest |ẍ_g| from each sample to the end of the record (certain-escape test, no cap).
     ahead = np.maximum.accumulate(np.abs(ag[::-1]))[::-1] if ag.size else np.zeros(0)
 
-    def after_impact(side: float, w: float, agv: float, left: float) -> tuple[str, float, float]:
+    def after_impact(
+        side: float, w: float, agv: float, rate: float, left: float
+    ) -> tuple[str, float, float]:
         """("follow", 0, w), ("lift", delay, speed) or ("seat", delay, 0) after an impact."""
         # Accelerations at rest on the surface: into the inner region (unstepped, or the far
         # side for the block) and back out into the stepped phase on this side.
@@ -150,8 +153,16 @@ def integrate_reference(
             return ("seat", 0.0, 0.0) if w == 0 else ("follow", 0.0, w)
         first = 2 * w / abs(into)
         block = xc == 0
+        # How fast each acceleration changes: the closed form assumes both constant.
+        d_into = abs((p2 if block else p1) * rate)
+        d_out = abs(p2 * rate)
+        # Below w_small/10 the sum is used even where the forcing drifts (flights that small
+        # would sink below the rounding of x).
+        forced = w <= 0.1 * w_small
         if out > noise or (abs(out) <= noise and w > 0):
-            return ("lift", first, cr * w if block else w) if first <= left else ("follow", 0, w)
+            steady = forced or d_into * first <= CHATTER_DRIFT * abs(into)
+            lift = first <= left and steady
+            return ("lift", first, cr * w if block else w) if lift else ("follow", 0, w)
         if abs(out) <= noise:
             return "seat", 0.0, 0.0
         # The rebound speeds after each impact form a geometric series: w, C_r w, C_r² w, ...
@@ -159,7 +170,8 @@ def integrate_reference(
         per_cycle = cr**2 if block else cr
         one = first + 2 * w * (cr if block else 1.0) / abs(out)
         total = one / (1 - per_cycle) if per_cycle < 1 else one
-        return ("seat", total, 0.0) if total <= left else ("follow", 0.0, w)
+        steady = forced or max(d_into / abs(into), d_out / abs(out)) * total <= CHATTER_DRIFT
+        return ("seat", total, 0.0) if total <= left and steady else ("follow", 0.0, w)
 
     def liftoff(t: float, vel: float) -> None:
         nonlocal n_lift, cur_lift, ep_peak
@@ -322,7 +334,8 @@ def integrate_reference(
                 ev_v_out.append(v)
                 ev_peak.append(ep_peak)
                 cur_lift = -1
-                what, delay, speed = after_impact(side, abs(v), a0 + slope * (te - t0), t1 - te)
+                agv_te = a0 + slope * (te - t0)
+                what, delay, speed = after_impact(side, abs(v), agv_te, slope, t1 - te)
                 if what == "follow" and xc > 0:
                     phase = 0
                 elif what == "follow":

@@ -77,6 +77,10 @@ EVENT_NAMES: dict[int, str] = {
 #: terms are O(CHATTER_EPS) of a duration that is itself O(CHATTER_EPS/ω).
 CHATTER_EPS = 1e-5
 
+#: Largest relative change of a surface acceleration (from the ground's slope) over a flight or an
+#: accumulation summed in closed form, whose leading-order durations assume it constant.
+CHATTER_DRIFT = 1e-3
+
 #: Tolerance of the phase invariant, relative to x_ref = max(x_c, x*).
 INVARIANT_RTOL = 1e-9
 
