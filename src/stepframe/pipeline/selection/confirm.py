@@ -92,8 +92,8 @@ def spearman_interval(
         return math.nan, math.nan, math.nan, n
 
     def rho(a: Floats, b: Floats) -> Floats:
-        ra = np.apply_along_axis(rankdata, -1, a)
-        rb = np.apply_along_axis(rankdata, -1, b)
+        ra = np.asarray(rankdata(a, axis=-1), dtype=np.float64)
+        rb = np.asarray(rankdata(b, axis=-1), dtype=np.float64)
         ra -= ra.mean(axis=-1, keepdims=True)
         rb -= rb.mean(axis=-1, keepdims=True)
         with np.errstate(invalid="ignore", divide="ignore"):

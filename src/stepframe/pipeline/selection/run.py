@@ -277,6 +277,7 @@ def select_records(
 
     _check_table(features)
     table = features.reset_index(drop=True).copy()
+    table.attrs = {}  # pandas compares attrs (DataFrames here) when it combines tables
     band = frame_band(
         frame,
         a_max_m=options.a_max_m,
@@ -377,27 +378,33 @@ def select_records(
     )  # fmt: skip
     chosen = choose(units, options.n, **choice)  # type: ignore[arg-type]
     chosen_rows = [i for u in chosen for i in members[u]]
-    # Rank stability: redraw the fitted parameters, rescore, choose again.
+    # Rank stability: redraw the fitted parameters, rescore, choose again (one batch for all
+    # replicates, so a process pool starts once).
     counts = np.zeros(len(table))
     rng = np.random.default_rng(options.seed)
-    for _ in range(options.n_bootstrap):
-        drawn = _perturbed(table.iloc[passing].reset_index(drop=True), rng)
+    replicates = [
+        _perturbed(table.iloc[passing].reset_index(drop=True), rng)
+        for _ in range(options.n_bootstrap)
+    ]
+    if replicates:
+        drawn = pd.concat(replicates, ignore_index=True)
         if options.rank_by in sc.PHYSICS_SCORES:
             b, d, _, _ = _physics(
                 drawn, np.arange(len(drawn)), band, frame,
                 strong_motion_paths(drawn, options.strong_motion_fraction), jobs, executor,
             )  # fmt: skip
-            values = b if options.rank_by == "backbone_amplification" else d
+            all_values = b if options.rank_by == "backbone_amplification" else d
         else:
-            values = np.asarray(
+            all_values = np.asarray(
                 _cheap_scores(drawn, band, options.strong_motion_fraction)[options.rank_by],
                 dtype=np.float64,
             )
-        z_b = np.full(len(table), np.nan)
-        z_b[passing] = percentile_scores(values)
-        units_b, members_b = _units(table, passing, z_b, options.unit, log_psa)
-        for u in choose(units_b, options.n, **choice):  # type: ignore[arg-type]
-            counts[members_b[u]] += 1
+        for values in all_values.reshape(options.n_bootstrap, passing.size):
+            z_b = np.full(len(table), np.nan)
+            z_b[passing] = percentile_scores(values)
+            units_b, members_b = _units(table, passing, z_b, options.unit, log_psa)
+            for u in choose(units_b, options.n, **choice):  # type: ignore[arg-type]
+                counts[members_b[u]] += 1
     probability = np.full(len(table), np.nan)
     if options.n_bootstrap:
         probability[passing] = counts[passing] / options.n_bootstrap
