@@ -4,17 +4,18 @@ from __future__ import annotations
 
 import math
 from dataclasses import asdict, dataclass, fields
-from typing import Any, Literal
+from typing import Any
 
 from stepframe.errors import InputError
-from stepframe.pipeline.selection.scores import RANKABLE
-
-ScalePolicy = Literal["none", "psa-at-t1", "target-mse"]
-SCALE_POLICIES: tuple[ScalePolicy, ...] = ("none", "psa-at-t1", "target-mse")
-DistanceMetric = Literal["rrup", "rjb", "repi"]
-DISTANCE_METRICS: tuple[DistanceMetric, ...] = ("rrup", "rjb", "repi")
-Unit = Literal["component", "record"]
-UNITS: tuple[Unit, ...] = ("component", "record")
+from stepframe.pipeline.selection.names import (
+    DISTANCE_METRICS,
+    RANKABLE,
+    SCALE_POLICIES,
+    UNITS,
+    DistanceMetric,
+    ScalePolicy,
+    Unit,
+)
 
 
 @dataclass(frozen=True)

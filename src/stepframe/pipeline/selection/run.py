@@ -18,6 +18,7 @@ from stepframe.pipeline.selection import scores as sc
 from stepframe.pipeline.selection.band import FrameBand, frame_band
 from stepframe.pipeline.selection.choose import Units, choose, percentile_scores
 from stepframe.pipeline.selection.filters import apply_filters, filter_summary
+from stepframe.pipeline.selection.names import PHYSICS_SCORES
 from stepframe.pipeline.selection.options import SelectionOptions
 from stepframe.pipeline.selection.path import MODEL_COLUMNS, strong_motion_paths
 from stepframe.pipeline.selection.result import SelectionResult, column_dictionary
@@ -300,7 +301,7 @@ def select_records(
     passing = np.flatnonzero(dropped_by == "")
     if passing.size == 0:
         raise InputError(f"every candidate was filtered out ({summary_line}), expected some left")
-    needs_physics = options.rank_by in sc.PHYSICS_SCORES or options.confirm
+    needs_physics = options.rank_by in PHYSICS_SCORES or options.confirm
     table["backbone_amplification"] = np.nan
     table["descent_amplification"] = np.nan
     if needs_physics:
@@ -388,7 +389,7 @@ def select_records(
     ]
     if replicates:
         drawn = pd.concat(replicates, ignore_index=True)
-        if options.rank_by in sc.PHYSICS_SCORES:
+        if options.rank_by in PHYSICS_SCORES:
             b, d, _, _ = _physics(
                 drawn, np.arange(len(drawn)), band, frame,
                 strong_motion_paths(drawn, options.strong_motion_fraction), jobs, executor,

@@ -36,11 +36,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from stepframe.pipeline.selection.band import FrameBand
+from stepframe.pipeline.selection.names import RANKABLE
 from stepframe.pipeline.selection.path import Paths, model_of_row
 
 Floats = NDArray[np.float64]
 
-#: Score name → (unit, meaning, higher_is_better).
+#: Score name → (unit, meaning); higher means more of what the name says.
 SCORES: dict[str, tuple[str, str]] = {
     "band_coverage": (
         "",
@@ -59,9 +60,7 @@ SCORES: dict[str, tuple[str, str]] = {
         "omega(A_max) during strong motion, over the best of the same held at a backbone level",
     ),
 }
-#: Scores computed per candidate by the covariance method (the others are closed forms).
-PHYSICS_SCORES = ("backbone_amplification", "descent_amplification")
-RANKABLE = tuple(SCORES)
+assert tuple(SCORES) == RANKABLE
 
 
 def band_coverage(paths: Paths, band: FrameBand) -> Floats:
