@@ -170,8 +170,11 @@ def run(args: argparse.Namespace) -> CommandResult:
     """Features of the catalogue, selection, optional confirmation; tables in OUTDIR."""
     from stepframe.structure.frame_file import read_frame_file
 
+    from stepframe.pipeline.selection.spectral import target_spectrum
+
     frame = read_frame_file(args.frame)
     options = options_from_args(args)
+    target_spectrum(options)  # an unreadable target is reported before the features are run
     out_dir = Path(args.out_dir)
     if out_dir.exists() and not out_dir.is_dir():
         raise InputError("exists and is not a directory, expected an output folder", out_dir)

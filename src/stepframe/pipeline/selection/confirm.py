@@ -6,8 +6,8 @@ Two runs through :func:`stepframe.structure.simulator.simulate_batch`:
   at the chosen scale;
 - every candidate at a common intensity, equal PSA at T_1 = 2π/ω_1 (damping ξ_1): scaled so that
   the linear frame's peak P_1·SD(T_1) is ``onset_ratio`` · x_c, so that frequency content is
-  what differs. There the overturning intensity is also found by bisection: the smallest such
-  ratio at which the frame overturns (``overturn_onset_ratio``; NaN if it does not below 4).
+  what differs. There the overturning intensity is also found (scan, then bisection): the
+  lowest such ratio found to overturn the frame (``overturn_onset_ratio``; NaN if none up to 4).
 
 Then the rank correlation (Spearman, with a percentile bootstrap interval over candidates) of
 every score with the simulated peak drift at equal intensity and with the overturning margin
@@ -26,8 +26,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 Floats = NDArray[np.float64]
-BISECTION_STEPS = 10
+BISECTION_STEPS = 8
 OVERTURN_RATIO_RANGE = (0.5, 4.0)
+#: Onset ratios scanned for overturning (log-spaced, 1.0 is the 6th).
+SCAN_LEVELS = np.geomspace(OVERTURN_RATIO_RANGE[0], OVERTURN_RATIO_RANGE[1], 16)
 N_RESAMPLES = 1000
 
 
@@ -59,20 +61,35 @@ def equal_intensity_scales(sd_t1_m: Floats, frame: Any, onset_ratio: float) -> F
 def overturn_onset_ratios(
     frame: Any, records: list[tuple[Floats, float]], sd_t1_m: Floats
 ) -> Floats:
-    """Smallest onset ratio (as :func:`equal_intensity_scales`) that overturns the frame, per
-    record, by bisection to 2^-10 of the range; NaN when 4 does not overturn it, the lower end
-    of the range when 0.5 already does."""
-    low = np.full(len(records), OVERTURN_RATIO_RANGE[0])
-    high = np.full(len(records), OVERTURN_RATIO_RANGE[1])
-    top = run_batch(frame, records, equal_intensity_scales(sd_t1_m, frame, 1.0) * high)
-    never = ~top.table["overturned"].to_numpy(dtype=bool)
-    for _ in range(BISECTION_STEPS):
-        middle = 0.5 * (low + high)
-        run = run_batch(frame, records, equal_intensity_scales(sd_t1_m, frame, 1.0) * middle)
-        over = run.table["overturned"].to_numpy(dtype=bool)
-        high = np.where(over, middle, high)
-        low = np.where(over, low, middle)
-    return np.asarray(np.where(never, np.nan, high))
+    """Lowest onset ratio (as :func:`equal_intensity_scales`) found to overturn the frame, per
+    record; NaN when none up to 4 does, 0.5 when 0.5 already does.
+
+    Overturning is not monotone in intensity (a stronger scaling can leave the frame standing),
+    so a bisection alone could land on a later transition: the ratios are first scanned on
+    :data:`SCAN_LEVELS` (16 log-spaced levels from 0.5 to 4, 1 among them), then the interval
+    below the first level that overturns is bisected (8 halvings).
+    """
+    n = len(records)
+    base = equal_intensity_scales(sd_t1_m, frame, 1.0)
+    first = np.full(n, -1)
+    for k, level in enumerate(SCAN_LEVELS):
+        over = run_batch(frame, records, base * level).table["overturned"].to_numpy(dtype=bool)
+        first = np.where((first < 0) & over, k, first)
+    found = first > 0
+    low = np.where(found, SCAN_LEVELS[np.maximum(first - 1, 0)], np.nan)
+    high = np.where(found, SCAN_LEVELS[np.maximum(first, 0)], np.nan)
+    if found.any():
+        subset = [records[i] for i in np.flatnonzero(found)]
+        lo, hi = low[found], high[found]
+        for _ in range(BISECTION_STEPS):
+            middle = 0.5 * (lo + hi)
+            over = run_batch(frame, subset, base[found] * middle).table["overturned"]
+            over = over.to_numpy(dtype=bool)
+            hi = np.where(over, middle, hi)
+            lo = np.where(over, lo, middle)
+        high[found] = hi
+    high[first == 0] = SCAN_LEVELS[0]
+    return np.asarray(high)
 
 
 def spearman_interval(

@@ -71,7 +71,8 @@ CONFIRMATION_COLUMNS: dict[str, tuple[str, str]] = {
     "status": ("", "simulator status"),
     "overturn_onset_ratio": (
         "",
-        "smallest P_1·SD(T_1)/x_c that overturns the frame (equal-psa-t1 rows; NaN: not below 4)",
+        "lowest P_1·SD(T_1)/x_c found to overturn the frame (scan and bisection; equal-psa-t1 "
+        "rows; NaN: none up to 4)",
     ),
 }
 
@@ -277,6 +278,7 @@ def select_records(
     import pandas as pd
 
     _check_table(features)
+    target = target_spectrum(options)  # an unreadable target fails before any work
     table = features.reset_index(drop=True).copy()
     table.attrs = {}  # pandas compares attrs (DataFrames here) when it combines tables
     band = frame_band(
@@ -313,7 +315,6 @@ def select_records(
         failures += fails
         dropped_by[failed_rows] = "physics_failed"
     needs_samples = options.confirm or options.scale != "none" or options.has_target
-    target = target_spectrum(options)
     periods = misfit_periods_s(options, band)
     t1 = band.period_1_s
     table["psa_t1_g"] = np.nan
