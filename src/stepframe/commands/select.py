@@ -255,8 +255,11 @@ def selection_run(
             for row in feature_failures.itertuples()
         ]  # fmt: skip
         merged = failures_table(earlier)
-        result.failures = pd.concat([merged, result.failures], ignore_index=True)
-        result.failures.attrs = merged.attrs
+        dictionary = merged.attrs
+        later = result.failures.copy()
+        merged.attrs, later.attrs = {}, {}  # pandas compares attrs (DataFrames) in concat
+        result.failures = pd.concat([merged, later], ignore_index=True)
+        result.failures.attrs = dictionary
         result.status = "degraded"
         result.message += f"; {len(earlier)} component(s) had no features (failures.csv)"
     return result

@@ -170,7 +170,7 @@ def read_selection(outdir: str | PathLike[str]) -> SelectionResult:
             table = pd.DataFrame()
         for column in ("dropped_by", "flags", "implausible_reason", "message"):
             if column in table.columns:
-                table[column] = table[column].fillna("")
+                table[column] = table[column].astype(object).fillna("").astype(str)
         mine = dictionaries[dictionaries["table"] == name].drop(columns="table")
         table.attrs["column_dictionary"] = mine.reset_index(drop=True)
         tables[name] = table
