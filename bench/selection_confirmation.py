@@ -39,14 +39,21 @@ def synthetic_catalogue(n: int, seed: int) -> tuple[Any, dict[tuple[str, str], A
         ws = wr + (wp - wr) * rng.uniform(0.05, 0.6)
         t_max = rng.uniform(3, 10)
         model = GroundMotionModel(
-            wp, ws, wr, rng.uniform(0.1, 0.6), rng.uniform(0.1, 0.6), t_max,
+            wp,
+            ws,
+            wr,
+            rng.uniform(0.1, 0.6),
+            rng.uniform(0.1, 0.6),
+            t_max,
             t_max + rng.uniform(8, 20),
-        )  # fmt: skip
-        _, acc = synthetic_motions(model, duration_s=40.0, dt_s=0.01, seed=seed * 100_000 + k,
-                                   peak_intensity=1.0)  # fmt: skip
+        )
+        _, acc = synthetic_motions(
+            model, duration_s=40.0, dt_s=0.01, seed=seed * 100_000 + k, peak_intensity=1.0
+        )
         name = f"synthetic/{k:04d}"
-        traces.append(make_trace(acc[0], 0.01, station=f"S{k:04d}", channel="HNX",
-                                 source_file=name))  # fmt: skip
+        traces.append(
+            make_trace(acc[0], 0.01, station=f"S{k:04d}", channel="HNX", source_file=name)
+        )
         records[(name, "HNX")] = (acc[0], 0.01)
     features, _ = catalog_features(Stream(traces))
     return features, records
@@ -79,8 +86,12 @@ def main() -> None:
     runs[f"synthetic B-P ({args.n_synthetic} motions)"] = select_records(
         table, frame, options, records=records, jobs=args.jobs
     )
-    shown = ("backbone_amplification", "descent_amplification", "spectral_ratio_eq_6_18",
-             "psa_t1_g")  # fmt: skip
+    shown = (
+        "backbone_amplification",
+        "descent_amplification",
+        "spectral_ratio_eq_6_18",
+        "psa_t1_g",
+    )
     fig, axes = plt.subplots(len(runs), len(shown), figsize=(4 * len(shown), 3.6 * len(runs)))
     print("| catalogue | score | response | Spearman | 95 % interval | n |")
     print("|---|---|---|---|---|---|")
@@ -89,9 +100,11 @@ def main() -> None:
         equal = conf[conf["case"] == "equal-psa-t1"].set_index(["file", "component"])
         cands = result.candidates.set_index(["file", "component"]).loc[equal.index]
         for entry in result.summary["correlations"]:
-            print(f"| {label} | {entry['score']} | {entry['response']} | "
-                  f"{entry['spearman']:.2f} | [{entry['low']:.2f}, {entry['high']:.2f}] | "
-                  f"{entry['n']} |")  # fmt: skip
+            print(
+                f"| {label} | {entry['score']} | {entry['response']} | "
+                f"{entry['spearman']:.2f} | [{entry['low']:.2f}, {entry['high']:.2f}] | "
+                f"{entry['n']} |"
+            )
         for col, name in enumerate(shown):
             ax = axes[row, col]
             over = equal["overturned"].to_numpy(dtype=bool)
@@ -101,10 +114,15 @@ def main() -> None:
             ax.scatter(x[over], y[over], s=14, c="r", marker="^", label="overturns")
             ax.set_yscale("log")
             ax.set_xlabel(name)
-            entry = next(e for e in result.summary["correlations"]
-                         if e["score"] == name and e["response"] == "peak_drift")  # fmt: skip
-            ax.set_title(f"{label}\nρ = {entry['spearman']:.2f} "
-                         f"[{entry['low']:.2f}, {entry['high']:.2f}]", fontsize=9)  # fmt: skip
+            entry = next(
+                e
+                for e in result.summary["correlations"]
+                if e["score"] == name and e["response"] == "peak_drift"
+            )
+            ax.set_title(
+                f"{label}\nρ = {entry['spearman']:.2f} [{entry['low']:.2f}, {entry['high']:.2f}]",
+                fontsize=9,
+            )
             if col == 0:
                 ax.set_ylabel("peak |x| at equal PSA(T1) [m]")
         medians = result.summary["medians"]

@@ -66,8 +66,10 @@ def demo_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[dict[str, object
     out = tmp_path_factory.mktemp("demo") / "demo"
     result = subprocess.run(
         [sys.executable, "-m", "stepframe.cli", "--json", "demo", "-o", str(out)],
-        capture_output=True, text=True, timeout=900,
-    )  # fmt: skip
+        capture_output=True,
+        text=True,
+        timeout=900,
+    )
     assert result.returncode == 0, result.stderr
     return json.loads(result.stdout), out  # stdout is only JSON
 
@@ -97,8 +99,11 @@ def test_demo_selects_for_example_4(demo_run: tuple[dict[str, object], Path]) ->
     assert [s["component"] for s in selected] == top["component"].astype(str).tolist()
     assert [s["score"] for s in selected] == pytest.approx(top["backbone_amplification"].tolist())
     assert all(s["scale_factor"] == 1.0 for s in selected)
-    entry = next(e for e in payload["correlations"]
-                 if e["score"] == "backbone_amplification" and e["response"] == "peak_drift")  # fmt: skip
+    entry = next(
+        e
+        for e in payload["correlations"]
+        if e["score"] == "backbone_amplification" and e["response"] == "peak_drift"
+    )
     assert entry["n"] == len(passed)
     assert entry["low"] <= entry["spearman"] <= entry["high"]
     confirmation = pd.read_csv(out / "confirmation.csv")
@@ -119,13 +124,15 @@ def test_demo_summary_text(demo_run: tuple[dict[str, object], Path]) -> None:
     from stepframe.commands.select import summary_text
     from stepframe.pipeline.selection import read_selection
 
-    payload, out = demo_run
+    _, out = demo_run
     text = summary_text(read_selection(out), out)
     lines = text.splitlines()
     assert lines[0].startswith("band: 0.654 to 6.46 rad/s (T 0.973 to 9.61 s); 100 candidates")
     assert sum(1 for line in lines if line.startswith("  ") and ". RSN" in line) == 10
-    assert any(line.startswith("confirmation: Spearman(backbone_amplification, peak_drift)")
-               for line in lines)  # fmt: skip
+    assert any(
+        line.startswith("confirmation: Spearman(backbone_amplification, peak_drift)")
+        for line in lines
+    )
     assert lines[-1].startswith(f"outputs: {out}/")
 
 

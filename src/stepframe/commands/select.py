@@ -25,13 +25,35 @@ EXAMPLES = """\
 
 #: Command-line option → SelectionOptions field, for the options that map one to one.
 _DIRECT = (
-    "rank_by", "scale", "unit", "spectral_weight", "a_max_m", "x_star_fraction",
-    "strong_motion_fraction", "n_bootstrap", "seed", "magnitude_min", "magnitude_max",
-    "distance_min_km", "distance_max_km", "distance_metric", "vs30_min_m_s", "vs30_max_m_s",
-    "d5_95_min_s", "d5_95_max_s", "pga_min_g", "pga_max_g", "max_per_event",
-    "max_per_station", "target_s_ds_g", "target_s_d1_g", "target_csv", "scale_min",
-    "scale_max", "confirm_onset_ratio",
-)  # fmt: skip
+    "rank_by",
+    "scale",
+    "unit",
+    "spectral_weight",
+    "a_max_m",
+    "x_star_fraction",
+    "strong_motion_fraction",
+    "n_bootstrap",
+    "seed",
+    "magnitude_min",
+    "magnitude_max",
+    "distance_min_km",
+    "distance_max_km",
+    "distance_metric",
+    "vs30_min_m_s",
+    "vs30_max_m_s",
+    "d5_95_min_s",
+    "d5_95_max_s",
+    "pga_min_g",
+    "pga_max_g",
+    "max_per_event",
+    "max_per_station",
+    "target_s_ds_g",
+    "target_s_d1_g",
+    "target_csv",
+    "scale_min",
+    "scale_max",
+    "confirm_onset_ratio",
+)
 
 
 def register(subparsers: Any) -> None:
@@ -56,38 +78,80 @@ def register(subparsers: Any) -> None:
     source.add_argument("--example", choices=["fema-p695"], help="the embedded example catalogue")
     parser.add_argument("-n", type=int, required=True, help="how many components (or records)")
     parser.add_argument("-o", "--out-dir", required=True, metavar="OUTDIR", help="output folder")
-    parser.add_argument("--rank-by", choices=RANKABLE, default="backbone_amplification",
-                        help="ranking score (default: %(default)s)")  # fmt: skip
-    parser.add_argument("--scale", choices=SCALE_POLICIES, default="none",
-                        help="scaling policy (default: %(default)s)")  # fmt: skip
-    parser.add_argument("--unit", choices=UNITS, default="component",
-                        help="select components, or records with both components")  # fmt: skip
+    parser.add_argument(
+        "--rank-by",
+        choices=RANKABLE,
+        default="backbone_amplification",
+        help="ranking score (default: %(default)s)",
+    )
+    parser.add_argument(
+        "--scale",
+        choices=SCALE_POLICIES,
+        default="none",
+        help="scaling policy (default: %(default)s)",
+    )
+    parser.add_argument(
+        "--unit",
+        choices=UNITS,
+        default="component",
+        help="select components, or records with both components",
+    )
     parser.add_argument("--confirm", action="store_true", help="confirm by simulation")
     parser.add_argument("--options", metavar="TOML", help="a file with a [selection] table")
-    parser.add_argument("--metadata", metavar="CSV",
-                        help="catalogue metadata joined on column 'file' (for the filters)")  # fmt: skip
+    parser.add_argument(
+        "--metadata",
+        metavar="CSV",
+        help="catalogue metadata joined on column 'file' (for the filters)",
+    )
     parser.add_argument("--jobs", type=int, help="worker processes (default: all CPUs)")
     band = parser.add_argument_group("the frame's band")
     band.add_argument("--a-max-m", type=positive_float, help="amplitude limit A_max [m]")
-    band.add_argument("--design", metavar="CASE.toml",
-                      help="quasi-dynamic design input: A_max = design displacement δ*")  # fmt: skip
-    band.add_argument("--x-star-fraction", type=positive_float, default=0.8,
-                      help="A_max = fraction·x* otherwise (default: %(default)s)")  # fmt: skip
-    band.add_argument("--strong-motion-fraction", type=positive_float, default=0.3,
-                      help="strong motion: I_g ≥ fraction of its peak (default: %(default)s)")  # fmt: skip
+    band.add_argument(
+        "--design",
+        metavar="CASE.toml",
+        help="quasi-dynamic design input: A_max = design displacement δ*",
+    )
+    band.add_argument(
+        "--x-star-fraction",
+        type=positive_float,
+        default=0.8,
+        help="A_max = fraction·x* otherwise (default: %(default)s)",
+    )
+    band.add_argument(
+        "--strong-motion-fraction",
+        type=positive_float,
+        default=0.3,
+        help="strong motion: I_g ≥ fraction of its peak (default: %(default)s)",
+    )
     filters = parser.add_argument_group("filters and caps")
-    for name, unit in (("magnitude", ""), ("distance", "_km"), ("vs30", "_m_s"),
-                       ("d5_95", "_s"), ("pga", "_g")):  # fmt: skip
+    for name, unit in (
+        ("magnitude", ""),
+        ("distance", "_km"),
+        ("vs30", "_m_s"),
+        ("d5_95", "_s"),
+        ("pga", "_g"),
+    ):
         for end in ("min", "max"):
             flag = f"--{name.replace('_', '-')}-{end}{unit.replace('_', '-')}"
             filters.add_argument(flag, dest=f"{name}_{end}{unit}", type=float)
     filters.add_argument("--distance-metric", choices=DISTANCE_METRICS, default="rrup")
-    filters.add_argument("--lowest-usable-below-band", action="store_true",
-                         help="drop records whose lowest usable frequency is above the band")  # fmt: skip
-    filters.add_argument("--keep-implausible", action="store_true",
-                         help="rank fits that fail the plausibility checks too")  # fmt: skip
-    filters.add_argument("--exclude", action="append", default=[], metavar="FILE_OR_RSN",
-                         help="leave out (repeat, or comma-separated)")  # fmt: skip
+    filters.add_argument(
+        "--lowest-usable-below-band",
+        action="store_true",
+        help="drop records whose lowest usable frequency is above the band",
+    )
+    filters.add_argument(
+        "--keep-implausible",
+        action="store_true",
+        help="rank fits that fail the plausibility checks too",
+    )
+    filters.add_argument(
+        "--exclude",
+        action="append",
+        default=[],
+        metavar="FILE_OR_RSN",
+        help="leave out (repeat, or comma-separated)",
+    )
     filters.add_argument("--max-per-event", type=int)
     filters.add_argument("--max-per-station", type=int)
     spectral = parser.add_argument_group("target spectrum and scaling")
@@ -101,8 +165,12 @@ def register(subparsers: Any) -> None:
     rest = parser.add_argument_group("uncertainty and confirmation")
     rest.add_argument("--n-bootstrap", type=int, default=16)
     rest.add_argument("--seed", type=int, default=0)
-    rest.add_argument("--confirm-onset-ratio", type=positive_float, default=1.0,
-                      help="equal intensity: P_1·SD(T_1)/x_c of every record (default 1)")  # fmt: skip
+    rest.add_argument(
+        "--confirm-onset-ratio",
+        type=positive_float,
+        default=1.0,
+        help="equal intensity: P_1·SD(T_1)/x_c of every record (default 1)",
+    )
     add_record_options(parser)
 
 
@@ -118,7 +186,7 @@ def options_from_args(args: argparse.Namespace) -> Any:
         if not isinstance(table, dict):
             raise InputError("no [selection] table, expected one", args.options)
         values.update(table)
-    defaults = {name: parser_default for name, parser_default in _parser_defaults().items()}
+    defaults = _parser_defaults()
     for name in _DIRECT:
         value = getattr(args, name)
         if value is not None and (name not in values or value != defaults.get(name)):
@@ -142,11 +210,19 @@ def options_from_args(args: argparse.Namespace) -> Any:
 
 def _parser_defaults() -> dict[str, Any]:
     return {
-        "rank_by": "backbone_amplification", "scale": "none", "unit": "component",
-        "spectral_weight": 0.0, "x_star_fraction": 0.8, "strong_motion_fraction": 0.3,
-        "n_bootstrap": 16, "seed": 0, "distance_metric": "rrup", "scale_min": 0.25,
-        "scale_max": 4.0, "confirm_onset_ratio": 1.0,
-    }  # fmt: skip
+        "rank_by": "backbone_amplification",
+        "scale": "none",
+        "unit": "component",
+        "spectral_weight": 0.0,
+        "x_star_fraction": 0.8,
+        "strong_motion_fraction": 0.3,
+        "n_bootstrap": 16,
+        "seed": 0,
+        "distance_metric": "rrup",
+        "scale_min": 0.25,
+        "scale_max": 4.0,
+        "confirm_onset_ratio": 1.0,
+    }
 
 
 def design_displacement_m(path: str) -> float:
@@ -155,8 +231,10 @@ def design_displacement_m(path: str) -> float:
     from stepframe.structure.quasi_dynamic import design_displacement, read_case
 
     case = read_case(path)
-    method = "closed-form" if isinstance(case.spectrum, TwoPeriodSpectrum) else "search"
-    result = design_displacement(case.stepping_map, case.spectrum, method)
+    if isinstance(case.spectrum, TwoPeriodSpectrum):
+        result = design_displacement(case.stepping_map, case.spectrum, "closed-form")
+    else:
+        result = design_displacement(case.stepping_map, case.spectrum, "search")
     if result.delta_m is None or not result.delta_m > 0:
         raise InputError(
             f"the design gives no positive design displacement (status {result.status}), "
@@ -168,9 +246,8 @@ def design_displacement_m(path: str) -> float:
 
 def run(args: argparse.Namespace) -> CommandResult:
     """Features of the catalogue, selection, optional confirmation; tables in OUTDIR."""
-    from stepframe.structure.frame_file import read_frame_file
-
     from stepframe.pipeline.selection.spectral import target_spectrum
+    from stepframe.structure.frame_file import read_frame_file
 
     frame = read_frame_file(args.frame)
     options = options_from_args(args)
@@ -250,10 +327,11 @@ def selection_run(
     )
     if len(feature_failures):
         earlier = [
-            Failure(f"{row.file} [{row.component}]", str(row.stage), "FeatureError",
-                    str(row.reason))
+            Failure(
+                f"{row.file} [{row.component}]", str(row.stage), "FeatureError", str(row.reason)
+            )
             for row in feature_failures.itertuples()
-        ]  # fmt: skip
+        ]
         merged = failures_table(earlier)
         dictionary = merged.attrs
         later = result.failures.copy()
@@ -293,6 +371,8 @@ def summary_text(result: Any, out_dir: Path) -> str:
             f"{medians['equal_psa_t1_peak_x_m_selected']:.3g} m, controls "
             f"{medians['equal_psa_t1_peak_x_m_control']:.3g} m"
         )
-    lines.append(f"outputs: {out_dir}/ (selection.csv, candidates.csv, confirmation.csv, "
-                 "failures.csv, columns.csv, selection.json)")  # fmt: skip
+    lines.append(
+        f"outputs: {out_dir}/ (selection.csv, candidates.csv, confirmation.csv, "
+        "failures.csv, columns.csv, selection.json)"
+    )
     return "\n".join(lines)

@@ -20,7 +20,9 @@ def test_default_band_is_fraction_of_x_star(example4: PortalFrame) -> None:
     assert band.omega_1_rad_s == 6.4581
     # Independent: T(A_max) from the closed-form law; Example 4 x* = γ1/ω2² = 0.1387/0.6445².
     assert example4.x_star_m == pytest.approx(0.1387 / 0.6445**2)
-    assert band.omega_low_rad_s == pytest.approx(2 * math.pi / period_amplitude(example4, band.a_max_m))
+    assert band.omega_low_rad_s == pytest.approx(
+        2 * math.pi / period_amplitude(example4, band.a_max_m)
+    )
     assert band.omega_low_rad_s == pytest.approx(0.65361, rel=1e-4)
 
 
@@ -43,7 +45,9 @@ def test_user_and_design_amplitudes_take_precedence(example4: PortalFrame) -> No
 
 
 @pytest.mark.parametrize("a_max", [0.1, 0.334, 1.0])
-def test_amplitude_outside_the_stepping_range_is_refused(example4: PortalFrame, a_max: float) -> None:
+def test_amplitude_outside_the_stepping_range_is_refused(
+    example4: PortalFrame, a_max: float
+) -> None:
     with pytest.raises(InputError, match="expected x_c"):
         frame_band(example4, a_max_m=a_max)
 

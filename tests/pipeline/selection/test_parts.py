@@ -21,17 +21,34 @@ from stepframe.pipeline.selection.spectral import read_target_csv, scale_factors
 from stepframe.structure.frame import PortalFrame
 
 BASE = {
-    "omega_p_rad_s": 40.0, "omega_s_rad_s": 15.0, "omega_r_rad_s": 8.0, "xi_p": 0.3,
-    "xi_r": 0.3, "t_max_s": 5.0, "t_dur_s": 20.0, "t0_s": 0.0, "plausible": True,
-}  # fmt: skip
+    "omega_p_rad_s": 40.0,
+    "omega_s_rad_s": 15.0,
+    "omega_r_rad_s": 8.0,
+    "xi_p": 0.3,
+    "xi_r": 0.3,
+    "t_max_s": 5.0,
+    "t_dur_s": 20.0,
+    "t0_s": 0.0,
+    "plausible": True,
+}
 
 
 def _table() -> pd.DataFrame:
     rows = []
-    for k, (m, r, pga) in enumerate([(6.0, 10, 0.2), (7.0, 30, 0.5), (7.5, 80, 0.1),
-                                     (6.9, 20, 0.3), (7.2, 15, 0.4)]):  # fmt: skip
-        rows.append({**BASE, "file": f"dir/RSN{k}_a.AT2", "component": "H1", "rsn": k,
-                     "magnitude": m, "rrup_km": r, "pga_g": pga})  # fmt: skip
+    for k, (m, r, pga) in enumerate(
+        [(6.0, 10, 0.2), (7.0, 30, 0.5), (7.5, 80, 0.1), (6.9, 20, 0.3), (7.2, 15, 0.4)]
+    ):
+        rows.append(
+            {
+                **BASE,
+                "file": f"dir/RSN{k}_a.AT2",
+                "component": "H1",
+                "rsn": k,
+                "magnitude": m,
+                "rrup_km": r,
+                "pga_g": pga,
+            }
+        )
     table = pd.DataFrame(rows)
     table.loc[4, "plausible"] = False
     return table
@@ -40,14 +57,19 @@ def _table() -> pd.DataFrame:
 def test_filters_report_what_each_dropped(example4: PortalFrame) -> None:
     table = _table()
     band = frame_band(example4)
-    options = SelectionOptions(n=1, magnitude_min=6.5, distance_max_km=50.0, pga_min_g=0.25,
-                               exclude=("3",))  # fmt: skip
+    options = SelectionOptions(
+        n=1, magnitude_min=6.5, distance_max_km=50.0, pga_min_g=0.25, exclude=("3",)
+    )
     dropped, reports = apply_filters(table, options, band, strong_motion_paths(table, 0.3))
     assert dropped.tolist() == ["magnitude", "", "distance", "exclude", "fit_quality"]
     assert [(r.name, r.dropped, r.left) for r in reports] == [
-        ("path", 0, 5), ("fit_quality", 1, 4), ("exclude", 1, 3), ("magnitude", 1, 2),
-        ("distance", 1, 1), ("pga", 0, 1),
-    ]  # fmt: skip
+        ("path", 0, 5),
+        ("fit_quality", 1, 4),
+        ("exclude", 1, 3),
+        ("magnitude", 1, 2),
+        ("distance", 1, 1),
+        ("pga", 0, 1),
+    ]
 
 
 def test_filter_without_its_column_is_an_error(example4: PortalFrame) -> None:
@@ -59,16 +81,22 @@ def test_filter_without_its_column_is_an_error(example4: PortalFrame) -> None:
 
 def test_exclude_by_file_name() -> None:
     table = _table()
-    options = SelectionOptions(n=1, exclude=("RSN1_a.AT2", "dir/RSN2_a.AT2"),
-                               require_plausible=False)  # fmt: skip
+    options = SelectionOptions(
+        n=1, exclude=("RSN1_a.AT2", "dir/RSN2_a.AT2"), require_plausible=False
+    )
     band = frame_band(PortalFrame(6.4581, 0.6445, 1.1884, 1.268, 0.1387, 0.05, 0.0, 0.19, 0.95))
     dropped, _ = apply_filters(table, options, band, strong_motion_paths(table, 0.3))
     assert dropped.tolist() == ["", "exclude", "exclude", "", ""]
 
 
 def _units(z: list[float], events: list[str], log_psa: np.ndarray | None = None) -> Units:
-    return Units(np.array(z), [[i] for i in range(len(z))], [[e] for e in events],
-                 [[f"s{i}"] for i in range(len(z))], log_psa)  # fmt: skip
+    return Units(
+        np.array(z),
+        [[i] for i in range(len(z))],
+        [[e] for e in events],
+        [[f"s{i}"] for i in range(len(z))],
+        log_psa,
+    )
 
 
 def test_greedy_takes_the_best_under_the_event_cap() -> None:
@@ -85,8 +113,10 @@ def test_swaps_reach_the_best_set_with_a_spectral_objective() -> None:
     target = rng.normal(size=n_periods)
     units = _units(list(rng.uniform(size=n_units)), [f"e{i}" for i in range(n_units)], log_psa)
     chosen = choose(units, 3, weight=2.0, log_target=target)
-    best = max(itertools.combinations(range(n_units), 3),
-               key=lambda s: objective(list(s), units, 2.0, target))  # fmt: skip
+    best = max(
+        itertools.combinations(range(n_units), 3),
+        key=lambda s: objective(list(s), units, 2.0, target),
+    )
     got = objective(chosen, units, 2.0, target)
     assert got >= objective(list(best), units, 2.0, target) - 0.05
     assert choose(units, 3, weight=2.0, log_target=target) == chosen  # deterministic
@@ -127,7 +157,9 @@ def test_target_csv(tmp_path: Path) -> None:
         read_target_csv(bad)
     assert error.value.line == 3 and "expected two numbers" in error.value.one_line()
     with pytest.raises(InputError, match="expected that header"):
-        read_target_csv(good.with_name("none.csv").write_text("a,b\n") and good.with_name("none.csv"))
+        read_target_csv(
+            good.with_name("none.csv").write_text("a,b\n") and good.with_name("none.csv")
+        )
 
 
 def test_spearman_matches_scipy() -> None:

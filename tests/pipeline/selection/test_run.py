@@ -23,8 +23,7 @@ def run(example_inputs: tuple[Any, Any, Any], example4: PortalFrame) -> Any:
     # One component whose samples are missing: it lands in failures, the run goes on.
     lost = (str(table["file"].iat[0]), str(table["component"].iat[0]))
     del records[lost]
-    options = SelectionOptions(n=6, confirm=True, n_bootstrap=4, scale="psa-at-t1",
-                               max_per_event=2)  # fmt: skip
+    options = SelectionOptions(n=6, confirm=True, n_bootstrap=4, scale="psa-at-t1", max_per_event=2)
     return select_records(table, example4, options, records=records, jobs=1), lost
 
 
@@ -71,8 +70,11 @@ def test_confirmation_tables(run: Any, example4: PortalFrame) -> None:
     # Ratio 1 is a scanned level: overturned there ⇒ the lowest overturning ratio is ≤ 1.
     over = equal["overturned"].to_numpy(dtype=bool)
     assert over.any() and np.all(onset[over] <= 1.0 + 1e-12)
-    entry = next(e for e in result.summary["correlations"]
-                 if e["score"] == "backbone_amplification" and e["response"] == "peak_drift")  # fmt: skip
+    entry = next(
+        e
+        for e in result.summary["correlations"]
+        if e["score"] == "backbone_amplification" and e["response"] == "peak_drift"
+    )
     assert entry["n"] == 70 and entry["low"] <= entry["spearman"] <= entry["high"]
 
 
@@ -80,9 +82,15 @@ def test_write_and_read_back(run: Any, tmp_path: Path) -> None:
     result, _ = run
     paths = result.write(tmp_path / "out")
     assert sorted(p.name for p in paths.values()) == sorted(
-        ["selection.csv", "candidates.csv", "confirmation.csv", "failures.csv", "columns.csv",
-         "selection.json"]
-    )  # fmt: skip
+        [
+            "selection.csv",
+            "candidates.csv",
+            "confirmation.csv",
+            "failures.csv",
+            "columns.csv",
+            "selection.json",
+        ]
+    )
     summary = json.loads(paths["summary"].read_text())
     assert summary["band_rad_s"] == list(result.band_rad_s)
     assert [s["file"] for s in summary["selected"]] == result.selection["file"].tolist()
@@ -115,13 +123,25 @@ def test_a_filter_removing_everything(example_inputs: Any, example4: PortalFrame
 
 
 def test_options_round_trip_and_validation() -> None:
-    options = SelectionOptions(n=3, exclude=("a", "b"), target_periods_s=(0.5, 3.0),
-                               target_s_ds_g=1.0, target_s_d1_g=0.6, scale="target-mse")  # fmt: skip
+    options = SelectionOptions(
+        n=3,
+        exclude=("a", "b"),
+        target_periods_s=(0.5, 3.0),
+        target_s_ds_g=1.0,
+        target_s_d1_g=0.6,
+        scale="target-mse",
+    )
     assert SelectionOptions.from_dict(options.to_dict()) == options
     assert SelectionOptions.from_dict({"n": 2, "scale_max": 3}).scale_max == 3.0
-    for bad in ({"n": 0}, {"n": 1, "rank_by": "nope"}, {"n": 1, "scale": "target-mse"},
-                {"n": 1, "target_s_ds_g": 1.0}, {"n": 1, "scale_min": 2.0},
-                {"n": 1, "x_star_fraction": 1.0}, {"n": 1, "unknown": 1}):  # fmt: skip
+    for bad in (
+        {"n": 0},
+        {"n": 1, "rank_by": "nope"},
+        {"n": 1, "scale": "target-mse"},
+        {"n": 1, "target_s_ds_g": 1.0},
+        {"n": 1, "scale_min": 2.0},
+        {"n": 1, "x_star_fraction": 1.0},
+        {"n": 1, "unknown": 1},
+    ):
         with pytest.raises(InputError):
             SelectionOptions.from_dict(bad)
     assert math.isclose(SelectionOptions().strong_motion_fraction, 0.3)

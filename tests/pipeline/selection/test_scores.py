@@ -31,9 +31,13 @@ def test_band_coverage_is_the_log_share_of_the_band(example4: PortalFrame) -> No
     band = frame_band(example4)
     lo, hi = band.omega_low_rad_s, band.omega_1_rad_s
     middle = math.sqrt(lo * hi)  # the log midpoint
-    got = scores.band_coverage(_paths([2 * hi, 2 * hi, hi, 2 * hi], [lo / 2, 1.5 * hi, middle, middle]), band)
+    got = scores.band_coverage(
+        _paths([2 * hi, 2 * hi, hi, 2 * hi], [lo / 2, 1.5 * hi, middle, middle]), band
+    )
     assert got == pytest.approx([1.0, 0.0, 0.5, 0.5])
-    enters = scores.enters_from_above(_paths([2 * hi, hi, 2 * hi], [middle, middle, 1.5 * hi]), band)
+    enters = scores.enters_from_above(
+        _paths([2 * hi, hi, 2 * hi], [middle, middle, 1.5 * hi]), band
+    )
     assert enters.tolist() == [True, False, False]
 
 
@@ -61,11 +65,15 @@ def _scores_of(rows: list[dict[str, float]], band: FrameBand, frame: PortalFrame
     table["band_coverage"] = scores.band_coverage(paths, band)
     table["enters_from_above"] = scores.enters_from_above(paths, band)
     physics = [
-        scores.physics_scores(table.iloc[i], band, frame.xi_1,
-                              scores.equivalent_damping(frame.xi_2, frame.c_r),
-                              (paths.start_s[i], paths.end_s[i]))
+        scores.physics_scores(
+            table.iloc[i],
+            band,
+            frame.xi_1,
+            scores.equivalent_damping(frame.xi_2, frame.c_r),
+            (paths.start_s[i], paths.end_s[i]),
+        )
         for i in range(len(table))
-    ]  # fmt: skip
+    ]
     table["backbone_amplification"] = [p[0] for p in physics]
     table["descent_amplification"] = [p[1] for p in physics]
     return table

@@ -19,9 +19,16 @@ from stepframe.structure.period_amplitude import amplitude_for_period
 #: A stiffer frame than Example 4, so that "below the band" is still resolved by the 2 s
 #: window of the features (ω_r ≥ 2π/2 s): ω_1 = 25 rad/s and A_max where ω(A_max) = 9 rad/s.
 FRAME = PortalFrame(
-    omega_1_rad_s=25.0, omega_2_rad_s=2.5, p_1=1.2, p_2=1.27, gamma_1_m_s2=0.5, xi_1=0.05,
-    xi_2=0.0, x_c_m=0.04, c_r=0.95,
-)  # fmt: skip
+    omega_1_rad_s=25.0,
+    omega_2_rad_s=2.5,
+    p_1=1.2,
+    p_2=1.27,
+    gamma_1_m_s2=0.5,
+    xi_1=0.05,
+    xi_2=0.0,
+    x_c_m=0.04,
+    c_r=0.95,
+)
 A_MAX_M = float(amplitude_for_period(FRAME, 2 * math.pi / 9.0))
 #: (ω_p, ω_s, ω_r) [rad/s] of each kind.
 KINDS = {
@@ -45,11 +52,11 @@ def catalogue() -> tuple[Any, dict[tuple[str, str], Any]]:
     for k, (kind, (wp, ws, wr)) in enumerate(KINDS.items()):
         for j in range(3):
             model = GroundMotionModel(wp, ws, wr, 0.3, 0.3, 8.0, 25.0)
-            _, acc = synthetic_motions(model, duration_s=40.0, dt_s=0.005, seed=10 * k + j,
-                                       peak_intensity=1.0)  # fmt: skip
+            _, acc = synthetic_motions(
+                model, duration_s=40.0, dt_s=0.005, seed=10 * k + j, peak_intensity=1.0
+            )
             name = f"{kind}{j}"
-            traces.append(make_trace(acc[0], 0.005, station=name, channel="HNX",
-                                     source_file=name))  # fmt: skip
+            traces.append(make_trace(acc[0], 0.005, station=name, channel="HNX", source_file=name))
             records[(name, "HNX")] = (acc[0], 0.005)
     features, failures = catalog_features(Stream(traces), n_jobs=1)
     assert len(failures) == 0
@@ -68,8 +75,9 @@ def test_sweeping_motions_rank_first(catalogue: tuple[Any, Any]) -> None:
     the motions above this band first: docs/selection.md reports it as not reliable.)"""
     features, _ = catalogue
     rank_by = "band_coverage"
-    options = SelectionOptions(n=3, rank_by=rank_by, a_max_m=A_MAX_M, n_bootstrap=8,
-                               require_plausible=False)  # fmt: skip
+    options = SelectionOptions(
+        n=3, rank_by=rank_by, a_max_m=A_MAX_M, n_bootstrap=8, require_plausible=False
+    )
     result = select_records(features, FRAME, options, jobs=1)
     chosen = sorted(result.selection["file"])
     assert chosen == ["sweep0", "sweep1", "sweep2"], result.candidates[["file", rank_by]]

@@ -36,9 +36,13 @@ class Units:
 
 
 def _fits(
-    unit: int, units: Units, events: Counter[str], stations: Counter[str],
-    max_event: int | None, max_station: int | None,
-) -> bool:  # fmt: skip
+    unit: int,
+    units: Units,
+    events: Counter[str],
+    stations: Counter[str],
+    max_event: int | None,
+    max_station: int | None,
+) -> bool:
     if max_event is not None:
         extra = Counter(units.events[unit])
         if any(events[e] + k > max_event for e, k in extra.items()):
@@ -50,9 +54,7 @@ def _fits(
     return True
 
 
-def objective(
-    chosen: list[int], units: Units, weight: float, log_target: Floats | None
-) -> float:
+def objective(chosen: list[int], units: Units, weight: float, log_target: Floats | None) -> float:
     """J(S) of a list of unit indices."""
     if not chosen:
         return -np.inf
@@ -110,7 +112,6 @@ def choose(
         current = objective(chosen, units, weight, log_target)
         improved = False
         for position in range(len(chosen)):
-            out = chosen[position]
             rest = chosen[:position] + chosen[position + 1 :]
             events_rest = Counter(e for u in rest for e in units.events[u])
             stations_rest = Counter(s for u in rest for s in units.stations[u])

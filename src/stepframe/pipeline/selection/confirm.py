@@ -1,4 +1,4 @@
-"""Confirmation by simulation: the exact stepping simulator on the chosen set and on every candidate.
+"""Confirmation by simulation: the exact stepping simulator on the chosen set and every candidate.
 
 Two runs through :func:`stepframe.structure.simulator.simulate_batch`:
 

@@ -110,7 +110,9 @@ def apply_filters(
                 keep &= ~np.isin(rsn, list(excluded))
             return np.asarray(keep)
 
-        rules.append(("exclude", f"not in the exclusion list ({len(excluded)} entries)", not_excluded))
+        rules.append(
+            ("exclude", f"not in the exclusion list ({len(excluded)} entries)", not_excluded)
+        )
     ranges: list[tuple[str, str, float | None, float | None, str, float]] = [
         ("magnitude", "magnitude", options.magnitude_min, options.magnitude_max, "", 1.0),
         (
@@ -129,8 +131,12 @@ def apply_filters(
         if low is None and high is None:
             continue
 
-        def in_range(column: str = column, low: float | None = low, high: float | None = high,
-                     name: str = name) -> Mask:  # fmt: skip
+        def in_range(
+            column: str = column,
+            low: float | None = low,
+            high: float | None = high,
+            name: str = name,
+        ) -> Mask:
             return _between(_column(table, column, name), low, high)
 
         rules.append((name, _range_text(column, low, high, unit), in_range))

@@ -57,7 +57,8 @@ class Paths:
 
 def model_of_row(row: Any) -> GroundMotionModel:
     """The :class:`GroundMotionModel` of one features row (a mapping or a pandas row)."""
-    return GroundMotionModel(**{name: float(row[name]) for name in MODEL_COLUMNS})
+    wp, ws, wr, xi_p, xi_r, t_max, t_dur, t0 = (float(row[name]) for name in MODEL_COLUMNS)
+    return GroundMotionModel(wp, ws, wr, xi_p, xi_r, t_max, t_dur, t0)
 
 
 def omega_g(

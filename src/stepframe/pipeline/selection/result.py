@@ -84,20 +84,21 @@ class SelectionResult:
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready: the ``--json`` output of ``stepframe select``."""
         selected = self.selection.to_dict(orient="records")
-        return _jsonable(
+        data: dict[str, Any] = _jsonable(
             {
                 "status": self.status,
                 "message": self.message,
                 "selected": selected,
-                "n_candidates": int(len(self.candidates)),
+                "n_candidates": len(self.candidates),
                 "n_filtered": int((self.candidates["dropped_by"] != "").sum())
                 if "dropped_by" in self.candidates
                 else 0,
-                "n_failures": int(len(self.failures)),
+                "n_failures": len(self.failures),
                 "band_rad_s": list(self.band_rad_s),
                 **self.summary,
             }
         )
+        return data
 
     def tables(self) -> dict[str, Any]:
         """The four tables by name."""
@@ -158,7 +159,9 @@ def read_selection(outdir: str | PathLike[str]) -> SelectionResult:
     folder = Path(outdir)
     summary_path = folder / SUMMARY_FILE
     if not summary_path.is_file():
-        raise InputError(f"no {SUMMARY_FILE}, expected a folder written by stepframe select", folder)
+        raise InputError(
+            f"no {SUMMARY_FILE}, expected a folder written by stepframe select", folder
+        )
     summary = json.loads(summary_path.read_text(encoding="utf-8"))
     dictionaries = pd.read_csv(folder / COLUMNS_FILE, keep_default_na=False)
     tables: dict[str, Any] = {}
@@ -182,6 +185,12 @@ def read_selection(outdir: str | PathLike[str]) -> SelectionResult:
     if status not in STATUSES:
         raise InputError(f"status {status!r}, expected one of {sorted(STATUSES)}", summary_path)
     return SelectionResult(
-        tables["selection"], tables["candidates"], tables["confirmation"], tables["failures"],
-        (float(band[0]), float(band[1])), status, message, summary,
-    )  # fmt: skip
+        tables["selection"],
+        tables["candidates"],
+        tables["confirmation"],
+        tables["failures"],
+        (float(band[0]), float(band[1])),
+        status,
+        message,
+        summary,
+    )

@@ -127,9 +127,14 @@ def _cheap_scores(table: Any, band: FrameBand, fraction: float) -> dict[str, Any
 
 
 def _physics(
-    table: Any, rows: NDArray[np.int64], band: FrameBand, frame: PortalFrame, paths: Any,
-    jobs: int | None, executor: Executor | None,
-) -> tuple[Floats, Floats, list[Failure], list[int]]:  # fmt: skip
+    table: Any,
+    rows: NDArray[np.int64],
+    band: FrameBand,
+    frame: PortalFrame,
+    paths: Any,
+    jobs: int | None,
+    executor: Executor | None,
+) -> tuple[Floats, Floats, list[Failure], list[int]]:
     xi_levels = sc.equivalent_damping(frame.xi_2, frame.c_r)
     records = table.to_dict(orient="records")
     items: list[PhysicsItem] = [
@@ -144,9 +149,13 @@ def _physics(
         for i in rows
     ]
     outcome = map_items(
-        _physics_item, items, jobs=jobs, executor=executor, stage="physics",
+        _physics_item,
+        items,
+        jobs=jobs,
+        executor=executor,
+        stage="physics",
         name_of=_item_name,
-    )  # fmt: skip
+    )
     backbone = np.full(len(table), np.nan)
     descent = np.full(len(table), np.nan)
     for k, (b, d) in zip(outcome.indices, outcome.results, strict=True):
@@ -183,15 +192,14 @@ def _units(
     """Group candidate rows into units (components, or records by event and station)."""
     columns = set(table.columns)
     files = table["file"].astype(str).to_numpy()
-    events = (table["event"].astype(str).to_numpy() if "event" in columns else files)
-    stations = (table["station"].astype(str).to_numpy() if "station" in columns else files)
+    events = table["event"].astype(str).to_numpy() if "event" in columns else files
+    stations = table["station"].astype(str).to_numpy() if "station" in columns else files
     groups: dict[Any, list[int]] = {}
     for i in rows:
         key = (events[i], stations[i]) if unit == "record" else int(i)
         groups.setdefault(key, []).append(int(i))
     members = list(groups.values())
-    unit_z = np.array([np.nanmean(z[m]) if np.any(np.isfinite(z[m])) else -np.inf
-                       for m in members])  # fmt: skip
+    unit_z = np.array([np.nanmean(z[m]) if np.any(np.isfinite(z[m])) else -np.inf for m in members])
     unit_psa = None if log_psa is None else np.array([log_psa[m].mean(axis=0) for m in members])
     return (
         Units(
@@ -206,9 +214,11 @@ def _units(
 
 
 def _read_samples(
-    table: Any, rows: NDArray[np.int64], records: Mapping[RecordKey, Samples] | None,
+    table: Any,
+    rows: NDArray[np.int64],
+    records: Mapping[RecordKey, Samples] | None,
     record_options: Mapping[str, Any] | None,
-) -> tuple[dict[int, Samples], list[Failure]]:  # fmt: skip
+) -> tuple[dict[int, Samples], list[Failure]]:
     out: dict[int, Samples] = {}
     failures: list[Failure] = []
     cache: dict[str, Any] = {}
@@ -294,8 +304,12 @@ def select_records(
     table["window_end_s"] = paths.end_s
     table["omega_window_start_rad_s"] = paths.omega_start_rad_s
     table["omega_window_end_rad_s"] = paths.omega_end_rad_s
-    for name in ("enters_from_above", "band_coverage", "spectral_ratio_eq_6_18",
-                 "omega_p_over_s_sq"):  # fmt: skip
+    for name in (
+        "enters_from_above",
+        "band_coverage",
+        "spectral_ratio_eq_6_18",
+        "omega_p_over_s_sq",
+    ):
         table[name] = cheap[name]
     dropped_by, reports = apply_filters(table, options, band, paths)
     summary_line = filter_summary(reports, len(table))
@@ -330,21 +344,34 @@ def select_records(
             dropped_by[i] = "samples_failed"
         grid = np.concatenate([[t1], periods])
         items = [(samples[i][0], samples[i][1], grid, 0.05) for i in have]
-        outcome = map_items(record_spectrum, items, jobs=jobs, executor=executor, stage="spectra",
-                            name_of=_spectrum_name)  # fmt: skip
+        outcome = map_items(
+            record_spectrum,
+            items,
+            jobs=jobs,
+            executor=executor,
+            stage="spectra",
+            name_of=_spectrum_name,
+        )
         for k, values in zip(outcome.indices, outcome.results, strict=True):
             table.loc[int(have[k]), "psa_t1_g"] = values[0] / G_M_S2
             psa[have[k]] = values[1:]
         failures += outcome.failures
         if options.confirm:
             items = [(samples[i][0], samples[i][1], np.array([t1]), frame.xi_1) for i in have]
-            outcome = map_items(record_spectrum, items, jobs=jobs, executor=executor,
-                                stage="spectra", name_of=_spectrum_name)  # fmt: skip
+            outcome = map_items(
+                record_spectrum,
+                items,
+                jobs=jobs,
+                executor=executor,
+                stage="spectra",
+                name_of=_spectrum_name,
+            )
             for k, values in zip(outcome.indices, outcome.results, strict=True):
                 sd_t1[have[k]] = values[0] / band.omega_1_rad_s**2
         missing = np.flatnonzero((dropped_by == "") & ~np.isfinite(table["psa_t1_g"].to_numpy()))
-        dropped_by[missing] = np.where(dropped_by[missing] == "", "spectra_failed",
-                                       dropped_by[missing])  # fmt: skip
+        dropped_by[missing] = np.where(
+            dropped_by[missing] == "", "spectra_failed", dropped_by[missing]
+        )
     passing = np.flatnonzero(dropped_by == "")
     score = np.asarray(table[options.rank_by], dtype=np.float64)
     z = np.full(len(table), np.nan)
@@ -374,11 +401,18 @@ def select_records(
             f"n = {options.n} but only {len(members)} {what} left ({summary_line}), expected "
             f"n ≤ {len(members)}"
         )
-    choice = dict(
-        weight=options.spectral_weight, log_target=log_target,
-        max_per_event=options.max_per_event, max_per_station=options.max_per_station,
-    )  # fmt: skip
-    chosen = choose(units, options.n, **choice)  # type: ignore[arg-type]
+
+    def pick(candidates: Units) -> list[int]:
+        return choose(
+            candidates,
+            options.n,
+            weight=options.spectral_weight,
+            log_target=log_target,
+            max_per_event=options.max_per_event,
+            max_per_station=options.max_per_station,
+        )
+
+    chosen = pick(units)
     chosen_rows = [i for u in chosen for i in members[u]]
     # Rank stability: redraw the fitted parameters, rescore, choose again (one batch for all
     # replicates, so a process pool starts once).
@@ -392,9 +426,14 @@ def select_records(
         drawn = pd.concat(replicates, ignore_index=True)
         if options.rank_by in PHYSICS_SCORES:
             b, d, _, _ = _physics(
-                drawn, np.arange(len(drawn)), band, frame,
-                strong_motion_paths(drawn, options.strong_motion_fraction), jobs, executor,
-            )  # fmt: skip
+                drawn,
+                np.arange(len(drawn)),
+                band,
+                frame,
+                strong_motion_paths(drawn, options.strong_motion_fraction),
+                jobs,
+                executor,
+            )
             all_values = b if options.rank_by == "backbone_amplification" else d
         else:
             all_values = np.asarray(
@@ -405,7 +444,7 @@ def select_records(
             z_b = np.full(len(table), np.nan)
             z_b[passing] = percentile_scores(values)
             units_b, members_b = _units(table, passing, z_b, options.unit, log_psa)
-            for u in choose(units_b, options.n, **choice):  # type: ignore[arg-type]
+            for u in pick(units_b):
                 counts[members_b[u]] += 1
     probability = np.full(len(table), np.nan)
     if options.n_bootstrap:
@@ -422,9 +461,20 @@ def select_records(
     selection = table.loc[chosen_rows].copy()
     selection.insert(0, "rank", np.arange(1, len(chosen_rows) + 1))
     selection.insert(1, "score", selection[options.rank_by].to_numpy())
-    keep_first = ["rank", "file", "component", "station", "score", "scale_factor",
-                  "selection_probability", "rank_score_percentile", *sc.SCORES,
-                  "enters_from_above", "psa_t1_g", "spectral_misfit"]  # fmt: skip
+    keep_first = [
+        "rank",
+        "file",
+        "component",
+        "station",
+        "score",
+        "scale_factor",
+        "selection_probability",
+        "rank_score_percentile",
+        *sc.SCORES,
+        "enters_from_above",
+        "psa_t1_g",
+        "spectral_misfit",
+    ]
     keep = [c for c in keep_first if c in selection.columns]
     selection = selection[keep + [c for c in selection.columns if c not in keep]]
     selection = selection.reset_index(drop=True)
@@ -455,9 +505,14 @@ def select_records(
         "options": options.to_dict(),
     }
     return SelectionResult(
-        _with_dictionary(selection, {"rank": ("", "rank in the set (1 best)"),
-                                     "score": ("", f"the ranking score ({options.rank_by})"),
-                                     **CANDIDATE_COLUMNS}),
+        _with_dictionary(
+            selection,
+            {
+                "rank": ("", "rank in the set (1 best)"),
+                "score": ("", f"the ranking score ({options.rank_by})"),
+                **CANDIDATE_COLUMNS,
+            },
+        ),
         _with_dictionary(table, CANDIDATE_COLUMNS),
         _with_dictionary(confirm_table, CONFIRMATION_COLUMNS),
         failures_table(failures),
@@ -465,13 +520,18 @@ def select_records(
         status,
         message,
         summary,
-    )  # fmt: skip
+    )
 
 
 def _confirm(
-    table: Any, frame: PortalFrame, samples: dict[int, Samples], chosen: list[int],
-    controls: list[int], sd_t1: Floats, options: SelectionOptions,
-) -> tuple[Any, list[dict[str, Any]], dict[str, Any], float]:  # fmt: skip
+    table: Any,
+    frame: PortalFrame,
+    samples: dict[int, Samples],
+    chosen: list[int],
+    controls: list[int],
+    sd_t1: Floats,
+    options: SelectionOptions,
+) -> tuple[Any, list[dict[str, Any]], dict[str, Any], float]:
     import pandas as pd
 
     frames = []
@@ -491,11 +551,15 @@ def _confirm(
     chosen_run = rows_of(pair, "selected", "chosen-scale", scales, run)
     chosen_run.loc[len(chosen) :, "group"] = "control"
     frames.append(chosen_run)
-    candidates = [i for i in np.flatnonzero(table["dropped_by"].to_numpy() == "")
-                  if np.isfinite(sd_t1[i]) and sd_t1[i] > 0]  # fmt: skip
+    candidates = [
+        int(i)
+        for i in np.flatnonzero(table["dropped_by"].to_numpy() == "")
+        if np.isfinite(sd_t1[i]) and sd_t1[i] > 0
+    ]
     records = [samples[i] for i in candidates]
-    equal = confirmation.equal_intensity_scales(sd_t1[candidates], frame,
-                                                options.confirm_onset_ratio)  # fmt: skip
+    equal = confirmation.equal_intensity_scales(
+        sd_t1[candidates], frame, options.confirm_onset_ratio
+    )
     run_equal = confirmation.run_batch(frame, records, equal)
     equal_rows = rows_of(candidates, "candidate", "equal-psa-t1", equal, run_equal)
     onset = confirmation.overturn_onset_ratios(frame, records, sd_t1[candidates])
@@ -511,25 +575,40 @@ def _confirm(
         for response, y in (("peak_drift", peak), ("overturn_margin", margin)):
             rho, low, high, n = confirmation.spearman_interval(values, y, options.seed + k)
             correlations.append(
-                {"score": name, "response": response, "spearman": rho, "low": low, "high": high,
-                 "n": n}
-            )  # fmt: skip
+                {
+                    "score": name,
+                    "response": response,
+                    "spearman": rho,
+                    "low": low,
+                    "high": high,
+                    "n": n,
+                }
+            )
     is_chosen = np.isin(candidates, chosen)
     is_control = np.isin(candidates, controls)
     medians = {
-        "equal_psa_t1_peak_x_m_selected": float(np.median(peak[is_chosen])) if is_chosen.any()
+        "equal_psa_t1_peak_x_m_selected": float(np.median(peak[is_chosen]))
+        if is_chosen.any()
         else math.nan,
-        "equal_psa_t1_peak_x_m_control": float(np.median(peak[is_control])) if is_control.any()
+        "equal_psa_t1_peak_x_m_control": float(np.median(peak[is_control]))
+        if is_control.any()
         else math.nan,
-        "equal_psa_t1_overturned_selected": int(run_equal.table["overturned"].to_numpy()[is_chosen].sum()),
-        "equal_psa_t1_overturned_control": int(run_equal.table["overturned"].to_numpy()[is_control].sum()),
-        "chosen_scale_peak_x_m_selected": float(np.median(run.table["peak_abs_x_m"][: len(chosen)])),
+        "equal_psa_t1_overturned_selected": int(
+            run_equal.table["overturned"].to_numpy()[is_chosen].sum()
+        ),
+        "equal_psa_t1_overturned_control": int(
+            run_equal.table["overturned"].to_numpy()[is_control].sum()
+        ),
+        "chosen_scale_peak_x_m_selected": float(
+            np.median(run.table["peak_abs_x_m"][: len(chosen)])
+        ),
         "chosen_scale_peak_x_m_control": float(np.median(run.table["peak_abs_x_m"][len(chosen) :]))
-        if controls else math.nan,
+        if controls
+        else math.nan,
         "n_selected": len(chosen),
         "n_control": len(controls),
         "n_equal_intensity": len(candidates),
-    }  # fmt: skip
+    }
     return result, correlations, medians, run_equal.samples_per_s
 
 

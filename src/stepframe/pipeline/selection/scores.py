@@ -69,7 +69,9 @@ def band_coverage(paths: Paths, band: FrameBand) -> Floats:
     bottom = np.maximum(paths.omega_end_rad_s, band.omega_low_rad_s)
     with np.errstate(divide="ignore", invalid="ignore"):
         overlap = np.log(top / bottom)
-    return np.asarray(np.where(np.isnan(overlap), np.nan, np.maximum(overlap, 0.0) / band.log_width))
+    return np.asarray(
+        np.where(np.isnan(overlap), np.nan, np.maximum(overlap, 0.0) / band.log_width)
+    )
 
 
 def enters_from_above(paths: Paths, band: FrameBand) -> NDArray[np.bool_]:

@@ -45,8 +45,9 @@ def read_target_csv(path: str | Path) -> TabulatedSpectrum:
     try:
         text = source.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as error:
-        raise InputError(f"cannot read the target spectrum ({error}), expected a CSV file",
-                         source) from None  # fmt: skip
+        raise InputError(
+            f"cannot read the target spectrum ({error}), expected a CSV file", source
+        ) from None
     rows = list(csv.reader(text.splitlines()))
     if not rows or [c.strip() for c in rows[0][:2]] != ["period_s", "sa_g"]:
         raise InputError("first line is not 'period_s,sa_g', expected that header", source, 1)
