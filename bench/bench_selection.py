@@ -91,8 +91,10 @@ def main() -> None:
     peer_s = _median_time(lambda: per_row(big.head(1000)), repeats=1) * 43
     print("| step | rows | time [s] | peer (per-row library calls) [s] | ratio |")
     print("|---|---|---|---|---|")
-    print(f"| filter + rank (band coverage, n = 50) | 43,000 | {rank_s:.2f} | "
-          f"{peer_s:.1f} (eq. 6.18 only) | {peer_s / rank_s:.0f}× |")
+    print(
+        f"| filter + rank (band coverage, n = 50) | 43,000 | {rank_s:.2f} | "
+        f"{peer_s:.1f} (eq. 6.18 only) | {peer_s / rank_s:.0f}× |"
+    )
     print(f"| the same with 16 bootstrap replicates | 43,000 | {boot_s:.2f} | | |")
 
     numba.set_num_threads(1)
@@ -102,8 +104,14 @@ def main() -> None:
     def physics(n_steps: int, rows: int) -> float:
         start = time.perf_counter()
         for i in range(rows):
-            sc.physics_scores(plausible.iloc[i], band, frame.xi_1, xi_levels,
-                              (paths.start_s[i], paths.end_s[i]), n_steps=n_steps)
+            sc.physics_scores(
+                plausible.iloc[i],
+                band,
+                frame.xi_1,
+                xi_levels,
+                (paths.start_s[i], paths.end_s[i]),
+                n_steps=n_steps,
+            )
         return (time.perf_counter() - start) / rows
 
     physics(200, 2)
@@ -124,10 +132,12 @@ def main() -> None:
     for threads in (1, numba.config.NUMBA_NUM_THREADS):
         numba.set_num_threads(threads)
         run_batch(frame, recs, scales)
-        rates[threads] = statistics.median(run_batch(frame, recs, scales).samples_per_s
-                                           for _ in range(5))
-    print("\n| confirmation (simulate_batch, 71 FEMA components, equal PSA(T1)) | "
-          "input samples/s |")
+        rates[threads] = statistics.median(
+            run_batch(frame, recs, scales).samples_per_s for _ in range(5)
+        )
+    print(
+        "\n| confirmation (simulate_batch, 71 FEMA components, equal PSA(T1)) | input samples/s |"
+    )
     print("|---|---|")
     for threads, rate in rates.items():
         print(f"| {threads} numba thread(s) | {rate:.3g} |")
@@ -140,15 +150,21 @@ def main() -> None:
         walls = []
         for k in range(3):
             start = time.perf_counter()
-            subprocess.run([sys.executable, "-m", "stepframe.cli", "demo", "-o",
-                            f"{out}/run{k}"], check=True, capture_output=True, env=env)
+            subprocess.run(
+                [sys.executable, "-m", "stepframe.cli", "demo", "-o", f"{out}/run{k}"],
+                check=True,
+                capture_output=True,
+                env=env,
+            )
             walls.append(time.perf_counter() - start)
     print("\n| `stepframe demo` (fresh process) | wall [s] |")
     print("|---|---|")
     print(f"| first run, empty numba cache (all kernels compiled) | {walls[0]:.1f} |")
     print(f"| warm (median of 2) | {statistics.median(walls[1:]):.1f} |")
-    print(f"\nload average while measuring: {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs; "
-          f"math check {math.pi:.3f}")
+    print(
+        f"\nload average while measuring: {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs; "
+        f"math check {math.pi:.3f}"
+    )
 
 
 if __name__ == "__main__":

@@ -93,8 +93,8 @@ def _units(z: list[float], events: list[str], log_psa: np.ndarray | None = None)
     return Units(
         np.array(z),
         [[i] for i in range(len(z))],
-        [[e] for e in events],
-        [[f"s{i}"] for i in range(len(z))],
+        np.array(events, dtype=object),
+        np.array([f"s{i}" for i in range(len(z))], dtype=object),
         log_psa,
     )
 

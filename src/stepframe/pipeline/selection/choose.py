@@ -26,13 +26,23 @@ MAX_SWAP_ROUNDS = 100
 
 @dataclass(frozen=True)
 class Units:
-    """Candidate units: their scores, members (candidate rows), events, stations, log spectra."""
+    """Candidate units: their scores, members (candidate rows), the event and station of every
+    row (indexed by row), and per unit the mean over members of ln(s·PSA), shape
+    (n_units, n_periods)."""
 
     z: Floats
     members: list[list[int]]
-    events: list[list[str]]
-    stations: list[list[str]]
-    log_psa: Floats | None  # per unit: mean over members of ln(s·PSA), shape (n_units, n_periods)
+    events: NDArray[np.object_]
+    stations: NDArray[np.object_]
+    log_psa: Floats | None
+
+    def events_of(self, unit: int) -> list[str]:
+        """Events of the unit's members."""
+        return [str(e) for e in self.events[self.members[unit]]]
+
+    def stations_of(self, unit: int) -> list[str]:
+        """Stations of the unit's members."""
+        return [str(s) for s in self.stations[self.members[unit]]]
 
 
 def _fits(
@@ -44,11 +54,11 @@ def _fits(
     max_station: int | None,
 ) -> bool:
     if max_event is not None:
-        extra = Counter(units.events[unit])
+        extra = Counter(units.events_of(unit))
         if any(events[e] + k > max_event for e, k in extra.items()):
             return False
     if max_station is not None:
-        extra = Counter(units.stations[unit])
+        extra = Counter(units.stations_of(unit))
         if any(stations[s] + k > max_station for s, k in extra.items()):
             return False
     return True
@@ -86,8 +96,8 @@ def choose(
 
     def add(u: int) -> None:
         chosen.append(u)
-        events.update(units.events[u])
-        stations.update(units.stations[u])
+        events.update(units.events_of(u))
+        stations.update(units.stations_of(u))
 
     if not use_spectra:
         for u in order:
@@ -113,8 +123,8 @@ def choose(
         improved = False
         for position in range(len(chosen)):
             rest = chosen[:position] + chosen[position + 1 :]
-            events_rest = Counter(e for u in rest for e in units.events[u])
-            stations_rest = Counter(s for u in rest for s in units.stations[u])
+            events_rest = Counter(e for u in rest for e in units.events_of(u))
+            stations_rest = Counter(s for u in rest for s in units.stations_of(u))
             for u in order:
                 u = int(u)
                 if u in chosen or not _fits(

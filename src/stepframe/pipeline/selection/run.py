@@ -189,24 +189,39 @@ def _perturbed(table: Any, rng: np.random.Generator) -> Any:
 def _units(
     table: Any, rows: NDArray[np.int64], z: Floats, unit: str, log_psa: Floats | None
 ) -> tuple[Units, list[list[int]]]:
-    """Group candidate rows into units (components, or records by event and station)."""
+    """Group candidate rows into units (components, or records by event and station); a
+    unit's score is the mean of its members' finite scores (-inf when none is finite)."""
+    import pandas as pd
+
+    rows = np.asarray(rows, dtype=np.int64)
     columns = set(table.columns)
     files = table["file"].astype(str).to_numpy()
     events = table["event"].astype(str).to_numpy() if "event" in columns else files
     stations = table["station"].astype(str).to_numpy() if "station" in columns else files
-    groups: dict[Any, list[int]] = {}
-    for i in rows:
-        key = (events[i], stations[i]) if unit == "record" else int(i)
-        groups.setdefault(key, []).append(int(i))
-    members = list(groups.values())
-    unit_z = np.array([np.nanmean(z[m]) if np.any(np.isfinite(z[m])) else -np.inf for m in members])
+    if unit == "record":
+        codes, _ = pd.factorize(pd.Series(events[rows]) + "\x1f" + pd.Series(stations[rows]))
+    else:
+        codes = np.arange(rows.size)
+    n_units = int(codes.max()) + 1 if rows.size else 0
+    if unit == "record":
+        order = np.argsort(codes, kind="stable")
+        bounds = np.searchsorted(codes[order], np.arange(n_units + 1))
+        members = [rows[order[bounds[u] : bounds[u + 1]]].tolist() for u in range(n_units)]
+    else:
+        members = [[r] for r in rows.tolist()]
+    values = z[rows]
+    finite = np.isfinite(values)
+    sums = np.bincount(codes, weights=np.where(finite, values, 0.0), minlength=n_units)
+    counts = np.bincount(codes, weights=finite.astype(float), minlength=n_units)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        unit_z = np.where(counts > 0, sums / counts, -np.inf)
     unit_psa = None if log_psa is None else np.array([log_psa[m].mean(axis=0) for m in members])
     return (
         Units(
             unit_z,
             members,
-            [[str(events[i]) for i in m] for m in members],
-            [[str(stations[i]) for i in m] for m in members],
+            np.asarray(events, dtype=object),
+            np.asarray(stations, dtype=object),
             unit_psa,
         ),
         members,
@@ -453,7 +468,8 @@ def select_records(
     table["selected"] = False
     table.loc[chosen_rows, "selected"] = True
     order = np.argsort(units.z, kind="stable")
-    controls = [u for u in order if u not in chosen][: len(chosen)]
+    taken = set(chosen)
+    controls = [int(u) for u in order if u not in taken][: len(chosen)]
     control_rows = [i for u in controls for i in members[u]]
     table["control"] = False
     table.loc[control_rows, "control"] = True
