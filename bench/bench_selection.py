@@ -22,7 +22,6 @@ absolute times.
 from __future__ import annotations
 
 import argparse
-import math
 import os
 import statistics
 import subprocess
@@ -161,10 +160,7 @@ def main() -> None:
     print("|---|---|")
     print(f"| first run, empty numba cache (all kernels compiled) | {walls[0]:.1f} |")
     print(f"| warm (median of 2) | {statistics.median(walls[1:]):.1f} |")
-    print(
-        f"\nload average while measuring: {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs; "
-        f"math check {math.pi:.3f}"
-    )
+    print(f"\nload average while measuring: {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs")
 
 
 if __name__ == "__main__":

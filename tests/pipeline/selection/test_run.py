@@ -145,3 +145,19 @@ def test_options_round_trip_and_validation() -> None:
         with pytest.raises(InputError):
             SelectionOptions.from_dict(bad)
     assert math.isclose(SelectionOptions().strong_motion_fraction, 0.3)
+
+
+def test_records_with_both_components(example_inputs: Any, example4: PortalFrame) -> None:
+    table = example_inputs[0]
+    options = SelectionOptions(n=3, unit="record", rank_by="omega_p_over_s_sq", n_bootstrap=0)
+    result = select_records(table, example4, options, jobs=1)
+    chosen = result.selection
+    assert len(chosen) == 6
+    pairs = chosen.groupby(["event", "station"])["component"].nunique()
+    assert len(pairs) == 3 and (pairs == 2).all()
+    # Independent: records ranked by the mean percentile of their components.
+    passed = result.candidates[result.candidates["dropped_by"] == ""].copy()
+    passed["pct"] = passed["omega_p_over_s_sq"].rank(method="average")
+    passed["pct"] = (passed["pct"] - 1) / (len(passed) - 1)
+    means = passed.groupby(["event", "station"])["pct"].mean().sort_values(ascending=False)
+    assert set(pairs.index) == set(means.index[:3])

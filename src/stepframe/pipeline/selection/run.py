@@ -17,7 +17,7 @@ from stepframe.pipeline.selection import confirm as confirmation
 from stepframe.pipeline.selection import scores as sc
 from stepframe.pipeline.selection.band import FrameBand, frame_band
 from stepframe.pipeline.selection.choose import Units, choose, percentile_scores
-from stepframe.pipeline.selection.filters import apply_filters, filter_summary
+from stepframe.pipeline.selection.filters import FilterReport, apply_filters, filter_summary
 from stepframe.pipeline.selection.names import PHYSICS_SCORES
 from stepframe.pipeline.selection.options import SelectionOptions
 from stepframe.pipeline.selection.path import MODEL_COLUMNS, strong_motion_paths
@@ -228,6 +228,31 @@ def _units(
     )
 
 
+def _drop_single_components(
+    table: Any, dropped_by: NDArray[np.object_], reports: list[FilterReport]
+) -> None:
+    """``unit="record"``: drop components whose record (event, station) has no other component
+    left, so that every chosen record has both horizontal components."""
+    import pandas as pd
+
+    files = table["file"].astype(str)
+    events = table["event"].astype(str) if "event" in table.columns else files
+    stations = table["station"].astype(str) if "station" in table.columns else files
+    key = pd.Series(events.to_numpy() + "\x1f" + stations.to_numpy())
+    alive = dropped_by == ""
+    sizes = key[alive].value_counts()
+    single = alive & (key.map(sizes).fillna(0).to_numpy() < 2)
+    dropped_by[single] = "one_component"
+    reports.append(
+        FilterReport(
+            "one_component",
+            "both components of the record passed",
+            int(single.sum()),
+            int((dropped_by == "").sum()),
+        )
+    )
+
+
 def _read_samples(
     table: Any,
     rows: NDArray[np.int64],
@@ -387,6 +412,9 @@ def select_records(
         dropped_by[missing] = np.where(
             dropped_by[missing] == "", "spectra_failed", dropped_by[missing]
         )
+    if options.unit == "record":
+        _drop_single_components(table, dropped_by, reports)
+        summary_line = filter_summary(reports, len(table))
     passing = np.flatnonzero(dropped_by == "")
     score = np.asarray(table[options.rank_by], dtype=np.float64)
     z = np.full(len(table), np.nan)
