@@ -117,12 +117,12 @@ def main() -> None:
             )
         return (time.process_time() - start) / rows
 
-    physics(200, 2)
-    fast = statistics.median(physics(200, len(plausible)) for _ in range(3))
+    physics(150, 2)
+    fast = statistics.median(physics(150, len(plausible)) for _ in range(3))
     slow = physics(4000, 10)
     print("\n| physics score (backbone + descent), one core | ms per candidate |")
     print("|---|---|")
-    print(f"| 200-step grid (used) | {fast * 1e3:.1f} |")
+    print(f"| 150-step grid (used) | {fast * 1e3:.1f} |")
     print(f"| 4,000-step grid (mean_square default; peer) | {slow * 1e3:.1f} |")
 
     keys = list(zip(plausible["file"], plausible["component"], strict=True))

@@ -163,7 +163,7 @@ def register(subparsers: Any) -> None:
     spectral.add_argument("--scale-min", type=positive_float, default=0.25)
     spectral.add_argument("--scale-max", type=positive_float, default=4.0)
     rest = parser.add_argument_group("uncertainty and confirmation")
-    rest.add_argument("--n-bootstrap", type=int, default=16)
+    rest.add_argument("--n-bootstrap", type=int, default=10)
     rest.add_argument("--seed", type=int, default=0)
     rest.add_argument(
         "--confirm-onset-ratio",
@@ -216,7 +216,7 @@ def _parser_defaults() -> dict[str, Any]:
         "spectral_weight": 0.0,
         "x_star_fraction": 0.8,
         "strong_motion_fraction": 0.3,
-        "n_bootstrap": 16,
+        "n_bootstrap": 10,
         "seed": 0,
         "distance_metric": "rrup",
         "scale_min": 0.25,

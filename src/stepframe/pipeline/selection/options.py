@@ -80,7 +80,7 @@ class SelectionOptions:
     x_star_fraction: float = 0.8
     n_levels: int = 6
     strong_motion_fraction: float = 0.3
-    n_bootstrap: int = 16
+    n_bootstrap: int = 10
     seed: int = 0
     magnitude_min: float | None = None
     magnitude_max: float | None = None
