@@ -156,10 +156,12 @@ def test_target_csv(tmp_path: Path) -> None:
     with pytest.raises(InputError) as error:
         read_target_csv(bad)
     assert error.value.line == 3 and "expected two numbers" in error.value.one_line()
+    headless = tmp_path / "headless.csv"
+    headless.write_text("a,b\n0.1,1.0\n")
     with pytest.raises(InputError, match="expected that header"):
-        read_target_csv(
-            good.with_name("none.csv").write_text("a,b\n") and good.with_name("none.csv")
-        )
+        read_target_csv(headless)
+    with pytest.raises(InputError, match="cannot read the target spectrum"):
+        read_target_csv(tmp_path / "missing.csv")
 
 
 def test_spearman_matches_scipy() -> None:
