@@ -93,6 +93,21 @@ def _with_dictionary(table: Any, columns: Mapping[str, tuple[str, str]]) -> Any:
 PhysicsItem = tuple[str, dict[str, float], FrameBand, float, float, tuple[float, float]]
 
 
+#: Rough cost of one item on one core [s]: the physics score, one record's spectrum.
+PHYSICS_S = 0.005
+SPECTRUM_S = 0.01
+#: Below this much work a process pool costs more than it saves (each worker imports numpy,
+#: scipy and loads the numba kernels: about a second of CPU).
+POOL_WORTH_S = 3.0
+
+
+def _workers(jobs: int | None, executor: Executor | None, work_s: float) -> int | None:
+    """``jobs``, or 1 (run in this process) for a small batch when no executor is given."""
+    if executor is None and jobs is None and work_s < POOL_WORTH_S:
+        return 1
+    return jobs
+
+
 def _item_name(item: PhysicsItem) -> str:
     return item[0]
 
@@ -151,7 +166,7 @@ def _physics(
     outcome = map_items(
         _physics_item,
         items,
-        jobs=jobs,
+        jobs=_workers(jobs, executor, len(items) * PHYSICS_S),
         executor=executor,
         stage="physics",
         name_of=_item_name,
@@ -387,7 +402,7 @@ def select_records(
         outcome = map_items(
             record_spectrum,
             items,
-            jobs=jobs,
+            jobs=_workers(jobs, executor, len(items) * SPECTRUM_S),
             executor=executor,
             stage="spectra",
             name_of=_spectrum_name,
@@ -401,7 +416,7 @@ def select_records(
             outcome = map_items(
                 record_spectrum,
                 items,
-                jobs=jobs,
+                jobs=_workers(jobs, executor, len(items) * SPECTRUM_S),
                 executor=executor,
                 stage="spectra",
                 name_of=_spectrum_name,
