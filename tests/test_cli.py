@@ -60,15 +60,80 @@ def test_debug_shows_traceback(tmp_path: Path) -> None:
     assert result.stderr.strip().splitlines()[-1].startswith("stepframe: error: ")
 
 
-def test_demo_json_subprocess(tmp_path: Path) -> None:
-    result = run_cli("--json", "demo", "--out-dir", str(tmp_path / "demo"))
+@pytest.fixture(scope="module")
+def demo_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[dict[str, object], Path]:
+    """One ``stepframe --json demo`` run (features, selection and confirmation of 100 records)."""
+    out = tmp_path_factory.mktemp("demo") / "demo"
+    result = subprocess.run(
+        [sys.executable, "-m", "stepframe.cli", "--json", "demo", "-o", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=900,
+    )
     assert result.returncode == 0, result.stderr
-    payload = json.loads(result.stdout)  # stdout is only JSON
-    assert payload["n_records"] == 100
-    assert len(payload["records"]) == 100
-    figure = Path(payload["figure"])
+    return json.loads(result.stdout), out  # stdout is only JSON
+
+
+def test_demo_selects_for_example_4(demo_run: tuple[dict[str, object], Path]) -> None:
+    import math
+
+    import numpy as np
+    import pandas as pd
+
+    from stepframe.structure.frame import PortalFrame
+    from stepframe.structure.period_amplitude import period_amplitude
+
+    payload, out = demo_run
+    # Example 4's printed constants: x* = γ1/ω2², band bottom at A_max = 0.8 x*.
+    frame = PortalFrame(6.4581, 0.6445, 1.1884, 1.268, 0.1387, 0.05, 0.0, 0.19043, 0.95)
+    low = 2 * math.pi / period_amplitude(frame, 0.8 * 0.1387 / 0.6445**2)
+    assert payload["band_rad_s"] == pytest.approx([low, 6.4581], rel=1e-4)
+    assert payload["n_candidates"] == 100
+    candidates = pd.read_csv(out / "candidates.csv")
+    candidates["dropped_by"] = candidates["dropped_by"].fillna("")
+    assert payload["n_filtered"] == int((candidates["dropped_by"] != "").sum())
+    passed = candidates[candidates["dropped_by"] == ""]
+    top = passed.nlargest(10, "backbone_amplification")
+    selected = payload["selected"]
+    assert [s["rank"] for s in selected] == list(range(1, 11))
+    assert [s["component"] for s in selected] == top["component"].astype(str).tolist()
+    assert [s["score"] for s in selected] == pytest.approx(top["backbone_amplification"].tolist())
+    assert all(s["scale_factor"] == 1.0 for s in selected)
+    entry = next(
+        e
+        for e in payload["correlations"]
+        if e["score"] == "backbone_amplification" and e["response"] == "peak_drift"
+    )
+    assert entry["n"] == len(passed)
+    assert entry["low"] <= entry["spearman"] <= entry["high"]
+    confirmation = pd.read_csv(out / "confirmation.csv")
+    equal = confirmation[confirmation["case"] == "equal-psa-t1"]
+    assert len(equal) == len(passed)
+    # Recompute the selected-vs-control medians from the table.
+    chosen = set(top["file"] + "|" + top["component"].astype(str))
+    key = equal["file"] + "|" + equal["component"].astype(str)
+    assert payload["medians"]["equal_psa_t1_peak_x_m_selected"] == pytest.approx(
+        float(np.median(equal.loc[key.isin(chosen), "peak_abs_x_m"]))
+    )
+    figure = Path(str(payload["figure"]))
     assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    assert not list(figure.parent.glob("*.part"))
+    assert not list(out.glob("*.part")) and not list(out.glob(".*"))
+
+
+def test_demo_summary_text(demo_run: tuple[dict[str, object], Path]) -> None:
+    from stepframe.commands.select import summary_text
+    from stepframe.pipeline.selection import read_selection
+
+    _, out = demo_run
+    text = summary_text(read_selection(out), out)
+    lines = text.splitlines()
+    assert lines[0].startswith("band: 0.654 to 6.46 rad/s (T 0.973 to 9.61 s); 100 candidates")
+    assert sum(1 for line in lines if line.startswith("  ") and ". RSN" in line) == 10
+    assert any(
+        line.startswith("confirmation: Spearman(backbone_amplification, peak_drift)")
+        for line in lines
+    )
+    assert lines[-1].startswith(f"outputs: {out}/")
 
 
 def test_demo_refuses_file_as_out_dir(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -123,4 +188,4 @@ def test_the_command_tree_builds_whatever_module_is_imported_first() -> None:
         done = subprocess.run(
             [sys.executable, "-c", probe], capture_output=True, text=True, check=True
         )
-        assert done.stdout.strip() == "['demo', 'records', 'stochastic', 'structure']"
+        assert done.stdout.strip() == "['demo', 'records', 'select', 'stochastic', 'structure']"

