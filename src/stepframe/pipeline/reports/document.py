@@ -62,6 +62,7 @@ class Table:
     caption: str
     columns: Mapping[str, str] = field(default_factory=dict)
     sortable: bool = False
+    on_page: bool = True  # False: too wide to read on the page; written as CSV only, and listed
 
 
 @dataclass(frozen=True)
@@ -107,8 +108,12 @@ class Report:
     numbers: Mapping[str, Any] = field(default_factory=dict)
 
     def tables(self) -> list[Table]:
-        """Every table of the report, in page order."""
+        """Every table of the report (on the page or CSV only), in page order."""
         return [item for s in self.sections for item in s.items if isinstance(item, Table)]
+
+    def page_tables(self) -> list[Table]:
+        """The tables drawn on the page."""
+        return [table for table in self.tables() if table.on_page]
 
     def figures(self) -> list[Figure]:
         """Every figure of the report, in page order."""

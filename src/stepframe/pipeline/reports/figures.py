@@ -204,3 +204,120 @@ def response_amplification_figure(
 def band_lines(ax: Axes, band_hz: Sequence[float], *, label: str = "frame's band") -> None:
     """Shade a frequency band on the y axis."""
     ax.axhspan(band_hz[0], band_hz[1], color="#ddf4ff", label=label, zorder=0)
+
+
+def backbone_figure(
+    frame: Any, band_rad_s: Sequence[float], *, a_max_m: float | None, frame_name: str
+) -> Figure:
+    """The frame's period-amplitude backbone f(A) = 1/T(A) with its selection band shaded."""
+    from stepframe.structure.period_amplitude import period_amplitude
+
+    x_star = float(frame.x_star_m)
+    amplitude = np.linspace(0.0, 0.995 * x_star, 400)
+    frequency = 1.0 / np.asarray(period_amplitude(frame, amplitude, beyond_x_star="inf"))
+    fig = new_figure(8.0, 4.2)
+    ax = fig.add_subplot()
+    lo, hi = (band_rad_s[0] / TWO_PI, band_rad_s[1] / TWO_PI)
+    ax.axhspan(lo, hi, color="#ddf4ff", label=f"band {lo:.3g}-{hi:.3g} Hz")
+    ax.plot(amplitude, frequency, color="C0", lw=2, label="backbone f(A) = 1/T(A)")
+    ax.axvline(frame.x_c_m, color="0.4", ls=":", label=f"uplift x_c = {frame.x_c_m:.3g} m")
+    ax.axvline(x_star, color="C3", ls="--", label=f"overturning x* = {x_star:.3g} m")
+    if a_max_m is not None:
+        ax.axvline(a_max_m, color="C2", ls="-.", label=f"amplitude limit A_max = {a_max_m:.3g} m")
+    ax.set_yscale("log")
+    ax.set_xlabel("amplitude A [m]")
+    ax.set_ylabel("frequency [Hz]")
+    ax.set_title(f"{frame_name}: period elongation and the selection band")
+    ax.grid(True, which="both", lw=0.3)
+    ax.legend(fontsize=8, loc="lower left")
+    return fig
+
+
+def omega_paths_figure(
+    paths: Sequence[tuple[str, GroundMotionModel, tuple[float, float]]],
+    band_rad_s: Sequence[float],
+) -> Figure:
+    """Each record's fitted ω_g(t)/2π against the band, its strong-motion window shaded.
+
+    ``paths``: ``(name, model, (window start, window end) [s])`` per record.
+    """
+    n = len(paths)
+    columns = 2 if n > 1 else 1
+    rows = int(math.ceil(n / columns))
+    fig = new_figure(9.0, 2.3 * rows + 0.4)
+    axes = fig.subplots(rows, columns, squeeze=False, sharey=True)
+    lo, hi = (band_rad_s[0] / TWO_PI, band_rad_s[1] / TWO_PI)
+    for ax, (name, model, (start, end)) in zip(axes.flat, paths, strict=False):
+        t = np.linspace(0.0, max(end, model.t0_s + model.t_dur_s) * 1.2, 300)
+        ax.axhspan(lo, hi, color="#ddf4ff")
+        ax.axvspan(start, end, color="#fff8c5")
+        ax.plot(t, model.omega_g(t) / TWO_PI, color="C0", lw=1.8)
+        ax.set_yscale("log")
+        ax.set_title(name, fontsize=8)
+        ax.grid(True, which="both", lw=0.3)
+    for ax in axes.flat[n:]:
+        ax.set_visible(False)
+    for ax in axes[-1]:
+        ax.set_xlabel("time [s]")
+    for ax in axes[:, 0]:
+        ax.set_ylabel("ω_g/2π [Hz]")
+    fig.suptitle(
+        "Fitted ω_g(t) (blue) against the frame's band (light blue), strong motion (yellow)",
+        fontsize=10,
+    )
+    return fig
+
+
+def spectra_figure(
+    period_s: NDArray[np.float64],
+    psa_g: NDArray[np.float64],
+    names: Sequence[str],
+    *,
+    target: tuple[NDArray[np.float64], NDArray[np.float64]] | None,
+    band_period_s: tuple[float, float] | None,
+    damping: float,
+) -> Figure:
+    """Scaled spectra of the selected set: each record, the median and ±σ (log), the target."""
+    fig = new_figure(8.0, 4.6)
+    ax = fig.add_subplot()
+    if band_period_s is not None:
+        ax.axvspan(*band_period_s, color="#ddf4ff", label="frame's band (periods)")
+    for row, name in zip(psa_g, names, strict=True):
+        ax.loglog(period_s, row, color="0.7", lw=0.8)
+    logs = np.log(psa_g)
+    median = np.exp(np.median(logs, axis=0))
+    sigma = np.std(logs, axis=0, ddof=1) if len(names) > 1 else np.zeros(period_s.size)
+    ax.loglog(period_s, median, color="k", lw=2, label=f"median of {len(names)} scaled records")
+    ax.loglog(period_s, median * np.exp(sigma), color="k", ls="--", lw=1, label="median · e^±σ")
+    ax.loglog(period_s, median * np.exp(-sigma), color="k", ls="--", lw=1)
+    if target is not None:
+        ax.loglog(target[0], target[1], color="C3", lw=2, label="target spectrum")
+    ax.plot([], [], color="0.7", lw=0.8, label="each record (scaled)")
+    ax.set_xlabel("period T [s]")
+    ax.set_ylabel(f"PSA [g], {damping:.0%} damping")
+    ax.set_title("Response spectra of the selected set")
+    ax.grid(True, which="both", lw=0.3)
+    ax.legend(fontsize=8, loc="lower left")
+    return fig
+
+
+def confirmation_figure(
+    score: NDArray[np.float64],
+    response: NDArray[np.float64],
+    selected: NDArray[np.bool_],
+    *,
+    score_name: str,
+    response_name: str,
+    rho: float,
+) -> Figure:
+    """Score against simulated peak response at equal intensity; selected and controls apart."""
+    fig = new_figure(7.0, 4.4)
+    ax = fig.add_subplot()
+    ax.plot(score[~selected], response[~selected], "o", color="0.55", label="controls / others")
+    ax.plot(score[selected], response[selected], "o", color="C3", label="selected")
+    ax.set_xlabel(score_name)
+    ax.set_ylabel(response_name)
+    ax.set_title(f"Confirmation by simulation: Spearman ρ = {rho:.2f}")
+    ax.grid(True, lw=0.3)
+    ax.legend(fontsize=8)
+    return fig
