@@ -174,7 +174,7 @@ def _dropped(candidates: pd.DataFrame) -> tuple[pd.DataFrame, str | None]:
     column = next((c for c in DROPPED_COLUMNS if c in candidates.columns), None)
     if column is None:
         return pd.DataFrame({"filter": [], "dropped": [], "examples": []}), None
-    reason = candidates[column].fillna("").astype(str).str.strip()
+    reason = candidates[column].astype(object).fillna("").astype(str).str.strip()
     rows = []
     for name, group in candidates[reason != ""].groupby(reason[reason != ""], sort=True):
         files = [Path(str(f)).name for f in group["file"]]
