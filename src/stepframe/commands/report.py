@@ -122,6 +122,15 @@ def _parameters(args: argparse.Namespace, names: tuple[str, ...]) -> dict[str, A
     return {name: getattr(args, name) for name in names if getattr(args, name, None) is not None}
 
 
+def _command(words: list[str], parameters: dict[str, Any]) -> str:
+    """The command line that reproduces the report (options as parsed, defaults included)."""
+    import shlex
+
+    for name, value in parameters.items():
+        words += [f"--{name.replace('_', '-')}", str(value)]
+    return shlex.join(words)
+
+
 def run_amplification(args: argparse.Namespace) -> CommandResult:
     """Build the site (parameters or records), compute and write the amplification report."""
     from stepframe.pipeline.reports.amplification import (
@@ -210,7 +219,8 @@ def run_amplification(args: argparse.Namespace) -> CommandResult:
             "peak_intensity_m_s2",
         ),
     )
-    provenance = collect_provenance(None, inputs=inputs, parameters=parameters)
+    command = _command(["stepframe", "report", "amplification"], parameters | {"out": args.out})
+    provenance = collect_provenance(command, inputs=inputs, parameters=parameters)
     out = write_amplification_report(site, args.out, frame=frame, options=options, provenance=provenance)
     return _written(out)
 
@@ -222,9 +232,9 @@ def run_selection(args: argparse.Namespace) -> CommandResult:
     from stepframe.pipeline.reports.selection_folder import read_selection_folder
 
     outputs = read_selection_folder(args.outdir)  # checks the folder before anything is hashed
-    provenance = collect_provenance(
-        None, inputs=outputs.files, parameters={"outdir": args.outdir}
-    )
+    words = ["stepframe", "report", "selection", args.outdir]
+    command = _command(words, {} if args.out is None else {"out": args.out})
+    provenance = collect_provenance(command, inputs=outputs.files, parameters={"outdir": args.outdir})
     out = write_selection_report(args.outdir, args.out, provenance=provenance)
     return _written(out)
 

@@ -62,7 +62,7 @@ def make_selection_folder(folder: Path, *, n_selected: int = 4, confirm: bool = 
         }
         rows.append(row)
     candidates = pd.DataFrame(rows)
-    candidates.loc[candidates["magnitude"] < 6.6, "dropped_by"] = "magnitude"
+    candidates.loc[candidates["magnitude"] <= 6.6, "dropped_by"] = "magnitude"
     kept = candidates[candidates["dropped_by"] == ""].sort_values("end_closeness", ascending=False)
     selection = kept.head(n_selected).copy()
     selection.insert(2, "rank", np.arange(1, len(selection) + 1))

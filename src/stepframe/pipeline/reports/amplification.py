@@ -406,6 +406,16 @@ def amplification_report(
             {"quantity": "status of the frame-driven run", "value": driven.moving.status, "unit": ""},
         ]
         numbers["frame"] = {row["quantity"]: row["value"] for row in frame_rows}
+        numbers["frame_driven_lower_bound"] = lower
+        summary.append(("Frame's band", f"{_hz(lo):.3g}-{_hz(hi):.3g} Hz (A_max = {a_max:.3g} m)"))
+        summary.append(
+            (
+                "Frame-driven response amplification",
+                ("≥ " if lower else "")
+                + f"{driven.vs_fixed[0]:.3g}"
+                + (" (lower bound: the frame overturned)" if lower else ""),
+            )
+        )
         frame_items.append(
             Table(
                 "frame",
@@ -454,6 +464,14 @@ def amplification_report(
             numbers["adjusted_design_displacement_m"] = {
                 row["factor"]: row["adjusted_delta_m"] for row in adjusted
             }
+            by = numbers["adjusted_design_displacement_m"]
+            summary.append(
+                (
+                    "Adjusted design displacement",
+                    f"δ* = {opts.delta_star_m:.3g} m → {by['eq-6-19-last']:.3g} m by (ω_p/ω_s)², "
+                    f"{by['response-vs-fixed']:.3g} m by the response amplification at f_1",
+                )
+            )
             frame_items.append(
                 Table(
                     "adjusted_design_displacement",
@@ -493,10 +511,15 @@ def amplification_report(
             how_to_read=(
                 "The solid red line is the peak RMS response of an oscillator whose frequency "
                 "falls with the ground's, divided by that of a fixed oscillator (exact covariance "
-                "method); dashed: divided by the stationary RMS. Black squares with bars are the "
-                "Monte Carlo median and 95 % interval from synthetic motions; they should sit on "
-                "the solid line. With a frame, its band is shaded and its frame-driven point "
-                "drawn (open with an arrow when only a lower bound)."
+                "method); dashed: divided by the stationary RMS. "
+                + (
+                    "Black squares with bars are the Monte Carlo median and 95 % interval from "
+                    "synthetic motions; they should sit on the solid line. "
+                    if mc_arg
+                    else "(No Monte Carlo check was asked for.) "
+                )
+                + "With a frame, its band is shaded and its frame-driven point drawn (open, "
+                "with an arrow up, when the run overturned and the value is only a lower bound)."
             ),
         ),
         Table(

@@ -144,12 +144,14 @@ def _target(summary: dict[str, Any]) -> tuple[Any, Any] | None:
     data = summary.get("target_spectrum")
     if not isinstance(data, dict):
         return None
-    from stepframe.records.units import STANDARD_GRAVITY_M_S2
     from stepframe.structure.design_spectrum import spectrum_from_dict
 
-    spectrum = spectrum_from_dict(data, where="selection.json target_spectrum")
+    # values given in g are converted with the design spectrum's g (9.81, the paper's): the same
+    # g back to g, so a target of S_D1 = 0.6 g plots as 0.6/T g
+    g = float(summary.get("g_m_s2", 9.81))
+    spectrum = spectrum_from_dict(data, g_m_s2=g, where="selection.json target_spectrum")
     sa = np.array([spectrum.sa_m_s2(float(t)) for t in SPECTRUM_PERIODS_S])
-    return SPECTRUM_PERIODS_S, sa / STANDARD_GRAVITY_M_S2
+    return SPECTRUM_PERIODS_S, sa / g
 
 
 def _strong_window(row: dict[str, Any], model: GroundMotionModel) -> tuple[float, float]:
