@@ -65,10 +65,14 @@ def register(subparsers: Any) -> None:
         help="with --records: time origin, record start (default) or picked P onset",
     )
     site.add_argument("--format", metavar="NAME", help="with --records: file format if not sniffed")
-    site.add_argument("--units", metavar="UNIT", help="with --records: units if the files lack them")
+    site.add_argument(
+        "--units", metavar="UNIT", help="with --records: units if the files lack them"
+    )
     site.add_argument("--site-name", default=None, metavar="NAME", help="named in titles")
     frame = amplification.add_argument_group("frame (optional)")
-    frame.add_argument("--frame", metavar="FRAME.toml", help="frame file: band and frame-driven run")
+    frame.add_argument(
+        "--frame", metavar="FRAME.toml", help="frame file: band and frame-driven run"
+    )
     frame.add_argument(
         "--delta-star-m",
         type=positive_float,
@@ -114,7 +118,11 @@ def register(subparsers: Any) -> None:
     )
     selection.add_argument("outdir", metavar="OUTDIR", help="the selection output folder")
     selection.add_argument(
-        "-o", "--out", default=None, metavar="OUT.html", help="default: OUTDIR/selection_report.html"
+        "-o",
+        "--out",
+        default=None,
+        metavar="OUT.html",
+        help="default: OUTDIR/selection_report.html",
     )
 
 
@@ -221,7 +229,9 @@ def run_amplification(args: argparse.Namespace) -> CommandResult:
     )
     command = _command(["stepframe", "report", "amplification"], parameters | {"out": args.out})
     provenance = collect_provenance(command, inputs=inputs, parameters=parameters)
-    out = write_amplification_report(site, args.out, frame=frame, options=options, provenance=provenance)
+    out = write_amplification_report(
+        site, args.out, frame=frame, options=options, provenance=provenance
+    )
     return _written(out)
 
 
@@ -234,7 +244,9 @@ def run_selection(args: argparse.Namespace) -> CommandResult:
     outputs = read_selection_folder(args.outdir)  # checks the folder before anything is hashed
     words = ["stepframe", "report", "selection", args.outdir]
     command = _command(words, {} if args.out is None else {"out": args.out})
-    provenance = collect_provenance(command, inputs=outputs.files, parameters={"outdir": args.outdir})
+    provenance = collect_provenance(
+        command, inputs=outputs.files, parameters={"outdir": args.outdir}
+    )
     out = write_selection_report(args.outdir, args.out, provenance=provenance)
     return _written(out)
 

@@ -10,6 +10,7 @@ the page made to the network would fail and be counted.
 from __future__ import annotations
 
 import base64
+import contextlib
 import json
 import os
 import select
@@ -96,7 +97,7 @@ class _Pipe:
             f"--user-data-dir={profile}",
             "about:blank",
         ]
-        self._log = tempfile.TemporaryFile()
+        self._log = tempfile.TemporaryFile()  # noqa: SIM115 (closed in close())
         self.process = subprocess.Popen(
             args,
             stdin=subprocess.DEVNULL,
@@ -111,8 +112,13 @@ class _Pipe:
         self._next_id = 0
         self.events: list[dict[str, Any]] = []
 
-    def send(self, method: str, params: dict[str, Any] | None = None, session: str | None = None,
-             timeout_s: float = 30.0) -> dict[str, Any]:
+    def send(
+        self,
+        method: str,
+        params: dict[str, Any] | None = None,
+        session: str | None = None,
+        timeout_s: float = 30.0,
+    ) -> dict[str, Any]:
         self._next_id += 1
         message: dict[str, Any] = {"id": self._next_id, "method": method, "params": params or {}}
         if session:
@@ -161,10 +167,9 @@ class _Pipe:
         return self._log.read().decode(errors="replace")[-2000:]
 
     def close(self) -> None:
-        try:
-            os.write(self._to_child, json.dumps({"id": 0, "method": "Browser.close"}).encode() + b"\0")
-        except OSError:
-            pass
+        with contextlib.suppress(OSError):  # the browser may have exited already
+            close = {"id": 0, "method": "Browser.close"}
+            os.write(self._to_child, json.dumps(close).encode() + b"\0")
         try:
             self.process.wait(timeout=10)
         except subprocess.TimeoutExpired:

@@ -21,7 +21,9 @@ HERE = Path(__file__).parent
 
 
 def _load(name: str) -> ModuleType:
-    spec = importlib.util.spec_from_file_location(f"stepframe_report_tests_{name}", HERE / f"{name}.py")
+    spec = importlib.util.spec_from_file_location(
+        f"stepframe_report_tests_{name}", HERE / f"{name}.py"
+    )
     assert spec is not None and spec.loader is not None
     module = importlib.util.module_from_spec(spec)
     sys.modules[spec.name] = module  # dataclasses look their module up there
@@ -51,8 +53,14 @@ def paper_model() -> Any:
 
     p = PAPER_SITE
     return GroundMotionModel.from_hz(
-        p["f_p_hz"], p["f_s_hz"], p["f_r_hz"], p["xi_p"], p["xi_r"],
-        t_max_s=p["t_max_s"], t_dur_s=p["t_dur_s"], alpha_reading="paper",
+        p["f_p_hz"],
+        p["f_s_hz"],
+        p["f_r_hz"],
+        p["xi_p"],
+        p["xi_r"],
+        t_max_s=p["t_max_s"],
+        t_dur_s=p["t_dur_s"],
+        alpha_reading="paper",
     )
 
 
@@ -86,7 +94,10 @@ def amplification_html(
         "pytest amplification", inputs=[frame_file], parameters={"monte_carlo": 40}
     )
     return write_amplification_report(
-        paper_model, out, frame=read_frame_file(frame_file), options=options,
+        paper_model,
+        out,
+        frame=read_frame_file(frame_file),
+        options=options,
         provenance=provenance,
     )
 
@@ -146,7 +157,9 @@ def records_amplification_html(
 @pytest.fixture(scope="session")
 def selection_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """A selection output folder built from real example records (selection_fixture.py)."""
-    return Path(selection_fixture.make_selection_folder(tmp_path_factory.mktemp("selection") / "out"))
+    return Path(
+        selection_fixture.make_selection_folder(tmp_path_factory.mktemp("selection") / "out")
+    )
 
 
 @pytest.fixture(scope="session")

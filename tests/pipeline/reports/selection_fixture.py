@@ -53,8 +53,19 @@ def make_selection_folder(folder: Path, *, n_selected: int = 4, confirm: bool = 
             "magnitude": table.loc[index, "magnitude"],
             "end_closeness": _closeness(model, frame.omega_1_rad_s),
             "spectral_ratio_eq_6_18": math.nan,
-            **{k: getattr(model, k) for k in ("omega_p_rad_s", "omega_s_rad_s", "omega_r_rad_s",
-                                             "xi_p", "xi_r", "t_max_s", "t_dur_s", "t0_s")},
+            **{
+                k: getattr(model, k)
+                for k in (
+                    "omega_p_rad_s",
+                    "omega_s_rad_s",
+                    "omega_r_rad_s",
+                    "xi_p",
+                    "xi_r",
+                    "t_max_s",
+                    "t_dur_s",
+                    "t0_s",
+                )
+            },
             "strong_motion_start_s": start,
             "strong_motion_end_s": end,
             "fit_quality": fit.fit_quality,
@@ -70,12 +81,20 @@ def make_selection_folder(folder: Path, *, n_selected: int = 4, confirm: bool = 
     selection.to_csv(folder / "selection.csv", index=False)
     candidates.to_csv(folder / "candidates.csv", index=False)
     pd.DataFrame(
-        {"column": ["file", "end_closeness"],
-         "meaning": ["record file", "exp(-|ln(ω_g(t_dur)/ω_1)|), 1 = ends at ω_1"]}
+        {
+            "column": ["file", "end_closeness"],
+            "meaning": ["record file", "exp(-|ln(ω_g(t_dur)/ω_1)|), 1 = ends at ω_1"],
+        }
     ).to_csv(folder / "candidates.columns.csv", index=False)
     pd.DataFrame(
-        [{"item": "fema_p695/broken.txt", "stage": "fit", "error_type": "InputError",
-          "message": "fewer than 5 strong-motion frames"}]
+        [
+            {
+                "item": "fema_p695/broken.txt",
+                "stage": "fit",
+                "error_type": "InputError",
+                "message": "fewer than 5 strong-motion frames",
+            }
+        ]
     ).to_csv(folder / "failures.csv", index=False)
     if confirm:
         rng = np.random.default_rng(3)
@@ -83,8 +102,8 @@ def make_selection_folder(folder: Path, *, n_selected: int = 4, confirm: bool = 
         confirmation["group"] = np.where(
             confirmation["file"].isin(selection["file"]), "selected", "control"
         )
-        confirmation["peak_drift_m"] = 0.05 + 0.2 * confirmation["end_closeness"] + rng.normal(
-            0, 0.01, len(confirmation)
+        confirmation["peak_drift_m"] = (
+            0.05 + 0.2 * confirmation["end_closeness"] + rng.normal(0, 0.01, len(confirmation))
         )
         confirmation.to_csv(folder / "confirmation.csv", index=False)
     summary = {

@@ -40,7 +40,9 @@ def test_amplification_table_recomputed(amplification_html: Path, paper_model: A
     grid = analysis_grid(paper_model, n_steps=1000)
     picked = [0, 12, 24]
     again = response_amplification(paper_model, omega[picked], 0.05, time_s=grid)
-    np.testing.assert_allclose(table["response_vs_fixed"].to_numpy()[picked], again.vs_fixed, rtol=1e-9)
+    np.testing.assert_allclose(
+        table["response_vs_fixed"].to_numpy()[picked], again.vs_fixed, rtol=1e-9
+    )
 
 
 def test_monte_carlo_interval_brackets_the_covariance(amplification_html: Path) -> None:
@@ -87,14 +89,39 @@ def test_records_report_marks_the_unused_fit(records_amplification_html: Path) -
     assert numbers["frame_driven_lower_bound"] in (True, False)
 
 
-def test_cli_paper_site(tmp_path: Path, frame_file: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_cli_paper_site(
+    tmp_path: Path, frame_file: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     out = tmp_path / "paper.html"
     code = main(
         [
-            "report", "amplification", "--fp-hz", "7.43", "--fs-hz", "3.12", "--fr-hz", "1.11",
-            "--xi-p", "0.096", "--xi-r", "0.655", "--t-max-s", "5", "--t-dur-s", "20",
-            "--alpha-at-tmax", "paper", "--monte-carlo", "0", "--n-steps", "500",
-            "--frame", str(frame_file), "-o", str(out), "--json",
+            "report",
+            "amplification",
+            "--fp-hz",
+            "7.43",
+            "--fs-hz",
+            "3.12",
+            "--fr-hz",
+            "1.11",
+            "--xi-p",
+            "0.096",
+            "--xi-r",
+            "0.655",
+            "--t-max-s",
+            "5",
+            "--t-dur-s",
+            "20",
+            "--alpha-at-tmax",
+            "paper",
+            "--monte-carlo",
+            "0",
+            "--n-steps",
+            "500",
+            "--frame",
+            str(frame_file),
+            "-o",
+            str(out),
+            "--json",
         ]
     )
     assert code == 0
@@ -124,7 +151,9 @@ def test_cli_folder_without_records(tmp_path: Path, capsys: pytest.CaptureFixtur
     empty = tmp_path / "empty"
     empty.mkdir()
     (empty / "notes.md").write_text("not a record")
-    code = main(["report", "amplification", "--records", str(empty), "-o", str(tmp_path / "r.html")])
+    code = main(
+        ["report", "amplification", "--records", str(empty), "-o", str(tmp_path / "r.html")]
+    )
     assert code == 2
     assert "no record files" in capsys.readouterr().err
     assert not (tmp_path / "r.html").exists()
@@ -140,8 +169,20 @@ def test_cli_unreadable_files_are_failures_not_a_stop(
     (folder / "garbage.dat").write_bytes(b"\x00\x01 not a record")
     out = tmp_path / "r.html"
     code = main(
-        ["report", "amplification", "--records", str(folder), "--units", "m/s2",
-         "--monte-carlo", "0", "--n-steps", "300", "-o", str(out)]
+        [
+            "report",
+            "amplification",
+            "--records",
+            str(folder),
+            "--units",
+            "m/s2",
+            "--monte-carlo",
+            "0",
+            "--n-steps",
+            "300",
+            "-o",
+            str(out),
+        ]
     )
     assert code == 0, capsys.readouterr().err
     failures = pd.read_csv(data_folder_of(out) / "failures.csv")

@@ -87,7 +87,9 @@ def _hz(omega: float) -> float:
 
 
 def _parameter_table(site: GroundMotionModel | SiteFromRecords) -> pd.DataFrame:
-    def row(name: str, model: GroundMotionModel, se: dict[str, float], extra: dict[str, Any]) -> dict[str, Any]:
+    def row(
+        name: str, model: GroundMotionModel, se: dict[str, float], extra: dict[str, Any]
+    ) -> dict[str, Any]:
         out: dict[str, Any] = {"record": name}
         for key, label in (
             ("omega_p_rad_s", "f_p_hz"),
@@ -126,7 +128,8 @@ def _parameter_table(site: GroundMotionModel | SiteFromRecords) -> pd.DataFrame:
 
 
 PARAMETER_COLUMNS = {
-    "record": "record file [component], or 'combined' (inverse-variance weighted mean of used fits)",
+    "record": "record file [component], or 'combined' (inverse-variance weighted mean of the "
+    "used fits)",
     "f_p_hz": "P-wave dominant frequency ω_p/2π [Hz]",
     "f_s_hz": "S-wave dominant frequency ω_s/2π (ω_g at t_max) [Hz]",
     "f_r_hz": "surface-wave dominant frequency ω_r/2π [Hz]",
@@ -218,7 +221,9 @@ def amplification_report(
         )
         assert mc.vs_fixed_band is not None
         mc_arg = (MONTE_CARLO_HZ, mc.vs_fixed, mc.vs_fixed_band, opts.monte_carlo)
-        covariance_at = response_amplification(model, TWO_PI * MONTE_CARLO_HZ, opts.xi0, time_s=grid)
+        covariance_at = response_amplification(
+            model, TWO_PI * MONTE_CARLO_HZ, opts.xi0, time_s=grid
+        )
         mc_table = pd.DataFrame(
             {
                 "f0_hz": MONTE_CARLO_HZ,
@@ -250,7 +255,10 @@ def amplification_report(
         ),
         (
             "f_p, f_s, f_r",
-            ", ".join(f"{_hz(w):.3g}" for w in (model.omega_p_rad_s, model.omega_s_rad_s, model.omega_r_rad_s))
+            ", ".join(
+                f"{_hz(w):.3g}"
+                for w in (model.omega_p_rad_s, model.omega_s_rad_s, model.omega_r_rad_s)
+            )
             + " Hz",
         ),
         ("ξ_p, ξ_r", f"{model.xi_p:.3g}, {model.xi_r:.3g}"),
@@ -314,7 +322,8 @@ def amplification_report(
                     title=f"{fit.name}" + ("" if fit.usable else " (not used: flagged)"),
                     alt=(
                         f"Time-frequency image of {fit.name} with its zero-crossing dominant "
-                        f"frequency and the fitted eq. 6.10 path from {_hz(fit.fit.model.omega_p_rad_s):.3g} "
+                        "frequency and the fitted eq. 6.10 path from "
+                        f"{_hz(fit.fit.model.omega_p_rad_s):.3g} "
                         f"Hz down to {_hz(fit.fit.model.omega_r_rad_s):.3g} Hz"
                     ),
                     how_to_read=(
@@ -401,9 +410,21 @@ def amplification_report(
             {"quantity": "amplitude limit A_max", "value": a_max, "unit": "m"},
             {"quantity": "uplift amplitude x_c", "value": frame.x_c_m, "unit": "m"},
             {"quantity": "overturning amplitude x*", "value": x_star, "unit": "m"},
-            {"quantity": "peak intensity of the run (× p_1)", "value": intensity * frame.p_1, "unit": "m/s²"},
-            {"quantity": "frame-driven response amplification vs fixed", "value": float(driven.vs_fixed[0]), "unit": "-"},
-            {"quantity": "status of the frame-driven run", "value": driven.moving.status, "unit": ""},
+            {
+                "quantity": "peak intensity of the run (× p_1)",
+                "value": intensity * frame.p_1,
+                "unit": "m/s²",
+            },
+            {
+                "quantity": "frame-driven response amplification vs fixed",
+                "value": float(driven.vs_fixed[0]),
+                "unit": "-",
+            },
+            {
+                "quantity": "status of the frame-driven run",
+                "value": driven.moving.status,
+                "unit": "",
+            },
         ]
         numbers["frame"] = {row["quantity"]: row["value"] for row in frame_rows}
         numbers["frame_driven_lower_bound"] = lower
@@ -544,7 +565,8 @@ def amplification_report(
                 "monte_carlo",
                 "Monte Carlo check",
                 mc_table,
-                f"Median and 95 % interval of N = {opts.monte_carlo} synthetic motions (seed {opts.seed})",
+                f"Median and 95 % interval of N = {opts.monte_carlo} synthetic motions "
+                f"(seed {opts.seed})",
                 {
                     "f0_hz": "oscillator frequency [Hz]",
                     "covariance_vs_fixed": "exact covariance method [-]",

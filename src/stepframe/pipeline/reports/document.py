@@ -136,7 +136,7 @@ def format_value(value: Any) -> str:
         return ""
     if isinstance(value, bool):
         return "yes" if value else "no"
-    if isinstance(value, float) or hasattr(value, "dtype") and getattr(value, "dtype").kind == "f":
+    if isinstance(value, float) or (hasattr(value, "dtype") and value.dtype.kind == "f"):
         number = float(value)
         if math.isnan(number):
             return ""

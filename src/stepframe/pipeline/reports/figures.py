@@ -31,7 +31,11 @@ def new_figure(width_in: float = 8.0, height_in: float = 4.6) -> Figure:
 
 def mark_site_frequencies(ax: Axes, model: GroundMotionModel, *, axis: str = "x") -> None:
     """Dotted lines at f_p, f_s, f_r [Hz], labelled at the top of the axes."""
-    names = (("f_p", model.omega_p_rad_s), ("f_s", model.omega_s_rad_s), ("f_r", model.omega_r_rad_s))
+    names = (
+        ("f_p", model.omega_p_rad_s),
+        ("f_s", model.omega_s_rad_s),
+        ("f_r", model.omega_r_rad_s),
+    )
     for (name, omega), colour in zip(names, ("#8250df", "#bf3989", "#0969da"), strict=True):
         f = omega / TWO_PI
         if axis == "x":
@@ -123,7 +127,9 @@ def spectral_ratio_figure(model: GroundMotionModel, *, site: str) -> Figure:
     first = approx_eq_6_19_first(model)
     last = approx_eq_6_19_last(model)
     ax.axhline(first, color="C2", ls="--", label=f"eq. 6.19, first approximation = {first:.3g}")
-    ax.axhline(last, color="C1", ls="-.", label=f"eq. 6.19, last approximation (ω_p/ω_s)² = {last:.3g}")
+    ax.axhline(
+        last, color="C1", ls="-.", label=f"eq. 6.19, last approximation (ω_p/ω_s)² = {last:.3g}"
+    )
     mark_site_frequencies(ax, model)
     ax.set_xlabel("oscillator frequency f_0 [Hz]")
     ax.set_ylabel("ratio of spectral densities [-]")
@@ -162,7 +168,9 @@ def response_amplification_figure(
     ax = fig.add_subplot()
     if band_hz is not None:
         ax.axvspan(*band_hz, color="#ddf4ff", label="frame's band [f(A_max), f_1]")
-    ax.semilogx(frequencies_hz, vs_fixed, color="C3", lw=2, label="vs fixed oscillator (covariance)")
+    ax.semilogx(
+        frequencies_hz, vs_fixed, color="C3", lw=2, label="vs fixed oscillator (covariance)"
+    )
     ax.semilogx(
         frequencies_hz, vs_stationary, color="C3", ls="--", label="vs stationary RMS (covariance)"
     )
@@ -181,7 +189,9 @@ def response_amplification_figure(
     if frame_point is not None:
         f1, value, lower = frame_point
         if lower:
-            ax.plot([f1], [value], "o", mfc="white", mec="C4", ms=8, label="frame-driven: lower bound")
+            ax.plot(
+                [f1], [value], "o", mfc="white", mec="C4", ms=8, label="frame-driven: lower bound"
+            )
             # an arrow up from the marker: the true value is higher (the run overturned)
             ax.annotate(
                 "≥",
@@ -247,7 +257,7 @@ def omega_paths_figure(
     """
     n = len(paths)
     columns = 2 if n > 1 else 1
-    rows = int(math.ceil(n / columns))
+    rows = math.ceil(n / columns)
     fig = new_figure(9.0, 2.3 * rows + 0.4)
     axes = fig.subplots(rows, columns, squeeze=False, sharey=True)
     lo, hi = (band_rad_s[0] / TWO_PI, band_rad_s[1] / TWO_PI)
@@ -286,7 +296,7 @@ def spectra_figure(
     ax = fig.add_subplot()
     if band_period_s is not None:
         ax.axvspan(*band_period_s, color="#ddf4ff", label="frame's band (periods)")
-    for row, name in zip(psa_g, names, strict=True):
+    for row in psa_g:
         ax.loglog(period_s, row, color="0.7", lw=0.8)
     logs = np.log(psa_g)
     median = np.exp(np.median(logs, axis=0))

