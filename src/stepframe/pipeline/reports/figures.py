@@ -258,7 +258,15 @@ def omega_paths_figure(
     n = len(paths)
     columns = 2 if n > 1 else 1
     rows = math.ceil(n / columns)
-    fig = new_figure(9.0, 2.3 * rows + 0.4)
+    from matplotlib.figure import Figure
+
+    height = 2.3 * rows + 0.6
+    # fixed margins instead of constrained layout: with ten log axes the layout solver took
+    # most of the report's time (docs/benchmarks.md, Reports)
+    fig = Figure(figsize=(9.0, height))
+    fig.subplots_adjust(
+        left=0.08, right=0.98, top=1 - 0.65 / height, bottom=0.5 / height, hspace=0.5, wspace=0.08
+    )
     axes = fig.subplots(rows, columns, squeeze=False, sharey=True)
     lo, hi = (band_rad_s[0] / TWO_PI, band_rad_s[1] / TWO_PI)
     for ax, (name, model, (start, end)) in zip(axes.flat, paths, strict=False):
@@ -268,7 +276,7 @@ def omega_paths_figure(
         ax.plot(t, model.omega_g(t) / TWO_PI, color="C0", lw=1.8)
         ax.set_yscale("log")
         ax.set_title(name, fontsize=8)
-        ax.grid(True, which="both", lw=0.3)
+        ax.grid(True, which="major", lw=0.3)
     for ax in axes.flat[n:]:
         ax.set_visible(False)
     for ax in axes[-1]:
