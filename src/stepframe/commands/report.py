@@ -91,9 +91,9 @@ def register(subparsers: Any) -> None:
     amplification.add_argument(
         "--monte-carlo",
         type=int,
-        default=60,
+        default=50,
         metavar="N",
-        help="synthetic motions at each of 5 Monte Carlo frequencies (default 60; 0: none)",
+        help="synthetic motions at each of 4 Monte Carlo frequencies (default 50; 0: none)",
     )
     amplification.add_argument("--seed", type=int, default=1, help="Monte Carlo seed (default 1)")
     amplification.add_argument(

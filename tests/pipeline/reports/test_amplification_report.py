@@ -51,7 +51,7 @@ def test_monte_carlo_interval_brackets_the_covariance(amplification_html: Path) 
     inside = (table["interval_low"] <= table["covariance_vs_fixed"]) & (
         table["covariance_vs_fixed"] <= table["interval_high"]
     )
-    # 95 % intervals of 40 motions: at most one of the five frequencies may miss (seeded)
+    # 95 % intervals of 40 motions: at most one of the four frequencies may miss (seeded)
     assert inside.sum() >= len(table) - 1
 
 

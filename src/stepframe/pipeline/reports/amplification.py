@@ -43,9 +43,9 @@ DEFAULT_A_MAX_FRACTION = 0.5
 #: Frequencies of the response-amplification curve [Hz] (covariance method, cheap).
 CURVE_HZ = np.geomspace(0.1, 10.0, 25)
 
-#: Frequencies checked by Monte Carlo [Hz] (N synthetic motions each): five keep the default
-#: report under 10 s on a loaded 2-core machine (docs/benchmarks.md, Reports).
-MONTE_CARLO_HZ = np.geomspace(0.2, 8.0, 5)
+#: Frequencies checked by Monte Carlo [Hz] (N synthetic motions each): four, with the default N,
+#: keep the report under 10 s (docs/benchmarks.md, Reports); more with ``monte_carlo``.
+MONTE_CARLO_HZ = np.geomspace(0.2, 8.0, 4)
 
 
 @dataclass(frozen=True)
@@ -75,7 +75,7 @@ class AmplificationOptions:
 
     site_name: str = "site"
     xi0: float = 0.05
-    monte_carlo: int = 60
+    monte_carlo: int = 50
     seed: int | None = 1
     n_steps: int = 2000
     peak_intensity_m_s2: float | None = None
