@@ -54,3 +54,21 @@ def test_report_renders_offline_in_chromium(
     assert (width, height) == seen.size_px
     assert height > 2000
     assert data_folder_of(html).is_dir()
+
+
+def test_the_check_sees_network_use_and_errors(
+    tmp_path: Path, browser: str, check_page: Callable[..., Any]
+) -> None:
+    # a page that needs the network and logs an error: the check must report both
+    page = tmp_path / "bad.html"
+    page.write_text(
+        '<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>bad</title>'
+        '<link rel="stylesheet" href="https://cdn.example.com/style.css"></head><body>'
+        '<figure><img src="https://cdn.example.com/figure.png" alt="remote figure"></figure>'
+        "<script>console.error('broken');</script></body></html>",
+        encoding="utf-8",
+    )
+    seen = check_page(page, tmp_path / "bad.png", browser=browser)
+    assert len(seen.failed_requests) >= 2
+    assert any("broken" in message for message in seen.console_errors)
+    assert seen.figures and seen.figures[0]["natural"] == [0, 0]
