@@ -113,3 +113,10 @@ def test_cli_writes_beside_the_selection(
     provenance = json.loads((data_folder_of(out) / "provenance.json").read_text())
     names = {Path(entry["name"]).name for entry in provenance["inputs"]}
     assert {"selection.json", "selection.csv", "candidates.csv", "confirmation.csv"} <= names
+
+
+def test_candidates_mark_the_selected(selection_dir: Path, selection_html: Path) -> None:
+    shown = pd.read_csv(data_folder_of(selection_html) / "candidates.csv")
+    chosen = pd.read_csv(selection_dir / "selection.csv")
+    assert set(shown[shown["selected"]]["file"]) == set(chosen["file"])
+    assert shown["selected"].sum() == len(chosen)

@@ -194,7 +194,7 @@ def response_amplification_figure(
             )
             # an arrow up from the marker: the true value is higher (the run overturned)
             ax.annotate(
-                "≥",
+                "",
                 xy=(f1, value),
                 xytext=(0, 32),
                 textcoords="offset points",

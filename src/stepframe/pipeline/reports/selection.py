@@ -66,6 +66,12 @@ def _name(row: dict[str, Any]) -> str:
     return name
 
 
+def _components(table: pd.DataFrame) -> list[str]:
+    if "component" not in table.columns:
+        return [""] * len(table)
+    return ["" if pd.isna(value) else str(value) for value in table["component"]]
+
+
 def _frame(summary: dict[str, Any], folder: Path) -> Any:
     """The frame from the summary: a table of PortalFrame fields or a frame file path."""
     value = summary.get("frame")
@@ -363,6 +369,12 @@ def selection_report(
     else:
         path_items.append(Note("The selection table carries no fitted parameters to draw."))
     sections.append(Section("Dominant-frequency paths of the selected records", path_items))
+    if "selected" not in candidates.columns:
+        # mark the chosen rows so the sortable table can bring them together
+        chosen = set(zip(selection["file"].astype(str), _components(selection), strict=True))
+        keys = zip(candidates["file"].astype(str), _components(candidates), strict=True)
+        candidates = candidates.copy()
+        candidates.insert(1, "selected", [key in chosen for key in keys])
     score_items: list[Figure | Table | Note] = [
         Table(
             "selection",
