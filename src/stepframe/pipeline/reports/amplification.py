@@ -176,7 +176,7 @@ def amplification_report(
     provenance
         How the report was made.
     """
-    from stepframe.pipeline.reports import figures
+    from stepframe.stochastic import plots
     from stepframe.stochastic.amplification import (
         adjusted_fixed_point,
         approx_eq_6_19_first,
@@ -316,9 +316,7 @@ def amplification_report(
             spectrum = evolutionary_spectrum(fit.trace)
             record_figures.append(
                 figure_from_matplotlib(
-                    figures.evolutionary_spectrum_figure(
-                        spectrum, fit.features, fit.fit.model, name=fit.name
-                    ),
+                    plots.omega_path_figure(spectrum, fit.features, fit.fit.model, name=fit.name),
                     key=f"omega_g_{index}",
                     title=f"{fit.name}" + ("" if fit.usable else " (not used: flagged)"),
                     alt=(
@@ -347,7 +345,7 @@ def amplification_report(
             "Spectral ratio, eq. 6.18 (the paper's figure)",
             [
                 figure_from_matplotlib(
-                    figures.spectral_ratio_figure(model, site=name),
+                    plots.spectral_ratio_figure(model, site=name),
                     key="spectral_ratio",
                     title="Spectral ratio against oscillator frequency, 0.1-10 Hz",
                     alt=(
@@ -510,7 +508,7 @@ def amplification_report(
             )
     response_items: list[Figure | Table | Note] = [
         figure_from_matplotlib(
-            figures.response_amplification_figure(
+            plots.response_amplification_figure(
                 CURVE_HZ,
                 curve.vs_fixed,
                 curve.vs_stationary,

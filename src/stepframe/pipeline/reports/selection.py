@@ -286,6 +286,8 @@ def selection_report(
     record_loader: RecordLoader = load_record,
 ) -> Report:
     """Assemble the selection report from a read selection folder (no file written)."""
+    from stepframe.structure.plots import backbone_figure
+
     summary = outputs.summary
     folder = outputs.folder
     selection = outputs.tables["selection"]
@@ -318,7 +320,7 @@ def selection_report(
     if frame is not None:
         band_items.append(
             figure_from_matplotlib(
-                figures.backbone_figure(
+                backbone_figure(
                     frame,
                     band,
                     a_max_m=None if a_max is None else float(a_max),
