@@ -143,7 +143,7 @@ def run_amplify(args: argparse.Namespace) -> CommandResult:
             f0_hz=result.f0_hz,
             at_f0=result.response_amplification_vs_fixed,
             lower_bound=result.lower_bound,
-            site=str(site.source.get("record") or "site given by parameters"),
+            site=str(site.source.get("record") or "site from parameters"),
         )
         save_figure(figure, args.plot, dpi=110)
         data["plot"] = args.plot

@@ -148,9 +148,10 @@ def amplification_figure(
     ax.set_xlabel("small-amplitude oscillator frequency f0 [Hz]")
     ax.set_ylabel("amplification [-]")
     ax.set_title(
-        (f"{site}: " if site else "")
+        (f"{site}\n" if site else "")
         + f"tracking ω(t) = ω0·ω_g(t)/ω_p, ξ0 = {curve.attrs['xi0']:.3g}, "
-        f"α reading {curve.attrs['alpha_reading']}"
+        f"α reading {curve.attrs['alpha_reading']}",
+        fontsize=10,
     )
     ax.grid(True, which="both", lw=0.3)
     ax.legend(fontsize=8)
