@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -126,4 +126,30 @@ def confirmation_figure(
     ax.set_title(f"Confirmation by simulation: Spearman ρ = {rho:.2f}")
     ax.grid(True, lw=0.3)
     ax.legend(fontsize=8)
+    return fig
+
+
+def backbone_points_figure(details: dict[str, Any], band_rad_s: Sequence[float]) -> Figure:
+    """The backbone at the selection's amplitude levels (when the run names no frame file)."""
+    amplitude = np.asarray(details["level_amplitudes_m"], dtype=np.float64)
+    frequency = np.asarray(details["level_omegas_rad_s"], dtype=np.float64) / TWO_PI
+    fig = new_figure(8.0, 4.2)
+    ax = fig.add_subplot()
+    lo, hi = (band_rad_s[0] / TWO_PI, band_rad_s[1] / TWO_PI)
+    ax.axhspan(lo, hi, color="#ddf4ff", label=f"band {lo:.3g}-{hi:.3g} Hz")
+    ax.plot(amplitude, frequency, "o-", color="C0", lw=2, label="f(A) = 1/T(A) at the levels")
+    for key, style, colour, name in (
+        ("x_c_m", ":", "0.4", "uplift x_c"),
+        ("x_star_m", "--", "C3", "overturning x*"),
+        ("a_max_m", "-.", "C2", "amplitude limit A_max"),
+    ):
+        if isinstance(details.get(key), int | float):
+            value = float(details[key])
+            ax.axvline(value, color=colour, ls=style, label=f"{name} = {value:.3g} m")
+    ax.set_yscale("log")
+    ax.set_xlabel("amplitude A [m]")
+    ax.set_ylabel("frequency [Hz]")
+    ax.set_title("The frame's period elongation and the selection band")
+    ax.grid(True, which="both", lw=0.3)
+    ax.legend(fontsize=8, loc="lower left")
     return fig

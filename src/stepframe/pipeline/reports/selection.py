@@ -206,6 +206,19 @@ def _dropped(candidates: pd.DataFrame) -> tuple[pd.DataFrame, str | None]:
     return pd.DataFrame(rows), column
 
 
+def _equal_intensity(table: pd.DataFrame, candidates: pd.DataFrame, rank_by: str) -> pd.DataFrame:
+    """The rows simulated at equal intensity, with the ranking score joined from the candidates."""
+    if "case" in table.columns:
+        equal = table["case"].astype(str).str.startswith("equal")
+        if equal.any():
+            table = table[equal]
+    if rank_by not in table.columns and rank_by in candidates.columns:
+        keys = [k for k in ("file", "component") if k in table.columns and k in candidates.columns]
+        scores = candidates[[*keys, rank_by]].drop_duplicates(keys)
+        table = table.merge(scores, on=keys, how="left")
+    return table
+
+
 def _confirmation(
     table: pd.DataFrame, summary: dict[str, Any], selected_files: set[str]
 ) -> tuple[list[Figure | Table | Note], dict[str, Any]]:
@@ -273,9 +286,18 @@ def _confirmation(
             {"group": "which records", f"median_{response}": "median of the simulated response"},
         ),
     ]
-    stated = summary.get("confirmation", {})
-    if isinstance(stated, dict) and "spearman" in stated:
-        items.append(Note(f"The selection run reported: {stated['spearman']}."))
+    stated = summary.get("correlations")
+    if isinstance(stated, list) and stated and all(isinstance(row, dict) for row in stated):
+        items.append(
+            Table(
+                "correlations",
+                "Rank correlations reported by the selection run",
+                pd.DataFrame(stated),
+                "Spearman ρ of each score against each simulated response, with its bootstrap "
+                "interval (selection.json)",
+                {"spearman": "Spearman rank correlation", "low": "interval low", "high": "high"},
+            )
+        )
     return items, numbers
 
 
@@ -316,8 +338,28 @@ def selection_report(
     ]
     sections: list[Section] = []
     band_items: list[Figure | Table | Note] = []
-    a_max = summary.get("a_max_m")
-    if frame is not None:
+    given = summary.get("band")
+    details: dict[str, Any] = given if isinstance(given, dict) else {}
+    a_max = summary.get("a_max_m", details.get("a_max_m"))
+    if frame is None and details.get("level_amplitudes_m") and details.get("level_omegas_rad_s"):
+        band_items.append(
+            figure_from_matplotlib(
+                figures.backbone_points_figure(details, band),
+                key="backbone",
+                title="Period-amplitude backbone and band",
+                alt=(
+                    "The frame's frequency at the amplitude levels of the selection, falling from "
+                    f"f_1 towards the band's lower edge, band {band[0] / TWO_PI:.3g}-"
+                    f"{band[1] / TWO_PI:.3g} Hz shaded"
+                ),
+                how_to_read=(
+                    "Once the frame steps (A > x_c) its period lengthens with amplitude. The "
+                    "points are the amplitude levels the selection evaluated; the shaded band "
+                    "is the range of frequencies the frame passes through up to A_max."
+                ),
+            )
+        )
+    elif frame is not None:
         band_items.append(
             figure_from_matplotlib(
                 backbone_figure(
@@ -343,6 +385,17 @@ def selection_report(
         )
     else:
         band_items.append(Note("The selection summary names no frame: only the band is shown."))
+    if details:
+        scalars = {k: v for k, v in details.items() if isinstance(v, int | float | str)}
+        band_items.append(
+            Table(
+                "band",
+                "The band",
+                pd.DataFrame({"quantity": list(scalars), "value": list(scalars.values())}),
+                "As the selection run computed it (selection.json)",
+                {"quantity": "name (unit in the name)", "value": "its value"},
+            )
+        )
     sections.append(Section("The frame's band", band_items))
     paths = []
     for row, name in zip(rows, names, strict=True):
@@ -404,7 +457,8 @@ def selection_report(
     )
     if "confirmation" in outputs.tables:
         files = {str(f) for f in selection["file"]}
-        items, confirmation_numbers = _confirmation(outputs.tables["confirmation"], summary, files)
+        equal = _equal_intensity(outputs.tables["confirmation"], candidates, rank_by)
+        items, confirmation_numbers = _confirmation(equal, summary, files)
         items.append(
             Table(
                 "confirmation",

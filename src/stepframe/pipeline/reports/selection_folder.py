@@ -52,7 +52,26 @@ class SelectionOutputs:
     files: tuple[Path, ...] = ()
 
 
+def _shared_dictionary(folder: Path, stem: str) -> tuple[dict[str, str], Path | None]:
+    """``columns.csv`` (table, column, unit, meaning) as the selection stage writes it."""
+    path = folder / "columns.csv"
+    if not path.is_file():
+        return {}, None
+    table = _read_csv(path).fillna("")
+    if not {"table", "column", "meaning"} <= set(table.columns):
+        return {}, None
+    rows = table[table["table"] == stem]
+    units = rows["unit"] if "unit" in rows.columns else [""] * len(rows)
+    return {
+        str(column): f"{meaning} [{unit}]" if unit else str(meaning)
+        for column, meaning, unit in zip(rows["column"], rows["meaning"], units, strict=True)
+    }, path
+
+
 def _dictionary(folder: Path, stem: str) -> tuple[dict[str, str], Path | None]:
+    shared, path = _shared_dictionary(folder, stem)
+    if shared:
+        return shared, path
     for name in (f"{stem}.columns.csv", f"{stem}_columns.csv", f"{stem}.columns.json"):
         path = folder / name
         if not path.is_file():
@@ -116,7 +135,7 @@ def read_selection_folder(folder: str | PathLike[str]) -> SelectionOutputs:
         tables[stem] = _read_csv(path)
         files.append(path)
         columns[stem], dictionary = _dictionary(root, stem)
-        if dictionary is not None:
+        if dictionary is not None and dictionary not in files:
             files.append(dictionary)
     for stem in ("selection", "candidates"):
         if "file" not in tables[stem].columns:
