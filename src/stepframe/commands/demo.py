@@ -2,8 +2,8 @@
 
 Record selection by moving resonance (docs/selection.md) on the 100 FEMA P695 components with the
 paper's Example 4 frame (:data:`stepframe.structure.frame_file.FRAME_TEMPLATE`): features,
-selection of 10 components, confirmation by simulation; the tables and a figure of the three
-best records go to the output folder.
+selection of 10 components, confirmation by simulation; the tables, a figure of the three best
+records and the selection report (self-contained HTML, docs/reports.md) go to the output folder.
 """
 
 from __future__ import annotations
@@ -39,10 +39,12 @@ def register(subparsers: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> CommandResult:
-    """Features, selection and confirmation on the example catalogue; tables and a figure."""
+    """Features, selection and confirmation on the example catalogue; tables, figure, report."""
     import tomllib
 
     from stepframe.commands.select import selection_run, summary_text
+    from stepframe.pipeline.reports.provenance import collect_provenance
+    from stepframe.pipeline.reports.selection import write_selection_report
     from stepframe.pipeline.selection.options import SelectionOptions
     from stepframe.records.examples import fema_p695
     from stepframe.structure.frame_file import FRAME_TEMPLATE, frame_from_mapping
@@ -71,10 +73,17 @@ def run(args: argparse.Namespace) -> CommandResult:
     ]
     figure = out_dir / "selected_records.png"
     _draw_records(stream, table, rows, figure)
+    report = write_selection_report(
+        out_dir,
+        provenance=collect_provenance(
+            parameters={"frame": "Example 4 (FRAME_TEMPLATE)", **options.to_dict()}
+        ),
+    )
     data = result.to_dict()
     data["outputs"] = {name: str(path) for name, path in paths.items()}
     data["figure"] = str(figure)
-    text = summary_text(result, out_dir) + f"\nfigure: {figure}"
+    data["report"] = str(report)
+    text = summary_text(result, out_dir) + f"\nfigure: {figure}\nreport: {report}"
     return CommandResult(data=data, text=text)
 
 

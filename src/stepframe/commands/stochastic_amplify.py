@@ -139,7 +139,11 @@ def run_amplify(args: argparse.Namespace) -> CommandResult:
             site, np.geomspace(0.1, 10.0, 60), oscillator.xi0, n_steps=args.n_steps
         )
         figure = amplification_figure(
-            curve, f0_hz=result.f0_hz, at_f0=result.response_amplification_vs_fixed
+            curve,
+            f0_hz=result.f0_hz,
+            at_f0=result.response_amplification_vs_fixed,
+            lower_bound=result.lower_bound,
+            site=str(site.source.get("record") or "site from parameters"),
         )
         save_figure(figure, args.plot, dpi=110)
         data["plot"] = args.plot

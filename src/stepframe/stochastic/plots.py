@@ -7,17 +7,21 @@ nothing shown or saved); the caller saves it, e.g. through
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+import math
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 if TYPE_CHECKING:
     import xarray as xr
+    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
     from obspy import Trace
 
     from stepframe.stochastic.features import RecordFeatures
     from stepframe.stochastic.fit import FitResult
+    from stepframe.stochastic.model import GroundMotionModel
 
 
 def fit_figure(
@@ -72,7 +76,12 @@ def fit_figure(
 
 
 def amplification_figure(
-    curve: xr.Dataset, *, f0_hz: float | None = None, at_f0: float | None = None
+    curve: xr.Dataset,
+    *,
+    f0_hz: float | None = None,
+    at_f0: float | None = None,
+    lower_bound: bool = False,
+    site: str | None = None,
 ) -> Figure:
     """The spectral ratio of eq. 6.18 and both response amplifications against f0.
 
@@ -85,6 +94,11 @@ def amplification_figure(
         ``xi0``, ``alpha_reading``, ``approx_eq_6_19_last`` and ``omega_path``.
     f0_hz, at_f0
         A point to mark: the oscillator's f0 [Hz] and its amplification vs fixed.
+    lower_bound
+        The point is only a lower bound (a frame-driven run that overturned): drawn open, with
+        an arrow up.
+    site
+        Named in the title.
     """
     from matplotlib.figure import Figure
 
@@ -111,16 +125,240 @@ def amplification_figure(
         curve.attrs["approx_eq_6_19_last"], color="0.5", ls=":", label="(ω_p/ω_s)², eq. 6.19"
     )
     if f0_hz is not None and at_f0 is not None:
-        ax.plot([f0_hz], [at_f0], "o", color="k", label=f"f0 = {f0_hz:.3g} Hz")
+        if lower_bound:
+            ax.plot([f0_hz], [at_f0], "o", mfc="white", mec="k", label=f"f0 = {f0_hz:.3g} Hz: ≥")
+            ax.annotate(
+                "",
+                xy=(f0_hz, at_f0),
+                xytext=(0, 32),
+                textcoords="offset points",
+                arrowprops={"arrowstyle": "<|-", "color": "k", "lw": 1.2},
+            )
+        else:
+            ax.plot([f0_hz], [at_f0], "o", color="k", label=f"f0 = {f0_hz:.3g} Hz")
+    keys = ("model_omega_p_rad_s", "model_omega_s_rad_s", "model_omega_r_rad_s")
+    if all(key in curve.attrs for key in keys):
+        from stepframe.stochastic.model import GroundMotionModel
+
+        known = set(GroundMotionModel.__dataclass_fields__)
+        fields = {
+            k[6:]: v for k, v in curve.attrs.items() if k.startswith("model_") and k[6:] in known
+        }
+        mark_site_frequencies(ax, GroundMotionModel(**fields))
     ax.set_xlabel("small-amplitude oscillator frequency f0 [Hz]")
     ax.set_ylabel("amplification [-]")
     ax.set_title(
-        f"tracking ω(t) = ω0·ω_g(t)/ω_p, ξ0 = {curve.attrs['xi0']:.3g}, "
-        f"α reading {curve.attrs['alpha_reading']}"
+        (f"{site}\n" if site else "")
+        + f"tracking ω(t) = ω0·ω_g(t)/ω_p, ξ0 = {curve.attrs['xi0']:.3g}, "
+        f"α reading {curve.attrs['alpha_reading']}",
+        fontsize=10,
     )
     ax.grid(True, which="both", lw=0.3)
     ax.legend(fontsize=8)
     return figure
 
 
-__all__ = ["amplification_figure", "fit_figure"]
+#: 2π, to draw angular frequencies [rad/s] in Hz.
+TWO_PI = 2 * math.pi
+
+
+def mark_site_frequencies(ax: Axes, model: GroundMotionModel, *, axis: str = "x") -> None:
+    """Dotted lines at f_p, f_s, f_r [Hz], labelled at the top of the axes."""
+    names = (
+        ("f_p", model.omega_p_rad_s),
+        ("f_s", model.omega_s_rad_s),
+        ("f_r", model.omega_r_rad_s),
+    )
+    for (name, omega), colour in zip(names, ("#8250df", "#bf3989", "#0969da"), strict=True):
+        f = omega / TWO_PI
+        if axis == "x":
+            ax.axvline(f, color=colour, ls=":", lw=1.2)
+            ax.annotate(
+                f"{name} = {f:.3g} Hz",
+                (f, 1.0),
+                xycoords=("data", "axes fraction"),
+                xytext=(2, -2),
+                textcoords="offset points",
+                rotation=90,
+                va="top",
+                fontsize=8,
+                color=colour,
+            )
+        else:
+            ax.axhline(f, color=colour, ls=":", lw=1.0)
+            ax.annotate(
+                f"{name} = {f:.3g} Hz",
+                (1.0, f),
+                xycoords=("axes fraction", "data"),
+                xytext=(-2, 2),
+                textcoords="offset points",
+                ha="right",
+                fontsize=8,
+                color=colour,
+            )
+
+
+def omega_path_figure(
+    spectrum: Any, features: Any, fitted: GroundMotionModel, *, name: str
+) -> Figure:
+    """ω_g(t) over a record's evolutionary spectrum.
+
+    The STFT spectrum S(ω, t) is the background (dB relative to its peak, 40 dB range); the
+    zero-crossing estimate of ω_g(t)/2π is drawn where it entered the fit (strong motion) and
+    greyed outside, the fitted eq. 6.10 path over it, t_max and t_dur as vertical lines.
+    """
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(8.0, 4.4), layout="constrained")
+    ax = fig.add_subplot()
+    time = np.asarray(spectrum["time"].values)
+    freq = np.asarray(spectrum["omega"].values) / TWO_PI
+    power = np.asarray(spectrum.values, dtype=np.float64).T
+    db = 10 * np.log10(np.maximum(power / max(float(power.max()), 1e-300), 1e-4))
+    top = min(float(freq[-1]), 25.0)
+    keep = freq <= top
+    image = ax.pcolormesh(time, freq[keep], db[keep], shading="nearest", cmap="magma", vmin=-40)
+    fig.colorbar(image, ax=ax, label="S(ω, t) [dB re peak]", pad=0.01)
+    strong = features.strong_motion()
+    observed = features.omega_g_rad_s / TWO_PI
+    ax.plot(features.time_s, np.where(strong, np.nan, observed), ".", color="0.75", ms=3)
+    ax.plot(
+        features.time_s,
+        np.where(strong, observed, np.nan),
+        ".",
+        color="#7ee787",
+        ms=4,
+        label="ω_g(t)/2π, zero crossings (strong motion)",
+    )
+    t = np.linspace(features.t0_s, float(time[-1]), 400)
+    ax.plot(t, fitted.omega_g(t) / TWO_PI, color="#58a6ff", lw=2.2, label="fitted path, eq. 6.10")
+    for value, label, style in (
+        (features.t0_s + fitted.t_max_s, "t_max", "--"),
+        (features.t0_s + fitted.t_dur_s, "t_dur", ":"),
+    ):
+        ax.axvline(value, color="white", ls=style, lw=1.2, label=f"{label} = {value:.3g} s")
+    ax.set_ylim(0, top)
+    ax.set_xlim(float(time[0]), float(time[-1]))
+    ax.set_xlabel("time from record start [s]")
+    ax.set_ylabel("frequency [Hz]")
+    ax.set_title(f"{name}: dominant frequency over the evolutionary spectrum")
+    ax.legend(loc="upper right", fontsize=8, framealpha=0.85)
+    return fig
+
+
+def spectral_ratio_figure(model: GroundMotionModel, *, site: str) -> Figure:
+    """Eq. 6.18's spectral ratio over 0.1-10 Hz with eq. 6.19's two approximations (the paper's)."""
+    from matplotlib.figure import Figure
+
+    from stepframe.stochastic.amplification import (
+        approx_eq_6_19_first,
+        approx_eq_6_19_last,
+        spectral_ratio_eq_6_18,
+    )
+
+    f = np.geomspace(0.1, 10.0, 300)
+    ratio = spectral_ratio_eq_6_18(model, TWO_PI * f)
+    fig = Figure(figsize=(8.0, 4.6), layout="constrained")
+    ax = fig.add_subplot()
+    ax.loglog(f, ratio, color="C0", lw=2, label="spectral ratio, eq. 6.18")
+    first = approx_eq_6_19_first(model)
+    last = approx_eq_6_19_last(model)
+    ax.axhline(first, color="C2", ls="--", label=f"eq. 6.19, first approximation = {first:.3g}")
+    ax.axhline(
+        last, color="C1", ls="-.", label=f"eq. 6.19, last approximation (ω_p/ω_s)² = {last:.3g}"
+    )
+    mark_site_frequencies(ax, model)
+    ax.set_xlabel("oscillator frequency f_0 [Hz]")
+    ax.set_ylabel("ratio of spectral densities [-]")
+    ax.set_title(f"{site}: spectral ratio at t_max (α reading: {model.alpha_reading})")
+    ax.grid(True, which="both", lw=0.3)
+    ax.legend(fontsize=8, loc="lower left")
+    return fig
+
+
+def response_amplification_figure(
+    frequencies_hz: NDArray[np.float64],
+    vs_fixed: NDArray[np.float64],
+    vs_stationary: NDArray[np.float64],
+    model: GroundMotionModel,
+    *,
+    site: str,
+    xi0: float,
+    monte_carlo: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], int]
+    | None = None,
+    band_hz: tuple[float, float] | None = None,
+    frame_point: tuple[float, float, bool] | None = None,
+) -> Figure:
+    """Response amplification against small-amplitude frequency, with Monte Carlo intervals.
+
+    Parameters
+    ----------
+    monte_carlo
+        ``(frequencies [Hz], median ratio, (n, 2) interval, N)`` of the Monte Carlo check.
+    band_hz
+        The frame's band [f(A_max), f_1] [Hz], shaded.
+    frame_point
+        ``(f_1 [Hz], amplification, lower_bound)`` of the frame-driven run; a lower bound is an
+        open marker with an upward arrow.
+    """
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(9.5, 4.6), layout="constrained")
+    ax = fig.add_subplot()
+    if band_hz is not None:
+        ax.axvspan(*band_hz, color="#ddf4ff", label="frame's band [f(A_max), f_1]")
+    ax.semilogx(
+        frequencies_hz, vs_fixed, color="C3", lw=2, label="vs fixed oscillator (covariance)"
+    )
+    ax.semilogx(
+        frequencies_hz, vs_stationary, color="C3", ls="--", label="vs stationary RMS (covariance)"
+    )
+    if monte_carlo is not None:
+        f_mc, median, interval, count = monte_carlo
+        ax.errorbar(
+            f_mc,
+            median,
+            yerr=np.abs(np.vstack([median - interval[:, 0], interval[:, 1] - median])),
+            fmt="s",
+            color="k",
+            ms=4,
+            capsize=3,
+            label=f"Monte Carlo vs fixed, N = {count} (95 % interval)",
+        )
+    if frame_point is not None:
+        f1, value, lower = frame_point
+        if lower:
+            ax.plot(
+                [f1], [value], "o", mfc="white", mec="C4", ms=8, label="frame-driven: lower bound"
+            )
+            # an arrow up from the marker: the true value is higher (the run overturned)
+            ax.annotate(
+                "",
+                xy=(f1, value),
+                xytext=(0, 32),
+                textcoords="offset points",
+                ha="center",
+                color="C4",
+                arrowprops={"arrowstyle": "<|-", "color": "C4", "lw": 1.5},
+            )
+        else:
+            ax.plot([f1], [value], "o", color="C4", ms=8, label="frame-driven ω(t) = 2π/T(A)")
+    mark_site_frequencies(ax, model)
+    ax.axhline(1.0, color="0.4", lw=0.8)
+    ax.set_xlabel("small-amplitude oscillator frequency f_0 [Hz]")
+    ax.set_ylabel("peak-RMS ratio [-]")
+    ax.set_title(f"{site}: response amplification, tracking ω(t) = ω_0·ω_g(t)/ω_p, ξ_0 = {xi0:.3g}")
+    ax.grid(True, which="both", lw=0.3)
+    # outside the axes: the curves rise at both ends, where a legend inside would hide them
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
+    return fig
+
+
+__all__ = [
+    "amplification_figure",
+    "fit_figure",
+    "mark_site_frequencies",
+    "omega_path_figure",
+    "response_amplification_figure",
+    "spectral_ratio_figure",
+]

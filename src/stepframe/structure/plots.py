@@ -7,6 +7,7 @@ nothing shown or saved); the caller saves it, e.g. through
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
@@ -104,4 +105,37 @@ def response_figure(result: SimulationResult, frame: PortalFrame, *, title: str)
     return figure
 
 
-__all__ = ["cobweb_figure", "response_figure"]
+#: 2π, to draw angular frequencies [rad/s] in Hz.
+TWO_PI = 2 * math.pi
+
+
+def backbone_figure(
+    frame: PortalFrame, band_rad_s: Sequence[float], *, a_max_m: float | None, frame_name: str
+) -> Figure:
+    """The frame's period-amplitude backbone f(A) = 1/T(A) with its selection band shaded."""
+    from stepframe.structure.period_amplitude import period_amplitude
+
+    x_star = float(frame.x_star_m)
+    amplitude = np.linspace(0.0, 0.995 * x_star, 400)
+    frequency = 1.0 / np.asarray(period_amplitude(frame, amplitude, beyond_x_star="inf"))
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(8.0, 4.2), layout="constrained")
+    ax = fig.add_subplot()
+    lo, hi = (band_rad_s[0] / TWO_PI, band_rad_s[1] / TWO_PI)
+    ax.axhspan(lo, hi, color="#ddf4ff", label=f"band {lo:.3g}-{hi:.3g} Hz")
+    ax.plot(amplitude, frequency, color="C0", lw=2, label="backbone f(A) = 1/T(A)")
+    ax.axvline(frame.x_c_m, color="0.4", ls=":", label=f"uplift x_c = {frame.x_c_m:.3g} m")
+    ax.axvline(x_star, color="C3", ls="--", label=f"overturning x* = {x_star:.3g} m")
+    if a_max_m is not None:
+        ax.axvline(a_max_m, color="C2", ls="-.", label=f"amplitude limit A_max = {a_max_m:.3g} m")
+    ax.set_yscale("log")
+    ax.set_xlabel("amplitude A [m]")
+    ax.set_ylabel("frequency [Hz]")
+    ax.set_title(f"{frame_name}: period elongation and the selection band")
+    ax.grid(True, which="both", lw=0.3)
+    ax.legend(fontsize=8, loc="lower left")
+    return fig
+
+
+__all__ = ["backbone_figure", "cobweb_figure", "response_figure"]

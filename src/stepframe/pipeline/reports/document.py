@@ -1,0 +1,279 @@
+"""A report as data (sections of figures, tables and notes) and its self-contained HTML file.
+
+The HTML needs no network: figures are inline PNG (``data:`` URIs), the style sheet and the small
+table-sorting script are inline, and the page is fully readable with scripts off. Every number a
+report shows is also written beside it: each table as CSV (with its column dictionary), the summary
+and the provenance as JSON, in the folder ``<report stem>_files/``. Writing is all-or-nothing:
+the page is rendered in memory, the folder is written under a temporary name and swapped in, and
+the HTML is written last with :func:`stepframe.core.io.atomic_write`, so an error leaves no
+partial report.
+"""
+
+from __future__ import annotations
+
+import base64
+import io
+import json
+import math
+import os
+import shutil
+import tempfile
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from os import PathLike
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from stepframe.core.io import atomic_write
+from stepframe.errors import InputError
+from stepframe.pipeline.reports.provenance import Provenance
+
+if TYPE_CHECKING:
+    import pandas as pd
+    from matplotlib.figure import Figure as MplFigure
+
+#: Resolution of the inline PNG figures [dots per inch]: sharp on screen, ~50-120 kB each.
+FIGURE_DPI = 110
+
+
+@dataclass(frozen=True)
+class Figure:
+    """One figure: PNG bytes, alt text and a short "how to read this" paragraph."""
+
+    key: str
+    title: str
+    png: bytes
+    alt: str
+    how_to_read: str
+
+    @property
+    def data_uri(self) -> str:
+        """The PNG as a ``data:`` URI (inline, no file needed)."""
+        return "data:image/png;base64," + base64.b64encode(self.png).decode("ascii")
+
+
+@dataclass(frozen=True)
+class Table:
+    """One table: the data (written as ``<key>.csv``), its column dictionary and a caption."""
+
+    key: str
+    title: str
+    frame: pd.DataFrame
+    caption: str
+    columns: Mapping[str, str] = field(default_factory=dict)
+    sortable: bool = False
+    on_page: bool = True  # False: too wide to read on the page; written as CSV only, and listed
+
+
+@dataclass(frozen=True)
+class Note:
+    """A paragraph of text (a choice stated next to the numbers it changes, a warning)."""
+
+    text: str
+    kind: str = "note"
+
+
+@dataclass(frozen=True)
+class Section:
+    """A titled group of figures, tables and notes."""
+
+    title: str
+    items: Sequence[Figure | Table | Note]
+    intro: str = ""
+
+
+@dataclass(frozen=True)
+class Report:
+    """A whole report: title, headline numbers, sections, provenance and the JSON of its numbers.
+
+    Attributes
+    ----------
+    title, subtitle
+        Heading of the page.
+    summary
+        ``(label, value text)`` pairs shown first.
+    sections
+        The body.
+    provenance
+        How the report was made.
+    numbers
+        JSON-ready dictionary of every headline number (written as ``numbers.json``).
+    """
+
+    title: str
+    subtitle: str
+    summary: Sequence[tuple[str, str]]
+    sections: Sequence[Section]
+    provenance: Provenance
+    numbers: Mapping[str, Any] = field(default_factory=dict)
+
+    def tables(self) -> list[Table]:
+        """Every table of the report (on the page or CSV only), in page order."""
+        return [item for s in self.sections for item in s.items if isinstance(item, Table)]
+
+    def page_tables(self) -> list[Table]:
+        """The tables drawn on the page."""
+        return [table for table in self.tables() if table.on_page]
+
+    def figures(self) -> list[Figure]:
+        """Every figure of the report, in page order."""
+        return [item for s in self.sections for item in s.items if isinstance(item, Figure)]
+
+
+def figure_from_matplotlib(
+    figure: MplFigure, *, key: str, title: str, alt: str, how_to_read: str
+) -> Figure:
+    """Render a matplotlib figure to PNG bytes and close it."""
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format="png", dpi=FIGURE_DPI)
+    figure.clear()
+    return Figure(key, title, buffer.getvalue(), alt, how_to_read)
+
+
+def format_value(value: Any) -> str:
+    """A table cell as text: 4 significant digits for floats, empty for missing values."""
+    if value is None:
+        return ""
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, float) or (hasattr(value, "dtype") and value.dtype.kind == "f"):
+        number = float(value)
+        if math.isnan(number):
+            return ""
+        if math.isinf(number):
+            return "∞" if number > 0 else "-∞"
+        return f"{number:.4g}"
+    return str(value)
+
+
+def _sort_key(value: Any) -> str:
+    """The ``data-sort`` attribute: numbers as numbers so the script sorts 10 after 9."""
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        return str(value)
+    return "" if math.isnan(number) else repr(number)
+
+
+def _environment() -> Any:
+    import jinja2
+
+    env = jinja2.Environment(
+        loader=jinja2.PackageLoader("stepframe.pipeline.reports", "templates"),
+        autoescape=jinja2.select_autoescape(["html", "j2"]),
+        undefined=jinja2.StrictUndefined,
+        trim_blocks=True,
+        lstrip_blocks=True,
+    )
+    env.filters["cell"] = format_value
+    env.filters["sortkey"] = _sort_key
+    env.tests["instanceof_figure"] = lambda item: isinstance(item, Figure)
+    env.tests["instanceof_table"] = lambda item: isinstance(item, Table)
+    return env
+
+
+def render(report: Report, data_folder: str) -> str:
+    """The report's HTML (self-contained) as a string."""
+    env = _environment()
+    template = env.get_template("report.html.j2")
+    rows = {
+        table.key: [list(row) for row in table.frame.itertuples(index=False, name=None)]
+        for table in report.tables()
+    }
+    return str(
+        template.render(
+            report=report,
+            rows=rows,
+            data_folder=data_folder,
+            provenance=_jsonable(report.provenance.to_dict()),
+        )
+    )
+
+
+def data_folder_of(out_html: Path) -> Path:
+    """Where the CSV/JSON of a report's numbers go: ``<stem>_files`` beside the HTML."""
+    return out_html.with_name(out_html.stem + "_files")
+
+
+def _write_folder(report: Report, folder: Path) -> None:
+    for table in report.tables():
+        table.frame.to_csv(folder / f"{table.key}.csv", index=False)
+        dictionary = [
+            {"column": name, "meaning": table.columns.get(str(name), "")}
+            for name in table.frame.columns
+        ]
+        (folder / f"{table.key}.columns.json").write_text(
+            json.dumps(dictionary, indent=2, ensure_ascii=False), encoding="utf-8"
+        )
+    (folder / "numbers.json").write_text(
+        json.dumps(_jsonable(report.numbers), indent=2, ensure_ascii=False, allow_nan=False),
+        encoding="utf-8",
+    )
+    (folder / "provenance.json").write_text(
+        json.dumps(_jsonable(report.provenance.to_dict()), indent=2, ensure_ascii=False),
+        encoding="utf-8",
+    )
+
+
+def _jsonable(value: Any) -> Any:
+    from stepframe.commands import to_jsonable
+
+    return to_jsonable(value)
+
+
+def write_report(report: Report, out_html: str | PathLike[str]) -> Path:
+    """Write ``report`` as one HTML file plus ``<stem>_files/`` with its numbers; all or nothing.
+
+    Parameters
+    ----------
+    report
+        The assembled report.
+    out_html
+        The HTML file to (re)write; its folder must exist.
+
+    Returns
+    -------
+    pathlib.Path
+        The HTML file.
+
+    Raises
+    ------
+    InputError
+        The output folder does not exist, or the target is a folder.
+    """
+    target = Path(out_html)
+    if target.is_dir():
+        raise InputError("is a directory, expected an HTML file name", target)
+    if not target.parent.is_dir():
+        raise InputError("output folder does not exist, expected an existing folder", target)
+    folder = data_folder_of(target)
+    html = render(report, folder.name)  # in memory first: a template error writes nothing
+    staging = Path(tempfile.mkdtemp(prefix=f".{folder.name}.", suffix=".tmp", dir=target.parent))
+    old: Path | None = None
+    swapped = False
+    try:
+        _write_folder(report, staging)
+        os.chmod(staging, 0o777 & ~_umask())
+        if folder.exists():
+            old = folder.with_name(f".{folder.name}.{os.getpid()}.old")
+            os.replace(folder, old)
+        os.replace(staging, folder)
+        swapped = True
+        with atomic_write(target) as out:
+            out.write(html)
+    except BaseException:
+        shutil.rmtree(staging, ignore_errors=True)
+        if swapped:
+            shutil.rmtree(folder, ignore_errors=True)
+        if old is not None:  # put the previous report's numbers back
+            os.replace(old, folder)
+        raise
+    if old is not None:
+        shutil.rmtree(old, ignore_errors=True)
+    return target
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask

@@ -1,0 +1,135 @@
+"""Provenance of a report: what produced it, from which inputs, on which machine.
+
+A reviewer must be able to tell which code and which files gave the numbers: every report carries
+the stepframe and dependency versions, the command (or workflow and its text), each input file's
+name and SHA-256, the parameters, the date and the machine's core count.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import hashlib
+import os
+import platform
+import sys
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from importlib import metadata
+from os import PathLike
+from pathlib import Path
+from typing import Any
+
+#: Distributions whose versions change the numbers or the figures of a report.
+DEPENDENCIES = ("numpy", "scipy", "pandas", "xarray", "matplotlib", "obspy", "numba", "jinja2")
+
+
+def sha256_of(path: str | PathLike[str]) -> str:
+    """Hex SHA-256 of a file's bytes (read in 1 MiB blocks)."""
+    digest = hashlib.sha256()
+    with open(path, "rb") as handle:
+        for block in iter(lambda: handle.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def _version(name: str) -> str:
+    try:
+        return metadata.version(name)
+    except metadata.PackageNotFoundError:
+        return "not installed"
+
+
+@dataclass(frozen=True)
+class Provenance:
+    """Everything a report states about how it was made.
+
+    Attributes
+    ----------
+    command
+        The command line (``stepframe report ...``) or the stage that wrote the report.
+    inputs
+        ``(name, sha256)`` of each input file, in the order given.
+    parameters
+        The options that change the numbers (JSON-ready values).
+    workflow
+        ``(name, text)`` of the workflow file when a workflow ran the report, else None.
+    created_utc
+        ISO 8601 time of writing (UTC, seconds).
+    versions
+        ``python``, ``stepframe`` and :data:`DEPENDENCIES` → version.
+    cpu_count
+        Cores of the machine (``os.cpu_count()``).
+    platform
+        Operating system and machine (``platform.platform()``).
+    """
+
+    command: str
+    inputs: tuple[tuple[str, str], ...] = ()
+    parameters: Mapping[str, Any] = field(default_factory=dict)
+    workflow: tuple[str, str] | None = None
+    created_utc: str = ""
+    versions: Mapping[str, str] = field(default_factory=dict)
+    cpu_count: int = 0
+    platform: str = ""
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dictionary (written beside the report as provenance.json)."""
+        return {
+            "command": self.command,
+            "inputs": [{"name": name, "sha256": digest} for name, digest in self.inputs],
+            "parameters": dict(self.parameters),
+            "workflow": None
+            if self.workflow is None
+            else {"name": self.workflow[0], "text": self.workflow[1]},
+            "created_utc": self.created_utc,
+            "versions": dict(self.versions),
+            "cpu_count": self.cpu_count,
+            "platform": self.platform,
+        }
+
+
+def collect_provenance(
+    command: str | Iterable[str] | None = None,
+    *,
+    inputs: Iterable[str | PathLike[str]] = (),
+    parameters: Mapping[str, Any] | None = None,
+    workflow: str | PathLike[str] | None = None,
+) -> Provenance:
+    """Provenance of a report being made now.
+
+    Parameters
+    ----------
+    command
+        The command line as a string or argument list (default: ``sys.argv``).
+    inputs
+        Input files; each is hashed (SHA-256). Folders are expanded to their files, sorted.
+    parameters
+        Options that change the numbers.
+    workflow
+        The workflow file that ran the report (its text is embedded), if any.
+    """
+    from stepframe import __version__
+
+    if command is None:
+        command = ["stepframe", *sys.argv[1:]]
+    if not isinstance(command, str):
+        command = " ".join(str(word) for word in command)
+    files: list[Path] = []
+    for item in inputs:
+        path = Path(item)
+        files.extend(sorted(p for p in path.rglob("*") if p.is_file()) if path.is_dir() else [path])
+    versions = {"python": platform.python_version(), "stepframe": __version__}
+    versions |= {name: _version(name) for name in DEPENDENCIES}
+    text = None
+    if workflow is not None:
+        text = (str(workflow), Path(workflow).read_text(encoding="utf-8"))
+    return Provenance(
+        command=command,
+        inputs=tuple((str(p), sha256_of(p)) for p in files),
+        parameters=dict(parameters or {}),
+        workflow=text,
+        created_utc=_dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat(),
+        versions=versions,
+        cpu_count=os.cpu_count() or 0,
+        platform=platform.platform(),
+    )

@@ -1,0 +1,677 @@
+"""The selection report: the frame's band, the chosen records' paths, scores, spectra, confirmation.
+
+What it shows (issue 14): the frame's period-amplitude backbone and band; each selected record's
+fitted ω_g(t) against the band over time with its strong-motion window; the score table
+(sortable); the selected set's spectra against the target (median and ±σ) with scale factors; the
+confirmation (score against simulated peak response at equal intensity, the rank correlation,
+selected against controls); what each filter dropped; the failures. It reads the selection
+folder through :func:`~stepframe.pipeline.reports.selection_folder.read_selection_folder` and
+draws only what the folder holds, saying what is missing.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from os import PathLike
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from stepframe.errors import InputError
+from stepframe.pipeline.reports import figures
+from stepframe.pipeline.reports.document import (
+    Figure,
+    Note,
+    Report,
+    Section,
+    Table,
+    figure_from_matplotlib,
+    write_report,
+)
+from stepframe.pipeline.reports.provenance import Provenance
+from stepframe.pipeline.reports.selection_folder import SelectionOutputs, read_selection_folder
+from stepframe.stochastic.model import GroundMotionModel
+
+TWO_PI = 2 * math.pi
+
+#: Periods of the spectra figure [s].
+SPECTRUM_PERIODS_S = np.geomspace(0.05, 10.0, 60)
+
+#: Columns that name the filter that dropped a candidate (first present wins).
+DROPPED_COLUMNS = ("dropped_by", "filter", "dropped_by_filter")
+
+#: Columns of the fitted ground-motion model in the selection table.
+MODEL_COLUMNS = (
+    "omega_p_rad_s",
+    "omega_s_rad_s",
+    "omega_r_rad_s",
+    "xi_p",
+    "xi_r",
+    "t_max_s",
+    "t_dur_s",
+)
+
+#: A record loader: (selection row, folder) → obspy Trace in m/s², or None when not found.
+RecordLoader = Callable[[dict[str, Any], Path], Any]
+
+
+def _name(row: dict[str, Any]) -> str:
+    name = Path(str(row["file"])).name
+    component = row.get("component")
+    if component is not None and not (isinstance(component, float) and math.isnan(component)):
+        name += f" [{component}]"
+    return name
+
+
+def _components(table: pd.DataFrame) -> list[str]:
+    if "component" not in table.columns:
+        return [""] * len(table)
+    return ["" if pd.isna(value) else str(value) for value in table["component"]]
+
+
+def _frame(summary: dict[str, Any], folder: Path) -> Any:
+    """The frame from the summary: a table of PortalFrame fields or a frame file path."""
+    value = summary.get("frame")
+    if value is None:
+        value = summary.get("frame_file")
+    if value is None:
+        return None
+    if isinstance(value, dict):
+        from stepframe.structure.frame import PortalFrame
+
+        fields = set(PortalFrame.__dataclass_fields__)
+        return PortalFrame(**{k: v for k, v in value.items() if k in fields})
+    from stepframe.structure.frame_file import read_frame_file
+
+    path = Path(str(value))
+    return read_frame_file(path if path.is_absolute() else folder / path)
+
+
+def _band(summary: dict[str, Any], frame: Any, where: Path) -> tuple[float, float]:
+    band = summary.get("band_rad_s")
+    if band is not None:
+        try:
+            lo, hi = (float(band[0]), float(band[1]))
+        except (TypeError, ValueError, IndexError):
+            raise InputError(
+                f"band_rad_s = {band!r}, expected [low, high] in rad/s", where / "selection.json"
+            ) from None
+        if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo < hi):
+            raise InputError(
+                f"band_rad_s = {band!r}, expected 0 < low < high [rad/s]", where / "selection.json"
+            )
+        return lo, hi
+    if frame is None:
+        raise InputError(
+            "no band_rad_s and no frame, expected the frame's band in the summary",
+            where / "selection.json",
+        )
+    from stepframe.structure.period_amplitude import period_amplitude
+
+    a_max = frame.x_c_m + 0.5 * (frame.x_star_m - frame.x_c_m)
+    return TWO_PI / float(period_amplitude(frame, a_max)), float(frame.omega_1_rad_s)
+
+
+def load_record(row: dict[str, Any], folder: Path) -> Any:
+    """The selected component as a Trace: a file beside the folder, or the example catalogue."""
+    file = str(row["file"])
+    component = row.get("component")
+    component = None if component is None or pd.isna(component) else str(component)
+    candidates = [Path(file), folder / file]
+    for path in candidates:
+        if path.is_file():
+            from stepframe.records import read
+
+            stream = read(path, component=component)
+            return stream[0]
+    if file.startswith("fema_p695/") or ("/" in file and not Path(file).is_absolute()):
+        return _example_trace(file, component)
+    return None
+
+
+def _example_trace(file: str, component: str | None) -> Any:
+    from stepframe.records.examples import fema_p695
+
+    stream, _ = _examples_cache(fema_p695)
+    key = file if file.startswith("fema_p695/") else f"fema_p695/{file}"
+    for trace in stream:
+        if trace.stats.stepframe.source_file == key and (
+            component is None or trace.stats.channel == component
+        ):
+            return trace
+    return None
+
+
+_EXAMPLES: dict[str, Any] = {}
+
+
+def _examples_cache(loader: Callable[[], Any]) -> Any:
+    if "fema" not in _EXAMPLES:
+        _EXAMPLES["fema"] = loader()
+    return _EXAMPLES["fema"]
+
+
+def _target(summary: dict[str, Any]) -> tuple[Any, Any] | None:
+    data = summary.get("target_spectrum")
+    if not isinstance(data, dict):
+        return None
+    from stepframe.structure.design_spectrum import spectrum_from_dict
+
+    # values given in g are converted with the design spectrum's g (9.81, the paper's): the same
+    # g back to g, so a target of S_D1 = 0.6 g plots as 0.6/T g
+    g = float(summary.get("g_m_s2", 9.81))
+    spectrum = spectrum_from_dict(data, g_m_s2=g, where="selection.json target_spectrum")
+    sa = np.array([spectrum.sa_m_s2(float(t)) for t in SPECTRUM_PERIODS_S])
+    return SPECTRUM_PERIODS_S, sa / g
+
+
+def _strong_window(row: dict[str, Any], model: GroundMotionModel) -> tuple[float, float]:
+    for start, end in (
+        ("strong_motion_start_s", "strong_motion_end_s"),
+        ("window_start_s", "window_end_s"),
+    ):
+        if start in row and end in row and np.isfinite([row[start], row[end]]).all():
+            return float(row[start]), float(row[end])
+    return model.t0_s, model.t0_s + model.t_dur_s
+
+
+def _model(row: dict[str, Any]) -> GroundMotionModel | None:
+    if not all(key in row and pd.notna(row[key]) for key in MODEL_COLUMNS):
+        return None
+    p, s, r, xi_p, xi_r, t_max, t_dur = (float(row[key]) for key in MODEL_COLUMNS)
+    t0 = float(row["t0_s"]) if "t0_s" in row and pd.notna(row["t0_s"]) else 0.0
+    return GroundMotionModel(p, s, r, xi_p, xi_r, t_max, t_dur, t0_s=t0)
+
+
+def _dropped(candidates: pd.DataFrame) -> tuple[pd.DataFrame, str | None]:
+    column = next((c for c in DROPPED_COLUMNS if c in candidates.columns), None)
+    if column is None:
+        return pd.DataFrame({"filter": [], "dropped": [], "examples": []}), None
+    reason = candidates[column].astype(object).fillna("").astype(str).str.strip()
+    rows = []
+    for name, group in candidates[reason != ""].groupby(reason[reason != ""], sort=True):
+        files = [Path(str(f)).name for f in group["file"]]
+        rows.append(
+            {
+                "filter": name,
+                "dropped": len(files),
+                "examples": ", ".join(files[:3]) + (" ..." if len(files) > 3 else ""),
+            }
+        )
+    passed = int((reason == "").sum())
+    rows.append({"filter": "(passed every filter)", "dropped": passed, "examples": ""})
+    return pd.DataFrame(rows), column
+
+
+def _equal_intensity(table: pd.DataFrame, candidates: pd.DataFrame, rank_by: str) -> pd.DataFrame:
+    """The rows simulated at equal intensity, with the ranking score joined from the candidates."""
+    if "case" in table.columns:
+        equal = table["case"].astype(str).str.startswith("equal")
+        if equal.any():
+            table = table[equal]
+    if rank_by not in table.columns and rank_by in candidates.columns:
+        keys = [k for k in ("file", "component") if k in table.columns and k in candidates.columns]
+        scores = candidates[[*keys, rank_by]].drop_duplicates(keys)
+        table = table.merge(scores, on=keys, how="left")
+    return table
+
+
+def _confirmation(
+    table: pd.DataFrame, summary: dict[str, Any], selected_files: set[str]
+) -> tuple[list[Figure | Table | Note], dict[str, Any]]:
+    from scipy.stats import spearmanr
+
+    rank_by = str(summary.get("rank_by", "score"))
+    score = rank_by if rank_by in table.columns else ("score" if "score" in table.columns else None)
+    response = next(
+        (c for c in table.columns if "drift" in c),
+        next((c for c in table.columns if c.startswith("peak_")), None),
+    )
+    if score is None or response is None:
+        return [Note("The confirmation table has no score or peak-response column to compare.")], {}
+    if "group" in table.columns:
+        chosen = table["group"].astype(str).str.lower().eq("selected").to_numpy()
+    else:
+        chosen = table["file"].astype(str).isin(selected_files).to_numpy()
+    ok = np.isfinite(table[score].to_numpy(float)) & np.isfinite(table[response].to_numpy(float))
+    x = table[score].to_numpy(float)[ok]
+    y = table[response].to_numpy(float)[ok]
+    # a rank correlation needs three points and some spread in both (else it is undefined)
+    spread = x.size >= 3 and np.ptp(x) > 0 and np.ptp(y) > 0
+    rho = float(spearmanr(x, y).statistic) if spread else math.nan
+    medians = {
+        "selected": float(np.median(y[chosen[ok]])) if chosen[ok].any() else math.nan,
+        "controls": float(np.median(y[~chosen[ok]])) if (~chosen[ok]).any() else math.nan,
+    }
+    numbers = {
+        "score": score,
+        "response": response,
+        "spearman_rho": rho,
+        "n": int(x.size),
+        "median_response_selected": medians["selected"],
+        "median_response_controls": medians["controls"],
+    }
+    items: list[Figure | Table | Note] = [
+        figure_from_matplotlib(
+            figures.confirmation_figure(
+                x, y, chosen[ok], score_name=score, response_name=response, rho=rho
+            ),
+            key="confirmation",
+            title="Score against simulated peak response at equal intensity",
+            alt=(
+                f"Scatter of {score} against {response} for {x.size} records, selected in red, "
+                f"Spearman rank correlation {rho:.2f}"
+            ),
+            how_to_read=(
+                "Each dot is one record simulated at the same intensity, so frequency content is "
+                "what differs. A score that predicts the response puts the dots on a rising "
+                "trend (ρ near 1) and the red (selected) dots high; ρ near 0 means the score "
+                "does not predict the simulated response."
+            ),
+        ),
+        Table(
+            "confirmation_summary",
+            "Selected against controls",
+            pd.DataFrame(
+                [
+                    {"group": "selected", f"median_{response}": medians["selected"]},
+                    {"group": "controls / others", f"median_{response}": medians["controls"]},
+                ]
+            ),
+            f"Median simulated {response}; Spearman ρ({score}, {response}) = {rho:.3g}, "
+            f"n = {x.size}",
+            {"group": "which records", f"median_{response}": "median of the simulated response"},
+        ),
+    ]
+    stated = summary.get("correlations")
+    if isinstance(stated, list) and stated and all(isinstance(row, dict) for row in stated):
+        items.append(
+            Table(
+                "correlations",
+                "Rank correlations reported by the selection run",
+                pd.DataFrame(stated),
+                "Spearman ρ of each score against each simulated response, with its bootstrap "
+                "interval (selection.json)",
+                {"spearman": "Spearman rank correlation", "low": "interval low", "high": "high"},
+            )
+        )
+    return items, numbers
+
+
+def selection_report(
+    outputs: SelectionOutputs,
+    *,
+    provenance: Provenance,
+    record_loader: RecordLoader = load_record,
+) -> Report:
+    """Assemble the selection report from a read selection folder (no file written)."""
+    from stepframe.structure.plots import backbone_figure
+
+    summary = outputs.summary
+    folder = outputs.folder
+    selection = outputs.tables["selection"]
+    candidates = outputs.tables["candidates"]
+    frame = _frame(summary, folder)
+    band = _band(summary, frame, folder)
+    rows: list[dict[str, Any]] = selection.to_dict(orient="records")  # type: ignore[assignment]
+    names = [_name(row) for row in rows]
+    rank_by = str(summary.get("rank_by", "score"))
+    numbers: dict[str, Any] = {
+        "band_rad_s": list(band),
+        "band_hz": [band[0] / TWO_PI, band[1] / TWO_PI],
+        "rank_by": rank_by,
+        "n_selected": len(rows),
+        "n_candidates": len(candidates),
+        "selected": names,
+    }
+    summary_lines = [
+        (
+            "Frame's band",
+            f"{band[0] / TWO_PI:.3g}-{band[1] / TWO_PI:.3g} Hz ({band[0]:.3g}-{band[1]:.3g} rad/s)",
+        ),
+        ("Ranked by", rank_by),
+        ("Selected", f"{len(rows)} of {len(candidates)} candidates"),
+        ("Scaling", str(summary.get("scale", summary.get("scaling", "none")))),
+    ]
+    sections: list[Section] = []
+    band_items: list[Figure | Table | Note] = []
+    given = summary.get("band")
+    details: dict[str, Any] = given if isinstance(given, dict) else {}
+    a_max = summary.get("a_max_m", details.get("a_max_m"))
+    if frame is None and details.get("level_amplitudes_m") and details.get("level_omegas_rad_s"):
+        band_items.append(
+            figure_from_matplotlib(
+                figures.backbone_points_figure(details, band),
+                key="backbone",
+                title="Period-amplitude backbone and band",
+                alt=(
+                    "The frame's frequency at the amplitude levels of the selection, falling from "
+                    f"f_1 towards the band's lower edge, band {band[0] / TWO_PI:.3g}-"
+                    f"{band[1] / TWO_PI:.3g} Hz shaded"
+                ),
+                how_to_read=(
+                    "Once the frame steps (A > x_c) its period lengthens with amplitude. The "
+                    "points are the amplitude levels the selection evaluated; the shaded band "
+                    "is the range of frequencies the frame passes through up to A_max."
+                ),
+            )
+        )
+    elif frame is not None:
+        band_items.append(
+            figure_from_matplotlib(
+                backbone_figure(
+                    frame,
+                    band,
+                    a_max_m=None if a_max is None else float(a_max),
+                    frame_name=str(summary.get("frame_name", "frame")),
+                ),
+                key="backbone",
+                title="Period-amplitude backbone and band",
+                alt=(
+                    "Frequency 1/T(A) of the frame against amplitude A, falling from f_1 at "
+                    f"uplift towards zero at x*, band {band[0] / TWO_PI:.3g}-"
+                    f"{band[1] / TWO_PI:.3g} Hz shaded"
+                ),
+                how_to_read=(
+                    "Once the frame steps (A > x_c) its period lengthens with amplitude and its "
+                    "frequency falls towards zero at overturning (x*). The shaded band is the "
+                    "range of frequencies the frame passes through up to A_max: a record whose "
+                    "dominant frequency sweeps down through it can keep it in moving resonance."
+                ),
+            )
+        )
+    else:
+        band_items.append(Note("The selection summary names no frame: only the band is shown."))
+    if details:
+        scalars = {k: v for k, v in details.items() if isinstance(v, int | float | str)}
+        band_items.append(
+            Table(
+                "band",
+                "The band",
+                pd.DataFrame({"quantity": list(scalars), "value": list(scalars.values())}),
+                "As the selection run computed it (selection.json)",
+                {"quantity": "name (unit in the name)", "value": "its value"},
+            )
+        )
+    sections.append(Section("The frame's band", band_items))
+    paths = []
+    for row, name in zip(rows, names, strict=True):
+        model = _model(row)
+        if model is not None:
+            paths.append((name, model, _strong_window(row, model)))
+    path_items: list[Figure | Table | Note] = []
+    if paths:
+        path_items.append(
+            figure_from_matplotlib(
+                figures.omega_paths_figure(paths, band),
+                key="omega_paths",
+                title="Selected records' ω_g(t) against the band",
+                alt=(
+                    f"{len(paths)} small plots of fitted dominant frequency against time, each "
+                    "with the band and the strong-motion window shaded"
+                ),
+                how_to_read=(
+                    "Each panel is one selected record: its fitted dominant frequency ω_g(t)/2π "
+                    "(eq. 6.10) on a log scale, the frame's band in light blue and the "
+                    "strong-motion window in yellow. A good candidate sweeps down through the "
+                    "band while the motion is strong."
+                ),
+            )
+        )
+    else:
+        path_items.append(Note("The selection table carries no fitted parameters to draw."))
+    sections.append(Section("Dominant-frequency paths of the selected records", path_items))
+    if "selected" not in candidates.columns:
+        # mark the chosen rows so the sortable table can bring them together
+        chosen = set(zip(selection["file"].astype(str), _components(selection), strict=True))
+        keys = zip(candidates["file"].astype(str), _components(candidates), strict=True)
+        candidates = candidates.copy()
+        candidates.insert(1, "selected", [key in chosen for key in keys])
+    score_items: list[Figure | Table | Note] = [
+        Table(
+            "selection",
+            "Selected records",
+            selection,
+            f"The chosen set, ranked by {rank_by}",
+            outputs.columns.get("selection", {}),
+            sortable=True,
+        ),
+        Table(
+            "candidates",
+            "Every candidate and its scores",
+            candidates,
+            "All candidates with every score and the filter that dropped them",
+            outputs.columns.get("candidates", {}),
+            sortable=True,
+        ),
+    ]
+    sections.append(Section("Scores", score_items))
+    sections.append(
+        Section(
+            "Spectra of the selected set",
+            _spectra_items(rows, names, folder, summary, band, record_loader, numbers),
+        )
+    )
+    if "confirmation" in outputs.tables:
+        files = {str(f) for f in selection["file"]}
+        equal = _equal_intensity(outputs.tables["confirmation"], candidates, rank_by)
+        items, confirmation_numbers = _confirmation(equal, summary, files)
+        items.append(
+            Table(
+                "confirmation",
+                "Confirmation table",
+                outputs.tables["confirmation"],
+                "Simulated response of the selected records and the controls",
+                outputs.columns.get("confirmation", {}),
+                sortable=True,
+            )
+        )
+        numbers["confirmation"] = confirmation_numbers
+        if confirmation_numbers:
+            summary_lines.append(
+                (
+                    "Confirmation",
+                    f"Spearman ρ = {confirmation_numbers['spearman_rho']:.2f} "
+                    f"({confirmation_numbers['score']} vs {confirmation_numbers['response']}, "
+                    f"n = {confirmation_numbers['n']})",
+                )
+            )
+        sections.append(Section("Confirmation by simulation", items))
+    else:
+        sections.append(
+            Section(
+                "Confirmation by simulation",
+                [Note("This run was not confirmed by simulation (no confirmation.csv).")],
+            )
+        )
+    dropped, column = _dropped(candidates)
+    drop_items: list[Figure | Table | Note] = [
+        Table(
+            "filters",
+            "What each filter dropped",
+            dropped,
+            f"Counted from candidates.csv column '{column}'" if column else "No filter column",
+            {
+                "filter": "the filter",
+                "dropped": "candidates it dropped",
+                "examples": "the first few",
+            },
+        )
+    ]
+    failures = outputs.tables.get("failures")
+    if failures is not None:
+        drop_items.append(
+            Table(
+                "failures",
+                "Failures",
+                failures,
+                "Records the run could not process (each recorded, none stopped the run)",
+                outputs.columns.get("failures", {}),
+            )
+        )
+        numbers["n_failures"] = len(failures)
+    sections.append(Section("Filters and failures", drop_items))
+    return Report(
+        title="Record selection report",
+        subtitle=(
+            "Records whose dominant frequency sweeps the stepping frame's band (moving resonance)"
+        ),
+        summary=summary_lines,
+        sections=sections,
+        provenance=provenance,
+        numbers=numbers,
+    )
+
+
+def _spectra_items(
+    rows: list[dict[str, Any]],
+    names: list[str],
+    folder: Path,
+    summary: dict[str, Any],
+    band: tuple[float, float],
+    record_loader: RecordLoader,
+    numbers: dict[str, Any],
+) -> list[Figure | Table | Note]:
+    from stepframe.records.spectra import response_spectrum
+
+    damping = float(summary.get("damping", 0.05))
+    spectra = []
+    used = []
+    scales = []
+    missing = []
+    for row, name in zip(rows, names, strict=True):
+        trace = record_loader(row, folder)
+        if trace is None:
+            missing.append(name)
+            continue
+        scale = (
+            float(row.get("scale_factor", 1.0)) if pd.notna(row.get("scale_factor", 1.0)) else 1.0
+        )
+        result = response_spectrum(trace.data, trace.stats.delta, SPECTRUM_PERIODS_S, damping)
+        spectra.append(result.psa_g * scale)
+        used.append(name)
+        scales.append(scale)
+    if not spectra:
+        return [Note("None of the selected records' files could be found: no spectra drawn.")]
+    psa = np.vstack(spectra)
+    target = _target(summary)
+    items: list[Figure | Table | Note] = [
+        figure_from_matplotlib(
+            figures.spectra_figure(
+                SPECTRUM_PERIODS_S,
+                psa,
+                used,
+                target=target,
+                band_period_s=(TWO_PI / band[1], TWO_PI / band[0]),
+                damping=damping,
+            ),
+            key="spectra",
+            title="Scaled spectra against the target",
+            alt=(
+                f"Pseudo-spectral acceleration of {len(used)} scaled records from 0.05 to 10 s "
+                "with their median and ±σ" + (" and the target spectrum" if target else "")
+            ),
+            how_to_read=(
+                "Grey lines are the selected records after scaling; black is their median and "
+                "dashed the median times e^±σ (log standard deviation). "
+                + (
+                    "Red is the target spectrum; the set matches it where the median follows it."
+                    if target
+                    else "The run had no target spectrum."
+                )
+                + " The shaded periods correspond to the frame's band."
+            ),
+        ),
+        Table(
+            "scale_factors",
+            "Scale factors",
+            pd.DataFrame({"record": used, "scale_factor": scales}),
+            "The factor each record's acceleration was multiplied by",
+            {"record": "record [component]", "scale_factor": "amplitude scale factor [-]"},
+        ),
+    ]
+    logs = np.log(psa)
+    sigma = np.std(logs, axis=0, ddof=1) if len(used) > 1 else np.zeros(SPECTRUM_PERIODS_S.size)
+    median = np.exp(np.median(logs, axis=0))
+    statistics = pd.DataFrame(
+        {
+            "period_s": SPECTRUM_PERIODS_S,
+            "median_psa_g": median,
+            "minus_sigma_psa_g": median * np.exp(-sigma),
+            "plus_sigma_psa_g": median * np.exp(sigma),
+            "sigma_ln": sigma,
+        }
+    )
+    if target is not None:
+        statistics["target_psa_g"] = target[1]
+    items.append(
+        Table(
+            "spectra_statistics",
+            "Median and ±σ of the scaled spectra",
+            statistics,
+            f"PSA [g] at {damping:.0%} damping; σ is the standard deviation of ln PSA",
+            {
+                "period_s": "oscillator period [s]",
+                "median_psa_g": "median scaled PSA [g]",
+                "minus_sigma_psa_g": "median · e^-σ [g]",
+                "plus_sigma_psa_g": "median · e^σ [g]",
+                "sigma_ln": "standard deviation of ln PSA [-]",
+                "target_psa_g": "target spectrum [g]",
+            },
+        )
+    )
+    table = pd.DataFrame(psa.T, columns=used)
+    table.insert(0, "period_s", SPECTRUM_PERIODS_S)
+    items.append(
+        Table(
+            "spectra",
+            "Spectra of each record",
+            table,
+            f"scaled PSA [g] of each selected record at {damping:.0%} damping",
+            {"period_s": "oscillator period [s]"} | dict.fromkeys(used, "scaled PSA [g]"),
+            on_page=False,
+        )
+    )
+    if missing:
+        items.append(Note(f"Not found, not drawn: {', '.join(missing)}.", "warning"))
+    numbers["spectra_records"] = used
+    return items
+
+
+def write_selection_report(
+    selection_dir: str | PathLike[str],
+    out_html: str | PathLike[str] | None = None,
+    *,
+    provenance: Provenance,
+    record_loader: RecordLoader = load_record,
+) -> Path:
+    """Write the selection report of a selection folder, all or nothing.
+
+    Parameters
+    ----------
+    selection_dir
+        The output folder of ``stepframe select``.
+    out_html
+        The HTML file (default: ``selection_report.html`` in ``selection_dir``).
+    provenance
+        From :func:`stepframe.pipeline.reports.provenance.collect_provenance`.
+    record_loader
+        Finds a selected record's trace (default: files, then the example catalogue).
+
+    Returns
+    -------
+    pathlib.Path
+        The HTML file.
+
+    Raises
+    ------
+    InputError
+        A missing or half-complete selection folder.
+    """
+    outputs = read_selection_folder(selection_dir)
+    target = Path(selection_dir) / "selection_report.html" if out_html is None else Path(out_html)
+    report = selection_report(outputs, provenance=provenance, record_loader=record_loader)
+    return write_report(report, target)

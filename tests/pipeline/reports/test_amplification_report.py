@@ -1,0 +1,196 @@
+"""The amplification report's numbers against the library and closed forms; bad sites."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from stepframe.cli import main
+from stepframe.pipeline.reports.document import data_folder_of
+from stepframe.pipeline.reports.site import COMBINED, site_from_records
+from stepframe.stochastic.amplification import response_amplification, spectral_ratio_eq_6_18
+from stepframe.stochastic.mean_square import analysis_grid
+
+
+def _numbers(html: Path) -> dict[str, Any]:
+    return dict(json.loads((data_folder_of(html) / "numbers.json").read_text(encoding="utf-8")))
+
+
+def test_paper_site_eq_6_19(amplification_html: Path) -> None:
+    numbers = _numbers(amplification_html)
+    # eq. 6.19's last approximation is (ω_p/ω_s)² = (7.43/3.12)² = 5.671 (the paper prints 5.67)
+    assert numbers["approx_eq_6_19_last"] == pytest.approx((7.43 / 3.12) ** 2, rel=1e-12)
+    text = amplification_html.read_text(encoding="utf-8")
+    assert "5.67" in text
+    assert "paper&#39;s site" in text or "paper's site" in text
+
+
+def test_amplification_table_recomputed(amplification_html: Path, paper_model: Any) -> None:
+    table = pd.read_csv(data_folder_of(amplification_html) / "amplification.csv")
+    omega = 2 * np.pi * table["f0_hz"].to_numpy()
+    np.testing.assert_allclose(
+        table["spectral_ratio_eq_6_18"], spectral_ratio_eq_6_18(paper_model, omega), rtol=1e-12
+    )
+    grid = analysis_grid(paper_model, n_steps=1000)
+    picked = [0, 12, 24]
+    again = response_amplification(paper_model, omega[picked], 0.05, time_s=grid)
+    np.testing.assert_allclose(
+        table["response_vs_fixed"].to_numpy()[picked], again.vs_fixed, rtol=1e-9
+    )
+
+
+def test_monte_carlo_interval_brackets_the_covariance(amplification_html: Path) -> None:
+    table = pd.read_csv(data_folder_of(amplification_html) / "monte_carlo.csv")
+    assert (table["n_realisations"] == 40).all()
+    inside = (table["interval_low"] <= table["covariance_vs_fixed"]) & (
+        table["covariance_vs_fixed"] <= table["interval_high"]
+    )
+    # 95 % intervals of 40 motions: at most one of the four frequencies may miss (seeded)
+    assert inside.sum() >= len(table) - 1
+
+
+def test_adjusted_design_displacement(amplification_html: Path) -> None:
+    table = pd.read_csv(data_folder_of(amplification_html) / "adjusted_design_displacement.csv")
+    row = table.set_index("factor").loc["eq-6-19-last"]
+    # δ*_adj = √((ω_p/ω_s)²)·δ* = (7.43/3.12)·0.25 m
+    assert row["adjusted_delta_m"] == pytest.approx(7.43 / 3.12 * 0.25, rel=1e-12)
+    frame = pd.read_csv(data_folder_of(amplification_html) / "frame.csv").set_index("quantity")
+    # the band's upper edge is ω_1/2π of Example 4's frame (6.4581 rad/s)
+    assert float(frame.loc["small-amplitude frequency f_1", "value"]) == pytest.approx(
+        6.4581 / (2 * math.pi), rel=1e-12
+    )
+    assert float(frame.loc["band lower edge f(A_max)", "value"]) < 6.4581 / (2 * math.pi)
+
+
+def test_site_from_records_combines_usable_fits(site_records: Path) -> None:
+    site = site_from_records(site_records, units="m/s2")
+    used = [f for f in site.fits if f.usable]
+    assert len(site.fits) == 3 and len(used) == 2  # Nishi-Akashi: ω_p at its bound
+    for key in COMBINED:
+        x = np.array([getattr(f.fit.model, key) for f in used])
+        se = np.array([f.fit.stderr[key] for f in used])
+        w = 1 / se**2
+        assert getattr(site.model, key) == pytest.approx(np.sum(w * x) / np.sum(w), rel=1e-12)
+        assert site.stderr[key] == pytest.approx(1 / math.sqrt(np.sum(w)), rel=1e-12)
+
+
+def test_records_report_marks_the_unused_fit(records_amplification_html: Path) -> None:
+    table = pd.read_csv(data_folder_of(records_amplification_html) / "parameters.csv")
+    assert list(table["record"])[-1] == "combined"
+    flagged = table[table["record"].str.startswith("12_")].iloc[0]
+    assert not flagged["used"] and "omega_p_at_bound" in flagged["flags"]
+    numbers = _numbers(records_amplification_html)
+    assert numbers["frame_driven_lower_bound"] in (True, False)
+
+
+def test_cli_paper_site(
+    tmp_path: Path, frame_file: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    out = tmp_path / "paper.html"
+    code = main(
+        [
+            "report",
+            "amplification",
+            "--fp-hz",
+            "7.43",
+            "--fs-hz",
+            "3.12",
+            "--fr-hz",
+            "1.11",
+            "--xi-p",
+            "0.096",
+            "--xi-r",
+            "0.655",
+            "--t-max-s",
+            "5",
+            "--t-dur-s",
+            "20",
+            "--alpha-at-tmax",
+            "paper",
+            "--monte-carlo",
+            "0",
+            "--n-steps",
+            "500",
+            "--frame",
+            str(frame_file),
+            "-o",
+            str(out),
+            "--json",
+        ]
+    )
+    assert code == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["report"] == str(out) and data["size_bytes"] == out.stat().st_size
+    provenance = json.loads((data_folder_of(out) / "provenance.json").read_text())
+    assert provenance["command"].startswith("stepframe report amplification")
+    assert provenance["inputs"][0]["name"] == str(frame_file)
+    assert provenance["parameters"]["fp_hz"] == 7.43
+
+
+def test_cli_site_with_no_usable_record(
+    tmp_path: Path, rsn8883_records: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    # RSN 8883's two components both fit with ω_p at its bound: no usable path
+    out = tmp_path / "r.html"
+    code = main(["report", "amplification", "--records", str(rsn8883_records), "-o", str(out)])
+    captured = capsys.readouterr()
+    assert code == 2
+    assert captured.out == ""
+    lines = captured.err.strip().splitlines()
+    assert len(lines) == 1 and "no usable record" in lines[0] and "omega_p_at_bound" in lines[0]
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_cli_folder_without_records(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    (empty / "notes.md").write_text("not a record")
+    code = main(
+        ["report", "amplification", "--records", str(empty), "-o", str(tmp_path / "r.html")]
+    )
+    assert code == 2
+    assert "no record files" in capsys.readouterr().err
+    assert not (tmp_path / "r.html").exists()
+
+
+def test_cli_unreadable_files_are_failures_not_a_stop(
+    tmp_path: Path, site_records: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    import shutil
+
+    folder = tmp_path / "site"
+    shutil.copytree(site_records, folder)
+    (folder / "garbage.dat").write_bytes(b"\x00\x01 not a record")
+    out = tmp_path / "r.html"
+    code = main(
+        [
+            "report",
+            "amplification",
+            "--records",
+            str(folder),
+            "--units",
+            "m/s2",
+            "--monte-carlo",
+            "0",
+            "--n-steps",
+            "300",
+            "-o",
+            str(out),
+        ]
+    )
+    assert code == 0, capsys.readouterr().err
+    failures = pd.read_csv(data_folder_of(out) / "failures.csv")
+    assert list(failures["stage"]) == ["read"] and failures["item"][0].endswith("garbage.dat")
+
+
+def test_cli_missing_parameter(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    code = main(["report", "amplification", "--fp-hz", "7", "-o", str(tmp_path / "r.html")])
+    assert code == 2
+    assert capsys.readouterr().err.startswith("stepframe: error: missing --fs-hz")
+    assert list(tmp_path.iterdir()) == []

@@ -1,0 +1,156 @@
+"""The HTML every report is: valid HTML5, alt text, table headers, self-contained; written all or
+nothing."""
+
+from __future__ import annotations
+
+import hashlib
+import re
+from pathlib import Path
+
+import html5lib
+import pandas as pd
+import pytest
+
+from stepframe.errors import InputError
+from stepframe.pipeline.reports import collect_provenance
+from stepframe.pipeline.reports.document import (
+    Note,
+    Report,
+    Section,
+    Table,
+    data_folder_of,
+    format_value,
+    write_report,
+)
+from stepframe.pipeline.reports.provenance import sha256_of
+
+REPORTS = ["amplification_html", "records_amplification_html", "selection_html"]
+
+
+@pytest.mark.parametrize("fixture", REPORTS)
+def test_report_is_valid_html5(fixture: str, request: pytest.FixtureRequest) -> None:
+    html: Path = request.getfixturevalue(fixture)
+    parser = html5lib.HTMLParser(strict=True)
+    parser.parse(html.read_text(encoding="utf-8"))  # strict: raises on the first parse error
+    assert parser.errors == []
+
+
+@pytest.mark.parametrize("fixture", REPORTS)
+def test_figures_have_alt_text_and_tables_headers(
+    fixture: str, request: pytest.FixtureRequest
+) -> None:
+    html: Path = request.getfixturevalue(fixture)
+    document = html5lib.parse(html.read_text(encoding="utf-8"), namespaceHTMLElements=False)
+    images = list(document.iter("img"))
+    assert images
+    for image in images:
+        assert len(image.get("alt", "")) > 40  # a sentence, not a file name
+        assert image.get("src", "").startswith("data:image/png;base64,")
+    for table in document.iter("table"):
+        headers = table.findall("./thead/tr/th")
+        assert headers and all(th.get("scope") == "col" for th in headers)
+        for row in table.findall("./tbody/tr"):
+            assert len(row.findall("td")) == len(headers)
+
+
+@pytest.mark.parametrize("fixture", REPORTS)
+def test_report_needs_no_network(fixture: str, request: pytest.FixtureRequest) -> None:
+    text = Path(request.getfixturevalue(fixture)).read_text(encoding="utf-8")
+    # no external resource of any kind: no http(s) or protocol-relative URL in src/href
+    assert not re.search(r"""(src|href)\s*=\s*["'](https?:)?//""", text)
+    assert "<link" not in text
+    assert re.search(r"<script[^>]*\ssrc=", text) is None
+
+
+@pytest.mark.parametrize("fixture", REPORTS)
+def test_every_table_is_written_beside_the_report(
+    fixture: str, request: pytest.FixtureRequest
+) -> None:
+    html: Path = request.getfixturevalue(fixture)
+    folder = data_folder_of(html)
+    text = html.read_text(encoding="utf-8")
+    for key in re.findall(r'id="tab-([a-z_0-9]+)"', text):
+        table = pd.read_csv(folder / f"{key}.csv")
+        assert len(table.columns) >= 2
+        assert (folder / f"{key}.columns.json").is_file()
+    assert (folder / "numbers.json").is_file()
+    assert (folder / "provenance.json").is_file()
+
+
+def _tiny_report() -> Report:
+    table = Table("t", "A table", pd.DataFrame({"x": [1.0, 2.5], "name": ["a<b", "c&d"]}), "cap")
+    return Report(
+        "Title <&>",
+        "subtitle",
+        [("label", "value")],
+        [Section("S", [table, Note("a note")])],
+        collect_provenance("test"),
+        {"x": 1.0},
+    )
+
+
+def test_text_is_escaped(tmp_path: Path) -> None:
+    out = write_report(_tiny_report(), tmp_path / "r.html")
+    text = out.read_text(encoding="utf-8")
+    assert "<title>Title &lt;&amp;&gt;</title>" in text
+    assert "a&lt;b" in text and "c&amp;d" in text
+
+
+def test_a_failed_write_leaves_nothing(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    import stepframe.pipeline.reports.document as document
+
+    def broken(report: Report, folder: Path) -> None:
+        (folder / "half.csv").write_text("x\n1\n")
+        raise OSError("disk full")
+
+    monkeypatch.setattr(document, "_write_folder", broken)
+    with pytest.raises(OSError, match="disk full"):
+        write_report(_tiny_report(), tmp_path / "r.html")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_failed_rewrite_keeps_the_previous_report(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import stepframe.pipeline.reports.document as document
+
+    out = write_report(_tiny_report(), tmp_path / "r.html")
+    before = {p.name: p.read_bytes() for p in [out, *data_folder_of(out).iterdir()]}
+
+    def broken_atomic_write(path: Path, mode: str = "w") -> None:
+        raise OSError("no space left")
+
+    monkeypatch.setattr(document, "atomic_write", broken_atomic_write)
+    with pytest.raises(OSError, match="no space"):
+        write_report(_tiny_report(), out)
+    after = {p.name: p.read_bytes() for p in [out, *data_folder_of(out).iterdir()]}
+    assert after == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["r.html", "r_files"]
+
+
+def test_output_folder_must_exist(tmp_path: Path) -> None:
+    with pytest.raises(InputError, match="output folder does not exist"):
+        write_report(_tiny_report(), tmp_path / "missing" / "r.html")
+
+
+def test_format_value() -> None:
+    assert format_value(3.14159265) == "3.142"
+    assert format_value(float("nan")) == ""
+    assert format_value(True) == "yes"
+    assert format_value(12) == "12"
+    assert format_value(float("inf")) == "∞"
+
+
+def test_provenance_hashes_inputs(tmp_path: Path) -> None:
+    (tmp_path / "a.txt").write_bytes(b"stepframe\n")
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "b.bin").write_bytes(bytes(range(256)))
+    provenance = collect_provenance(["stepframe", "report"], inputs=[tmp_path], parameters={"k": 1})
+    names = [Path(name).name for name, _ in provenance.inputs]
+    assert names == ["a.txt", "b.bin"]
+    assert provenance.inputs[0][1] == hashlib.sha256(b"stepframe\n").hexdigest()
+    assert provenance.inputs[1][1] == sha256_of(tmp_path / "sub" / "b.bin")
+    assert provenance.command == "stepframe report"
+    assert provenance.versions["stepframe"] and provenance.versions["numpy"]
+    assert provenance.cpu_count >= 1
+    assert provenance.to_dict()["parameters"] == {"k": 1}

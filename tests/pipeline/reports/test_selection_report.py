@@ -1,0 +1,122 @@
+"""The selection report's numbers against its folder, and bad selection folders."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+from scipy.stats import spearmanr
+
+from stepframe.cli import main
+from stepframe.errors import InputError
+from stepframe.pipeline.reports.document import data_folder_of
+from stepframe.pipeline.reports.selection_folder import read_selection_folder
+
+
+def test_confirmation_rank_correlation(selection_dir: Path, selection_html: Path) -> None:
+    confirmation = pd.read_csv(selection_dir / "confirmation.csv")
+    expected = spearmanr(confirmation["end_closeness"], confirmation["peak_drift_m"]).statistic
+    numbers = json.loads((data_folder_of(selection_html) / "numbers.json").read_text())
+    assert numbers["confirmation"]["spearman_rho"] == pytest.approx(expected, rel=1e-12)
+    selected = confirmation[confirmation["group"] == "selected"]["peak_drift_m"]
+    assert numbers["confirmation"]["median_response_selected"] == pytest.approx(np.median(selected))
+    assert f"ρ = {expected:.2f}" in selection_html.read_text(encoding="utf-8")
+
+
+def test_filters_count_what_they_dropped(selection_dir: Path, selection_html: Path) -> None:
+    candidates = pd.read_csv(selection_dir / "candidates.csv")
+    table = pd.read_csv(data_folder_of(selection_html) / "filters.csv").set_index("filter")
+    dropped = int((candidates["magnitude"] <= 6.6).sum())
+    assert dropped >= 1
+    assert table.loc["magnitude", "dropped"] == dropped
+    assert table.loc["(passed every filter)", "dropped"] == len(candidates) - dropped
+
+
+def test_spectra_are_the_records(selection_dir: Path, selection_html: Path) -> None:
+    from stepframe.records.examples import fema_p695
+    from stepframe.records.spectra import response_spectrum
+
+    spectra = pd.read_csv(data_folder_of(selection_html) / "spectra.csv")
+    first = pd.read_csv(selection_dir / "selection.csv").iloc[0]
+    stream, _ = fema_p695()
+    trace = next(t for t in stream if t.stats.stepframe.source_file == first["file"])
+    psa = response_spectrum(trace.data, trace.stats.delta, spectra["period_s"].to_numpy()).psa_g
+    np.testing.assert_allclose(spectra.iloc[:, 1], psa * first["scale_factor"], rtol=1e-10)
+    stats = pd.read_csv(data_folder_of(selection_html) / "spectra_statistics.csv")
+    np.testing.assert_allclose(
+        stats["median_psa_g"], np.exp(np.median(np.log(spectra.iloc[:, 1:]), axis=1)), rtol=1e-10
+    )
+    # the target: two-period spectrum S_DS = 1.0 g, S_D1 = 0.6 g → 0.6/T g beyond T_s = 0.6 s
+    long = stats[stats["period_s"] > 1.0]
+    np.testing.assert_allclose(long["target_psa_g"], 0.6 / long["period_s"], rtol=1e-9)
+
+
+def test_column_dictionary_is_carried(selection_html: Path) -> None:
+    text = selection_html.read_text(encoding="utf-8")
+    assert 'title="exp(-|ln(ω_g(t_dur)/ω_1)|), 1 = ends at ω_1"' in text
+
+
+@pytest.mark.parametrize("remove", ["selection.csv", "candidates.csv", "selection.json"])
+def test_half_complete_folder(
+    remove: str,
+    selection_dir: Path,
+    tmp_path: Path,
+    copy_of: Callable[[Path, Path], Path],
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    folder = copy_of(selection_dir, tmp_path / "out")
+    for old in folder.glob("selection_report*"):
+        if old.is_dir():
+            import shutil
+
+            shutil.rmtree(old)
+        else:
+            old.unlink()
+    (folder / remove).unlink()
+    before = sorted(p.name for p in folder.iterdir())
+    code = main(["report", "selection", str(folder)])
+    captured = capsys.readouterr()
+    assert code == 2 and captured.out == ""
+    lines = captured.err.strip().splitlines()
+    assert len(lines) == 1 and remove in lines[0] and "incomplete selection folder" in lines[0]
+    assert sorted(p.name for p in folder.iterdir()) == before  # no partial report
+
+
+def test_truncated_table(
+    selection_dir: Path, tmp_path: Path, copy_of: Callable[[Path, Path], Path]
+) -> None:
+    folder = copy_of(selection_dir, tmp_path / "out")
+    (folder / "candidates.csv").write_text("")
+    with pytest.raises(InputError, match="empty file"):
+        read_selection_folder(folder)
+    (folder / "selection.json").write_text('{"band_rad_s": [1, ')
+    with pytest.raises(InputError, match="not valid JSON"):
+        read_selection_folder(folder)
+
+
+def test_missing_folder(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["report", "selection", str(tmp_path / "nothing")]) == 2
+    assert "not a folder" in capsys.readouterr().err
+
+
+def test_cli_writes_beside_the_selection(
+    selection_dir: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    out = tmp_path / "sel.html"
+    assert main(["report", "selection", str(selection_dir), "-o", str(out), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["report"] == str(out)
+    provenance = json.loads((data_folder_of(out) / "provenance.json").read_text())
+    names = {Path(entry["name"]).name for entry in provenance["inputs"]}
+    assert {"selection.json", "selection.csv", "candidates.csv", "confirmation.csv"} <= names
+
+
+def test_candidates_mark_the_selected(selection_dir: Path, selection_html: Path) -> None:
+    shown = pd.read_csv(data_folder_of(selection_html) / "candidates.csv")
+    chosen = pd.read_csv(selection_dir / "selection.csv")
+    assert set(shown[shown["selected"]]["file"]) == set(chosen["file"])
+    assert shown["selected"].sum() == len(chosen)
