@@ -10,7 +10,9 @@ Plausibility (column ``plausible`` and ``implausible_reason``): ω_p ≥ ω_s �
 construction of the fit, so the checks are that the fitted frequencies lie inside the usable
 band (ω_r above both the window's resolution 2π/window_s and, when known, the record's lowest
 usable frequency; ω_p below half the Nyquist frequency), that ω_g falls at all (ω_p > 1.05 ω_r),
-and that no ξ hit its bounds.
+and that no flag marks a value at a bound, floor or clip
+(:func:`stepframe.stochastic.flags.implausible`; every flag's meaning in
+:data:`stepframe.stochastic.flags.FLAGS`).
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ import numpy as np
 from stepframe.errors import InputError
 from stepframe.stochastic.features import FrequencyMethod, TimeOrigin, record_features
 from stepframe.stochastic.fit import PARAMETERS, fit_model
+from stepframe.stochastic.flags import implausible, meaning
 from stepframe.stochastic.spectra import DEFAULT_WINDOW_S, FftBackend
 
 #: Column dictionary of the features table: name → (unit, meaning).
@@ -100,8 +103,9 @@ def plausibility(row: dict[str, Any], window_s: float, lowest_usable_hz: float |
         reasons.append(f"omega_p {row['omega_p_rad_s']:.3g} rad/s above usable band {high:.3g}")
     if row["omega_p_rad_s"] <= 1.05 * row["omega_r_rad_s"]:
         reasons.append("omega_g does not fall (omega_p ≈ omega_r)")
-    if "xi_clipped" in row["flags"]:
-        reasons.append("a bandwidth ratio xi hit its bound")
+    # A value at a bound, floor or clip is where the search stopped, not an estimate.
+    for flag in implausible(str(row["flags"]).split(";")):
+        reasons.append(f"{flag} ({meaning(flag)})")
     return "; ".join(reasons)
 
 

@@ -355,6 +355,7 @@ def record_features(
         flags.append("duration_truncated")
     if t_dur <= t_max:
         t_dur = t_max + hop
+        flags.append("duration_at_floor")
     strong = (time_s >= t0_s) & (intensity >= threshold * peak)
     finite = np.isfinite(omega_g[strong])
     if finite.sum() < 5:

@@ -12,7 +12,8 @@ Method (weighted least squares, two stages):
    over ω_p, ρ = (ω_s - ω_r)/(ω_p - ω_r) ∈ [0, 1] and f = ω_r/ω_p ∈ [0.01, 1), so
    ω_p ≥ ω_s ≥ ω_r holds by construction; ω_p stays within [0.5, 1.5] × the measured range of
    ω_g (not an extrapolation to a record start long before the motion); a bound reached is
-   flagged (``omega_p_at_bound``, ``omega_r_at_bound``, ``omega_not_decreasing``).
+   flagged (``omega_p_at_bound``, ``omega_s_at_bound``, ``omega_r_at_bound``,
+   ``omega_not_decreasing``; meanings in :mod:`stepframe.stochastic.flags`).
 2. ξ_p, ξ_r: eq. 6.11 is linear in (ω_p ξ_p, ω_r ξ_r) for a given ramp end, fitted to α_g(t) by
    weighted linear least squares; ξ = α/ω.
 
@@ -265,8 +266,10 @@ def fit_model(
     p, s, r = _psr(theta)
     if theta[2] >= 0.999:
         flags.append("omega_not_decreasing")
-    if theta[0] >= 0.999 * p_bounds[1]:
+    if theta[0] >= 0.999 * p_bounds[1] or theta[0] <= 1.001 * p_bounds[0]:
         flags.append("omega_p_at_bound")
+    if theta[1] <= 1e-3 or theta[1] >= 0.999:
+        flags.append("omega_s_at_bound")
     if theta[2] <= 1.001 * _MIN_R_OVER_P:
         flags.append("omega_r_at_bound")
     inflation = max(1.0, features.window_s / features.hop_s)
