@@ -49,7 +49,7 @@ FLAGS: dict[str, tuple[bool, str]] = {
     ),
     "omega_s_at_bound": (
         True,
-        "omega_s equals omega_r or omega_p (the eq. 6.10 base at 0 or 1): the decay is not resolved",
+        "omega_s equals omega_r or omega_p (eq. 6.10 base at 0 or 1): the decay is not resolved",
     ),
     "omega_r_at_bound": (
         True,
