@@ -59,6 +59,8 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "omega_range_rad_s": ("rad/s", "ω_max - ω_min of the measured ω_g(t) in strong motion"),
     "p_onset_used": ("", "whether t0 is a picked P onset"),
     "p_onset_s": ("s", "picked P onset in record time (empty if none)"),
+    "t0_source": ("", "what t0 is: p-pick (picked P onset) or start (record start)"),
+    "p_pick_snr": ("", "P pick confidence: RMS 2 s after it / RMS before (empty if none)"),
     "flags": ("", "degraded results, ';'-separated"),
     "plausible": ("", "passes the plausibility checks"),
     "implausible_reason": ("", "why not (empty when plausible)"),
@@ -71,7 +73,7 @@ class Options:
     """Options of the per-component computation (picklable, passed to workers)."""
 
     frequency: FrequencyMethod = "zero-crossing"
-    t0: TimeOrigin = "start"
+    t0: TimeOrigin = "auto"
     window_s: float = DEFAULT_WINDOW_S
     fft: FftBackend = "scipy"
     record_options: tuple[tuple[str, Any], ...] = ()
@@ -142,6 +144,8 @@ def component_row(
     )
     row["p_onset_used"] = features.p_onset_s is not None
     row["p_onset_s"] = features.p_onset_s if features.p_onset_s is not None else math.nan
+    row["t0_source"] = features.t0_source
+    row["p_pick_snr"] = math.nan if features.p_pick_snr is None else features.p_pick_snr
     row["flags"] = ";".join(result.flags)
     reason = plausibility(row, options.window_s, lowest_usable_hz)
     row["plausible"] = not reason
@@ -200,7 +204,7 @@ def catalog_features(
     n_jobs: int | None = None,
     progress: bool | Callable[[int], None] = False,
     frequency: FrequencyMethod = "zero-crossing",
-    t0: TimeOrigin = "start",
+    t0: TimeOrigin = "auto",
     window_s: float = DEFAULT_WINDOW_S,
     fft: FftBackend = "scipy",
     record_options: dict[str, Any] | None = None,
