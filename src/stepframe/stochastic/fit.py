@@ -43,13 +43,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 from stepframe.errors import InputError
-from stepframe.stochastic.features import RecordFeatures, smooth
+from stepframe.stochastic.features import ZETA_MAX, RecordFeatures, smooth
 from stepframe.stochastic.model import AlphaReading, GroundMotionModel
 from stepframe.stochastic.standard_errors import least_squares_covariance
 
 #: Parameter keys of a fit, in output order.
 PARAMETERS = ("omega_p_rad_s", "omega_s_rad_s", "omega_r_rad_s", "xi_p", "xi_r")
-_XI_RANGE = (0.005, 0.995)
+#: Range of the fitted ξ: from a floor to the largest ζ the α_g estimate reads
+#: (:data:`stepframe.stochastic.features.ZETA_MAX`); ξ ≥ 1 (α_g ≥ ω_g, broadband, overdamped
+#: ground filter) is valid for eq. 6.12, the synthetic motions and the mean-square methods.
+_XI_RANGE = (0.005, ZETA_MAX)
 #: Default fraction of max I_g above which frames enter the fit. It is below the duration
 #: threshold because the late frames carry the information on ω_r (docs/stochastic-features.md).
 DEFAULT_FIT_THRESHOLD = 0.02
@@ -72,7 +75,7 @@ class FitResult:
     n_points
         Strong-motion frames used.
     flags
-        Degraded results (features' flags, plus ``omega_not_decreasing``, ``xi_clipped``, ...).
+        Degraded results (meanings: :data:`stepframe.stochastic.flags.FLAGS`).
     bootstrap
         Bootstrap samples of (ω_p, ω_s, ω_r, ξ_p, ξ_r), shape (N, 5), or None.
     omega_fit_rad_s

@@ -57,7 +57,7 @@ FLAGS: dict[str, tuple[bool, str]] = {
     ),
     "xi_clipped": (
         True,
-        "a bandwidth ratio xi_p or xi_r fell outside the model's range and was clipped to it",
+        "a bandwidth ratio xi_p or xi_r fell outside 0.005-3 and was clipped to that range",
     ),
     "omega_c_not_fitted": (
         False,
