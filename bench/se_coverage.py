@@ -1,4 +1,4 @@
-"""Coverage of the fit's standard errors on synthetic eq. 6.12 records (docs/stochastic-features.md).
+"""Coverage of fit standard errors on synthetic eq. 6.12 records (see docs/stochastic-features.md).
 
 For each parameter set, ``--seeds`` realisations (45 s, dt 0.01 s, origin = record start, the
 truth's t0) are fitted; for every parameter it prints the share of fits whose truth lies within

@@ -22,7 +22,7 @@ def test_truth_within_two_standard_errors_90_percent(seed: int) -> None:
     _, acc = synthetic_motions(SOFT, duration_s=45.0, dt_s=0.01, n_realisations=30, seed=seed)
     truth = SOFT.to_dict()
     keys = (*PARAMETERS, "t_max_s")
-    inside = {key: 0 for key in keys}
+    inside = dict.fromkeys(keys, 0)
     for x in acc:
         result = fit_model(record_features(x, 0.01, t0="start"))
         fitted = result.to_dict()

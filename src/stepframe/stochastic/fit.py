@@ -20,9 +20,9 @@ Method (weighted least squares, two stages):
 Standard errors: from the Jacobian, ``cov = s² (JᵀJ)⁻¹``, inflated by the number of frames per
 window (``window_s / hop_s``) because neighbouring frames share one window and are not
 independent; the delta method carries them to ξ. ω_s's is then calibrated on synthetics
-(:data:`OMEGA_S_SE_CALIBRATION`; t_max's in the features, ``T_MAX_SE_CALIBRATION``). ``bootstrap=N`` adds moving-block bootstrap
-errors (blocks one window long). ``fit_quality`` is the weighted RMS relative misfit of ω_g(t)
-(0 is perfect; 0.1 means 10 %).
+(:data:`OMEGA_S_SE_CALIBRATION`; t_max's in the features, ``T_MAX_SE_CALIBRATION``).
+``bootstrap=N`` adds moving-block bootstrap errors (blocks one window long). ``fit_quality`` is
+the weighted RMS relative misfit of ω_g(t) (0 is perfect; 0.1 means 10 %).
 
 Optional source corner ω_c (``fit_corner=True``): the time-averaged STFT spectrum divided by the
 time-averaged fitted eq. 6.12 spectrum is fitted by the high-pass ``ω⁴/(ω² + ω_c²)²`` (the modulus
