@@ -114,6 +114,14 @@ def _run(args_list: list[str], debug: bool) -> int:
     except KeyboardInterrupt:
         print("stepframe: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:
+        # The reader went away (`stepframe ... | head -1`): stop quietly, as `yes | head` does.
+        # Point stdout at /dev/null so the interpreter's final flush does not fail again.
+        import os
+
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 141  # 128 + SIGPIPE, the shell's status for a command ended by a closed pipe
     except SystemExit as exit_:  # --help and --version exit through argparse
         return int(exit_.code or 0) if isinstance(exit_.code, int) else 0
 
