@@ -2,8 +2,17 @@
 
 from __future__ import annotations
 
+import json
+import shutil
 import subprocess
 import sys
+from pathlib import Path
+
+import pytest
+
+from stepframe.cli import main
+
+PEER = Path(__file__).resolve().parent / "data" / "peer_nga_west2"
 
 
 def test_broken_pipe_exits_quietly() -> None:
@@ -19,3 +28,35 @@ def test_broken_pipe_exits_quietly() -> None:
     stderr = process.stderr.read().decode()
     assert process.wait(timeout=120) == 141
     assert "Traceback" not in stderr and "BrokenPipe" not in stderr, stderr
+
+
+def test_features_folder_is_recursive_skips_non_records_and_refuses_zero(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    deep = tmp_path / "event" / "station"
+    deep.mkdir(parents=True)
+    shutil.copy(PEER / "RSN8883_14383980_13849360.AT2", deep)
+    (tmp_path / "LICENSE.txt").write_text("MIT")
+    (tmp_path / "records_metadata.csv").write_text("a,b\n1,2\n")
+    out = tmp_path / "f.csv"
+    assert main(["stochastic", "features", str(tmp_path), "-o", str(out), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["n_components"] == 1 and summary["n_failures"] == 0
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    (empty / "README.md").write_text("nothing here")
+    assert main(["stochastic", "features", str(empty), "-o", str(tmp_path / "g.csv")]) == 2
+    err = capsys.readouterr().err
+    assert "0 components read" in err and "Traceback" not in err
+
+
+def test_fit_text_states_the_origin_and_explains_flags(capsys: pytest.CaptureFixture[str]) -> None:
+    record = PEER / "RSN8883_14383980_13849360.AT2"
+    assert main(["stochastic", "fit", str(record), "--t0", "start"]) == 0
+    text = capsys.readouterr().out
+    assert "time origin      record start" in text
+    assert "omega_p_at_bound: omega_p at its bound" in text and "[not plausible]" in text
+    assert main(["stochastic", "fit", str(record), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    first = data[0] if isinstance(data, list) else data
+    assert first["t0_source"] == "p-pick" and first["p_pick_snr"] > 50

@@ -119,9 +119,9 @@ def test_features_folder_writes_table_and_failures(
     assert code == 0
     summary = json.loads(captured.out)
     assert summary == {
-        "components": 2,
-        "plausible": summary["plausible"],
-        "failures": 1,
+        "n_components": 2,
+        "n_plausible": summary["n_plausible"],
+        "n_failures": 1,
         "output": str(out),
         "failures_output": str(tmp_path / "features.failures.csv"),
     }

@@ -117,8 +117,9 @@ def add_record_options(parser: argparse.ArgumentParser) -> None:
 
 
 def add_t0_option(parser: argparse.ArgumentParser | argparse._ArgumentGroup, help: str) -> None:
-    """``--t0 start|p-pick``: the time origin of eqs. 6.10-6.11 (default the record start)."""
-    parser.add_argument("--t0", choices=("start", "p-pick"), default="start", help=help)
+    """``--t0 auto|start|p-pick``: the time origin of eqs. 6.10-6.11 (default ``auto``: the picked
+    P onset when the pick is reliable, else the record start; outputs say which)."""
+    parser.add_argument("--t0", choices=("auto", "start", "p-pick"), default="auto", help=help)
 
 
 def read_record_file(path: str, args: argparse.Namespace) -> Stream:

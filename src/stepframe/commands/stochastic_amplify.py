@@ -61,7 +61,11 @@ def register(subparsers: Subparsers) -> None:
     site.add_argument("--t-max-s", type=positive_float, metavar="T", help="time of peak I_g [s]")
     site.add_argument("--t-dur-s", type=positive_float, metavar="T", help="strong duration [s]")
     site.add_argument("--record", metavar="FILE", help="estimate the site from this record")
-    add_t0_option(site, "with --record: time origin, record start (default) or picked P onset")
+    add_t0_option(
+        site,
+        "with --record: time origin, auto (default: reliable P pick, else record start), "
+        "start or p-pick",
+    )
     osc = parser.add_argument_group("oscillator (either --f0-hz or --frame)")
     osc.add_argument("--f0-hz", type=positive_float, metavar="F", help="small-amplitude f0 [Hz]")
     osc.add_argument("--frame", metavar="FRAME.toml", help="frame file: ω(t) = 2π/T(A)")

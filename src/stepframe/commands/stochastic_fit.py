@@ -103,7 +103,12 @@ def _add_estimation_options(parser: argparse.ArgumentParser) -> None:
         default="zero-crossing",
         help="ω_g(t) estimator, fast to dear (default zero-crossing)",
     )
-    add_t0_option(parser, "time origin of eqs. 6.10-6.11: record start (default) or picked P onset")
+    add_t0_option(
+        parser,
+        "time origin of eqs. 6.10-6.11: auto (default: the picked P onset when the pick is "
+        "reliable, else the record start; t0_source says which), start, or p-pick (the pick "
+        "whatever its confidence)",
+    )
     parser.add_argument(
         "--omega-max-rad-s",
         type=positive_float,
@@ -191,16 +196,23 @@ def run_features(args: argparse.Namespace) -> CommandResult:
         rows, failures = stage.features_table(
             args.folder, record_options=record_options(args), **common
         )
+    if len(rows) == 0:
+        where = args.folder or args.example
+        raise InputError(
+            f"0 components read ({len(failures)} failures: see the messages above or run "
+            "`stepframe records catalog` on it), expected at least one record",
+            where,
+        )
     output, failures_output = stage.write_features(rows, failures, args.output)
     summary = {
-        "components": len(rows),
-        "plausible": int(rows["plausible"].sum()) if len(rows) else 0,
-        "failures": len(failures),
+        "n_components": len(rows),
+        "n_plausible": int(rows["plausible"].sum()),
+        "n_failures": len(failures),
         "output": str(output),
         "failures_output": str(failures_output),
     }
     text = (
-        f"{summary['components']} components ({summary['plausible']} plausible) -> {output}; "
-        f"{summary['failures']} failures -> {failures_output}"
+        f"{summary['n_components']} components ({summary['n_plausible']} plausible) -> "
+        f"{output}; {summary['n_failures']} failures -> {failures_output}"
     )
     return CommandResult(data=summary, text=text)

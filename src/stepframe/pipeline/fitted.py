@@ -62,7 +62,9 @@ FIT_COLUMNS: dict[str, tuple[str, str]] = {
     "fit_quality": ("", "weighted RMS relative misfit of ω_g(t)"),
     "omega_c_rad_s": ("rad/s", "source corner frequency (indicative), empty if not fitted"),
     "max_intensity_m_s2": ("m/s2", "max I_g"),
+    "t0_source": ("", "what t0 is: p-pick (picked P onset) or start (record start)"),
     "p_onset_s": ("s", "picked P onset in record time (empty if none)"),
+    "p_pick_snr": ("", "P pick confidence: RMS 2 s after it / RMS before (empty if none)"),
     "s_arrival_s": ("s", "picked S arrival in record time (empty if none)"),
     "alpha_reading": ("", "reading of eq. 6.11 (eq-6-11 or paper)"),
     "frequency_method": ("", "ω_g(t) estimator"),
@@ -75,7 +77,7 @@ class FitOptions:
     """How a record is fitted (the options of ``stepframe stochastic fit``)."""
 
     frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing"
-    t0: TimeOrigin = "start"
+    t0: TimeOrigin = "auto"
     window_s: float = 2.0
     omega_max_rad_s: float | None = None
     bootstrap: int = 0
@@ -125,8 +127,17 @@ def _describe(result: dict[str, Any]) -> str:
         value = result[key]
         suffix = f" ± {se:.3g}" if se is not None else ""
         lines.append(f"  {key:16s} {value:.4g}{suffix}")
+    source = result.get("t0_source")
+    if source is not None:
+        origin = "picked P onset" if source == "p-pick" else "record start"
+        lines.append(f"  time origin      {origin} (t0 = {result.get('t0_s', 0.0):.3g} s)")
     if result["flags"]:
-        lines.append(f"  flags: {', '.join(result['flags'])}")
+        from stepframe.stochastic.flags import FLAGS, describe
+
+        lines.append("  flags:")
+        for flag, line in zip(result["flags"], describe(result["flags"]), strict=True):
+            bad = " [not plausible]" if FLAGS.get(flag, (False, ""))[0] else ""
+            lines.append(f"    {line}{bad}")
     return "\n".join(lines)
 
 
@@ -184,7 +195,9 @@ def fit_record(
     for key, value in fitted.stderr.items():
         data[f"{key}_stderr"] = value
     data["max_intensity_m_s2"] = features.peak_intensity
+    data["t0_source"] = features.t0_source
     data["p_onset_s"] = features.p_onset_s
+    data["p_pick_snr"] = features.p_pick_snr
     data["s_arrival_s"] = features.s_arrival_s
     data["alpha_reading"] = fitted.model.alpha_reading
     data["frequency_method"] = features.frequency_method
@@ -284,7 +297,7 @@ def features_table(
     lowest_usable_hz: Iterable[float | None] | None = None,
     progress: bool = False,
     frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing",
-    t0: TimeOrigin = "start",
+    t0: TimeOrigin = "auto",
     window_s: float = 2.0,
     omega_max_rad_s: float | None = None,
 ) -> tuple[pd.DataFrame, pd.DataFrame]:

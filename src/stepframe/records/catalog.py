@@ -25,7 +25,7 @@ from stepframe.core.execution import map_items
 from stepframe.core.io import atomic_write
 from stepframe.core.results import Failure, failures_path, failures_table
 from stepframe.errors import InputError
-from stepframe.records.intensity import MEASURES, intensity_measures
+from stepframe.records.intensity import MEASURES, trace_intensity_measures
 from stepframe.records.units import STANDARD_GRAVITY_M_S2
 
 if TYPE_CHECKING:
@@ -105,7 +105,7 @@ def trace_row(trace: Trace, file: str = "", warning_text: str = "") -> dict[str,
     for key in ("magnitude", "repi_km", "rrup_km", "rjb_km", "vs30_m_s"):
         value = info.get(key)
         row[key] = np.nan if value is None else float(value)
-    row.update(intensity_measures(trace.data, dt))
+    row.update(trace_intensity_measures(trace))  # raw counts: after the standard processing
     psa = response_spectrum(trace.data, dt, CATALOG_PERIODS_S, CATALOG_DAMPING).psa_m_s2
     for period, value in zip(CATALOG_PERIODS_S, psa, strict=True):
         row[_psa_column(period)] = float(value) / STANDARD_GRAVITY_M_S2
@@ -122,8 +122,26 @@ def intensity_table(stream: Iterable[Trace]) -> pd.DataFrame:
     return table
 
 
+#: Files in a records folder that are not records (documentation, licences, StationXML
+#: inventories, metadata tables): skipped by :func:`record_files`, not reported as failures.
+NOT_RECORD_SUFFIXES = (".md", ".rst", ".pdf", ".html", ".json", ".xml", ".csv", ".toml", ".py")
+NOT_RECORD_PREFIXES = ("license", "licence", "readme", "provenance", "copying", "notice")
+
+
+def is_record_file(name: str) -> bool:
+    """False for hidden files and the non-record files of a records folder (names above)."""
+    lower = name.lower()
+    return not (
+        lower.startswith(".")
+        or lower.endswith(NOT_RECORD_SUFFIXES)
+        or lower.startswith(NOT_RECORD_PREFIXES)
+    )
+
+
 def record_files(path: str | PathLike[str]) -> list[Path]:
-    """Files under ``path`` (or ``path`` itself), sorted, hidden files and folders skipped."""
+    """Record files under ``path`` (or ``path`` itself), recursively, sorted; hidden files and
+    folders, documentation, licences, inventories and metadata tables skipped
+    (:func:`is_record_file`)."""
     root = Path(path)
     if root.is_file():
         return [root]
@@ -132,7 +150,7 @@ def record_files(path: str | PathLike[str]) -> list[Path]:
     files = []
     for folder, dirs, names in os.walk(root):
         dirs[:] = sorted(d for d in dirs if not d.startswith("."))
-        files += [Path(folder) / name for name in sorted(names) if not name.startswith(".")]
+        files += [Path(folder) / name for name in sorted(names) if is_record_file(name)]
     return files
 
 

@@ -293,7 +293,9 @@ def _items(source: str | Path | Any, lowest: Iterable[float | None] | None) -> l
         folder = Path(source)
         if not folder.is_dir():
             raise InputError("not a directory, expected a folder of record files", folder)
-        files = sorted(p for p in folder.iterdir() if p.is_file() and not p.name.startswith("."))
+        from stepframe.records.catalog import record_files  # the catalogue's rule: recursive
+
+        files = record_files(folder)
         return [Item(str(p)) for p in files]
     if isinstance(source, list | tuple):
         return [Item(str(p)) for p in source]

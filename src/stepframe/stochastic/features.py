@@ -231,6 +231,8 @@ P_PICK_MIN_NOISE_S = 1.0
 #: Largest RMS ratio of the second half of the pre-event section over its first half for a
 #: reliable pick (pre-event noise is steady; a smoothly rising motion is not).
 P_PICK_MAX_NOISE_GROWTH = 2.0
+#: Largest RMS of the pre-event section over the record's peak |x| for a reliable pick.
+P_PICK_MAX_NOISE_FRACTION = 0.01
 _SNR_WINDOW_S = 2.0
 
 
@@ -239,25 +241,29 @@ class Arrivals:
     """Picked P onset and S arrival in record time [s] (None when not found), and the pick's
     confidence: ``p_snr`` (RMS over 2 s after the onset over the RMS of the pre-event section
     before it, floored at the quantisation noise), ``noise_s`` (that section's length [s]) and
-    ``noise_growth`` (RMS of its second half over its first half)."""
+    ``noise_growth`` (RMS of its second half over its first half) and ``noise_fraction`` (its
+    RMS over the record's peak |x|)."""
 
     p_onset_s: float | None
     s_arrival_s: float | None
     p_snr: float = math.nan
     noise_s: float = 0.0
     noise_growth: float = math.nan
+    noise_fraction: float = math.nan
 
     @property
     def reliable(self) -> bool:
         """A P onset with SNR ≥ :data:`P_PICK_MIN_SNR` after ≥ :data:`P_PICK_MIN_NOISE_S` of
         pre-event noise that is steady (RMS of its second half < :data:`P_PICK_MAX_NOISE_GROWTH`
         × that of its first half; a motion rising smoothly from zero, without noise before it,
-        has no onset an AIC can place)."""
+        has no onset an AIC can place), and quiet: its RMS < :data:`P_PICK_MAX_NOISE_FRACTION`
+        × the record's peak (a record cut at the trigger starts in the motion itself)."""
         return (
             self.p_onset_s is not None
             and self.p_snr >= P_PICK_MIN_SNR
             and self.noise_s >= P_PICK_MIN_NOISE_S
             and self.noise_growth < P_PICK_MAX_NOISE_GROWTH
+            and self.noise_fraction < P_PICK_MAX_NOISE_FRACTION
         )
 
 
@@ -345,6 +351,7 @@ def pick_arrivals(data: NDArray[np.float64], dt_s: float, peak_time_s: float) ->
         snr,
         (p_index - lead) * dt_s,
         growth,
+        noise / max(float(np.abs(data - before.mean()).max()), 1e-300),
     )
 
 
