@@ -60,3 +60,31 @@ def test_fit_text_states_the_origin_and_explains_flags(capsys: pytest.CaptureFix
     data = json.loads(capsys.readouterr().out)
     first = data[0] if isinstance(data, list) else data
     assert first["t0_source"] == "p-pick" and first["p_pick_snr"] > 50
+
+
+def test_an_option_given_twice_is_an_error(capsys: pytest.CaptureFixture[str]) -> None:
+    record = str(PEER / "RSN8883_14383980_13849360.AT2")
+    args = ["stochastic", "amplify", "--record", record, "--record", record, "--f0-hz", "2"]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert "--record given twice" in err and "Traceback" not in err
+    assert main(["records", "info", record, "--units", "g", "--units", "gal"]) == 2
+    assert "--units given twice" in capsys.readouterr().err
+
+
+def test_csv_floats_are_printed_cleanly(tmp_path: Path) -> None:
+    import pandas as pd
+
+    from stepframe.pipeline.tables import write_table
+
+    target = tmp_path / "t.csv"
+    write_table(pd.DataFrame({"x": [0.1 + 0.2, 81.97500000000001, 1e-20 / 3]}), target)
+    lines = target.read_text().splitlines()
+    assert lines[1:] == ["0.3", "81.975", "3.33333333333e-21"]
+
+
+def test_bootstrap_errors_in_text(capsys: pytest.CaptureFixture[str]) -> None:
+    record = str(PEER / "RSN8883_14383980_13849360.AT2")
+    assert main(["stochastic", "fit", record, "--bootstrap", "5", "--seed", "1"]) == 0
+    text = capsys.readouterr().out
+    assert "(bootstrap ± " in text

@@ -98,22 +98,55 @@ FORMAT_NAMES_HELP = (
 )
 
 
+class Once(argparse.Action):
+    """Store an option's value, and refuse it given twice (argparse keeps the last silently:
+    ``--record a --record b`` would drop ``a`` without a word)."""
+
+    def __call__(
+        self,
+        parser: argparse.ArgumentParser,
+        namespace: argparse.Namespace,
+        values: Any,
+        option_string: str | None = None,
+    ) -> None:
+        given: set[str] = namespace.__dict__.setdefault("_given_once", set())
+        if self.dest in given:
+            raise UserError(
+                f"{parser.prog}: {option_string} given twice, expected it once "
+                "(one value per option)"
+            )
+        given.add(self.dest)
+        setattr(namespace, self.dest, values)
+
+
 def add_record_options(parser: argparse.ArgumentParser) -> None:
     """The record options every command that reads a record takes (DESIGN.md, Command line)."""
     group = parser.add_argument_group("record options")
     group.add_argument(
-        "--format", metavar="NAME", help=f"file format ({FORMAT_NAMES_HELP}); default: sniffed"
+        "--format",
+        action=Once,
+        metavar="NAME",
+        help=f"file format ({FORMAT_NAMES_HELP}); default: sniffed",
     )
     group.add_argument(
         "--units",
+        action=Once,
         metavar="UNIT",
         help="units of the values if the file does not say: g, m/s2, cm/s2 (= gal), mm/s2",
     )
     group.add_argument(
-        "--dt-s", type=float, metavar="DT", help="sampling interval [s] if the file does not say"
+        "--dt-s",
+        action=Once,
+        type=float,
+        metavar="DT",
+        help="sampling interval [s] if the file does not say",
     )
-    group.add_argument("--inventory", metavar="XML", help="StationXML file for response removal")
-    group.add_argument("--component", metavar="NAME", help="which channel of a multi-channel file")
+    group.add_argument(
+        "--inventory", action=Once, metavar="XML", help="StationXML file for response removal"
+    )
+    group.add_argument(
+        "--component", action=Once, metavar="NAME", help="which channel of a multi-channel file"
+    )
 
 
 def add_t0_option(parser: argparse.ArgumentParser | argparse._ArgumentGroup, help: str) -> None:
@@ -198,6 +231,7 @@ __all__ = [
     "GROUPS",
     "CommandResult",
     "InputError",
+    "Once",
     "Parser",
     "UserError",
     "add_command",

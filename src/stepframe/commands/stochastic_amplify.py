@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 
 from stepframe.commands import (
     CommandResult,
+    Once,
     add_command,
     add_record_options,
     add_t0_option,
@@ -60,7 +61,9 @@ def register(subparsers: Subparsers) -> None:
     site.add_argument("--xi-r", type=positive_float, metavar="X", help="bandwidth ratio ξ_r")
     site.add_argument("--t-max-s", type=positive_float, metavar="T", help="time of peak I_g [s]")
     site.add_argument("--t-dur-s", type=positive_float, metavar="T", help="strong duration [s]")
-    site.add_argument("--record", metavar="FILE", help="estimate the site from this record")
+    site.add_argument(
+        "--record", action=Once, metavar="FILE", help="estimate the site from this record (one)"
+    )
     add_t0_option(
         site,
         "with --record: time origin, auto (default: reliable P pick, else record start), "

@@ -19,7 +19,7 @@ from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from stepframe.core.io import atomic_write
+from stepframe.core.io import CSV_FLOAT_FORMAT, atomic_write
 from stepframe.core.results import failures_path
 from stepframe.errors import InputError
 from stepframe.pipeline.tables import read_dataset, write_dataset, write_table
@@ -124,8 +124,11 @@ def _describe(result: dict[str, Any]) -> str:
     keys = (*FIT_KEYS, "omega_c_rad_s") if result.get("omega_c_rad_s") is not None else FIT_KEYS
     for key in keys:
         se = result.get(f"{key}_stderr")
+        boot = result.get(f"{key}_bootstrap_stderr")
         value = result[key]
         suffix = f" ± {se:.3g}" if se is not None else ""
+        if boot is not None:
+            suffix += f" (bootstrap ± {boot:.3g})"
         lines.append(f"  {key:16s} {value:.4g}{suffix}")
     source = result.get("t0_source")
     if source is not None:
@@ -345,7 +348,7 @@ def write_features(
     target = Path(output)
     write_table(table, target)
     with atomic_write(failures_path(target)) as out:
-        failures.to_csv(out, index=False)
+        failures.to_csv(out, index=False, float_format=CSV_FLOAT_FORMAT)
     return target, failures_path(target)
 
 

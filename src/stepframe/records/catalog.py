@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from stepframe.core.execution import map_items
-from stepframe.core.io import atomic_write
+from stepframe.core.io import CSV_FLOAT_FORMAT, atomic_write
 from stepframe.core.results import Failure, failures_path, failures_table
 from stepframe.errors import InputError
 from stepframe.records.intensity import MEASURES, trace_intensity_measures
@@ -280,5 +280,5 @@ def write_catalog(
     frames = (table, table.attrs.get("column_dictionary", column_dictionary()), failures)
     for frame, target in zip(frames, paths, strict=True):
         with atomic_write(target) as stream:
-            frame.to_csv(stream, index=False)
+            frame.to_csv(stream, index=False, float_format=CSV_FLOAT_FORMAT)
     return paths
