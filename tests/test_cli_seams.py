@@ -80,7 +80,7 @@ def test_csv_floats_are_printed_cleanly(tmp_path: Path) -> None:
     target = tmp_path / "t.csv"
     write_table(pd.DataFrame({"x": [0.1 + 0.2, 81.97500000000001, 1e-20 / 3]}), target)
     lines = target.read_text().splitlines()
-    assert lines[1:] == ["0.3", "81.975", "3.33333333333e-21"]
+    assert lines[1:] == ["0.3", "81.975", "3.33333333333333e-21"]
 
 
 def test_bootstrap_errors_in_text(capsys: pytest.CaptureFixture[str]) -> None:
