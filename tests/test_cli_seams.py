@@ -57,8 +57,7 @@ def test_fit_text_states_the_origin_and_explains_flags(capsys: pytest.CaptureFix
     assert "time origin      record start" in text
     assert "omega_p_at_bound: omega_p at its bound" in text and "[not plausible]" in text
     assert main(["stochastic", "fit", str(record), "--json"]) == 0
-    data = json.loads(capsys.readouterr().out)
-    first = data[0] if isinstance(data, list) else data
+    (first,) = json.loads(capsys.readouterr().out)  # always a list, one object per component
     assert first["t0_source"] == "p-pick" and first["p_pick_snr"] > 50
 
 

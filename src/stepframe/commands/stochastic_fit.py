@@ -170,7 +170,8 @@ def run_fit(args: argparse.Namespace) -> CommandResult:
             save_figure(fit_figure(trace, spectrum, record.features, record.fitted), args.plot)
     results = [record.to_dict() for record in records]
     text = "\n\n".join(record.describe() for record in records)
-    return CommandResult(data=results[0] if len(results) == 1 else results, text=text)
+    # One shape whatever the file holds: a list with one object per component (docs/cli.md).
+    return CommandResult(data=results, text=text)
 
 
 def run_features(args: argparse.Namespace) -> CommandResult:
@@ -204,12 +205,16 @@ def run_features(args: argparse.Namespace) -> CommandResult:
             where,
         )
     output, failures_output = stage.write_features(rows, failures, args.output)
+    from stepframe.pipeline.tables import columns_path
+
+    # The same keys as `records catalog --json`: output paths, then counts (docs/cli.md).
     summary = {
+        "table": str(output),
+        "columns": str(columns_path(output)),
+        "failures": str(failures_output),
         "n_components": len(rows),
         "n_plausible": int(rows["plausible"].sum()),
         "n_failures": len(failures),
-        "output": str(output),
-        "failures_output": str(failures_output),
     }
     text = (
         f"{summary['n_components']} components ({summary['n_plausible']} plausible) -> "
