@@ -30,7 +30,7 @@ def register(subparsers: Subparsers) -> None:
         "info",
         help="describe records: sampling, units, peaks, Arias intensity, durations",
         examples="  stepframe records info RSN8883_14383980_13849360.AT2\n"
-        "  stepframe records info --format text --units gal --dt-s 0.01 acc.txt --json\n",
+        "  stepframe records info --format text --units gal --dt-s 0.005 acc.txt --json\n",
         run=run_info,
     )
     info.add_argument("paths", nargs="+", metavar="PATH", help="record files")
@@ -43,7 +43,7 @@ def register(subparsers: Subparsers) -> None:
         "horizontal components",
         examples="  stepframe records spectrum RSN8883_14383980_13849360.AT2 "
         "RSN8883_14383980_13849090.AT2 --periods-s 0.1,0.2,1.0 --json\n"
-        "  stepframe records spectrum CE58667.V2 --damping 0.02 --plot ce58667.png\n",
+        "  stepframe records spectrum CE58667.V2.gz --damping 0.02 --plot ce58667.png\n",
         run=run_spectrum,
         description="Pseudo-spectral acceleration PSA [g], pseudo-velocity PSV [m/s] and "
         "displacement SD [m] of each component (exact piecewise-linear recurrence). With "

@@ -35,7 +35,7 @@ EXAMPLES = """\
   stepframe stochastic amplify --fp-hz 7.43 --fs-hz 3.12 --fr-hz 1.11 --xi-p 0.096 \\
       --xi-r 0.655 --t-max-s 5 --t-dur-s 20 --f0-hz 2 --monte-carlo 500 --seed 1 --plot a.png
   # parameters estimated from a record, a frame file for ω(t) = 2π/T(A), JSON output
-  stepframe stochastic amplify --record RSN8883.AT2 --frame frame.toml --json
+  stepframe stochastic amplify --record RSN8883_14383980_13849360.AT2 --frame frame.toml --json
 """
 
 
