@@ -33,7 +33,7 @@ EXAMPLES = """\
 examples:
   stepframe demo                              list the example catalogue, draw three records
   stepframe demo --json                       the same listing as JSON
-  stepframe records info RSN8883_14383980_13849360.AT2          peaks, durations and units of a record
+  stepframe records info RSN8883_14383980_13849360.AT2   peaks, durations, units
   stepframe structure frame-template > f.toml a commented frame file to edit
   stepframe <group> --help                    the commands of a group
 """

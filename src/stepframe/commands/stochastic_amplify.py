@@ -54,7 +54,12 @@ def register(subparsers: Subparsers) -> None:
         run=run_amplify,
     )
     site = parser.add_argument_group("site (either the parameters or --record)")
-    site.add_argument("--fp-hz", type=positive_float, metavar="F", help="P-wave dominant f_p [Hz]")
+    site.add_argument(
+        "--fp-hz",
+        type=positive_float,
+        metavar="F",
+        help="P-wave dominant f_p [Hz] (omega_p_rad_s/2π; `stochastic fit` prints both)",
+    )
     site.add_argument("--fs-hz", type=positive_float, metavar="F", help="S-wave dominant f_s [Hz]")
     site.add_argument("--fr-hz", type=positive_float, metavar="F", help="surface-wave f_r [Hz]")
     site.add_argument("--xi-p", type=positive_float, metavar="X", help="bandwidth ratio ξ_p")

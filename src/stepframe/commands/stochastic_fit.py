@@ -31,7 +31,8 @@ if TYPE_CHECKING:
 FIT_EXAMPLES = """\
   stepframe stochastic fit RSN8883_14383980_13849360.AT2
   stepframe stochastic fit RSN8883_14383980_13849360.AT2 --t0 p-pick --frequency ridge --json
-  stepframe stochastic fit RSN8883_14383980_13849360.AT2 --spectrum wavelet --plot rec.png --out rec.nc
+  stepframe stochastic fit RSN8883_14383980_13849360.AT2 --spectrum wavelet \\
+      --plot rec.png --out rec.nc
   stepframe stochastic fit --format text --units gal --dt-s 0.005 acc.txt --bootstrap 20
   stepframe stochastic fit RSN8883_14383980_13849360.AT2 --corner --json
 """

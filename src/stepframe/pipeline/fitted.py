@@ -129,6 +129,9 @@ def _describe(result: dict[str, Any]) -> str:
         suffix = f" ± {se:.3g}" if se is not None else ""
         if boot is not None:
             suffix += f" (bootstrap ± {boot:.3g})"
+        if key.endswith("_rad_s") and value is not None:
+            # `stochastic amplify` takes Hz (--fp-hz ...): show both.
+            suffix += f"  = {value / (2 * math.pi):.4g} Hz"
         lines.append(f"  {key:16s} {value:.4g}{suffix}")
     source = result.get("t0_source")
     if source is not None:
