@@ -20,6 +20,7 @@ from stepframe.commands import (
     add_record_options,
     add_t0_option,
     positive_float,
+    read_record_file,
     record_options,
 )
 from stepframe.errors import InputError
@@ -36,6 +37,8 @@ EXAMPLES = """\
       --xi-r 0.655 --t-max-s 5 --t-dur-s 20 --f0-hz 2 --monte-carlo 500 --seed 1 --plot a.png
   # parameters estimated from a record, a frame file for ω(t) = 2π/T(A), JSON output
   stepframe stochastic amplify --record RSN8883_14383980_13849360.AT2 --frame frame.toml --json
+  # the site from a component of the embedded example catalogue
+  stepframe stochastic amplify --example fema-p695 --component MUL009 --f0-hz 2
 """
 
 
@@ -119,13 +122,34 @@ def run_amplify(args: argparse.Namespace) -> CommandResult:
         from stepframe.pipeline.figures import check_figure_path
 
         check_figure_path(args.plot)
-    site = site_from_options(
-        {name: getattr(args, name) for name in SITE_PARAMETERS},
-        record=args.record,
-        record_options=record_options(args),
-        t0=args.t0,
-        alpha_reading=args.alpha_at_tmax,
-    )
+    if args.example is not None:
+        # The example catalogue as the site's record: one component, as with --record.
+        from stepframe.pipeline.site import site_from_record
+
+        given = [name for name in SITE_PARAMETERS if getattr(args, name) is not None]
+        if given or args.record is not None:
+            raise InputError(
+                f"--example with {'--record' if args.record else '--' + given[0].replace('_', '-')}"
+                ", expected the site from one of the parameters, --record or --example"
+            )
+        stream = read_record_file(None, args)
+        if len(stream) != 1:
+            raise InputError(
+                f"--example {args.example}: {len(stream)} components, expected one "
+                "(pick it with --component, such as MUL009)"
+            )
+        site = site_from_record(
+            stream[0], t0=args.t0, alpha_reading=args.alpha_at_tmax,
+            name=f"example {args.example} {args.component}",
+        )  # fmt: skip
+    else:
+        site = site_from_options(
+            {name: getattr(args, name) for name in SITE_PARAMETERS},
+            record=args.record,
+            record_options=record_options(args),
+            t0=args.t0,
+            alpha_reading=args.alpha_at_tmax,
+        )
     if args.frame is not None:
         from stepframe.structure.frame_file import read_frame_file
 

@@ -91,7 +91,7 @@ def site_from_parameters(
 def site_from_record(
     trace: Trace,
     *,
-    t0: TimeOrigin = "start",
+    t0: TimeOrigin = "auto",
     alpha_reading: AlphaReading = "eq-6-11",
     name: str | PathLike[str] | None = None,
 ) -> SiteModel:
@@ -145,7 +145,7 @@ def site_from_options(
     *,
     record: str | PathLike[str] | None = None,
     record_options: Mapping[str, Any] | None = None,
-    t0: TimeOrigin = "start",
+    t0: TimeOrigin = "auto",
     alpha_reading: AlphaReading = "eq-6-11",
 ) -> SiteModel:
     """The site from either all of :data:`SITE_PARAMETERS` or a record file (not both).
