@@ -174,10 +174,16 @@ def site_from_options(
     for name in SITE_PARAMETERS:
         value = parameters.get(name)
         if value is None:
+            hint = (
+                " (the envelope's times: `stepframe stochastic fit` prints t_max_s and t_dur_s of "
+                "a record of the site; the paper's site has 5 and 20 s)"
+                if name in ("t_max_s", "t_dur_s")
+                else ""
+            )
             raise InputError(
                 f"missing --{name.replace('_', '-')}, expected all of "
                 + ", ".join("--" + n.replace("_", "-") for n in SITE_PARAMETERS)
-                + " or --record FILE"
+                + f" or --record FILE{hint}"
             )
         values[name] = float(value)
     return site_from_parameters(
