@@ -260,7 +260,11 @@ GROUPS: dict[str, tuple[str, tuple[str, ...]]] = {
     ),
     "structure": (
         "frame parameters, quasi-dynamic design, stepping simulation",
-        ("stepframe.commands.structure_design", "stepframe.commands.structure_simulate"),
+        (
+            "stepframe.commands.structure_design",
+            "stepframe.commands.structure_simulate",
+            "stepframe.commands.structure_dynamics",
+        ),
     ),
 }
 
