@@ -2,9 +2,15 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
+
+# Which test happens to compile the numba kernels first depends on order and on the cache; the
+# one-line compile notice on stderr would then show up in whichever command a test runs. The
+# suite silences it (subprocesses inherit this); tests/core/test_jit.py turns it on to check it.
+os.environ.setdefault("STEPFRAME_COMPILE_NOTICE", "0")
 
 TESTS = Path(__file__).parent
 DATA = TESTS / "data"

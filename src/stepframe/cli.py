@@ -34,7 +34,7 @@ EXAMPLES = """\
 examples:
   stepframe demo                              select records for Example 4's frame, confirm
   stepframe demo --json                       the same as JSON
-  stepframe records info RSN8883.AT2          peaks, durations and units of a record
+  stepframe records info RSN8883_14383980_13849360.AT2   peaks, durations, units
   stepframe structure frame-template > f.toml a commented frame file to edit
   stepframe <group> --help                    the commands of a group
 """
@@ -127,6 +127,14 @@ def _run(args_list: list[str], debug: bool) -> int:
     except KeyboardInterrupt:
         print("stepframe: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:
+        # The reader went away (`stepframe ... | head -1`): stop quietly, as `yes | head` does.
+        # Point stdout at /dev/null so the interpreter's final flush does not fail again.
+        import os
+
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 141  # 128 + SIGPIPE, the shell's status for a command ended by a closed pipe
     except SystemExit as exit_:  # --help and --version exit through argparse
         return int(exit_.code or 0) if isinstance(exit_.code, int) else 0
 

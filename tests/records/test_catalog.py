@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import shutil
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -124,14 +125,14 @@ def test_failure_in_measures_is_recorded_and_the_batch_goes_on(
 
     # ``stepframe.records.catalog`` is the function (the package exports it); patch the module.
     module = sys.modules["stepframe.records.catalog"]
-    real = module.intensity_measures
+    real = module.trace_intensity_measures
 
-    def failing(acc: np.ndarray, dt: float) -> dict[str, float]:
-        if dt == 0.01:  # the three DMG channels
+    def failing(trace: Any) -> dict[str, float]:
+        if float(trace.stats.delta) == 0.01:  # the three DMG channels
             raise RuntimeError("simulated failure")
-        return real(acc, dt)
+        return real(trace)  # type: ignore[no-any-return]
 
-    monkeypatch.setattr(module, "intensity_measures", failing)
+    monkeypatch.setattr(module, "trace_intensity_measures", failing)
     table, failures = catalog(folder)
     assert len(table) == 2
     measured = failures[failures["stage"] == "measures"]

@@ -81,7 +81,7 @@ def test_intensity_is_the_stft_mean_square_and_envelope_times() -> None:
     phase = cumulative_trapezoid(model.omega_g(t), t, initial=0)
     envelope = default_envelope(t, model.t_max_s, model.t_dur_s, 3.0, t0_s=model.t0_s)
     x = envelope * np.cos(phase)
-    f = record_features(x, 0.005)
+    f = record_features(x, 0.005, t0="start")
     spec = evolutionary_spectrum(x, 0.005)
     np.testing.assert_allclose(f.intensity**2, mean_square(spec), rtol=1e-12)
     # A chirp under an envelope: I_g = envelope/√2; times from the record start (t0 = 0).

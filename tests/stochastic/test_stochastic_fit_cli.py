@@ -53,7 +53,7 @@ def test_fit_json_keys_plot_and_netcdf(
     code = main(["stochastic", "fit", str(record), "--json", "--plot", str(png), "--out", str(nc)])
     out = capsys.readouterr().out
     assert code == 0
-    data = json.loads(out)
+    (data,) = json.loads(out)  # a list, one object per component
     for key in KEYS:
         assert isinstance(data[key], float)
     for key in (*KEYS[:5], "t_max_s"):  # every fitted value (t_max: the envelope fit)
@@ -85,7 +85,7 @@ def test_parametric_spectrum_bootstrap_and_chosen_estimator(
     args = ["stochastic", "fit", str(record), "--spectrum", "parametric", "--frequency", "ridge"]
     args += ["--bootstrap", "20", "--seed", "1", "--out", str(nc), "--json"]
     assert main(args) == 0
-    data = json.loads(capsys.readouterr().out)
+    (data,) = json.loads(capsys.readouterr().out)
     assert data["frequency_method"] == "ridge"
     for key in KEYS[:5]:
         assert data[f"{key}_bootstrap_stderr"] > 0
@@ -119,11 +119,12 @@ def test_features_folder_writes_table_and_failures(
     assert code == 0
     summary = json.loads(captured.out)
     assert summary == {
-        "components": 2,
-        "plausible": summary["plausible"],
-        "failures": 1,
-        "output": str(out),
-        "failures_output": str(tmp_path / "features.failures.csv"),
+        "table": str(out),
+        "columns": str(tmp_path / "features.columns.csv"),
+        "failures": str(tmp_path / "features.failures.csv"),
+        "n_components": 2,
+        "n_plausible": summary["n_plausible"],
+        "n_failures": 1,
     }
     table = pd.read_csv(out)
     assert len(table) == 2 and "omega_s_rad_s_stderr" in table.columns
@@ -187,7 +188,7 @@ def test_real_record_p_pick(data_dir: Path, capsys: pytest.CaptureFixture[str]) 
     """RSN 8883 (quiet until about 24 s): the AIC pick finds the onset, the fit is plausible."""
     path = data_dir / "peer_nga_west2" / "RSN8883_14383980_13849090.AT2"
     assert main(["stochastic", "fit", str(path), "--t0", "p-pick", "--json"]) == 0
-    data = json.loads(capsys.readouterr().out)
+    (data,) = json.loads(capsys.readouterr().out)
     assert 22.0 < data["p_onset_s"] < 26.0
     assert data["p_onset_s"] < data["s_arrival_s"] < data["p_onset_s"] + data["t_max_s"] + 1.0
     assert data["t0_s"] == data["p_onset_s"]
@@ -212,6 +213,6 @@ def test_corner_option(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> No
     path = tmp_path / "high_passed.txt"
     _write_fema(path, signal.lfilter(b, a, acc[0]), 0.01)
     assert main(["stochastic", "fit", str(path), "--corner", "--json"]) == 0
-    data = json.loads(capsys.readouterr().out)
+    (data,) = json.loads(capsys.readouterr().out)
     assert 0.4 * omega_c < data["omega_c_rad_s"] < 1.05 * omega_c
     assert 0 < data["omega_c_rad_s_stderr"] < data["omega_c_rad_s"]

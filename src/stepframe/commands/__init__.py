@@ -97,34 +97,113 @@ def add_command(
 FORMAT_NAMES_HELP = format_names_help()
 
 
+class Once(argparse.Action):
+    """Store an option's value, and refuse it given twice (argparse keeps the last silently:
+    ``--record a --record b`` would drop ``a`` without a word)."""
+
+    def __call__(
+        self,
+        parser: argparse.ArgumentParser,
+        namespace: argparse.Namespace,
+        values: Any,
+        option_string: str | None = None,
+    ) -> None:
+        given: set[str] = namespace.__dict__.setdefault("_given_once", set())
+        if self.dest in given:
+            raise UserError(
+                f"{parser.prog}: {option_string} given twice, expected it once "
+                "(one value per option)"
+            )
+        given.add(self.dest)
+        setattr(namespace, self.dest, values)
+
+
 def add_record_options(parser: argparse.ArgumentParser) -> None:
     """The record options every command that reads a record takes (DESIGN.md, Command line)."""
     group = parser.add_argument_group("record options")
+    if "--example" not in parser._option_string_actions:
+        group.add_argument(
+            "--example",
+            action=Once,
+            choices=EXAMPLE_NAMES,
+            help="read the embedded example catalogue instead of a file (100 FEMA P695 "
+            "components; --component picks one, such as MUL009)",
+        )
     group.add_argument(
-        "--format", metavar="NAME", help=f"file format ({FORMAT_NAMES_HELP}); default: sniffed"
+        "--format",
+        action=Once,
+        metavar="NAME",
+        help=f"file format ({FORMAT_NAMES_HELP}); default: sniffed",
     )
     group.add_argument(
         "--units",
+        action=Once,
         metavar="UNIT",
         help="units of the values if the file does not say: g, m/s2, cm/s2 (= gal), mm/s2",
     )
     group.add_argument(
-        "--dt-s", type=float, metavar="DT", help="sampling interval [s] if the file does not say"
+        "--dt-s",
+        action=Once,
+        type=float,
+        metavar="DT",
+        help="sampling interval [s] if the file does not say",
     )
-    group.add_argument("--inventory", metavar="XML", help="StationXML file for response removal")
-    group.add_argument("--component", metavar="NAME", help="which channel of a multi-channel file")
+    group.add_argument(
+        "--inventory", action=Once, metavar="XML", help="StationXML file for response removal"
+    )
+    group.add_argument(
+        "--component", action=Once, metavar="NAME", help="which channel of a multi-channel file"
+    )
 
 
 def add_t0_option(parser: argparse.ArgumentParser | argparse._ArgumentGroup, help: str) -> None:
-    """``--t0 start|p-pick``: the time origin of eqs. 6.10-6.11 (default the record start)."""
-    parser.add_argument("--t0", choices=("start", "p-pick"), default="start", help=help)
+    """``--t0 auto|start|p-pick``: the time origin of eqs. 6.10-6.11 (default ``auto``: the picked
+    P onset when the pick is reliable, else the record start; outputs say which)."""
+    parser.add_argument("--t0", choices=("auto", "start", "p-pick"), default="auto", help=help)
 
 
-def read_record_file(path: str, args: argparse.Namespace) -> Stream:
-    """Read ``path`` with the record options in ``args``; an ``obspy.Stream`` in m/s²."""
+#: Embedded example catalogues that ``--example`` names.
+EXAMPLE_NAMES = ("fema-p695",)
+
+
+def read_record_file(path: str | None, args: argparse.Namespace) -> Stream:
+    """Read ``path`` with the record options in ``args``, or the embedded example catalogue
+    (``--example fema-p695``; ``--component`` picks one of its components, such as MUL009);
+    an ``obspy.Stream`` in m/s²."""
+    example = getattr(args, "example", None)
+    if example is not None:
+        if path is not None:
+            raise InputError(f"a record file and --example {example}, expected one of them")
+        from obspy import Stream
+
+        from stepframe.records.examples import fema_p695
+
+        stream, _ = fema_p695()
+        if args.component is None:
+            return stream
+        chosen = [trace for trace in stream if trace.stats.channel == args.component]
+        if not chosen:
+            names = ", ".join(trace.stats.channel for trace in list(stream)[:4])
+            raise InputError(
+                f"--component {args.component} not in --example {example}, expected one of its "
+                f"100 component names ({names}, ...; `stepframe records info --example "
+                f"{example}` lists them)"
+            )
+        return Stream(chosen)
+    if path is None:
+        raise InputError("no record file, expected a record file or --example fema-p695")
     from stepframe.records import read
 
     return read(path, **record_options(args))
+
+
+def record_paths(paths: list[str], args: argparse.Namespace) -> list[str | None]:
+    """The files of a command that takes several, or ``[None]`` (the example) with --example."""
+    if getattr(args, "example", None) is not None and not paths:
+        return [None]
+    if not paths:
+        raise InputError("no record file, expected record files or --example fema-p695")
+    return list(paths)
 
 
 def record_options(args: argparse.Namespace) -> dict[str, Any]:
@@ -200,6 +279,7 @@ __all__ = [
     "GROUPS",
     "CommandResult",
     "InputError",
+    "Once",
     "Parser",
     "UserError",
     "add_command",
@@ -211,5 +291,6 @@ __all__ = [
     "positive_float",
     "read_record_file",
     "record_options",
+    "record_paths",
     "to_jsonable",
 ]

@@ -8,7 +8,9 @@ spectra, and geometric mean / RotD50 / RotD100 of two horizontal components) and
 from __future__ import annotations
 
 import argparse
-from typing import TYPE_CHECKING
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from stepframe.commands import (
     CommandResult,
@@ -17,7 +19,9 @@ from stepframe.commands import (
     add_record_options,
     float_list,
     read_record_file,
+    record_paths,
 )
+from stepframe.errors import InputError
 
 if TYPE_CHECKING:
     from stepframe.commands import Subparsers
@@ -30,10 +34,11 @@ def register(subparsers: Subparsers) -> None:
         "info",
         help="describe records: sampling, units, peaks, Arias intensity, durations",
         examples="  stepframe records info RSN8883_14383980_13849360.AT2\n"
-        "  stepframe records info --format text --units gal --dt-s 0.01 acc.txt --json\n",
+        "  stepframe records info --format text --units gal --dt-s 0.005 acc.txt --json\n"
+        "  stepframe records info --example fema-p695 --component MUL009\n",
         run=run_info,
     )
-    info.add_argument("paths", nargs="+", metavar="PATH", help="record files")
+    info.add_argument("paths", nargs="*", metavar="PATH", help="record files (or --example)")
     add_record_options(info)
 
     spectrum = add_command(
@@ -43,7 +48,7 @@ def register(subparsers: Subparsers) -> None:
         "horizontal components",
         examples="  stepframe records spectrum RSN8883_14383980_13849360.AT2 "
         "RSN8883_14383980_13849090.AT2 --periods-s 0.1,0.2,1.0 --json\n"
-        "  stepframe records spectrum CE58667.V2 --damping 0.02 --plot ce58667.png\n",
+        "  stepframe records spectrum CE58667.V2.gz --damping 0.02 --plot ce58667.png\n",
         run=run_spectrum,
         description="Pseudo-spectral acceleration PSA [g], pseudo-velocity PSV [m/s] and "
         "displacement SD [m] of each component (exact piecewise-linear recurrence). With "
@@ -51,7 +56,9 @@ def register(subparsers: Subparsers) -> None:
         "is h1), also their geometric mean, RotD50 and RotD100. Default periods: 91 "
         "log-spaced values from 0.01 s to 10 s (30 per decade).",
     )
-    spectrum.add_argument("paths", nargs="+", metavar="PATH", help="one or two record files")
+    spectrum.add_argument(
+        "paths", nargs="*", metavar="PATH", help="one or two record files (or --example)"
+    )
     spectrum.add_argument(
         "--periods-s", type=float_list, metavar="T1,T2,...", help="oscillator periods [s]"
     )
@@ -71,10 +78,13 @@ def register(subparsers: Subparsers) -> None:
         help="catalogue a folder of records: one CSV row per component with intensity measures",
         examples="  stepframe records catalog records/ -o catalog.csv\n"
         "    writes catalog.csv, catalog.columns.csv (units and meanings) and\n"
-        "    catalog.failures.csv (item, stage, error type, message of each unreadable file)\n",
+        "    catalog.failures.csv (item, stage, error type, message of each unreadable file)\n"
+        "  stepframe records catalog --example fema-p695 -o fema_catalog.csv\n",
         run=run_catalog,
     )
-    catalog.add_argument("folder", metavar="DIR", help="folder walked recursively")
+    catalog.add_argument(
+        "folder", nargs="?", metavar="DIR", help="folder walked recursively (or --example)"
+    )
     catalog.add_argument("-o", "--output", required=True, metavar="OUT.csv", help="table file")
     add_record_options(catalog)
 
@@ -83,7 +93,11 @@ def run_info(args: argparse.Namespace) -> CommandResult:
     """One row per component of every file."""
     from stepframe.pipeline.record_spectra import info_text, record_info
 
-    rows = [row for path in args.paths for row in record_info(read_record_file(path, args), path)]
+    rows = [
+        row
+        for path in record_paths(args.paths, args)
+        for row in record_info(read_record_file(path, args), path or f"example {args.example}")
+    ]
     return CommandResult(data=rows, text=info_text(rows))
 
 
@@ -97,7 +111,9 @@ def run_spectrum(args: argparse.Namespace) -> CommandResult:
         from stepframe.pipeline.figures import check_figure_path
 
         check_figure_path(args.plot)
-    traces = [trace for path in args.paths for trace in read_record_file(path, args)]
+    traces = [
+        trace for path in record_paths(args.paths, args) for trace in read_record_file(path, args)
+    ]
     data = record_spectra(traces, args.periods_s, args.damping)
     if args.plot:
         from stepframe.pipeline.figures import save_figure
@@ -108,9 +124,20 @@ def run_spectrum(args: argparse.Namespace) -> CommandResult:
 
 def run_catalog(args: argparse.Namespace) -> CommandResult:
     """Catalogue a folder; progress on stderr unless --json."""
-    from stepframe.records.catalog import catalog, check_output, write_catalog
+    from stepframe.records.catalog import catalog, check_output, intensity_table, write_catalog
 
     outputs = check_output(args.output)  # before the work, not after it
+
+    if args.example is not None:
+        from stepframe.core.results import failures_table
+
+        if args.folder is not None:
+            raise InputError(f"a folder and --example {args.example}, expected one of them")
+        table = intensity_table(read_record_file(None, args))
+        paths = write_catalog(table, failures_table([]), args.output)
+        return _catalog_result(table, 0, paths)
+    if args.folder is None:
+        raise InputError("no folder, expected a folder of records or --example fema-p695")
     table, failures = catalog(
         args.folder,
         format=args.format,
@@ -122,15 +149,19 @@ def run_catalog(args: argparse.Namespace) -> CommandResult:
         exclude=outputs,
     )
     paths = write_catalog(table, failures, args.output)
+    return _catalog_result(table, len(failures), paths)
+
+
+def _catalog_result(table: Any, n_failures: int, paths: Sequence[Path]) -> CommandResult:
     data = {
         "table": str(paths[0]),
         "columns": str(paths[1]),
         "failures": str(paths[2]),
         "n_components": len(table),
-        "n_failures": len(failures),
+        "n_failures": n_failures,
     }
     text = (
         f"{len(table)} components catalogued in {paths[0]} (columns: {paths[1]}); "
-        f"{len(failures)} failures in {paths[2]}"
+        f"{n_failures} failures in {paths[2]}"
     )
     return CommandResult(data=data, text=text)

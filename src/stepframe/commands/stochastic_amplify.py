@@ -15,10 +15,12 @@ from typing import TYPE_CHECKING
 
 from stepframe.commands import (
     CommandResult,
+    Once,
     add_command,
     add_record_options,
     add_t0_option,
     positive_float,
+    read_record_file,
     record_options,
 )
 from stepframe.errors import InputError
@@ -34,7 +36,9 @@ EXAMPLES = """\
   stepframe stochastic amplify --fp-hz 7.43 --fs-hz 3.12 --fr-hz 1.11 --xi-p 0.096 \\
       --xi-r 0.655 --t-max-s 5 --t-dur-s 20 --f0-hz 2 --monte-carlo 500 --seed 1 --plot a.png
   # parameters estimated from a record, a frame file for ω(t) = 2π/T(A), JSON output
-  stepframe stochastic amplify --record RSN8883.AT2 --frame frame.toml --json
+  stepframe stochastic amplify --record RSN8883_14383980_13849360.AT2 --frame frame.toml --json
+  # the site from a component of the embedded example catalogue
+  stepframe stochastic amplify --example fema-p695 --component MUL009 --f0-hz 2
 """
 
 
@@ -53,15 +57,26 @@ def register(subparsers: Subparsers) -> None:
         run=run_amplify,
     )
     site = parser.add_argument_group("site (either the parameters or --record)")
-    site.add_argument("--fp-hz", type=positive_float, metavar="F", help="P-wave dominant f_p [Hz]")
+    site.add_argument(
+        "--fp-hz",
+        type=positive_float,
+        metavar="F",
+        help="P-wave dominant f_p [Hz] (omega_p_rad_s/2π; `stochastic fit` prints both)",
+    )
     site.add_argument("--fs-hz", type=positive_float, metavar="F", help="S-wave dominant f_s [Hz]")
     site.add_argument("--fr-hz", type=positive_float, metavar="F", help="surface-wave f_r [Hz]")
     site.add_argument("--xi-p", type=positive_float, metavar="X", help="bandwidth ratio ξ_p")
     site.add_argument("--xi-r", type=positive_float, metavar="X", help="bandwidth ratio ξ_r")
     site.add_argument("--t-max-s", type=positive_float, metavar="T", help="time of peak I_g [s]")
     site.add_argument("--t-dur-s", type=positive_float, metavar="T", help="strong duration [s]")
-    site.add_argument("--record", metavar="FILE", help="estimate the site from this record")
-    add_t0_option(site, "with --record: time origin, record start (default) or picked P onset")
+    site.add_argument(
+        "--record", action=Once, metavar="FILE", help="estimate the site from this record (one)"
+    )
+    add_t0_option(
+        site,
+        "with --record: time origin, auto (default: reliable P pick, else record start), "
+        "start or p-pick",
+    )
     osc = parser.add_argument_group("oscillator (either --f0-hz or --frame)")
     osc.add_argument("--f0-hz", type=positive_float, metavar="F", help="small-amplitude f0 [Hz]")
     osc.add_argument("--frame", metavar="FRAME.toml", help="frame file: ω(t) = 2π/T(A)")
@@ -107,13 +122,34 @@ def run_amplify(args: argparse.Namespace) -> CommandResult:
         from stepframe.pipeline.figures import check_figure_path
 
         check_figure_path(args.plot)
-    site = site_from_options(
-        {name: getattr(args, name) for name in SITE_PARAMETERS},
-        record=args.record,
-        record_options=record_options(args),
-        t0=args.t0,
-        alpha_reading=args.alpha_at_tmax,
-    )
+    if args.example is not None:
+        # The example catalogue as the site's record: one component, as with --record.
+        from stepframe.pipeline.site import site_from_record
+
+        given = [name for name in SITE_PARAMETERS if getattr(args, name) is not None]
+        if given or args.record is not None:
+            raise InputError(
+                f"--example with {'--record' if args.record else '--' + given[0].replace('_', '-')}"
+                ", expected the site from one of the parameters, --record or --example"
+            )
+        stream = read_record_file(None, args)
+        if len(stream) != 1:
+            raise InputError(
+                f"--example {args.example}: {len(stream)} components, expected one "
+                "(pick it with --component, such as MUL009)"
+            )
+        site = site_from_record(
+            stream[0], t0=args.t0, alpha_reading=args.alpha_at_tmax,
+            name=f"example {args.example} {args.component}",
+        )  # fmt: skip
+    else:
+        site = site_from_options(
+            {name: getattr(args, name) for name in SITE_PARAMETERS},
+            record=args.record,
+            record_options=record_options(args),
+            t0=args.t0,
+            alpha_reading=args.alpha_at_tmax,
+        )
     if args.frame is not None:
         from stepframe.structure.frame_file import read_frame_file
 

@@ -30,10 +30,12 @@ if TYPE_CHECKING:
 
 FIT_EXAMPLES = """\
   stepframe stochastic fit RSN8883_14383980_13849360.AT2
-  stepframe stochastic fit rec.AT2 --t0 p-pick --frequency ridge --json
-  stepframe stochastic fit rec.AT2 --spectrum wavelet --plot rec.png --out rec.nc
-  stepframe stochastic fit --format text --units g --dt-s 0.01 acc.txt --bootstrap 200
-  stepframe stochastic fit rec.AT2 --corner --json
+  stepframe stochastic fit RSN8883_14383980_13849360.AT2 --t0 p-pick --frequency ridge --json
+  stepframe stochastic fit RSN8883_14383980_13849360.AT2 --spectrum wavelet \\
+      --plot rec.png --out rec.nc
+  stepframe stochastic fit --format text --units gal --dt-s 0.005 acc.txt --bootstrap 20
+  stepframe stochastic fit RSN8883_14383980_13849360.AT2 --corner --json
+  stepframe stochastic fit --example fema-p695 --component MUL009 --json
 """
 FEATURES_EXAMPLES = """\
   stepframe stochastic features records/ -o features.csv
@@ -55,7 +57,7 @@ def register(subparsers: Subparsers) -> None:
         examples=FIT_EXAMPLES,
         run=run_fit,
     )
-    fit.add_argument("record", metavar="RECORD", help="accelerogram file")
+    fit.add_argument("record", nargs="?", metavar="RECORD", help="accelerogram file (or --example)")
     _add_estimation_options(fit)
     fit.add_argument(
         "--spectrum",
@@ -103,7 +105,12 @@ def _add_estimation_options(parser: argparse.ArgumentParser) -> None:
         default="zero-crossing",
         help="ω_g(t) estimator, fast to dear (default zero-crossing)",
     )
-    add_t0_option(parser, "time origin of eqs. 6.10-6.11: record start (default) or picked P onset")
+    add_t0_option(
+        parser,
+        "time origin of eqs. 6.10-6.11: auto (default: the picked P onset when the pick is "
+        "reliable, else the record start; t0_source says which), start, or p-pick (the pick "
+        "whatever its confidence)",
+    )
     parser.add_argument(
         "--omega-max-rad-s",
         type=positive_float,
@@ -149,9 +156,9 @@ def run_fit(args: argparse.Namespace) -> CommandResult:
         raise InputError(
             f"{len(stream)} components in the file, expected one for --plot/--out "
             "(choose it with --component)",
-            args.record,
+            args.record or None,
         )
-    records = stage.fit_records(stream, options, file=args.record)
+    records = stage.fit_records(stream, options, file=args.record or f"example {args.example}")
     if args.plot or args.out:
         trace, record = stream[0], records[0]
         # The parametric PSD refits with the same options: the model printed is the one drawn.
@@ -165,7 +172,8 @@ def run_fit(args: argparse.Namespace) -> CommandResult:
             save_figure(fit_figure(trace, spectrum, record.features, record.fitted), args.plot)
     results = [record.to_dict() for record in records]
     text = "\n\n".join(record.describe() for record in records)
-    return CommandResult(data=results[0] if len(results) == 1 else results, text=text)
+    # One shape whatever the file holds: a list with one object per component (docs/cli.md).
+    return CommandResult(data=results, text=text)
 
 
 def run_features(args: argparse.Namespace) -> CommandResult:
@@ -191,16 +199,27 @@ def run_features(args: argparse.Namespace) -> CommandResult:
         rows, failures = stage.features_table(
             args.folder, record_options=record_options(args), **common
         )
+    if len(rows) == 0:
+        where = args.folder or args.example
+        raise InputError(
+            f"0 components read ({len(failures)} failures: see the messages above or run "
+            "`stepframe records catalog` on it), expected at least one record",
+            where,
+        )
     output, failures_output = stage.write_features(rows, failures, args.output)
+    from stepframe.pipeline.tables import columns_path
+
+    # The same keys as `records catalog --json`: output paths, then counts (docs/cli.md).
     summary = {
-        "components": len(rows),
-        "plausible": int(rows["plausible"].sum()) if len(rows) else 0,
-        "failures": len(failures),
-        "output": str(output),
-        "failures_output": str(failures_output),
+        "table": str(output),
+        "columns": str(columns_path(output)),
+        "failures": str(failures_output),
+        "n_components": len(rows),
+        "n_plausible": int(rows["plausible"].sum()),
+        "n_failures": len(failures),
     }
     text = (
-        f"{summary['components']} components ({summary['plausible']} plausible) -> {output}; "
-        f"{summary['failures']} failures -> {failures_output}"
+        f"{summary['n_components']} components ({summary['n_plausible']} plausible) -> "
+        f"{output}; {summary['n_failures']} failures -> {failures_output}"
     )
     return CommandResult(data=summary, text=text)

@@ -26,7 +26,7 @@ EXAMPLES = """\
       --weight-total-n 2.807e6 --footing-length-m 8.839 --block-width-m 1.166 \\
       --height-m 29.944 --sds-g 1.038 --sd1-g 0.456 --beta 0.8 --delta0-m 0.00254,0.3048
   # The paper's Table 1 (Example 2, caption constants, long-branch formula forced), full trace:
-  stepframe structure design --w-per-m 0.136737 --lambda-2-sqrt-m 0.381964 --sds-g 1.038 \
+  stepframe structure design --w-per-m 0.136737 --lambda-2-sqrt-m 0.381964 --sds-g 1.038 \\
       --sd1-g 0.456 --beta 0.8 --delta0-m 0.00254,0.3048 --branch long --max-iterations 19 --trace
   # From a file, β from the velocity ratio at impact (eq. 4.17, Eurocode 8 reduction):
   stepframe structure design --template > pier.toml

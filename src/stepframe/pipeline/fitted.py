@@ -19,7 +19,7 @@ from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from stepframe.core.io import atomic_write
+from stepframe.core.io import CSV_FLOAT_FORMAT, atomic_write
 from stepframe.core.results import failures_path
 from stepframe.errors import InputError
 from stepframe.pipeline.tables import read_dataset, write_dataset, write_table
@@ -62,7 +62,9 @@ FIT_COLUMNS: dict[str, tuple[str, str]] = {
     "fit_quality": ("", "weighted RMS relative misfit of ω_g(t)"),
     "omega_c_rad_s": ("rad/s", "source corner frequency (indicative), empty if not fitted"),
     "max_intensity_m_s2": ("m/s2", "max I_g"),
+    "t0_source": ("", "what t0 is: p-pick (picked P onset) or start (record start)"),
     "p_onset_s": ("s", "picked P onset in record time (empty if none)"),
+    "p_pick_snr": ("", "P pick confidence: RMS 2 s after it / RMS before (empty if none)"),
     "s_arrival_s": ("s", "picked S arrival in record time (empty if none)"),
     "alpha_reading": ("", "reading of eq. 6.11 (eq-6-11 or paper)"),
     "frequency_method": ("", "ω_g(t) estimator"),
@@ -75,7 +77,7 @@ class FitOptions:
     """How a record is fitted (the options of ``stepframe stochastic fit``)."""
 
     frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing"
-    t0: TimeOrigin = "start"
+    t0: TimeOrigin = "auto"
     window_s: float = 2.0
     omega_max_rad_s: float | None = None
     bootstrap: int = 0
@@ -122,11 +124,26 @@ def _describe(result: dict[str, Any]) -> str:
     keys = (*FIT_KEYS, "omega_c_rad_s") if result.get("omega_c_rad_s") is not None else FIT_KEYS
     for key in keys:
         se = result.get(f"{key}_stderr")
+        boot = result.get(f"{key}_bootstrap_stderr")
         value = result[key]
         suffix = f" ± {se:.3g}" if se is not None else ""
+        if boot is not None:
+            suffix += f" (bootstrap ± {boot:.3g})"
+        if key.endswith("_rad_s") and value is not None:
+            # `stochastic amplify` takes Hz (--fp-hz ...): show both.
+            suffix += f"  = {value / (2 * math.pi):.4g} Hz"
         lines.append(f"  {key:16s} {value:.4g}{suffix}")
+    source = result.get("t0_source")
+    if source is not None:
+        origin = "picked P onset" if source == "p-pick" else "record start"
+        lines.append(f"  time origin      {origin} (t0 = {result.get('t0_s', 0.0):.3g} s)")
     if result["flags"]:
-        lines.append(f"  flags: {', '.join(result['flags'])}")
+        from stepframe.stochastic.flags import FLAGS, describe
+
+        lines.append("  flags:")
+        for flag, line in zip(result["flags"], describe(result["flags"]), strict=True):
+            bad = " [not plausible]" if FLAGS.get(flag, (False, ""))[0] else ""
+            lines.append(f"    {line}{bad}")
     return "\n".join(lines)
 
 
@@ -184,7 +201,9 @@ def fit_record(
     for key, value in fitted.stderr.items():
         data[f"{key}_stderr"] = value
     data["max_intensity_m_s2"] = features.peak_intensity
+    data["t0_source"] = features.t0_source
     data["p_onset_s"] = features.p_onset_s
+    data["p_pick_snr"] = features.p_pick_snr
     data["s_arrival_s"] = features.s_arrival_s
     data["alpha_reading"] = fitted.model.alpha_reading
     data["frequency_method"] = features.frequency_method
@@ -284,7 +303,7 @@ def features_table(
     lowest_usable_hz: Iterable[float | None] | None = None,
     progress: bool = False,
     frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing",
-    t0: TimeOrigin = "start",
+    t0: TimeOrigin = "auto",
     window_s: float = 2.0,
     omega_max_rad_s: float | None = None,
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
@@ -332,7 +351,7 @@ def write_features(
     target = Path(output)
     write_table(table, target)
     with atomic_write(failures_path(target)) as out:
-        failures.to_csv(out, index=False)
+        failures.to_csv(out, index=False, float_format=CSV_FLOAT_FORMAT)
     return target, failures_path(target)
 
 

@@ -34,13 +34,14 @@ def is_vertical(channel: str) -> bool:
 def record_info(traces: Sequence[Trace], file: str | PathLike[str] = "") -> list[dict[str, Any]]:
     """One row per component: file, station, component, npts, dt [s], duration [s], the units
     in the file, and the intensity measures of
-    :func:`stepframe.records.intensity.intensity_measures` (PGA in g only)."""
-    from stepframe.records.intensity import intensity_measures
+    :func:`stepframe.records.intensity.trace_intensity_measures` (PGA in g only; a record made
+    from raw counts is measured after the stated standard processing, with a warning)."""
+    from stepframe.records.intensity import trace_intensity_measures
 
     rows = []
     for trace in traces:
         dt = float(trace.stats.delta)
-        measures = intensity_measures(trace.data, dt)
+        measures = trace_intensity_measures(trace)
         rows.append(
             {
                 "file": str(file),

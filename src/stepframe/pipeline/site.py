@@ -91,7 +91,7 @@ def site_from_parameters(
 def site_from_record(
     trace: Trace,
     *,
-    t0: TimeOrigin = "start",
+    t0: TimeOrigin = "auto",
     alpha_reading: AlphaReading = "eq-6-11",
     name: str | PathLike[str] | None = None,
 ) -> SiteModel:
@@ -145,7 +145,7 @@ def site_from_options(
     *,
     record: str | PathLike[str] | None = None,
     record_options: Mapping[str, Any] | None = None,
-    t0: TimeOrigin = "start",
+    t0: TimeOrigin = "auto",
     alpha_reading: AlphaReading = "eq-6-11",
 ) -> SiteModel:
     """The site from either all of :data:`SITE_PARAMETERS` or a record file (not both).
@@ -174,10 +174,16 @@ def site_from_options(
     for name in SITE_PARAMETERS:
         value = parameters.get(name)
         if value is None:
+            hint = (
+                " (the envelope's times: `stepframe stochastic fit` prints t_max_s and t_dur_s of "
+                "a record of the site; the paper's site has 5 and 20 s)"
+                if name in ("t_max_s", "t_dur_s")
+                else ""
+            )
             raise InputError(
                 f"missing --{name.replace('_', '-')}, expected all of "
                 + ", ".join("--" + n.replace("_", "-") for n in SITE_PARAMETERS)
-                + " or --record FILE"
+                + f" or --record FILE{hint}"
             )
         values[name] = float(value)
     return site_from_parameters(

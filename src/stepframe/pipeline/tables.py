@@ -14,7 +14,7 @@ from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from stepframe.core.io import atomic_write
+from stepframe.core.io import CSV_FLOAT_FORMAT, atomic_write
 from stepframe.errors import InputError
 
 if TYPE_CHECKING:
@@ -60,7 +60,7 @@ def write_table(table: pd.DataFrame, path: str | PathLike[str]) -> tuple[Path, P
     target = Path(path)
     dictionary = column_dictionary(table)
     with atomic_write(target) as out:
-        table.to_csv(out, index=False)
+        table.to_csv(out, index=False, float_format=CSV_FLOAT_FORMAT)
     with atomic_write(columns_path(target)) as out:
         dictionary.to_csv(out, index=False)
     return target, columns_path(target)

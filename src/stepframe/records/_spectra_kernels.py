@@ -1,4 +1,5 @@
-"""Compiled loops of :mod:`stepframe.records.spectra` (numba, cached on disk).
+"""Compiled loops of :mod:`stepframe.records.spectra` (numba, cached on disk where a folder is
+writable: :mod:`stepframe.core.jit`).
 
 Kept apart so that importing :mod:`stepframe.records.spectra` does not import numba. Each kernel
 runs the Nigam-Jennings recurrence with time outer and periods inner: the periods are independent,
@@ -8,12 +9,13 @@ measured 3-7 times faster than periods outer on the 111-period PEER grid.
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 from numpy.typing import NDArray
 
+from stepframe.core.jit import njit
 
-@numba.njit(cache=True, fastmath=True)
+
+@njit(cache=True, fastmath=True)
 def peak_displacements(
     acc: NDArray[np.float64], coeffs: NDArray[np.float64]
 ) -> NDArray[np.float64]:
@@ -34,7 +36,7 @@ def peak_displacements(
     return peak
 
 
-@numba.njit(cache=True, fastmath=True)
+@njit(cache=True, fastmath=True)
 def displacement_histories(
     acc: NDArray[np.float64], coeffs: NDArray[np.float64]
 ) -> NDArray[np.float64]:

@@ -23,11 +23,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from stepframe.core.execution import map_items
-from stepframe.core.io import atomic_write
+from stepframe.core.io import CSV_FLOAT_FORMAT, atomic_write
 from stepframe.core.results import Failure, failures_path, failures_table
 from stepframe.core.text import spreadsheet_safe
 from stepframe.errors import InputError
-from stepframe.records.intensity import MEASURES, intensity_measures
+from stepframe.records.intensity import MEASURES, trace_intensity_measures
 from stepframe.records.units import STANDARD_GRAVITY_M_S2
 
 if TYPE_CHECKING:
@@ -107,7 +107,7 @@ def trace_row(trace: Trace, file: str = "", warning_text: str = "") -> dict[str,
     for key in ("magnitude", "repi_km", "rrup_km", "rjb_km", "vs30_m_s"):
         value = info.get(key)
         row[key] = np.nan if value is None else float(value)
-    row.update(intensity_measures(trace.data, dt))
+    row.update(trace_intensity_measures(trace))  # raw counts: after the standard processing
     psa = response_spectrum(trace.data, dt, CATALOG_PERIODS_S, CATALOG_DAMPING).psa_m_s2
     for period, value in zip(CATALOG_PERIODS_S, psa, strict=True):
         row[_psa_column(period)] = float(value) / STANDARD_GRAVITY_M_S2
@@ -124,30 +124,35 @@ def intensity_table(stream: Iterable[Trace]) -> pd.DataFrame:
     return table
 
 
-#: Files in a record folder that are documentation, not records (never counted as failures).
-_NOT_RECORD_NAMES = ("license", "licence", "readme", "provenance", "copying", "notice")
-_NOT_RECORD_SUFFIXES = (".md", ".rst", ".html", ".pdf", ".png", ".json", ".toml", ".nc", ".py")
-#: Names of the files stepframe writes beside a catalogue (excluded when scanning).
-_OUTPUT_SUFFIXES = (".columns.csv", ".failures.csv")
+#: Files in a records folder that are not records (documentation, licences, StationXML
+#: inventories, metadata tables): skipped by :func:`record_files`, not reported as failures.
+NOT_RECORD_SUFFIXES = (".md", ".rst", ".pdf", ".html", ".json", ".xml", ".csv", ".toml", ".py")
+NOT_RECORD_PREFIXES = ("license", "licence", "readme", "provenance", "copying", "notice")
+#: Files stepframe writes beside its outputs (never records), also covered by ``.csv``/``.nc``.
+_OUTPUT_SUFFIXES = (".columns.csv", ".failures.csv", ".nc", ".png", ".svg", ".parquet")
 
 
-def _is_record_candidate(path: Path) -> bool:
-    name = path.name.lower()
-    if name.startswith(_NOT_RECORD_NAMES) or name.endswith(_NOT_RECORD_SUFFIXES):
-        return False
-    return not (name.endswith(_OUTPUT_SUFFIXES) or name == "failures.csv")
+def is_record_file(name: str) -> bool:
+    """False for hidden files and the non-record files of a records folder (names above)."""
+    lower = name.lower()
+    return not (
+        lower.startswith(".")
+        or lower.endswith(NOT_RECORD_SUFFIXES)
+        or lower.endswith(_OUTPUT_SUFFIXES)
+        or lower.startswith(NOT_RECORD_PREFIXES)
+    )
 
 
 def record_files(
     path: str | PathLike[str], *, exclude: Iterable[str | PathLike[str]] = ()
 ) -> list[Path]:
-    """Record files under ``path`` (or ``path`` itself), sorted.
+    """Record files under ``path`` (or ``path`` itself), recursively, sorted.
 
     Skipped: hidden files and folders; anything that is not a regular file (a FIFO or a device
-    would block or never end, a socket cannot be read); documentation beside records (LICENSE,
-    README, PROVENANCE, ``*.md``, ``*.json``, ...); stepframe's own outputs (``*.columns.csv``,
-    ``*.failures.csv``) and the paths in ``exclude`` (a catalogue written inside the folder it
-    scans must not be read back as a record on the next run).
+    would block or never end, a socket cannot be read); documentation, licences, inventories and
+    metadata tables beside records (:func:`is_record_file`); stepframe's own outputs and the
+    paths in ``exclude`` (a catalogue written inside the folder it scans must not be read back as
+    a record on the next run).
 
     Parameters
     ----------
@@ -169,7 +174,7 @@ def record_files(
         dirs[:] = sorted(d for d in dirs if not d.startswith("."))
         for name in sorted(names):
             file = Path(folder) / name
-            if name.startswith(".") or not _is_record_candidate(file):
+            if not is_record_file(name):
                 continue
             try:
                 regular = stat.S_ISREG(file.stat().st_mode)
@@ -334,5 +339,5 @@ def write_catalog(
         # Entered table first, so exited (renamed) last.
         for frame, target in zip(frames, paths, strict=True):
             stream = stack.enter_context(atomic_write(target))
-            spreadsheet_safe(frame).to_csv(stream, index=False)
+            spreadsheet_safe(frame).to_csv(stream, index=False, float_format=CSV_FLOAT_FORMAT)
     return paths

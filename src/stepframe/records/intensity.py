@@ -183,5 +183,31 @@ def intensity_measures(acc_m_s2: ArrayLike, dt_s: float) -> dict[str, float]:
 
 
 def trace_intensity_measures(trace: Trace) -> dict[str, float]:
-    """:func:`intensity_measures` of a record (``obspy.Trace`` in m/s²)."""
+    """:func:`intensity_measures` of a record (``obspy.Trace`` in m/s²).
+
+    A record made from raw counts (response or sensitivity removed by the reader) and not
+    high-passed since is measured after :func:`stepframe.records.processing.standard_processing`
+    (offset and linear trend removed, 5 % taper, 0.1 Hz high-pass), on a copy, with a
+    :class:`ProcessingWarning` saying so: as read, its offset integrates into PGV of metres per
+    second (CE.68150 HNN: PGV 37 m/s and PGD 2,200 m as read, 0.55 m/s and 0.15 m processed).
+    """
+    from stepframe.records.processing import needs_standard_processing, standard_processing
+
+    if needs_standard_processing(trace):
+        import warnings
+
+        work = standard_processing(trace.copy())
+        steps = [step["step"] for step in work.stats.stepframe.processing[-4:]]
+        warnings.warn(
+            f"{trace.id}: made from raw counts and not high-passed: intensity measures after "
+            f"the standard processing ({', '.join(steps)}: offset and linear trend removed, "
+            f"5 % taper, high-pass at {work.stats.stepframe.processing[-1]['freqmin_hz']:g} Hz)",
+            ProcessingWarning,
+            stacklevel=2,
+        )
+        trace = work
     return intensity_measures(trace.data, float(trace.stats.delta))
+
+
+class ProcessingWarning(UserWarning):
+    """Intensity measures computed after a processing step the user did not ask for."""

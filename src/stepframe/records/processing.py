@@ -202,3 +202,39 @@ def process(trace: Trace, steps: Sequence[Mapping[str, Any]]) -> Trace:
         except TypeError as exc:
             raise InputError(f"processing step {number} ({name}): {exc}") from None
     return trace
+
+
+#: Steps that make acceleration out of raw counts (the readers' names): data after them keep the
+#: sensor's offset and drift, which integrate into metres-per-second PGV and kilometre PGD.
+FROM_COUNTS_STEPS = ("remove_sensitivity", "remove_response")
+#: High-pass corner [Hz] of :func:`standard_processing`: the usual fixed corner of strong-motion
+#: processing for records with no measured noise spectrum (periods up to 10 s kept).
+STANDARD_HIGHPASS_HZ = 0.1
+#: Taper fraction at each end of :func:`standard_processing`.
+STANDARD_TAPER = 0.05
+
+
+def needs_standard_processing(trace: Any) -> bool:
+    """Whether the record was made from raw counts (:data:`FROM_COUNTS_STEPS`) and has not been
+    high-passed since: its intensity measures need :func:`standard_processing` first."""
+    history = list(trace.stats.get("stepframe", {}).get("processing", []))
+    converted = [i for i, step in enumerate(history) if step.get("step") in FROM_COUNTS_STEPS]
+    if not converted:
+        return False
+    later = history[converted[-1] + 1 :]
+    return not any(s.get("step") == "bandpass" and s.get("freqmin_hz") for s in later)
+
+
+def standard_processing(trace: Any, highpass_hz: float = STANDARD_HIGHPASS_HZ) -> Any:
+    """The stated processing of data converted from raw counts, in place: ``demean`` (offset),
+    ``detrend`` (linear baseline), ``taper`` (5 % Hann at each end) and ``bandpass`` as a
+    high-pass at ``highpass_hz`` [Hz] (4th-order Butterworth, acausal), each recorded.
+
+    It is the chain obspy's documentation and strong-motion practice apply around response
+    removal (offset and trend out, ends tapered, long periods the sensor does not resolve
+    filtered out), so that PGV, PGD and durations describe ground motion, not sensor drift.
+    """
+    demean(trace)
+    detrend(trace)
+    taper(trace, STANDARD_TAPER)
+    return bandpass(trace, highpass_hz, None, order=4, zero_phase=True)

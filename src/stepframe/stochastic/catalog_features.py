@@ -11,7 +11,9 @@ Plausibility (column ``plausible`` and ``implausible_reason``): ω_p ≥ ω_s �
 construction of the fit, so the checks are that the fitted frequencies lie inside the usable
 band (ω_r above both the window's resolution 2π/window_s and, when known, the record's lowest
 usable frequency; ω_p below half the Nyquist frequency), that ω_g falls at all (ω_p > 1.05 ω_r),
-and that no ξ hit its bounds.
+and that no flag marks a value at a bound, floor or clip
+(:func:`stepframe.stochastic.flags.implausible`; every flag's meaning in
+:data:`stepframe.stochastic.flags.FLAGS`).
 """
 
 from __future__ import annotations
@@ -31,6 +33,7 @@ from stepframe.core.results import Failure, failures_table
 from stepframe.errors import InputError
 from stepframe.stochastic.features import FrequencyEstimator, TimeOrigin, record_features
 from stepframe.stochastic.fit import PARAMETERS, fit_model
+from stepframe.stochastic.flags import implausible, meaning
 from stepframe.stochastic.methods import FrequencyMethod
 from stepframe.stochastic.transforms import DEFAULT_WINDOW_S, FftBackend
 
@@ -60,6 +63,8 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "omega_range_rad_s": ("rad/s", "ω_max - ω_min of the measured ω_g(t) in strong motion"),
     "p_onset_used": ("", "whether t0 is a picked P onset"),
     "p_onset_s": ("s", "picked P onset in record time (empty if none)"),
+    "t0_source": ("", "what t0 is: p-pick (picked P onset) or start (record start)"),
+    "p_pick_snr": ("", "P pick confidence: RMS 2 s after it / RMS before (empty if none)"),
     "flags": ("", "degraded results, ';'-separated"),
     "plausible": ("", "passes the plausibility checks"),
     "implausible_reason": ("", "why not (empty when plausible)"),
@@ -75,7 +80,7 @@ class Options:
     """Options of the per-component computation (picklable, passed to workers)."""
 
     frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing"
-    t0: TimeOrigin = "start"
+    t0: TimeOrigin = "auto"
     window_s: float = DEFAULT_WINDOW_S
     fft: FftBackend = "scipy"
     record_options: tuple[tuple[str, Any], ...] = ()
@@ -107,8 +112,9 @@ def plausibility(row: dict[str, Any], window_s: float, lowest_usable_hz: float |
         reasons.append(f"omega_p {row['omega_p_rad_s']:.3g} rad/s above usable band {high:.3g}")
     if row["omega_p_rad_s"] <= 1.05 * row["omega_r_rad_s"]:
         reasons.append("omega_g does not fall (omega_p ≈ omega_r)")
-    if "xi_clipped" in row["flags"]:
-        reasons.append("a bandwidth ratio xi hit its bound")
+    # A value at a bound, floor or clip is where the search stopped, not an estimate.
+    for flag in implausible(str(row["flags"]).split(";")):
+        reasons.append(f"{flag} ({meaning(flag)})")
     return "; ".join(reasons)
 
 
@@ -156,6 +162,8 @@ def component_row(
     )
     row["p_onset_used"] = features.p_onset_s is not None
     row["p_onset_s"] = features.p_onset_s if features.p_onset_s is not None else math.nan
+    row["t0_source"] = features.t0_source
+    row["p_pick_snr"] = math.nan if features.p_pick_snr is None else features.p_pick_snr
     row["flags"] = ";".join(result.flags)
     reason = plausibility(row, options.window_s, lowest_usable_hz)
     row["plausible"] = not reason
@@ -200,7 +208,7 @@ def catalog_features(
     executor: Executor | None = None,
     progress: bool | str = False,
     frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing",
-    t0: TimeOrigin = "start",
+    t0: TimeOrigin = "auto",
     window_s: float = DEFAULT_WINDOW_S,
     fft: FftBackend = "scipy",
     record_options: dict[str, Any] | None = None,
@@ -285,7 +293,9 @@ def _items(source: str | Path | Any, lowest: Iterable[float | None] | None) -> l
         folder = Path(source)
         if not folder.is_dir():
             raise InputError("not a directory, expected a folder of record files", folder)
-        files = sorted(p for p in folder.iterdir() if p.is_file() and not p.name.startswith("."))
+        from stepframe.records.catalog import record_files  # the catalogue's rule: recursive
+
+        files = record_files(folder)
         return [Item(str(p)) for p in files]
     if isinstance(source, list | tuple):
         return [Item(str(p)) for p in source]

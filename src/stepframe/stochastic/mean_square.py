@@ -40,11 +40,11 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Protocol
 
-import numba
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from stepframe.core import validation
+from stepframe.core.jit import njit
 from stepframe.core.results import Status
 from stepframe.errors import InputError
 from stepframe.stochastic.correlation import r_g
@@ -222,7 +222,7 @@ class MeanSquareResult:
 # --------------------------------------------------------------------------------------------
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _propagator(w2: float, beta: float, t: float) -> tuple[float, float, float, float]:
     """exp([[0, 1], [-w2, -2β]] t) as (p00, p01, p10, p11); any damping, any t ≥ 0."""
     big_w = w2 - beta * beta
@@ -242,7 +242,7 @@ def _propagator(w2: float, beta: float, t: float) -> tuple[float, float, float, 
     return e * (c + beta * s), e * s, -e * w2 * s, e * (c - beta * s)
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _stationary(
     w: float, b: float, wg: float, a: float, ig: float
 ) -> tuple[float, float, float, float, float, float]:
@@ -266,7 +266,7 @@ def _stationary(
     )
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _covariance_step(
     state: Floats,
     w: float,
@@ -329,7 +329,7 @@ def _covariance_step(
     state[6] = y10 * x10 + y11 * x11 + z10 * o10 + z11 * o11 + svv
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _covariance_run(
     omega_mid: Floats,
     beta: Floats,
@@ -368,7 +368,7 @@ def _covariance_run(
     return out
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _forced_step(w_mid: Floats, beta: Floats, h: float) -> tuple[Floats, Floats, Floats]:
     """Φ, Γ_0, Γ_1 of the exact step ``z' = Φ z + Γ_0 f_0 + Γ_1 f_1`` for forcing f linear in
     the step (f_0 at the start, f_1 at the end), frozen ω; shapes (m, 2, 2), (m, 2), (m, 2).
@@ -395,7 +395,7 @@ def _forced_step(w_mid: Floats, beta: Floats, h: float) -> tuple[Floats, Floats,
     return phi, g0, g1
 
 
-@numba.njit(cache=True)
+@njit(cache=True)
 def _white_noise_run(
     omega_mid: Floats, beta: float, q: Floats, h: float
 ) -> tuple[Floats, Floats, Floats]:

@@ -42,7 +42,8 @@ class GroundMotionModel:
     omega_p_rad_s, omega_s_rad_s, omega_r_rad_s
         Dominant frequencies of the P, S and surface waves [rad/s]; ω_p ≥ ω_s ≥ ω_r > 0, ω_p > ω_r.
     xi_p, xi_r
-        Bandwidth ratios around ω_p and ω_r (0 < ξ < 1): α_g runs from ω_p ξ_p to ω_r ξ_r [rad/s].
+        Bandwidth ratios around ω_p and ω_r (ξ > 0; ξ ≥ 1, α_g ≥ ω_g, is a broadband motion, the
+        overdamped filter of eq. 6.12): α_g runs from ω_p ξ_p to ω_r ξ_r [rad/s].
     t_max_s
         Time of peak intensity after ``t0_s`` [s]; ω_g(t_max) = ω_s.
     t_dur_s
@@ -92,8 +93,8 @@ class GroundMotionModel:
                 f"omega_p, omega_s, omega_r = {p}, {s}, {r} rad/s, expected p ≥ s ≥ r with p > r"
             )
         for name in ("xi_p", "xi_r"):
-            if not 0 < getattr(self, name) < 1:
-                raise InputError(f"{name} = {getattr(self, name)}, expected 0 < {name} < 1")
+            if not getattr(self, name) > 0:  # ξ ≥ 1 (α_g ≥ ω_g) is an overdamped filter: valid
+                raise InputError(f"{name} = {getattr(self, name)}, expected > 0")
         if not 0 < self.t_max_s <= self.t_dur_s:
             raise InputError(
                 f"t_max_s = {self.t_max_s}, t_dur_s = {self.t_dur_s}, expected 0 < t_max ≤ t_dur"

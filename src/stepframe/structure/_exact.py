@@ -39,8 +39,8 @@ import math
 from typing import Any
 
 import numpy as np
-from numba import njit, prange
 
+from stepframe.core.jit import njit, prange
 from stepframe.structure.status import (
     CHATTER_DRIFT,
     CHATTER_EPS,

@@ -35,7 +35,8 @@ import math
 from typing import Any
 
 import numpy as np
-from numba import njit
+
+from stepframe.core.jit import njit
 
 #: Kernel status codes (mapped to :data:`stepframe.core.results.STATUSES` by the caller).
 K_OK = 0

@@ -19,8 +19,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from numba import njit
 
+from stepframe.core.jit import njit
 from stepframe.core.results import Status
 from stepframe.errors import InputError
 

@@ -1,0 +1,143 @@
+"""Compiled kernels: where numba caches them, and one stderr line while they compile.
+
+``numba.njit(cache=True)`` writes its cache next to the source file (``__pycache__``) and, when
+that folder is read-only, under the user's home; with both read-only (a system or container
+install) decorating the function raises ``RuntimeError: cannot cache function ...: no locator
+available``. :func:`njit` is the drop-in that decides before decorating:
+
+1. ``NUMBA_CACHE_DIR`` set by the user: numba's own choice, untouched;
+2. the package folder writable: the cache goes beside the source, as numba does;
+3. else ``$XDG_CACHE_HOME/stepframe/numba`` (default ``~/.cache/stepframe/numba``) if it can be
+   created and written: numba is pointed there (``numba.config.CACHE_DIR``), so the kernels
+   compile once per user, not on every call;
+4. else no disk cache: the kernels compile in memory on every run, without a traceback.
+
+Compiling the kernels takes seconds to tens of seconds, once. While a stepframe kernel compiles
+(a cache miss, not a cache load) one line goes to stderr, finished with the time it took:
+``stepframe: compiling numba kernels once (cached in DIR for later runs)... 14.2 s``.
+Set :data:`ANNOUNCE` to False, or the environment variable ``STEPFRAME_COMPILE_NOTICE=0``, to
+silence it.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import tempfile
+import threading
+import time
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any, TypeVar
+
+import numba
+from numba import prange
+from numba.core import event
+
+__all__ = ["ANNOUNCE", "cache_folder", "njit", "prange"]
+
+#: Print the compile notice on stderr (one line per compiling run of a stepframe kernel).
+ANNOUNCE = os.environ.get("STEPFRAME_COMPILE_NOTICE", "1") != "0"
+
+_F = TypeVar("_F", bound=Callable[..., Any])
+_lock = threading.Lock()
+_decided: dict[str, str | None] = {}
+
+
+def _writable(folder: Path) -> bool:
+    """Whether files can be created in ``folder`` (made if missing); root's permission bypass
+    is no guide on read-only mounts, so this tries it."""
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryFile(dir=folder):
+            pass
+    except OSError:
+        return False
+    return True
+
+
+def user_cache_root() -> Path:
+    """``$XDG_CACHE_HOME/stepframe/numba``, default ``~/.cache/stepframe/numba``."""
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "stepframe" / "numba"
+
+
+def cache_folder(source_file: str) -> str | None:
+    """Where the kernels of ``source_file`` are cached: ``"numba"`` (numba's own choice: the
+    user's ``NUMBA_CACHE_DIR`` or the writable package folder), a user cache folder (numba is
+    pointed at it), or None (no writable folder: compile in memory)."""
+    package = str(Path(source_file).resolve().parent)
+    with _lock:
+        if package in _decided:
+            return _decided[package]
+        choice: str | None
+        if os.environ.get("NUMBA_CACHE_DIR") or _writable(Path(package) / "__pycache__"):
+            choice = "numba"
+        elif _writable(user_cache_root()):
+            choice = str(user_cache_root())
+            numba.config.CACHE_DIR = choice  # type: ignore[attr-defined]
+        else:
+            choice = None
+        _decided[package] = choice
+        return choice
+
+
+def njit(**options: Any) -> Callable[[_F], _F]:
+    """``numba.njit(**options)`` with ``cache=True`` (the default) only where a cache can be
+    written (module docstring); ``cache=False`` is passed through."""
+
+    def decorate(function: _F) -> _F:
+        cache = bool(options.pop("cache", True))
+        if cache:
+            source = getattr(function, "__code__", None)
+            cache = source is not None and cache_folder(source.co_filename) is not None
+        _install_listener()
+        return numba.njit(cache=cache, **options)(function)  # type: ignore[no-any-return]
+
+    return decorate
+
+
+class _CompileNotice(event.Listener):
+    """Prints the notice around the outermost compilation of a stepframe kernel."""
+
+    def __init__(self) -> None:
+        self.depth = 0
+        self.started = 0.0
+        self.printed = False
+
+    def on_start(self, ev: Any) -> None:
+        self.depth += 1
+        if self.depth != 1 or not ANNOUNCE:
+            return
+        function = getattr((ev.data or {}).get("dispatcher"), "py_func", None)
+        module = getattr(function, "__module__", "") or ""
+        if function is None or not module.startswith("stepframe."):
+            return
+        self.started = time.perf_counter()
+        self.printed = True
+        where = cache_folder(function.__code__.co_filename)
+        if where is None:
+            what = "compiling numba kernels in memory (no writable cache folder: again next run)"
+        elif where == "numba":
+            what = "compiling numba kernels once (cached for later runs)"
+        else:
+            what = f"compiling numba kernels once (cached in {where} for later runs)"
+        print(f"stepframe: {what}...", end="", file=sys.stderr)
+        sys.stderr.flush()
+
+    def on_end(self, ev: Any) -> None:
+        self.depth -= 1
+        if self.depth == 0 and self.printed:
+            self.printed = False
+            print(f" {time.perf_counter() - self.started:.1f} s", file=sys.stderr, flush=True)
+
+
+_listener: _CompileNotice | None = None
+
+
+def _install_listener() -> None:
+    global _listener
+    with _lock:
+        if _listener is None:
+            _listener = _CompileNotice()
+            event.register("numba:compile", _listener)  # type: ignore[no-untyped-call]

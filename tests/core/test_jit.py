@@ -1,0 +1,109 @@
+"""Compiled kernels on a read-only install: cache in a user folder, or in memory, never a crash.
+
+Root ignores permission bits, so the package folder and HOME are made read-only by read-only
+bind mounts inside a private mount namespace (``unshare -m``); skipped where that is impossible.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+import stepframe
+from stepframe.core import jit
+
+RECORD = Path(__file__).parents[1] / "data" / "peer_nga_west2" / "RSN8883_14383980_13849360.AT2"
+PACKAGE = Path(stepframe.__file__).resolve().parent
+
+
+def _can_bind_read_only(tmp_path: Path) -> str | None:
+    """None if ``unshare -m`` + a read-only bind mount works here, else why not."""
+    if shutil.which("unshare") is None or shutil.which("mount") is None:
+        return "unshare/mount not installed"
+    probe = tmp_path / "probe"
+    probe.mkdir()
+    script = f"mount --bind -o ro {probe} {probe} && touch {probe}/x"
+    run = subprocess.run(["unshare", "-m", "sh", "-c", script], capture_output=True, text=True)
+    if "Read-only file system" not in run.stderr:
+        return f"no private read-only bind mounts here ({run.stderr.strip() or run.returncode})"
+    return None
+
+
+def _spectrum_read_only(home: Path, env: dict[str, str]) -> subprocess.CompletedProcess[str]:
+    """``records spectrum`` with the package folder and ``home`` mounted read-only."""
+    command = (
+        f"{sys.executable} -c 'from stepframe.cli import main; main()' records spectrum "
+        f"{RECORD} --periods-s 0.1,1.0 --json"
+    )
+    script = (
+        f"mount --bind -o ro {PACKAGE} {PACKAGE} && mount --bind -o ro {home} {home} && {command}"
+    )
+    full = {k: v for k, v in os.environ.items() if not k.startswith(("NUMBA_", "XDG_"))}
+    # The suite silences the notice for its other tests (tests/conftest.py); these check it.
+    full.update(HOME=str(home), STEPFRAME_COMPILE_NOTICE="1", **env)
+    return subprocess.run(
+        ["unshare", "-m", "sh", "-c", script], capture_output=True, text=True, env=full, timeout=300
+    )
+
+
+@pytest.fixture
+def read_only_ok(tmp_path: Path) -> None:
+    reason = _can_bind_read_only(tmp_path)
+    if reason:
+        pytest.skip(reason)
+
+
+def test_nothing_writable_compiles_in_memory(tmp_path: Path, read_only_ok: None) -> None:
+    home = tmp_path / "home"
+    home.mkdir()
+    run = _spectrum_read_only(home, {})
+    assert run.returncode == 0, run.stderr
+    assert "Traceback" not in run.stderr
+    assert "compiling numba kernels in memory" in run.stderr
+    psa = json.loads(run.stdout)["components"][0]["psa_g"]
+    assert psa == pytest.approx([0.3377, 0.1303], rel=2e-3)  # as from a writable install
+    assert list(home.iterdir()) == []
+
+
+def test_user_cache_folder_is_used_and_reused(tmp_path: Path, read_only_ok: None) -> None:
+    home = tmp_path / "home"
+    home.mkdir()
+    cache = tmp_path / "cache"
+    first = _spectrum_read_only(home, {"XDG_CACHE_HOME": str(cache)})
+    assert first.returncode == 0, first.stderr
+    assert f"cached in {cache / 'stepframe' / 'numba'}" in first.stderr
+    assert list((cache / "stepframe" / "numba").rglob("*.nbi"))
+    second = _spectrum_read_only(home, {"XDG_CACHE_HOME": str(cache)})
+    assert second.returncode == 0, second.stderr
+    assert "compiling" not in second.stderr  # loaded from the user cache, not compiled again
+
+
+def test_cache_false_and_in_process_kernel_agree() -> None:
+    """The decorator passes options through: a kernel without cache gives numba's result."""
+
+    def total(x: np.ndarray) -> float:
+        s = 0.0
+        for value in x:
+            s += value
+        return s
+
+    compiled = jit.njit(cache=False)(total)
+    assert compiled(np.arange(5.0)) == 10.0
+    compiled_any: Any = compiled
+    assert type(compiled_any._cache).__name__ == "NullCache"
+
+
+def test_user_cache_root_follows_xdg(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    assert jit.user_cache_root() == tmp_path / "stepframe" / "numba"
+    monkeypatch.delenv("XDG_CACHE_HOME")
+    monkeypatch.setenv("HOME", str(tmp_path))
+    assert jit.user_cache_root() == tmp_path / ".cache" / "stepframe" / "numba"
