@@ -44,9 +44,10 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--json", action="store_true", help="print only JSON on stdout")
     parser.add_argument("--debug", action="store_true", help="show the traceback of an error")
     groups = parser.add_subparsers(dest="command", metavar="COMMAND")
-    from stepframe.commands import demo
+    from stepframe.commands import demo, run
 
     demo.register(groups)
+    run.register(groups)
     for name, (helptext, module) in GROUPS.items():
         group = groups.add_parser(
             name,
