@@ -45,7 +45,9 @@ def scene(tmp_path: Path) -> Path:
     return tmp_path
 
 
-def stepframe(*args: str, cwd: Path | None = None, timeout: float = 600) -> subprocess.CompletedProcess[str]:
+def stepframe(
+    *args: str, cwd: Path | None = None, timeout: float = 600
+) -> subprocess.CompletedProcess[str]:
     """Run the ``stepframe`` command in a subprocess."""
     return subprocess.run(
         [sys.executable, "-m", "stepframe.cli", *args],
@@ -80,5 +82,7 @@ def output_table(report: dict[str, Any], name: str) -> pd.DataFrame:
 def tree(folder: Path) -> dict[str, bytes]:
     """Every file under ``folder`` (relative path → bytes)."""
     return {
-        p.relative_to(folder).as_posix(): p.read_bytes() for p in sorted(folder.rglob("*")) if p.is_file()
+        p.relative_to(folder).as_posix(): p.read_bytes()
+        for p in sorted(folder.rglob("*"))
+        if p.is_file()
     }

@@ -36,7 +36,9 @@ def _start(workflow: Path, *extra: str) -> subprocess.Popen[str]:
     )
 
 
-def _wait_for(condition: Callable[[], bool], process: subprocess.Popen[str], timeout: float) -> bool:
+def _wait_for(
+    condition: Callable[[], bool], process: subprocess.Popen[str], timeout: float
+) -> bool:
     """Poll ``condition`` until true (True) or the process ends first (False)."""
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:

@@ -33,8 +33,10 @@ def folder(tmp_path: Path) -> Path:
     return tmp_path
 
 
-def test_misspelt_key_names_line_and_suggestion(folder: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    write_workflow(folder, FEATURES_WORKFLOW.replace('frequency =', 'frequncy ='))
+def test_misspelt_key_names_line_and_suggestion(
+    folder: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    write_workflow(folder, FEATURES_WORKFLOW.replace("frequency =", "frequncy ="))
     line = _fails(folder, capsys)
     assert f"{folder / 'wf.toml'}:5:" in line
     assert "frequncy" in line and "did you mean 'frequency'?" in line
@@ -47,7 +49,7 @@ def test_unknown_table(folder: Path, capsys: pytest.CaptureFixture[str]) -> None
 
 
 def test_wrong_type(folder: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    write_workflow(folder, FEATURES_WORKFLOW.replace('[features]', '[features]\nwindow_s = "two"'))
+    write_workflow(folder, FEATURES_WORKFLOW.replace("[features]", '[features]\nwindow_s = "two"'))
     line = _fails(folder, capsys)
     assert "wf.toml:5:" in line and "expected a number" in line
 
