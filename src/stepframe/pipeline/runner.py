@@ -43,6 +43,8 @@ if TYPE_CHECKING:
 
 #: Items computed per stored segment by default: a killed run loses at most one batch.
 DEFAULT_BATCH_ITEMS = 256
+#: A batch of at most this many items per worker runs in this process (no pool to start).
+SMALL_BATCH_PER_WORKER = 2
 
 
 @dataclass
@@ -279,10 +281,13 @@ def _run_items(
         label = stage.name
         if len(todo) > batch_items:
             label = f"{stage.name} {start + 1}-{start + len(batch)}/{len(todo)}"
+        # A few items cost less here than starting worker processes (each imports obspy, scipy
+        # and pandas: about a second) would: run them in this process.
+        jobs = execution.jobs if len(batch) > SMALL_BATCH_PER_WORKER * execution.jobs else 1
         outcome = map_items(
             _compute,
             [(stage.name, task.payload, task.name) for task in batch],
-            jobs=execution.jobs if execution.executor is None else None,
+            jobs=jobs if execution.executor is None else None,
             executor=execution.executor,
             stage=stage.name,
             name_of=operator.itemgetter(2),
