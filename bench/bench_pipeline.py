@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import resource
 import shutil
 import subprocess
@@ -76,6 +77,7 @@ def _run(workflow: Path, *extra: str) -> tuple[float, dict[str, Any]]:
         raise SystemExit(f"stepframe run failed ({done.returncode}): {done.stderr}")
     report = json.loads(done.stdout)
     report["cpu_s"] = _cpu_s() - cpu
+    report["load"] = os.getloadavg()[0]
     return seconds, report
 
 
@@ -132,6 +134,10 @@ def incremental(root: Path) -> None:
         )
     size = sum(p.stat().st_size for p in (root / "work" / "store").rglob("*") if p.is_file())
     print(f"\nstore after these runs: {size / 1e6:.2f} MB")
+    print(
+        "1-minute load average after each run (2 cores): "
+        + ", ".join(f"{r[2]['load']:.1f}" for r in rows)
+    )
 
 
 def executors(root: Path) -> float:
@@ -162,6 +168,8 @@ def executors(root: Path) -> float:
         )
     tables = [(root / w / "outputs" / "features.parquet").read_bytes() for _, w, _ in runs]
     print(f"\nfeatures tables identical across executors: {len(set(tables)) == 1}")
+    loads = ", ".join(f"{r[3]['load']:.1f}" for r in results)
+    print(f"1-minute load average after each run (2 cores): {loads}")
     return serial_features / n
 
 
@@ -191,6 +199,7 @@ def scale(root: Path, n_components: int, per_item_s: float | None) -> None:
     print(f"record files: {records / 1e6:.0f} MB")
     _, noop = _run(_workflow(root, "records", "work"), "--jobs", "2")
     print(f"no-op re-run of {n}: {_counts(noop)}")
+    print(f"1-minute load average after the run (2 cores): {report['load']:.1f}")
 
 
 def main() -> None:

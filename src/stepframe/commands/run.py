@@ -72,14 +72,15 @@ def register(subparsers: Any) -> None:
         type=int,
         default=None,
         metavar="N",
-        help="items stored per batch (default 256): a killed run loses at most one batch",
+        help="items stored per batch (default 256, or 32 per worker if more): a killed run "
+        "loses at most one batch",
     )
 
 
 def run(args: argparse.Namespace) -> CommandResult:
     """Run the workflow; exits 1 or 3 itself (after printing) when the run says so."""
     from stepframe.pipeline.lock import WorkspaceBusy
-    from stepframe.pipeline.runner import DEFAULT_BATCH_ITEMS, describe, run_workflow
+    from stepframe.pipeline.runner import describe, run_workflow
     from stepframe.pipeline.workflow import workflow_template
 
     as_json = bool(getattr(args, "json", False))
@@ -98,7 +99,7 @@ def run(args: argparse.Namespace) -> CommandResult:
             dry_run=args.dry_run,
             wait=args.wait,
             progress=not as_json,
-            batch_items=args.batch_items or DEFAULT_BATCH_ITEMS,
+            batch_items=args.batch_items,
         )
     except WorkspaceBusy as busy:
         print(f"stepframe: error: {busy}", file=sys.stderr)

@@ -43,6 +43,8 @@ if TYPE_CHECKING:
 
 #: Items computed per stored segment by default: a killed run loses at most one batch.
 DEFAULT_BATCH_ITEMS = 256
+#: With many workers, at least this many items per worker in a batch.
+BATCH_ITEMS_PER_WORKER = 32
 #: A batch of at most this many items per worker runs in this process (no pool to start).
 SMALL_BATCH_PER_WORKER = 2
 
@@ -160,7 +162,7 @@ def run_workflow(
     dry_run: bool = False,
     wait: bool = False,
     progress: bool = False,
-    batch_items: int = DEFAULT_BATCH_ITEMS,
+    batch_items: int | None = None,
 ) -> RunReport:
     """Run a workflow file (see the module docstring).
 
@@ -183,7 +185,9 @@ def run_workflow(
     progress
         Progress lines (count, rate, ETA) per stage on stderr.
     batch_items
-        Items per stored segment.
+        Items per stored segment (default: :data:`DEFAULT_BATCH_ITEMS`, or
+        :data:`BATCH_ITEMS_PER_WORKER` per worker when that is more, so that a large cluster
+        is not left idle at the end of each batch).
 
     Raises
     ------
@@ -192,8 +196,8 @@ def run_workflow(
     WorkspaceBusy
         Another run holds the workspace and ``wait`` is False.
     """
-    if batch_items < 1:
-        raise InputError(f"batch size {batch_items}, expected ≥ 1")
+    if batch_items is not None and batch_items < 1:
+        raise InputError(f"--batch-items {batch_items}, expected ≥ 1")
     forced = list(force or [])
     workflow = load_workflow(path)
     planned = _prepare(workflow, forced)
@@ -210,6 +214,7 @@ def run_workflow(
             context = Context(
                 workflow, {}, {}, {}, {}, execution.jobs, execution.executor, progress
             )
+            batch = batch_items or max(DEFAULT_BATCH_ITEMS, BATCH_ITEMS_PER_WORKER * execution.jobs)
             for name in planned:
                 stage = registry()[name]
                 summary = StageSummary(name, stage.kind)
@@ -220,7 +225,7 @@ def run_workflow(
                     summary.message = f"upstream stage {blocked[0]} has no result"
                 elif stage.kind == "item":
                     _run_items(stage, context, store, execution, summary, report, forced,
-                               retry_failed, batch_items)  # fmt: skip
+                               retry_failed, batch)  # fmt: skip
                 else:
                     _run_set(stage, context, store, summary, name in forced)
                 summary.seconds = round(time.perf_counter() - start, 3)

@@ -421,6 +421,8 @@ def workflow_template() -> str:
         "",
     ]
     for name, stage in stages.items():
+        if stage.free_params:
+            out += [f"# [{name}]".ljust(32) + f"  # {stage.description}", "#   (its own keys)", ""]
         if not stage.params:
             continue
         out.append(f"[{name}]".ljust(32) + f"  # {stage.description}")
