@@ -22,7 +22,7 @@ from stepframe.records.examples import fema_p695
 from stepframe.stochastic.catalog_features import catalog_features
 from stepframe.stochastic.features import record_features
 from stepframe.stochastic.fit import fit_model
-from stepframe.stochastic.spectra import stft_power
+from stepframe.stochastic.transforms import stft_power
 
 TARGET_COMPONENTS = 43_000
 CORES = 2

@@ -107,3 +107,20 @@ def test_reader_warning_is_one_line(data_dir: Path, tmp_path: Path) -> None:
     assert len(warning_lines) == 1
     assert warning_lines[0].startswith("stepframe: warning: ")
     assert "edited.ASC:40: PGA_CM/S^2: header peak" in warning_lines[0]
+
+
+def test_the_command_tree_builds_whatever_module_is_imported_first() -> None:
+    """GROUPS names modules instead of importing them: no import-order dependence."""
+    for first in (
+        "stepframe.commands.records",
+        "stepframe.commands.stochastic_fit",
+        "stepframe.commands.structure_design",
+    ):
+        probe = (
+            f"import {first}; from stepframe.cli import build_parser; "
+            "print(sorted(build_parser()._subparsers._group_actions[0].choices))"
+        )
+        done = subprocess.run(
+            [sys.executable, "-c", probe], capture_output=True, text=True, check=True
+        )
+        assert done.stdout.strip() == "['demo', 'records', 'stochastic', 'structure']"

@@ -19,7 +19,14 @@ from collections.abc import Sequence
 from typing import TextIO
 
 from stepframe import __version__
-from stepframe.commands import GROUPS, CommandResult, Parser, UserError, to_jsonable
+from stepframe.commands import (
+    GROUPS,
+    CommandResult,
+    Parser,
+    UserError,
+    group_modules,
+    to_jsonable,
+)
 from stepframe.errors import InputError
 
 EXAMPLES = """\
@@ -48,7 +55,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     demo.register(groups)
     run.register(groups)
-    for name, (helptext, module) in GROUPS.items():
+    for name, (helptext, _module) in GROUPS.items():
         group = groups.add_parser(
             name,
             help=helptext,
@@ -56,7 +63,8 @@ def build_parser() -> argparse.ArgumentParser:
             formatter_class=argparse.RawDescriptionHelpFormatter,
         )
         sub = group.add_subparsers(dest="subcommand", metavar="SUBCOMMAND")
-        module.register(sub)
+        for module in group_modules(name):
+            module.register(sub)
         group.set_defaults(_group_parser=group)
     return parser
 

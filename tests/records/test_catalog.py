@@ -16,6 +16,7 @@ from stepframe.records.catalog import (
     catalog,
     column_dictionary,
     intensity_table,
+    record_files,
     write_catalog,
 )
 from stepframe.records.examples import fema_p695
@@ -42,19 +43,18 @@ def folder(tmp_path: Path) -> Path:
 
 
 def test_catalog_rows_failures_and_values(folder: Path) -> None:
-    seen: list[tuple[int, int]] = []
-    table, failures = catalog(folder, progress=lambda i, n, f: seen.append((i, n)))
+    table, failures = catalog(folder)
     assert list(table.columns) == COLUMNS
     # 2 AT2 components + 3 DMG channels; the hidden file is not walked.
     assert len(table) == 5
-    assert seen == [(i, 6) for i in range(1, 7)]
-    assert sorted(Path(f).name for f in failures["file"]) == [
+    assert len(record_files(folder)) == 6
+    assert sorted(Path(f).name for f in failures["item"]) == [
         "binary.dat",
         "empty.AT2",
         "truncated.AT2",
     ]
     assert set(failures["stage"]) == {"read"}
-    assert all(reason.startswith(str(folder)) for reason in failures["reason"])
+    assert all(reason.startswith(str(folder)) for reason in failures["message"])
     row = table[table["file"].str.endswith("13849360.AT2")].iloc[0]
     trace = read(PEER / "RSN8883_14383980_13849360.AT2")[0]
     expected = intensity_measures(trace.data, 0.005)
@@ -136,5 +136,6 @@ def test_failure_in_measures_is_recorded_and_the_batch_goes_on(
     assert len(table) == 2
     measured = failures[failures["stage"] == "measures"]
     assert len(measured) == 3
-    assert set(measured["reason"]) == {"RuntimeError: simulated failure"}
-    assert all(f.endswith(("[H1]", "[H2]", "[Up]")) for f in measured["file"])
+    assert set(measured["error_type"]) == {"RuntimeError"}
+    assert set(measured["message"]) == {"simulated failure"}
+    assert all(f.endswith(("[H1]", "[H2]", "[Up]")) for f in measured["item"])

@@ -125,7 +125,7 @@ def test_catalog_cli(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None
     out = tmp_path / "cat.csv"
     assert main(["records", "catalog", str(folder), "-o", str(out)]) == 0
     captured = capsys.readouterr()
-    assert "[1/2]" in captured.err and "[2/2]" in captured.err
+    assert "catalog: 2 items, 1 failed" in captured.err
     assert "1 components" in captured.out
     summary = _json(capsys, "records", "catalog", str(folder), "-o", str(out))
     assert summary == {
@@ -135,7 +135,9 @@ def test_catalog_cli(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None
         "n_components": 1,
         "n_failures": 1,
     }
-    assert (tmp_path / "cat.failures.csv").read_text().splitlines()[0] == "file,stage,reason"
+    assert (tmp_path / "cat.failures.csv").read_text().splitlines()[
+        0
+    ] == "item,stage,error_type,message"
 
 
 def test_spectrum_of_a_three_channel_file_uses_its_horizontals(

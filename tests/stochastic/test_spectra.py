@@ -11,8 +11,9 @@ from scipy.signal.windows import hann
 from stepframe.errors import InputError
 from stepframe.records.trace import make_trace
 from stepframe.stochastic.model import GroundMotionModel
-from stepframe.stochastic.spectra import evolutionary_spectrum, mean_square, stft_power
+from stepframe.stochastic.spectra import evolutionary_spectrum, mean_square
 from stepframe.stochastic.synthetic import synthetic_motions
+from stepframe.stochastic.transforms import stft_power
 
 SITE = GroundMotionModel.from_hz(7.43, 3.12, 1.11, 0.096, 0.655, t_max_s=5.0, t_dur_s=20.0)
 #: Nearly constant parameters: a stationary eq. 6.12 process (ω_g = 20 rad/s, α_g = 4 rad/s).

@@ -123,12 +123,12 @@ def test_features_folder_writes_table_and_failures(
         "plausible": summary["plausible"],
         "failures": 1,
         "output": str(out),
-        "failures_output": str(tmp_path / "features_failures.csv"),
+        "failures_output": str(tmp_path / "features.failures.csv"),
     }
     table = pd.read_csv(out)
     assert len(table) == 2 and "omega_s_rad_s_stderr" in table.columns
-    failures = pd.read_csv(tmp_path / "features_failures.csv")
-    assert list(failures["stage"]) == ["read"] and "broken.txt" in failures["file"].iloc[0]
+    failures = pd.read_csv(tmp_path / "features.failures.csv")
+    assert list(failures["stage"]) == ["read"] and "broken.txt" in failures["item"].iloc[0]
     assert "features:" in captured.err  # progress on stderr, stdout is only JSON
 
 

@@ -45,7 +45,7 @@ def test_example_2_from_options(capsys: pytest.CaptureFixture[str]) -> None:
     iterations = data["iterations"]
     assert isinstance(iterations, list) and len(iterations) == 2
     for trace in iterations:
-        assert trace["status"] == "converged"
+        assert trace["status"] == "ok"
         assert trace["delta_m"] == pytest.approx(design["delta_m"], rel=1e-9)
     assert iterations[0]["rows"][0]["branch"] == "short"  # 0.1 in starts on the plateau
 

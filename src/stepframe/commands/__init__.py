@@ -1,8 +1,9 @@
 """Shared machinery of the command groups: parser class, results, JSON, the record options.
 
-Each group module (``records``, ``stochastic``, ``structure``) has ``register(subparsers)``, which
-adds its commands with :func:`add_command`. A command's ``run(args)`` returns a
-:class:`CommandResult`; :mod:`stepframe.cli` prints it. Group modules import only argparse at
+Each command module (listed per group in :data:`GROUPS`) has ``register(subparsers)``, which adds
+its commands with :func:`add_command`. A command parses its options, calls one library function
+(mostly a :mod:`stepframe.pipeline` stage) and returns a :class:`CommandResult`;
+:mod:`stepframe.cli` prints it. Command modules import only argparse and light name modules at
 module level: the heavy imports happen inside ``run``.
 """
 
@@ -13,9 +14,15 @@ import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from types import ModuleType
-from typing import Any, NoReturn
+from typing import TYPE_CHECKING, Any, NoReturn
 
 from stepframe.errors import InputError
+
+if TYPE_CHECKING:
+    from obspy import Stream
+
+    #: What ``ArgumentParser.add_subparsers()`` returns (argparse names the class privately).
+    Subparsers = argparse._SubParsersAction[argparse.ArgumentParser]
 
 
 class UserError(Exception):
@@ -56,7 +63,7 @@ def to_jsonable(value: Any) -> Any:
 
 
 def add_command(
-    subparsers: Any,
+    subparsers: Subparsers,
     name: str,
     *,
     help: str,
@@ -109,31 +116,47 @@ def add_record_options(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--component", metavar="NAME", help="which channel of a multi-channel file")
 
 
-def read_record_file(path: str, args: argparse.Namespace) -> Any:
+def add_t0_option(parser: argparse.ArgumentParser | argparse._ArgumentGroup, help: str) -> None:
+    """``--t0 start|p-pick``: the time origin of eqs. 6.10-6.11 (default the record start)."""
+    parser.add_argument("--t0", choices=("start", "p-pick"), default="start", help=help)
+
+
+def read_record_file(path: str, args: argparse.Namespace) -> Stream:
     """Read ``path`` with the record options in ``args``; an ``obspy.Stream`` in m/s²."""
     from stepframe.records import read
 
-    return read(
-        path,
-        format=args.format,
-        units=args.units,
-        dt=args.dt_s,
-        inventory=args.inventory,
-        component=args.component,
-    )
+    return read(path, **record_options(args))
+
+
+def record_options(args: argparse.Namespace) -> dict[str, Any]:
+    """The record options in ``args`` as keyword arguments of :func:`stepframe.records.read`."""
+    return {
+        "format": args.format,
+        "units": args.units,
+        "dt": args.dt_s,
+        "inventory": args.inventory,
+        "component": args.component,
+    }
+
+
+def _finite_float(text: str, accept: Callable[[float], bool], refused: str, expected: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number, expected {expected}") from None
+    if not (math.isfinite(value) and accept(value)):
+        raise argparse.ArgumentTypeError(f"{text!r}{refused}, expected {expected}")
+    return value
 
 
 def positive_float(text: str) -> float:
     """argparse type: a finite number > 0."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"{text!r} is not a number, expected a positive number"
-        ) from None
-    if not (math.isfinite(value) and value > 0):
-        raise argparse.ArgumentTypeError(f"{text!r} is not positive, expected a positive number")
-    return value
+    return _finite_float(text, lambda v: v > 0, " is not positive", "a positive number")
+
+
+def non_negative_seconds(text: str) -> float:
+    """argparse type: a finite duration ≥ 0 [s]."""
+    return _finite_float(text, lambda v: v >= 0, "", "seconds ≥ 0")
 
 
 def float_list(text: str) -> list[float]:
@@ -144,20 +167,35 @@ def float_list(text: str) -> list[float]:
         raise argparse.ArgumentTypeError(f"{text!r}, expected comma-separated numbers") from None
 
 
-def _groups() -> dict[str, tuple[str, ModuleType]]:
-    from stepframe.commands import records, stochastic, structure
-
-    return {
-        "records": ("read accelerograms, intensity measures, spectra, catalogues", records),
-        "stochastic": (
-            "evolutionary spectra, ground-motion model, mean square, amplification",
-            stochastic,
+#: The command groups: name → (help, the modules whose ``register(subparsers)`` add its
+#: commands). Modules are named, not imported, so building the table needs none of them (they
+#: import this package for :func:`add_command`); :func:`group_modules` imports them.
+GROUPS: dict[str, tuple[str, tuple[str, ...]]] = {
+    "records": (
+        "read accelerograms, intensity measures, spectra, catalogues",
+        ("stepframe.commands.records",),
+    ),
+    "stochastic": (
+        "evolutionary spectra, ground-motion model, mean square, amplification",
+        ("stepframe.commands.stochastic_fit", "stepframe.commands.stochastic_amplify"),
+    ),
+    "structure": (
+        "frame parameters, quasi-dynamic design, stepping simulation",
+        (
+            "stepframe.commands.structure_design",
+            "stepframe.commands.structure_simulate",
+            "stepframe.commands.structure_dynamics",
         ),
-        "structure": ("frame parameters, quasi-dynamic design, stepping simulation", structure),
-    }
+    ),
+}
 
 
-GROUPS = _groups()
+def group_modules(name: str) -> list[ModuleType]:
+    """The modules of group ``name``, each with ``register(subparsers)``."""
+    import importlib
+
+    return [importlib.import_module(module) for module in GROUPS[name][1]]
+
 
 __all__ = [
     "GROUPS",
@@ -167,8 +205,12 @@ __all__ = [
     "UserError",
     "add_command",
     "add_record_options",
+    "add_t0_option",
     "float_list",
+    "group_modules",
+    "non_negative_seconds",
     "positive_float",
     "read_record_file",
+    "record_options",
     "to_jsonable",
 ]

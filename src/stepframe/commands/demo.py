@@ -88,7 +88,10 @@ def _draw_records(stream: Any, table: Any, rows: list[int], path: Path) -> None:
         ax.set_ylabel("acceleration [g]")
     axes[-1].set_xlabel("time [s]")
     fig.tight_layout()
-    tmp = path.with_name(path.name + ".part")
-    fig.savefig(tmp, dpi=110, format="png")
-    plt.close(fig)
-    tmp.replace(path)  # nothing half-written: write to a temporary name, then rename
+    from stepframe.core.io import atomic_write
+
+    try:
+        with atomic_write(path, "wb") as out:  # nothing half-written, even on an error
+            fig.savefig(out, dpi=110, format="png")
+    finally:
+        plt.close(fig)

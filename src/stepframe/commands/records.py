@@ -8,8 +8,7 @@ spectra, and geometric mean / RotD50 / RotD100 of two horizontal components) and
 from __future__ import annotations
 
 import argparse
-import sys
-from typing import Any
+from typing import TYPE_CHECKING
 
 from stepframe.commands import (
     CommandResult,
@@ -20,11 +19,11 @@ from stepframe.commands import (
     read_record_file,
 )
 
-#: Channel names of vertical components (SEED codes ending in Z are vertical too).
-_VERTICAL_NAMES = {"up", "ud", "ud1", "ud2", "z", "v", "ver", "vert", "vertical", "dwn", "down"}
+if TYPE_CHECKING:
+    from stepframe.commands import Subparsers
 
 
-def register(subparsers: Any) -> None:
+def register(subparsers: Subparsers) -> None:
     """Add the ``records`` commands to ``subparsers``."""
     info = add_command(
         subparsers,
@@ -72,7 +71,7 @@ def register(subparsers: Any) -> None:
         help="catalogue a folder of records: one CSV row per component with intensity measures",
         examples="  stepframe records catalog records/ -o catalog.csv\n"
         "    writes catalog.csv, catalog.columns.csv (units and meanings) and\n"
-        "    catalog.failures.csv (file, stage, reason of every file it could not read)\n",
+        "    catalog.failures.csv (item, stage, error type, message of each unreadable file)\n",
         run=run_catalog,
     )
     catalog.add_argument("folder", metavar="DIR", help="folder walked recursively")
@@ -82,155 +81,34 @@ def register(subparsers: Any) -> None:
 
 def run_info(args: argparse.Namespace) -> CommandResult:
     """One row per component of every file."""
-    from stepframe.records.intensity import intensity_measures
+    from stepframe.pipeline.record_spectra import info_text, record_info
 
-    rows = []
-    for path in args.paths:
-        for trace in read_record_file(path, args):
-            dt = float(trace.stats.delta)
-            measures = intensity_measures(trace.data, dt)
-            rows.append(
-                {
-                    "file": path,
-                    "station": trace.stats.station,
-                    "component": trace.stats.channel,
-                    "npts": int(trace.stats.npts),
-                    "dt_s": dt,
-                    "duration_s": dt * (int(trace.stats.npts) - 1),
-                    "units_in": trace.stats.stepframe.units_in,
-                    **{key: value for key, value in measures.items() if key != "pga_m_s2"},
-                }
-            )
-    text = "\n".join(
-        f"{r['file']} {r['station']} {r['component']}: {r['npts']} samples at {r['dt_s']} s, "
-        f"units {r['units_in']}, PGA {r['pga_g']:.4g} g, PGV {r['pgv_m_s']:.4g} m/s, "
-        f"PGD {r['pgd_m']:.4g} m, Arias {r['arias_m_s']:.4g} m/s, D5-95 {r['d5_95_s']:.4g} s"
-        for r in rows
-    )
-    return CommandResult(data=rows, text=text)
-
-
-def _is_vertical(channel: str) -> bool:
-    name = channel.strip().lower()
-    return name in _VERTICAL_NAMES or (len(name) == 3 and name.endswith("z"))
+    rows = [row for path in args.paths for row in record_info(read_record_file(path, args), path)]
+    return CommandResult(data=rows, text=info_text(rows))
 
 
 def run_spectrum(args: argparse.Namespace) -> CommandResult:
     """Spectra of every component; RotD of two horizontal ones."""
-    import numpy as np
-
-    from stepframe.errors import InputError
-    from stepframe.records.spectra import DEFAULT_PERIODS_S, response_spectrum
+    from stepframe.pipeline.record_spectra import record_spectra, spectra_figure, spectra_text
 
     if len(args.paths) > 2:
         raise UserError("records spectrum: give one or two record files")
-    periods = np.asarray(
-        DEFAULT_PERIODS_S if args.periods_s is None else args.periods_s, dtype=float
-    )
-    traces = [trace for path in args.paths for trace in read_record_file(path, args)]
-    components = []
-    for trace in traces:
-        result = response_spectrum(trace.data, float(trace.stats.delta), periods, args.damping)
-        components.append(
-            {
-                "component": trace.stats.channel,
-                "station": trace.stats.station,
-                "psa_g": result.psa_g,
-                "psv_m_s": result.psv_m_s,
-                "sd_m": result.sd_m,
-            }
-        )
-    data: dict[str, Any] = {
-        "period_s": periods,
-        "damping": args.damping,
-        "components": components,
-    }
-    horizontal = [t for t in traces if not _is_vertical(t.stats.channel)]
-    if len(horizontal) == 2:
-        from stepframe.records.rotd import rotd_spectrum
-
-        h1, h2 = horizontal
-        if float(h1.stats.delta) != float(h2.stats.delta):
-            raise InputError(
-                f"horizontal components sampled at {h1.stats.delta} s and {h2.stats.delta} s, "
-                "expected the same sampling interval"
-            )
-        rotd = rotd_spectrum(h1.data, h2.data, float(h1.stats.delta), periods, args.damping)
-        data.update(
-            h1=h1.stats.channel,
-            h2=h2.stats.channel,
-            geomean_g=rotd.in_g("geomean"),
-            rotd50_g=rotd.in_g("rotd50"),
-            rotd100_g=rotd.in_g("rotd100"),
-        )
     if args.plot:
-        _plot(data, args.plot)
-    return CommandResult(data=data, text=_spectrum_text(data))
+        from stepframe.pipeline.figures import check_figure_path
 
+        check_figure_path(args.plot)
+    traces = [trace for path in args.paths for trace in read_record_file(path, args)]
+    data = record_spectra(traces, args.periods_s, args.damping)
+    if args.plot:
+        from stepframe.pipeline.figures import save_figure
 
-def _spectrum_text(data: dict[str, Any]) -> str:
-    names = [c["component"] for c in data["components"]]
-    header = ["period_s"] + [f"psa_g[{n}]" for n in names]
-    columns = [data["period_s"]] + [c["psa_g"] for c in data["components"]]
-    for key in ("geomean_g", "rotd50_g", "rotd100_g"):
-        if key in data:
-            header.append(key)
-            columns.append(data[key])
-    lines = [f"damping {data['damping']}", "  ".join(f"{h:>12}" for h in header)]
-    for i in range(len(data["period_s"])):
-        lines.append("  ".join(f"{float(col[i]):12.5g}" for col in columns))
-    return "\n".join(lines)
-
-
-def _plot(data: dict[str, Any], out: str) -> None:
-    import os
-    import tempfile
-    from pathlib import Path
-
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from stepframe.errors import InputError
-
-    target = Path(out)
-    if not target.parent.is_dir():
-        raise InputError("plot folder does not exist, expected an existing folder", target)
-    figure, axes = plt.subplots(figsize=(6.4, 4.2), layout="constrained")
-    for component in data["components"]:
-        axes.plot(data["period_s"], component["psa_g"], label=component["component"], lw=1)
-    for key, label in (("rotd50_g", "RotD50"), ("rotd100_g", "RotD100")):
-        if key in data:
-            axes.plot(data["period_s"], data[key], label=label, lw=2)
-    axes.set(
-        xscale="log",
-        xlabel="period T [s]",
-        ylabel="PSA [g]",
-        title=f"pseudo-spectral acceleration, damping {data['damping']:g}",
-    )
-    axes.grid(True, which="both", alpha=0.3)
-    axes.legend()
-    handle, temporary = tempfile.mkstemp(
-        prefix=f".{target.name}.", suffix=".png", dir=target.parent
-    )
-    os.close(handle)
-    try:
-        figure.savefig(temporary, dpi=120)
-        os.replace(temporary, target)
-    finally:
-        plt.close(figure)
-        Path(temporary).unlink(missing_ok=True)
+        save_figure(spectra_figure(data), args.plot)
+    return CommandResult(data=data, text=spectra_text(data))
 
 
 def run_catalog(args: argparse.Namespace) -> CommandResult:
     """Catalogue a folder; progress on stderr unless --json."""
     from stepframe.records.catalog import catalog, write_catalog
-
-    show_progress = not getattr(args, "json", False)
-
-    def progress(number: int, total: int, file: str) -> None:
-        print(f"[{number}/{total}] {file}", file=sys.stderr, flush=True)
 
     table, failures = catalog(
         args.folder,
@@ -239,7 +117,7 @@ def run_catalog(args: argparse.Namespace) -> CommandResult:
         dt_s=args.dt_s,
         inventory=args.inventory,
         component=args.component,
-        progress=progress if show_progress else None,
+        progress=not getattr(args, "json", False),
     )
     paths = write_catalog(table, failures, args.output)
     data = {

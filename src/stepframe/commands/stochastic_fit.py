@@ -3,25 +3,30 @@
 ``fit`` estimates the Beck-Papadimitriou parameters of one record (every component of the file),
 draws the record, I_g(t) and the evolutionary PSD with ω_g(t) and the fitted curve, and writes the
 PSD and features as NetCDF. ``features`` does the same for every file of a folder (or the
-embedded example catalogue) and writes one CSV row per component plus a failure table.
-Heavy imports happen inside the ``run`` functions.
+embedded example catalogue) and writes one CSV row per component plus a failure table. The work
+is done by :mod:`stepframe.pipeline.fitted`; heavy imports happen inside the ``run`` functions.
 """
 
 from __future__ import annotations
 
 import argparse
-import os
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from stepframe.commands import (
     CommandResult,
     add_command,
     add_record_options,
+    add_t0_option,
     positive_float,
     read_record_file,
+    record_options,
 )
 from stepframe.errors import InputError
+from stepframe.stochastic.methods import FREQUENCY_METHOD_NAMES, SPECTRUM_METHOD_NAMES
+
+if TYPE_CHECKING:
+    from stepframe.commands import Subparsers
 
 FIT_EXAMPLES = """\
   stepframe stochastic fit RSN8883_14383980_13849360.AT2
@@ -36,21 +41,8 @@ FEATURES_EXAMPLES = """\
   stepframe stochastic features records/ -o f.csv --format at2 --t0 p-pick --json
 """
 
-#: Keys of the parameter set printed by ``fit`` (plus ``<key>_stderr`` for fitted values).
-FIT_KEYS = (
-    "omega_p_rad_s",
-    "omega_s_rad_s",
-    "omega_r_rad_s",
-    "xi_p",
-    "xi_r",
-    "t_max_s",
-    "t_dur_s",
-    "t0_s",
-    "fit_quality",
-)
 
-
-def register(subparsers: Any) -> None:
+def register(subparsers: Subparsers) -> None:
     """Add ``fit`` and ``features`` to the ``stochastic`` group."""
     fit = add_command(
         subparsers,
@@ -67,7 +59,7 @@ def register(subparsers: Any) -> None:
     _add_estimation_options(fit)
     fit.add_argument(
         "--spectrum",
-        choices=("stft", "wavelet", "parametric"),
+        choices=SPECTRUM_METHOD_NAMES,
         default="stft",
         help="evolutionary PSD drawn and written (default stft)",
     )
@@ -88,7 +80,8 @@ def register(subparsers: Any) -> None:
         help="features and fitted parameters of every record in a folder",
         description=(
             "One CSV row per component (parameters with units in the column names, max I_g, "
-            "ω_max - ω_min, fit quality, P onset used); failures go to <OUT>_failures.csv."
+            "ω_max - ω_min, fit quality, P onset used); failures go to <OUT>.failures.csv, "
+            "the column dictionary to <OUT>.columns.csv."
         ),
         examples=FEATURES_EXAMPLES,
         run=run_features,
@@ -106,16 +99,11 @@ def register(subparsers: Any) -> None:
 def _add_estimation_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--frequency",
-        choices=("zero-crossing", "ridge", "moment", "wavelet-ridge"),
+        choices=FREQUENCY_METHOD_NAMES,
         default="zero-crossing",
         help="ω_g(t) estimator, fast to dear (default zero-crossing)",
     )
-    parser.add_argument(
-        "--t0",
-        choices=("start", "p-pick"),
-        default="start",
-        help="time origin of eqs. 6.10-6.11: record start (default) or picked P onset",
-    )
+    add_t0_option(parser, "time origin of eqs. 6.10-6.11: record start (default) or picked P onset")
     parser.add_argument(
         "--omega-max-rad-s",
         type=positive_float,
@@ -138,20 +126,23 @@ def _check_output(path: str | None) -> None:
         raise InputError("output folder does not exist, expected an existing folder", path)
 
 
-def _atomic_path(target: Path) -> Path:
-    """A temporary name beside ``target`` with the same suffix (formats follow the suffix)."""
-    return target.with_name(f".{target.stem}.{os.getpid()}.tmp{target.suffix}")
-
-
 def run_fit(args: argparse.Namespace) -> CommandResult:
     """Fit every component of the record file."""
-    from stepframe.stochastic.features import record_features
-    from stepframe.stochastic.fit import fit_model
-    from stepframe.stochastic.spectra import evolutionary_spectrum
+    from stepframe.pipeline import fitted as stage
 
-    if args.bootstrap < 0:
-        raise InputError(f"--bootstrap {args.bootstrap}, expected an integer ≥ 0")
-    _check_output(args.plot)
+    options = stage.FitOptions(
+        frequency=args.frequency,
+        t0=args.t0,
+        window_s=args.window_s,
+        omega_max_rad_s=args.omega_max_rad_s,
+        bootstrap=args.bootstrap,
+        seed=args.seed,
+        corner=args.corner,
+    )
+    if args.plot:
+        from stepframe.pipeline.figures import check_figure_path
+
+        check_figure_path(args.plot)
     _check_output(args.out)
     stream = read_record_file(args.record, args)
     if (args.plot or args.out) and len(stream) != 1:
@@ -160,177 +151,34 @@ def run_fit(args: argparse.Namespace) -> CommandResult:
             "(choose it with --component)",
             args.record,
         )
-    results = []
-    for trace in stream:
-        try:
-            features = record_features(
-                trace,
-                frequency=args.frequency,
-                t0=args.t0,
-                window_s=args.window_s,
-                omega_max_rad_s=args.omega_max_rad_s,
-            )
-            corner_spectrum = None
-            if args.corner:
-                # An 8-s window resolves 0.8 rad/s below ω_s (the 2-s default only 3.1 rad/s).
-                duration_s = trace.stats.npts * trace.stats.delta
-                corner_window_s = max(args.window_s, min(8.0, duration_s))
-                corner_spectrum = evolutionary_spectrum(trace, window_s=corner_window_s)
-            fitted = fit_model(
-                features,
-                bootstrap=args.bootstrap,
-                seed=args.seed,
-                fit_corner=args.corner,
-                spectrum=corner_spectrum,
-            )
-        except InputError as error:
-            source = (trace.stats.get("stepframe") or {}).get("source_file")
-            if source and error.what.startswith(str(source)):
-                raise  # the message already names the file and the component
-            channel = f"component {trace.stats.channel}: " if trace.stats.channel else ""
-            raise InputError(f"{channel}{error.what}", args.record) from None
-        data: dict[str, Any] = {"file": args.record, "component": trace.stats.channel}
-        full = fitted.to_dict()
-        for key in FIT_KEYS:
-            data[key] = full[key]
-        if args.corner:
-            data["omega_c_rad_s"] = fitted.model.omega_c_rad_s  # None: not resolved (flagged)
-        for key, value in fitted.stderr.items():
-            data[f"{key}_stderr"] = value
-        data["max_intensity_m_s2"] = features.peak_intensity
-        data["p_onset_s"] = features.p_onset_s
-        data["s_arrival_s"] = features.s_arrival_s
-        data["alpha_reading"] = fitted.model.alpha_reading
-        data["frequency_method"] = args.frequency
-        data["flags"] = list(fitted.flags)
-        results.append(data)
-        if args.plot or args.out:
-            # The parametric PSD refits with the same options: the model printed is the one drawn.
-            spectrum = evolutionary_spectrum(
-                trace,
-                method=args.spectrum,
-                window_s=args.window_s,
-                t0=args.t0,
-                frequency=args.frequency,
-            )
-            if args.out:
-                _write_netcdf(Path(args.out), spectrum, features, fitted, data)
-            if args.plot:
-                _plot(Path(args.plot), trace, spectrum, features, fitted)
-    text = "\n\n".join(_describe(r) for r in results)
+    records = stage.fit_records(stream, options, file=args.record)
+    if args.plot or args.out:
+        trace, record = stream[0], records[0]
+        # The parametric PSD refits with the same options: the model printed is the one drawn.
+        spectrum = stage.record_spectrum(trace, record, args.spectrum)
+        if args.out:
+            stage.write_fitted(stage.fitted_dataset(spectrum, record), args.out)
+        if args.plot:
+            from stepframe.pipeline.figures import save_figure
+            from stepframe.stochastic.plots import fit_figure
+
+            save_figure(fit_figure(trace, spectrum, record.features, record.fitted), args.plot)
+    results = [record.to_dict() for record in records]
+    text = "\n\n".join(record.describe() for record in records)
     return CommandResult(data=results[0] if len(results) == 1 else results, text=text)
-
-
-def _describe(result: dict[str, Any]) -> str:
-    lines = [f"{result['file']} {result['component']}:"]
-    keys = (*FIT_KEYS, "omega_c_rad_s") if result.get("omega_c_rad_s") is not None else FIT_KEYS
-    for key in keys:
-        se = result.get(f"{key}_stderr")
-        value = result[key]
-        suffix = f" ± {se:.3g}" if se is not None else ""
-        lines.append(f"  {key:16s} {value:.4g}{suffix}")
-    if result["flags"]:
-        lines.append(f"  flags: {', '.join(result['flags'])}")
-    return "\n".join(lines)
-
-
-def _write_netcdf(
-    target: Path, spectrum: Any, features: Any, fitted: Any, summary: dict[str, Any]
-) -> None:
-    import numpy as np
-    import xarray as xr
-
-    frames = features.to_dataset().rename({"time": "frame_time"})
-    dataset = xr.merge([spectrum.to_dataset(name="psd"), frames], combine_attrs="override")
-    dataset.attrs = {}
-    dataset["omega_g_fit"] = (
-        "frame_time",
-        np.asarray(fitted.model.omega_g(features.time_s)),
-        {"units": "rad/s", "long_name": "fitted ω_g (eq. 6.10)"},
-    )
-    for key, value in summary.items():
-        if isinstance(value, float | int | str) and not isinstance(value, bool):
-            dataset.attrs[key] = value
-        elif isinstance(value, list):
-            dataset.attrs[key] = ",".join(str(v) for v in value)
-    dataset.attrs["spectrum_method"] = str(spectrum.attrs["method"])
-    tmp = _atomic_path(target)
-    try:
-        dataset.to_netcdf(tmp, engine="h5netcdf")
-        os.replace(tmp, target)
-    finally:
-        tmp.unlink(missing_ok=True)
-
-
-def _plot(target: Path, trace: Any, spectrum: Any, features: Any, fitted: Any) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    import numpy as np
-
-    time = np.arange(trace.stats.npts) * trace.stats.delta
-    fig, axes = plt.subplots(3, 1, figsize=(8, 9), sharex=True, constrained_layout=True)
-    axes[0].plot(time, trace.data, lw=0.5, color="k")
-    axes[0].set_ylabel("acceleration [m/s²]")
-    axes[0].set_title(f"{trace.stats.station} {trace.stats.channel}")
-    axes[1].plot(features.time_s, features.intensity, color="C0")
-    axes[1].set_ylabel("I_g(t) [m/s²]")
-    for ax in axes[:2]:
-        ax.axvline(features.t0_s, color="0.5", ls=":", lw=1)
-        ax.axvline(features.t0_s + features.t_max_s, color="C3", ls="--", lw=1)
-    omega = spectrum["omega"].values
-    shown = omega <= min(float(omega.max()), 4 * fitted.model.omega_p_rad_s)
-    values = np.log10(np.maximum(spectrum.values[:, shown].T, 1e-30))
-    top = float(values.max())
-    mesh = axes[2].pcolormesh(
-        spectrum["time"].values, omega[shown], values, shading="auto", vmin=top - 4, vmax=top
-    )
-    fig.colorbar(mesh, ax=axes[2], label="log10 S [(m/s²)²·s/rad]")
-    axes[2].plot(features.time_s, features.omega_g_rad_s, color="w", lw=1, label="ω_g measured")
-    axes[2].plot(
-        features.time_s,
-        fitted.model.omega_g(features.time_s),
-        color="C1",
-        lw=2,
-        label="ω_g fitted (eq. 6.10)",
-    )
-    axes[2].set_ylabel("ω [rad/s]")
-    axes[2].set_xlabel("time from record start [s]")
-    axes[2].legend(loc="upper right")
-    tmp = _atomic_path(target)
-    try:
-        fig.savefig(tmp, dpi=110, format=target.suffix.lstrip(".") or "png")
-        os.replace(tmp, target)
-    finally:
-        plt.close(fig)
-        tmp.unlink(missing_ok=True)
 
 
 def run_features(args: argparse.Namespace) -> CommandResult:
     """Features table of a folder (or the example catalogue)."""
-    from stepframe.stochastic.catalog_features import catalog_features
+    from stepframe.pipeline import fitted as stage
 
     if (args.folder is None) == (args.example is None):
         raise InputError("give a folder DIR or --example fema-p695, expected exactly one")
     if args.jobs is not None and args.jobs < 1:
         raise InputError(f"--jobs {args.jobs}, expected ≥ 1")
     _check_output(args.output)
-    output = Path(args.output)
-    failures_path = output.with_name(f"{output.stem}_failures.csv")
-    options = {
-        key: value
-        for key, value in {
-            "format": args.format,
-            "units": args.units,
-            "dt": args.dt_s,
-            "inventory": args.inventory,
-            "component": args.component,
-        }.items()
-        if value is not None
-    }
-    common = {
-        "n_jobs": args.jobs,
+    common: dict[str, Any] = {
+        "jobs": args.jobs,
         "progress": True,
         "frequency": args.frequency,
         "t0": args.t0,
@@ -338,30 +186,21 @@ def run_features(args: argparse.Namespace) -> CommandResult:
         "omega_max_rad_s": args.omega_max_rad_s,
     }
     if args.example:
-        from stepframe.records.examples import fema_p695
-
-        stream, table = fema_p695()
-        rows, failures = catalog_features(
-            stream, lowest_usable_hz=list(table["lowest_usable_frequency_hz"]), **common
-        )
+        rows, failures = stage.example_features_table(**common)
     else:
-        rows, failures = catalog_features(args.folder, record_options=options, **common)
-    for target, frame in ((output, rows), (failures_path, failures)):
-        tmp = _atomic_path(target)
-        try:
-            frame.to_csv(tmp, index=False)
-            os.replace(tmp, target)
-        finally:
-            tmp.unlink(missing_ok=True)
+        rows, failures = stage.features_table(
+            args.folder, record_options=record_options(args), **common
+        )
+    output, failures_output = stage.write_features(rows, failures, args.output)
     summary = {
         "components": len(rows),
         "plausible": int(rows["plausible"].sum()) if len(rows) else 0,
         "failures": len(failures),
         "output": str(output),
-        "failures_output": str(failures_path),
+        "failures_output": str(failures_output),
     }
     text = (
         f"{summary['components']} components ({summary['plausible']} plausible) -> {output}; "
-        f"{summary['failures']} failures -> {failures_path}"
+        f"{summary['failures']} failures -> {failures_output}"
     )
     return CommandResult(data=summary, text=text)

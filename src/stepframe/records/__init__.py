@@ -1,10 +1,64 @@
 """Records: reading accelerograms, processing, intensity measures and catalogues.
 
 The record type is an ``obspy.Trace`` in m/s² with ``stats.stepframe`` metadata (see
-:mod:`stepframe.records.trace`). Submodules import obspy lazily.
+:mod:`stepframe.records.trace`). The names below are imported when first used (module
+``__getattr__``), so importing this package stays cheap; submodules import obspy lazily.
 """
 
-from stepframe.records.catalog import catalog
-from stepframe.records.io import read
+from __future__ import annotations
 
-__all__ = ["catalog", "read"]
+from typing import TYPE_CHECKING
+
+from stepframe._lazy import lazy_exports
+
+# ``catalog`` is imported at once: the function shares its module's name, and a lazy export
+# would be shadowed by the submodule as soon as anything imported ``stepframe.records.catalog``.
+from stepframe.records.catalog import catalog
+
+if TYPE_CHECKING:
+    from stepframe.records.catalog import intensity_table, write_catalog
+    from stepframe.records.examples import fema_p695
+    from stepframe.records.intensity import intensity_measures, trace_intensity_measures
+    from stepframe.records.io import read
+    from stepframe.records.plots import response_spectra_figure
+    from stepframe.records.processing import process
+    from stepframe.records.rotd import RotDSpectrum, rotd_spectrum
+    from stepframe.records.spectra import ResponseSpectrum, response_spectrum
+    from stepframe.records.trace import make_trace
+
+_EXPORTS = {
+    "read": "stepframe.records.io",
+    "make_trace": "stepframe.records.trace",
+    "process": "stepframe.records.processing",
+    "intensity_measures": "stepframe.records.intensity",
+    "trace_intensity_measures": "stepframe.records.intensity",
+    "ResponseSpectrum": "stepframe.records.spectra",
+    "response_spectrum": "stepframe.records.spectra",
+    "RotDSpectrum": "stepframe.records.rotd",
+    "rotd_spectrum": "stepframe.records.rotd",
+    "intensity_table": "stepframe.records.catalog",
+    "write_catalog": "stepframe.records.catalog",
+    "fema_p695": "stepframe.records.examples",
+    "response_spectra_figure": "stepframe.records.plots",
+}
+
+
+__getattr__ = lazy_exports(__name__, _EXPORTS)
+
+
+__all__ = [
+    "ResponseSpectrum",
+    "RotDSpectrum",
+    "catalog",
+    "fema_p695",
+    "intensity_measures",
+    "intensity_table",
+    "make_trace",
+    "process",
+    "read",
+    "response_spectra_figure",
+    "response_spectrum",
+    "rotd_spectrum",
+    "trace_intensity_measures",
+    "write_catalog",
+]

@@ -1,29 +1,36 @@
 """Catalogues: one row per record component with metadata and intensity measures.
 
 :func:`catalog` walks a folder tree, reads every file it can and never stops on a bad one: each
-failure becomes a row (``file``, ``stage``, ``reason``) of the failures table. :func:`write_catalog`
-writes the table, its column dictionary and the failures, each to a temporary name then renamed,
-so a killed run leaves either the old files or the new ones, never half a file.
+failure becomes a row of the failure table (:func:`stepframe.core.results.failures_table`: item,
+stage, error type, message). :func:`write_catalog` writes the table, its column dictionary and the
+failures through :func:`stepframe.core.io.atomic_write`, so a killed run leaves either the old
+files or the new ones, never half a file.
 """
 
 from __future__ import annotations
 
 import os
-import tempfile
 import warnings
-from collections.abc import Callable, Iterable
+from collections.abc import Iterable
+from concurrent.futures import Executor
+from dataclasses import dataclass
+from functools import partial
 from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from stepframe.core.execution import map_items
+from stepframe.core.io import atomic_write
+from stepframe.core.results import Failure, failures_path, failures_table
 from stepframe.errors import InputError
 from stepframe.records.intensity import MEASURES, intensity_measures
 from stepframe.records.units import STANDARD_GRAVITY_M_S2
 
 if TYPE_CHECKING:
     import pandas as pd
+    from obspy import Trace
 
 #: Periods [s] of the spectral ordinates in the table (those of the paper's Example 4 table).
 CATALOG_PERIODS_S = (0.2, 1.0)
@@ -76,17 +83,9 @@ COLUMNS: list[str] = [
     *(_psa_column(period) for period in CATALOG_PERIODS_S),
     "warnings",
 ]
-FAILURE_COLUMNS = ["file", "stage", "reason"]
 
 
-def _reason(exc: BaseException) -> str:
-    if isinstance(exc, InputError):
-        return exc.one_line()
-    # Not the user's fault, but one file must not stop the batch: keep the type for the report.
-    return f"{type(exc).__name__}: {exc}".replace("\n", " ")
-
-
-def trace_row(trace: Any, file: str = "", warning_text: str = "") -> dict[str, Any]:
+def trace_row(trace: Trace, file: str = "", warning_text: str = "") -> dict[str, Any]:
     """The catalogue row of one record (``obspy.Trace`` in m/s²)."""
     from stepframe.records.spectra import response_spectrum
 
@@ -114,7 +113,7 @@ def trace_row(trace: Any, file: str = "", warning_text: str = "") -> dict[str, A
     return row
 
 
-def intensity_table(stream: Iterable[Any]) -> pd.DataFrame:
+def intensity_table(stream: Iterable[Trace]) -> pd.DataFrame:
     """The catalogue table of records already in memory (for example the example catalogue)."""
     import pandas as pd
 
@@ -137,6 +136,46 @@ def record_files(path: str | PathLike[str]) -> list[Path]:
     return files
 
 
+@dataclass(frozen=True)
+class _ReadOptions:
+    """Record options for every file of a catalogue (picklable: sent to workers)."""
+
+    format: str | None = None
+    units: str | None = None
+    dt_s: float | None = None
+    inventory: str | None = None
+    component: str | None = None
+
+
+def _catalog_file(file: Path, options: _ReadOptions) -> tuple[list[dict[str, Any]], list[Failure]]:
+    """The rows of one file's components, and the failures of components it could not measure.
+
+    A file that cannot be read raises (the executor records it at stage ``read``).
+    """
+    from stepframe.records.io import read
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        stream = read(
+            file,
+            format=options.format,
+            units=options.units,
+            dt=options.dt_s,
+            inventory=options.inventory,
+            component=options.component,
+        )
+    warning_text = "; ".join(str(w.message).replace("\n", " ") for w in caught)
+    rows: list[dict[str, Any]] = []
+    failures: list[Failure] = []
+    for trace in stream:
+        try:
+            rows.append(trace_row(trace, str(file), warning_text))
+        except Exception as exc:  # one component must not stop the batch: record it, go on
+            where = f"{file} [{trace.stats.channel}]"
+            failures.append(Failure.from_exception(where, "measures", exc))
+    return rows, failures
+
+
 def catalog(
     path: str | PathLike[str],
     *,
@@ -145,7 +184,9 @@ def catalog(
     dt_s: float | None = None,
     inventory: str | PathLike[str] | None = None,
     component: str | None = None,
-    progress: Callable[[int, int, str], None] | None = None,
+    jobs: int | None = 1,
+    executor: Executor | None = None,
+    progress: bool | str = False,
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
     """Catalogue every record under a folder: one row per component.
 
@@ -155,8 +196,11 @@ def catalog(
         Folder walked recursively (or a single file).
     format, units, dt_s, inventory, component
         Record options applied to every file (see :func:`stepframe.records.read`); None sniffs.
+    jobs, executor
+        Where the files are read (:func:`stepframe.core.execution.map_items`): by default one
+        at a time in this process.
     progress
-        Called as ``progress(i, n, file)`` before the i-th of n files (1-based).
+        Count, rate and ETA on stderr (see :func:`~stepframe.core.execution.map_items`).
 
     Returns
     -------
@@ -164,54 +208,40 @@ def catalog(
         Columns :data:`COLUMNS` (unit in each name); column dictionary in
         ``table.attrs["column_dictionary"]``.
     failures : pandas.DataFrame
-        ``file``, ``stage`` (``read`` or ``measures``) and ``reason`` of every file or component
-        that could not be catalogued.
+        :func:`stepframe.core.results.failures_table` (``item``, ``stage`` — ``read`` or
+        ``measures`` —, ``error_type``, ``message``) of every file or component that could not
+        be catalogued.
     """
     import pandas as pd
 
-    from stepframe.records.io import read
-
     files = record_files(path)
-    rows: list[dict[str, Any]] = []
-    failures: list[dict[str, str]] = []
-    for number, file in enumerate(files, start=1):
-        if progress is not None:
-            progress(number, len(files), str(file))
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            try:
-                stream = read(
-                    file,
-                    format=format,
-                    units=units,
-                    dt=dt_s,
-                    inventory=inventory,
-                    component=component,
-                )
-            except Exception as exc:  # a batch never stops for one bad file
-                failures.append({"file": str(file), "stage": "read", "reason": _reason(exc)})
-                continue
-        warning_text = "; ".join(str(w.message).replace("\n", " ") for w in caught)
-        for trace in stream:
-            try:
-                rows.append(trace_row(trace, str(file), warning_text))
-            except Exception as exc:  # same: record it and go on
-                where = f"{file} [{trace.stats.channel}]"
-                failures.append({"file": where, "stage": "measures", "reason": _reason(exc)})
+    options = _ReadOptions(
+        format, units, dt_s, None if inventory is None else str(inventory), component
+    )
+    outcome = map_items(
+        partial(_catalog_file, options=options),
+        files,
+        jobs=jobs,
+        executor=executor,
+        stage="read",
+        progress="catalog" if progress is True else progress,
+    )
+    per_file: dict[int, list[Failure]] = {
+        index: found for index, (_, found) in zip(outcome.indices, outcome.results, strict=True)
+    }
+    # Failures come in input order: they belong to the indices that gave no result.
+    succeeded = set(outcome.indices)
+    failed = [index for index in range(len(files)) if index not in succeeded]
+    read_failures = dict(zip(failed, outcome.failures, strict=True))
+    failures = [
+        failure
+        for index in range(len(files))
+        for failure in ([read_failures[index]] if index in read_failures else per_file[index])
+    ]
+    rows = [row for found, _ in outcome.results for row in found]
     table = pd.DataFrame(rows, columns=COLUMNS)
     table.attrs["column_dictionary"] = column_dictionary()
-    return table, pd.DataFrame(failures, columns=FAILURE_COLUMNS)
-
-
-def _write_atomic(frame: pd.DataFrame, target: Path) -> None:
-    handle, temporary = tempfile.mkstemp(prefix=f".{target.name}.", dir=target.parent)
-    try:
-        with os.fdopen(handle, "w", newline="") as stream:
-            frame.to_csv(stream, index=False)
-        os.replace(temporary, target)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
+    return table, failures_table(failures)
 
 
 def output_paths(out: str | PathLike[str]) -> tuple[Path, Path, Path]:
@@ -220,18 +250,17 @@ def output_paths(out: str | PathLike[str]) -> tuple[Path, Path, Path]:
     return (
         target,
         target.with_name(f"{target.stem}.columns.csv"),
-        target.with_name(f"{target.stem}.failures.csv"),
+        failures_path(target),
     )
 
 
 def write_catalog(
     table: pd.DataFrame, failures: pd.DataFrame, out: str | PathLike[str]
 ) -> tuple[Path, Path, Path]:
-    """Write the table, its column dictionary and the failures (each via temporary + rename)."""
+    """Write the table, its column dictionary and the failures (each atomically)."""
     paths = output_paths(out)
-    if not paths[0].parent.is_dir():
-        raise InputError("output folder does not exist, expected an existing folder", paths[0])
-    _write_atomic(table, paths[0])
-    _write_atomic(table.attrs.get("column_dictionary", column_dictionary()), paths[1])
-    _write_atomic(failures, paths[2])
+    frames = (table, table.attrs.get("column_dictionary", column_dictionary()), failures)
+    for frame, target in zip(frames, paths, strict=True):
+        with atomic_write(target) as stream:
+            frame.to_csv(stream, index=False)
     return paths

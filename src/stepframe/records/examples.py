@@ -17,9 +17,12 @@ from __future__ import annotations
 import sys
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from obspy import Stream
 import pandas as pd
 
 from stepframe.records.units import STANDARD_GRAVITY_M_S2
@@ -136,7 +139,7 @@ def _encode(text_values: list[str]) -> tuple[np.ndarray, np.ndarray]:
     return mantissa, exponent
 
 
-def fema_p695() -> tuple[Any, pd.DataFrame]:
+def fema_p695() -> tuple[Stream, pd.DataFrame]:
     """Load the 100 FEMA P695 components.
 
     Returns
@@ -210,13 +213,17 @@ def build(source_dir: Path, out_dir: Path) -> None:
         exponents.append(exponent)
         offsets.append(offsets[-1] + len(words))
     out_dir.mkdir(parents=True, exist_ok=True)
-    np.savez_compressed(
-        out_dir / _ARCHIVE,
-        mantissa=np.concatenate(mantissas),
-        exponent=np.concatenate(exponents),
-        offsets=np.asarray(offsets, dtype=np.int64),
-    )
-    table.to_csv(out_dir / _METADATA, index=False)
+    from stepframe.core.io import atomic_write
+
+    with atomic_write(out_dir / _ARCHIVE, "wb") as archive:
+        np.savez_compressed(
+            archive,
+            mantissa=np.concatenate(mantissas),
+            exponent=np.concatenate(exponents),
+            offsets=np.asarray(offsets, dtype=np.int64),
+        )
+    with atomic_write(out_dir / _METADATA) as out:
+        table.to_csv(out, index=False)
 
 
 if __name__ == "__main__":

@@ -10,12 +10,15 @@ PGD of an unprocessed record carry its baseline drift (see :mod:`stepframe.recor
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from stepframe.errors import InputError
+
+if TYPE_CHECKING:
+    from obspy import Trace
 from stepframe.records.units import STANDARD_GRAVITY_M_S2
 
 #: Unit-named keys of :func:`intensity_measures`, with unit and meaning (the column dictionary).
@@ -179,6 +182,6 @@ def intensity_measures(acc_m_s2: ArrayLike, dt_s: float) -> dict[str, float]:
     }
 
 
-def trace_intensity_measures(trace: Any) -> dict[str, float]:
+def trace_intensity_measures(trace: Trace) -> dict[str, float]:
     """:func:`intensity_measures` of a record (``obspy.Trace`` in m/s²)."""
     return intensity_measures(trace.data, float(trace.stats.delta))

@@ -15,18 +15,21 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping, Sequence
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
 from stepframe.errors import InputError
+
+if TYPE_CHECKING:
+    from obspy import Trace
 from stepframe.records.intensity import displacement_m
 
 StepName = Literal["demean", "detrend", "baseline", "bandpass", "taper", "resample", "trim"]
 
 
-def _record(trace: Any, step: str, new_data: NDArray[np.float64], **params: Any) -> Any:
+def _record(trace: Trace, step: str, new_data: NDArray[np.float64], **params: Any) -> Trace:
     if not np.all(np.isfinite(new_data)):
         raise InputError(f"step {step!r} produced non-finite samples, expected a finite record")
     trace.data = np.ascontiguousarray(new_data, dtype=np.float64)
@@ -34,13 +37,13 @@ def _record(trace: Any, step: str, new_data: NDArray[np.float64], **params: Any)
     return trace
 
 
-def demean(trace: Any) -> Any:
+def demean(trace: Trace) -> Trace:
     """Remove the mean of the record."""
     data = np.asarray(trace.data, dtype=np.float64)
     return _record(trace, "demean", data - data.mean())
 
 
-def detrend(trace: Any) -> Any:
+def detrend(trace: Trace) -> Trace:
     """Remove the least-squares straight line of the record."""
     data = np.asarray(trace.data, dtype=np.float64)
     t = np.arange(data.size, dtype=np.float64)
@@ -48,7 +51,7 @@ def detrend(trace: Any) -> Any:
     return _record(trace, "detrend", data - (slope * t + intercept))
 
 
-def baseline(trace: Any, order: int = 6) -> Any:
+def baseline(trace: Trace, order: int = 6) -> Trace:
     """Polynomial baseline correction: fit u(t) ≈ Σ_{k=2}^{order} c_k t^k to the displacement.
 
     The fitted polynomial has no constant or linear term (the record starts from rest), and its
@@ -75,12 +78,12 @@ def baseline(trace: Any, order: int = 6) -> Any:
 
 
 def bandpass(
-    trace: Any,
+    trace: Trace,
     freqmin_hz: float | None,
     freqmax_hz: float | None,
     order: int = 4,
     zero_phase: bool = True,
-) -> Any:
+) -> Trace:
     """Butterworth filter (second-order sections); acausal (forward-backward) by default.
 
     Parameters
@@ -124,7 +127,7 @@ def bandpass(
     )
 
 
-def taper(trace: Any, fraction: float = 0.05) -> Any:
+def taper(trace: Trace, fraction: float = 0.05) -> Trace:
     """Hann taper over ``fraction`` of the record at each end (0 < fraction <= 0.5)."""
     if not 0 < fraction <= 0.5:
         raise InputError(f"taper fraction {fraction}, expected 0 < fraction <= 0.5")
@@ -137,7 +140,7 @@ def taper(trace: Any, fraction: float = 0.05) -> Any:
     return _record(trace, "taper", data * window, fraction=fraction)
 
 
-def resample(trace: Any, dt_s: float) -> Any:
+def resample(trace: Trace, dt_s: float) -> Trace:
     """Resample to interval ``dt_s`` [s] by FFT; when downsampling, content above the new
     Nyquist frequency is removed (an ideal anti-alias filter)."""
     from scipy import signal
@@ -153,7 +156,7 @@ def resample(trace: Any, dt_s: float) -> Any:
     return trace
 
 
-def trim(trace: Any, start_s: float = 0.0, end_s: float | None = None) -> Any:
+def trim(trace: Trace, start_s: float = 0.0, end_s: float | None = None) -> Trace:
     """Keep samples from ``start_s`` to ``end_s`` [s] after the first sample (inclusive)."""
     data = np.asarray(trace.data, dtype=np.float64)
     dt = float(trace.stats.delta)
@@ -181,7 +184,7 @@ STEPS: dict[str, Callable[..., Any]] = {
 }
 
 
-def process(trace: Any, steps: Sequence[Mapping[str, Any]]) -> Any:
+def process(trace: Trace, steps: Sequence[Mapping[str, Any]]) -> Trace:
     """Apply named steps in order: ``[{"step": "bandpass", "freqmin_hz": 0.1, ...}, ...]``.
 
     A failing step raises :class:`InputError` naming it; the steps before it stay applied and

@@ -143,6 +143,7 @@ class ResponseAmplification:
             "peak_rms_fixed_m": self.peak_rms_fixed_m,
             "stationary_rms_m": self.stationary_rms_m,
             "status": self.moving.status,
+            "message": self.moving.message,
         }
         if self.vs_fixed_band is not None and self.vs_stationary_band is not None:
             out["response_amplification_vs_fixed_band"] = self.vs_fixed_band

@@ -1,10 +1,11 @@
 """Features and B-P parameters of every component of a catalogue, in parallel, failures recorded.
 
 One row per component (:data:`COLUMNS`); a component that fails is skipped and recorded in the
-failure table (``file``, ``component``, ``stage``, ``reason``) with stage ``read``, ``features``
-or ``fit``; the batch never stops for one bad item. Work is spread over processes
-(``concurrent.futures``), a few components per task to amortise the hand-over; rows come back in
-input order whatever the worker count, so runs are reproducible.
+failure table (:func:`stepframe.core.results.failures_table`: item, stage, error type, message)
+with stage ``read``, ``features`` or ``fit``; the batch never stops for one bad item. Work goes
+through :func:`stepframe.core.execution.map_items` (a process pool, or any executor), a few
+items per task; rows come back in input order whatever the worker count, so runs are
+reproducible.
 
 Plausibility (column ``plausible`` and ``implausible_reason``): ω_p ≥ ω_s ≥ ω_r holds by
 construction of the fit, so the checks are that the fitted frequencies lie inside the usable
@@ -16,19 +17,22 @@ and that no ξ hit its bounds.
 from __future__ import annotations
 
 import math
-import sys
-from collections.abc import Callable, Iterable, Sequence
-from concurrent.futures import ProcessPoolExecutor
+from collections.abc import Iterable, Sequence
+from concurrent.futures import Executor
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
-from typing import Any, TextIO
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from stepframe.core.execution import map_items
+from stepframe.core.results import Failure, failures_table
 from stepframe.errors import InputError
-from stepframe.stochastic.features import FrequencyMethod, TimeOrigin, record_features
+from stepframe.stochastic.features import FrequencyEstimator, TimeOrigin, record_features
 from stepframe.stochastic.fit import PARAMETERS, fit_model
-from stepframe.stochastic.spectra import DEFAULT_WINDOW_S, FftBackend
+from stepframe.stochastic.methods import FrequencyMethod
+from stepframe.stochastic.transforms import DEFAULT_WINDOW_S, FftBackend
 
 #: Column dictionary of the features table: name → (unit, meaning).
 COLUMNS: dict[str, tuple[str, str]] = {
@@ -60,14 +64,17 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "plausible": ("", "passes the plausibility checks"),
     "implausible_reason": ("", "why not (empty when plausible)"),
 }
-FAILURE_COLUMNS = ("file", "component", "stage", "reason")
+
+if TYPE_CHECKING:
+    import pandas as pd
+    from obspy import Stream
 
 
 @dataclass(frozen=True)
 class Options:
     """Options of the per-component computation (picklable, passed to workers)."""
 
-    frequency: FrequencyMethod = "zero-crossing"
+    frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing"
     t0: TimeOrigin = "start"
     window_s: float = DEFAULT_WINDOW_S
     fft: FftBackend = "scipy"
@@ -105,25 +112,36 @@ def plausibility(row: dict[str, Any], window_s: float, lowest_usable_hz: float |
     return "; ".join(reasons)
 
 
+class _StageError(Exception):
+    """An error inside one stage of one component: the stage's name and the original error."""
+
+    def __init__(self, stage: str, error: BaseException) -> None:
+        super().__init__(stage)
+        self.stage = stage
+        self.error = error
+
+
 def component_row(
     data: np.ndarray, dt_s: float, options: Options, lowest_usable_hz: float | None = None
-) -> tuple[dict[str, Any] | None, tuple[str, str] | None]:
-    """Features and fit of one component: (row, None) or (None, (stage, reason))."""
+) -> dict[str, Any]:
+    """Features and fit of one component, as a table row.
+
+    Raises
+    ------
+    _StageError
+        Naming the stage (``features`` or ``fit``) that failed and the error it raised.
+    """
     try:
         features = record_features(
             data, dt_s, frequency=options.frequency, t0=options.t0, window_s=options.window_s,
             fft=options.fft, omega_max_rad_s=options.omega_max_rad_s,
         )  # fmt: skip
-    except InputError as error:
-        return None, ("features", error.one_line())
     except Exception as error:  # a batch never stops for one item: record the unexpected too
-        return None, ("features", f"internal error {type(error).__name__}: {error}")
+        raise _StageError("features", error) from error
     try:
         result = fit_model(features)
-    except InputError as error:
-        return None, ("fit", error.one_line())
     except Exception as error:  # numerical failure inside scipy: recorded, not fatal
-        return None, ("fit", f"internal error {type(error).__name__}: {error}")
+        raise _StageError("fit", error) from error
     row: dict[str, Any] = {"dt_s": dt_s, "duration_s": dt_s * (data.size - 1)}
     fitted = result.to_dict()
     for key in (*PARAMETERS, "t_max_s", "t_dur_s", "t0_s", "fit_quality"):
@@ -142,10 +160,10 @@ def component_row(
     reason = plausibility(row, options.window_s, lowest_usable_hz)
     row["plausible"] = not reason
     row["implausible_reason"] = reason
-    return row, None
+    return row
 
 
-def _run_item(item: Item, options: Options) -> list[tuple[dict[str, Any] | None, tuple[str, ...]]]:
+def _run_item(item: Item, options: Options) -> list[dict[str, Any] | Failure]:
     """Rows (or failures) of every component of one item."""
     if item.data is not None and item.dt_s is not None:
         components = [(item.data, item.dt_s, item.station, item.component)]
@@ -154,48 +172,34 @@ def _run_item(item: Item, options: Options) -> list[tuple[dict[str, Any] | None,
 
         try:
             stream = read(item.file, **dict(options.record_options))
-        except InputError as error:
-            return [(None, (item.file, "", "read", error.one_line()))]
         except Exception as error:  # readers (obspy's too) raise many types: recorded, not fatal
-            return [(None, (item.file, "", "read", f"{type(error).__name__}: {error}"))]
+            return [Failure.from_exception(item.file, "read", error)]
         if len(stream) == 0:
-            return [(None, (item.file, "", "read", "no traces in the file"))]
+            return [Failure(item.file, "read", "InputError", "no traces in the file")]
         components = [
             (np.asarray(tr.data, dtype=np.float64), float(tr.stats.delta), tr.stats.station,
              tr.stats.channel)
             for tr in stream
         ]  # fmt: skip
-    out: list[tuple[dict[str, Any] | None, tuple[str, ...]]] = []
+    out: list[dict[str, Any] | Failure] = []
     for data, dt, station, channel in components:
-        row, failure = component_row(data, dt, options, item.lowest_usable_hz)
-        if row is None:
-            assert failure is not None
-            out.append((None, (item.file, str(channel), *failure)))
+        try:
+            row = component_row(data, dt, options, item.lowest_usable_hz)
+        except _StageError as failed:
+            name = f"{item.file} [{channel}]" if channel else item.file
+            out.append(Failure.from_exception(name, failed.stage, failed.error))
         else:
-            out.append(({"file": item.file, "station": station, "component": channel, **row}, ()))
+            out.append({"file": item.file, "station": station, "component": channel, **row})
     return out
 
 
-def _run_chunk(
-    items: Sequence[Item], options: Options
-) -> list[list[tuple[dict[str, Any] | None, tuple[str, ...]]]]:
-    return [_run_item(item, options) for item in items]
-
-
-def _progress_printer(stream: TextIO, total: int) -> Callable[[int], None]:
-    def show(done: int) -> None:
-        end = "\n" if done >= total else ""
-        print(f"\rfeatures: {done}/{total} items", end=end, file=stream, flush=True)
-
-    return show
-
-
 def catalog_features(
-    source: str | Path | Any,
+    source: str | Path | Sequence[str | Path] | Stream,
     *,
     n_jobs: int | None = None,
-    progress: bool | Callable[[int], None] = False,
-    frequency: FrequencyMethod = "zero-crossing",
+    executor: Executor | None = None,
+    progress: bool | str = False,
+    frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing",
     t0: TimeOrigin = "start",
     window_s: float = DEFAULT_WINDOW_S,
     fft: FftBackend = "scipy",
@@ -203,7 +207,7 @@ def catalog_features(
     lowest_usable_hz: Iterable[float | None] | None = None,
     chunk_size: int = 4,
     omega_max_rad_s: float | None = None,
-) -> tuple[Any, Any]:
+) -> tuple[pd.DataFrame, pd.DataFrame]:
     """Features table of a catalogue: a folder of record files or an ``obspy.Stream``.
 
     Parameters
@@ -211,10 +215,12 @@ def catalog_features(
     source
         A directory (every regular, non-hidden file in it is read with
         :func:`stepframe.records.read`), a list of files, or an ``obspy.Stream`` in m/s².
-    n_jobs
-        Worker processes (default: the number of CPUs; 1 runs in this process).
+    n_jobs, executor
+        Where the work runs (:func:`stepframe.core.execution.map_items`): worker processes
+        (default: the CPUs available; 1 runs in this process), or any
+        ``concurrent.futures.Executor``.
     progress
-        True prints ``features: done/total items`` on stderr; a callable receives ``done``.
+        Count, rate and ETA on stderr (True, or a label).
     frequency, t0, window_s, fft
         As :func:`stepframe.stochastic.features.record_features`.
     record_options
@@ -233,10 +239,9 @@ def catalog_features(
         One row per component, columns :data:`COLUMNS` (column dictionary in
         ``table.attrs["column_dictionary"]``).
     failures : pandas.DataFrame
-        Columns ``file``, ``component``, ``stage``, ``reason``.
+        :func:`stepframe.core.results.failures_table`: ``item`` (``file [component]``),
+        ``stage`` (``read``, ``features`` or ``fit``), ``error_type``, ``message``.
     """
-    import os
-
     import pandas as pd
 
     items = _items(source, lowest_usable_hz)
@@ -248,39 +253,31 @@ def catalog_features(
         tuple(sorted((record_options or {}).items())),
         omega_max_rad_s,
     )
-    workers = n_jobs if n_jobs is not None else (os.cpu_count() or 1)
-    if workers < 1:
+    if n_jobs is not None and n_jobs < 1:
         raise InputError(f"n_jobs = {n_jobs}, expected ≥ 1")
-    if chunk_size < 1:
-        raise InputError(f"chunk_size = {chunk_size}, expected ≥ 1")
-    show: Callable[[int], None] | None = (
-        _progress_printer(sys.stderr, len(items)) if progress is True else progress or None
+    outcome = map_items(
+        partial(_run_item, options=options),
+        items,
+        jobs=n_jobs,
+        executor=executor,
+        chunk_size=chunk_size,
+        stage="features",
+        name_of=_item_name,
+        progress="features" if progress is True else progress,
     )
-    chunks = [items[i : i + chunk_size] for i in range(0, len(items), chunk_size)]
-    results: list[list[tuple[dict[str, Any] | None, tuple[str, ...]]]] = []
-    done = 0
-    if workers == 1 or len(chunks) <= 1:
-        for chunk in chunks:
-            results.extend(_run_chunk(chunk, options))
-            done += len(chunk)
-            if show:
-                show(done)
-    else:
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            futures = [pool.submit(_run_chunk, chunk, options) for chunk in chunks]
-            for chunk, future in zip(chunks, futures, strict=True):
-                results.extend(future.result())
-                done += len(chunk)
-                if show:
-                    show(done)
-    rows = [row for item in results for row, _ in item if row is not None]
-    fails = [fail for item in results for row, fail in item if row is None]
+    produced = [entry for entries in outcome.results for entry in entries]
+    rows = [entry for entry in produced if not isinstance(entry, Failure)]
+    fails = [entry for entry in produced if isinstance(entry, Failure)]
     table = pd.DataFrame(rows, columns=list(COLUMNS))
     table.attrs["column_dictionary"] = pd.DataFrame(
         [(k, u, m) for k, (u, m) in COLUMNS.items()], columns=["column", "unit", "meaning"]
     )
-    failures = pd.DataFrame(fails, columns=list(FAILURE_COLUMNS))
-    return table, failures
+    # _run_item records its own failures; one the executor caught is an internal error.
+    return table, failures_table([*fails, *outcome.failures])
+
+
+def _item_name(item: Item) -> str:
+    return item.file
 
 
 def _items(source: str | Path | Any, lowest: Iterable[float | None] | None) -> list[Item]:

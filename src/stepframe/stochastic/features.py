@@ -38,32 +38,27 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Literal, Protocol
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from stepframe.errors import InputError
 from stepframe.stochastic.envelope import DEFAULT_DURATION_THRESHOLD
-from stepframe.stochastic.spectra import (
+from stepframe.stochastic.methods import FrequencyMethod
+from stepframe.stochastic.standard_errors import least_squares_covariance
+from stepframe.stochastic.transforms import (
     DEFAULT_HOP_S,
     DEFAULT_WINDOW_S,
     FftBackend,
     record_samples,
     stft_power,
 )
-from stepframe.stochastic.standard_errors import least_squares_covariance
 
 if TYPE_CHECKING:
     import xarray as xr
+    from obspy import Trace
 
-FrequencyMethod = Literal["zero-crossing", "ridge", "moment", "wavelet-ridge"]
-FREQUENCY_METHODS: tuple[FrequencyMethod, ...] = (
-    "zero-crossing",
-    "ridge",
-    "moment",
-    "wavelet-ridge",
-)
 TimeOrigin = Literal["start", "p-pick"]
 PeakMethod = Literal["envelope", "argmax"]
 
@@ -106,7 +101,7 @@ class RecordFeatures:
     dt_s: float
     window_s: float
     hop_s: float
-    frequency_method: FrequencyMethod
+    frequency_method: str
     threshold: float
     omega_kernel: NDArray[np.float64]
     nyquist_rad_s: float
@@ -242,11 +237,113 @@ def pick_arrivals(
     return p_index * dt_s, None if s_index is None else s_index * dt_s
 
 
+@dataclass(frozen=True)
+class FrameSpectra:
+    """What an ω_g estimator may use: the record and its STFT on the frame grid.
+
+    Attributes
+    ----------
+    data, dt_s
+        The samples [m/s²] and their interval [s].
+    window_s, hop_s
+        Smoothing window and frame spacing [s].
+    time_s
+        Frame centres [s], shape ``(n,)``.
+    omega, psd
+        STFT frequencies ω ≥ 0 [rad/s] and two-sided PSD, shape ``(n, m)``.
+    window
+        The STFT window (samples).
+    omega_moment_rad_s
+        √(λ2/λ0 - σ_w²) per frame [rad/s] (NaN where undefined).
+    """
+
+    data: NDArray[np.float64]
+    dt_s: float
+    window_s: float
+    hop_s: float
+    time_s: NDArray[np.float64]
+    omega: NDArray[np.float64]
+    psd: NDArray[np.float64]
+    window: NDArray[np.float64]
+    omega_moment_rad_s: NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class FrequencyEstimate:
+    """An estimator's ω_g(t) [rad/s] on the frame grid (NaN where undefined) and the smoothing
+    kernel it applied (unit sum, on the frame grid), which the fit applies to the model too."""
+
+    omega_g_rad_s: NDArray[np.float64]
+    kernel: NDArray[np.float64]
+
+
+class FrequencyEstimator(Protocol):
+    """An ω_g(t) estimator: frame spectra in, :class:`FrequencyEstimate` out."""
+
+    __name__: str
+
+    def __call__(self, frames: FrameSpectra, /) -> FrequencyEstimate: ...
+
+
+def zero_crossing_estimate(frames: FrameSpectra) -> FrequencyEstimate:
+    """π × the smoothed density of zero crossings (module docstring)."""
+    rate = crossing_density(frames.data, frames.dt_s, frames.time_s, frames.window_s)
+    return FrequencyEstimate(
+        np.where(rate > 0, math.pi * rate, np.nan), hann_kernel(frames.window_s, frames.hop_s)
+    )
+
+
+def moment_estimate(frames: FrameSpectra) -> FrequencyEstimate:
+    """√(λ2/λ0 - σ_w²) of the STFT frame (module docstring)."""
+    kernel = _power_kernel(frames.window, frames.dt_s, frames.hop_s)
+    return FrequencyEstimate(frames.omega_moment_rad_s, kernel)
+
+
+def ridge_estimate(frames: FrameSpectra) -> FrequencyEstimate:
+    """Frequency of the STFT maximum, parabolic interpolation (module docstring)."""
+    kernel = _power_kernel(frames.window, frames.dt_s, frames.hop_s)
+    return FrequencyEstimate(_ridge(frames.omega, frames.psd), kernel)
+
+
+def wavelet_ridge_estimate(frames: FrameSpectra) -> FrequencyEstimate:
+    """Maximum of the Morlet spectrum (module docstring)."""
+    omega_g = _wavelet_ridge(frames.data, frames.dt_s, frames.hop_s, frames.time_s.size)
+    # The Morlet's time support shrinks with frequency; no single kernel describes it, so the
+    # fit compares unsmoothed (its Gaussian time spread, 6/ω, is under a second above 1 Hz).
+    return FrequencyEstimate(omega_g, np.ones(1))
+
+
+#: The ω_g(t) estimators by name (:data:`stepframe.stochastic.methods.FrequencyMethod` names them).
+FREQUENCY_ESTIMATORS: dict[str, FrequencyEstimator] = {
+    "zero-crossing": zero_crossing_estimate,
+    "ridge": ridge_estimate,
+    "moment": moment_estimate,
+    "wavelet-ridge": wavelet_ridge_estimate,
+}
+#: Names of the registered estimators, cheap to dear.
+FREQUENCY_METHODS: tuple[str, ...] = tuple(FREQUENCY_ESTIMATORS)
+
+
+def _estimator(frequency: str | FrequencyEstimator) -> FrequencyEstimator:
+    if callable(frequency):
+        return frequency
+    try:
+        return FREQUENCY_ESTIMATORS[frequency]
+    except (KeyError, TypeError):
+        raise InputError(
+            f"frequency = {frequency!r}, expected one of {FREQUENCY_METHODS} or an estimator"
+        ) from None
+
+
+def _estimator_name(frequency: str | FrequencyEstimator) -> str:
+    return frequency if isinstance(frequency, str) else getattr(frequency, "__name__", "custom")
+
+
 def record_features(
-    record_or_array: Any,
+    record_or_array: Trace | ArrayLike,
     dt_s: float | None = None,
     *,
-    frequency: FrequencyMethod = "zero-crossing",
+    frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing",
     t0: TimeOrigin = "start",
     window_s: float = DEFAULT_WINDOW_S,
     hop_s: float = DEFAULT_HOP_S,
@@ -262,7 +359,8 @@ def record_features(
     record_or_array
         ``obspy.Trace`` in m/s², or an array (then ``dt_s`` [s] is needed).
     frequency
-        ω_g estimator: ``"zero-crossing"`` (default), ``"ridge"`` or ``"moment"``.
+        ω_g estimator: a name of :data:`FREQUENCY_ESTIMATORS` (``"zero-crossing"``, default;
+        ``"ridge"``, ``"moment"``, ``"wavelet-ridge"``) or a :class:`FrequencyEstimator`.
     t0
         Time origin: ``"start"`` (record start, default) or ``"p-pick"`` (picked P onset; the
         record start, flagged ``p_pick_failed``, when no onset is found).
@@ -283,8 +381,7 @@ def record_features(
     InputError
         Bad record (too short, constant, NaNs), dt too coarse for ``omega_max_rad_s``, bad options.
     """
-    if frequency not in FREQUENCY_METHODS:
-        raise InputError(f"frequency = {frequency!r}, expected one of {FREQUENCY_METHODS}")
+    _estimator(frequency)  # a bad name fails before any work
     if t0 not in ("start", "p-pick"):
         raise InputError(f"t0 = {t0!r}, expected 'start' or 'p-pick'")
     if peak_method not in ("envelope", "argmax"):
@@ -311,21 +408,10 @@ def record_features(
         omega_moment = np.sqrt(np.where(m2 > 0, m2, np.nan))
         q = np.sqrt(np.clip(1.0 - m1**2 / m2, 0.0, 1.0))
     zeta = np.interp(q, _Q_TABLE, _ZETA_TABLE)
-    if frequency == "zero-crossing":
-        rate = crossing_density(data, dt, time_s, window_s)
-        omega_g = np.where(rate > 0, math.pi * rate, np.nan)
-        omega_kernel = hann_kernel(window_s, hop)
-    elif frequency == "moment":
-        omega_g = omega_moment
-        omega_kernel = _power_kernel(window, dt, hop)
-    elif frequency == "ridge":
-        omega_g = _ridge(omega, psd)
-        omega_kernel = _power_kernel(window, dt, hop)
-    else:
-        omega_g = _wavelet_ridge(data, dt, hop, time_s.size)
-        # The Morlet's time support shrinks with frequency; no single kernel describes it, so the
-        # fit compares unsmoothed (its Gaussian time spread, 6/ω, is under a second above 1 Hz).
-        omega_kernel = np.ones(1)
+    estimate = _estimator(frequency)(
+        FrameSpectra(data, dt, window_s, hop, time_s, omega, psd, window, omega_moment)
+    )
+    omega_g, omega_kernel = estimate.omega_g_rad_s, estimate.kernel
     alpha_g = zeta * np.where(np.isfinite(omega_moment), omega_moment, omega_g)
     p_onset = s_arrival = None
     t0_s = 0.0
@@ -373,7 +459,7 @@ def record_features(
         dt_s=dt,
         window_s=window_s,
         hop_s=hop,
-        frequency_method=frequency,
+        frequency_method=_estimator_name(frequency),
         threshold=threshold,
         omega_kernel=omega_kernel,
         nyquist_rad_s=nyquist,
@@ -450,7 +536,7 @@ def _wavelet_ridge(
     data: NDArray[np.float64], dt_s: float, hop_s: float, n_frames: int
 ) -> NDArray[np.float64]:
     """Ridge of the Morlet spectrum on the frame grid, parabola in log ω through three bands."""
-    from stepframe.stochastic.spectra import wavelet_power
+    from stepframe.stochastic.transforms import wavelet_power
 
     nyquist = math.pi / dt_s
     low = max(2 * math.pi / (data.size * dt_s) * 6.0, 0.2)

@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -44,6 +44,9 @@ from numpy.typing import NDArray
 from stepframe.errors import InputError
 from stepframe.stochastic.features import RecordFeatures, smooth
 from stepframe.stochastic.model import AlphaReading, GroundMotionModel
+
+if TYPE_CHECKING:
+    import xarray as xr
 from stepframe.stochastic.standard_errors import least_squares_covariance
 
 #: Parameter keys of a fit, in output order.
@@ -196,7 +199,7 @@ def fit_model(
     bootstrap: int = 0,
     seed: int | None = None,
     fit_corner: bool = False,
-    spectrum: Any = None,
+    spectrum: xr.DataArray | None = None,
     fit_threshold: float = DEFAULT_FIT_THRESHOLD,
 ) -> FitResult:
     """Fit (ω_p, ω_s, ω_r, ξ_p, ξ_r) of eqs. 6.10-6.11 to a record's features.

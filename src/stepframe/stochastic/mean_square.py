@@ -38,19 +38,23 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numba
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from stepframe.core.results import Status
 from stepframe.errors import InputError
 from stepframe.stochastic.correlation import r_g
 from stepframe.stochastic.envelope import default_envelope
+from stepframe.stochastic.methods import MeanSquareMethod
+
+if TYPE_CHECKING:
+    import xarray as xr
 from stepframe.stochastic.model import GroundMotionModel
 
-Method = Literal["scalar", "covariance", "monte-carlo"]
-METHODS: tuple[Method, ...] = ("scalar", "covariance", "monte-carlo")
+Method = MeanSquareMethod
 #: Smallest ξ_0 the covariance method accepts (its P_∞ grows like 1/ξ_0; see module docstring).
 MIN_XI0_COVARIANCE = 1e-6
 
@@ -133,7 +137,11 @@ class MeanSquareResult:
     n_realisations, seed, confidence
         Monte Carlo settings (None for the other methods).
     status
-        ``"ok"``, or why the integration stopped (values after that time are NaN).
+        ``"ok"``, or ``"lower_bound"`` when the integration stopped early (a frame's period law
+        gave no finite period: overturning); values after that time are NaN, so the peak so far
+        is a lower bound of the true one.
+    message
+        Where and why it stopped (empty when ``"ok"``).
     """
 
     method: Method
@@ -149,7 +157,8 @@ class MeanSquareResult:
     n_realisations: int | None = None
     seed: int | None = None
     confidence: float | None = None
-    status: str = "ok"
+    status: Status = "ok"
+    message: str = ""
     samples: dict[str, Floats] = field(default_factory=dict, repr=False)
 
     @property
@@ -162,7 +171,23 @@ class MeanSquareResult:
         """max_t σ_x [m] per oscillator, shape ``(n_osc,)`` (NaN-free part only)."""
         return np.asarray(np.sqrt(np.nanmax(self.mean_square_m2, axis=1)))
 
-    def to_dataset(self) -> Any:
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready summary: method, path, reading, status, ω_0 [rad/s], peak σ_x [m]."""
+        return {
+            "method": self.method,
+            "omega_path": self.omega_path,
+            "alpha_reading": self.alpha_reading,
+            "status": self.status,
+            "message": self.message,
+            "xi0": self.xi0,
+            "omega_0_rad_s": self.omega_0_rad_s.tolist(),
+            "peak_rms_m": self.peak_rms_m.tolist(),
+            "n_realisations": self.n_realisations,
+            "seed": self.seed,
+            "confidence": self.confidence,
+        }
+
+    def to_dataset(self) -> xr.Dataset:
         """The result as an ``xarray.Dataset`` with dims ``(oscillator, time)`` and units."""
         import xarray as xr
 
@@ -186,6 +211,7 @@ class MeanSquareResult:
                 "alpha_reading": self.alpha_reading,
                 "xi0": self.xi0,
                 "status": self.status,
+                "message": self.message,
             },
         )
 
@@ -613,7 +639,7 @@ def _covariance(
     if isinstance(path, _Path):
         omega_mid = path.at(mid)
         out = _covariance_run(omega_mid, beta, wg, ag, ig, pff, phif, frows, h, nodes, weights)
-        return path.omega_0, path.at(grid), out, "ok"
+        return path.omega_0, path.at(grid), out, ""
     # frame-driven: a predictor-corrector per step on the single oscillator
     out = np.full((1, grid.size), np.nan)
     omegas = np.full((1, grid.size), np.nan)
@@ -645,7 +671,7 @@ def _covariance(
                 _overturned(grid[k + 1], state[4], path),
             )
         omegas[0, k + 1] = w_next
-    return np.atleast_1d(path.omega_0), omegas, out, "ok"
+    return np.atleast_1d(path.omega_0), omegas, out, ""
 
 
 def _overturned(t: float, mean_square: float, law: _FrameLaw) -> str:
@@ -697,7 +723,7 @@ def _scalar(
         for k in range(grid.size - 1):
             action = decay * action + increments[:, k]
             out[:, k + 1] = action / wd[:, k + 1]
-        return omega_0, w_grid, out, "ok"
+        return omega_0, w_grid, out, ""
     out = np.full((1, grid.size), np.nan)
     omegas = np.full((1, grid.size), np.nan)
     out[0, 0], omegas[0, 0] = 0.0, path.omega_0
@@ -720,7 +746,7 @@ def _scalar(
         action_1 = new_action
         out[0, k + 1] = action_1 / math.sqrt(w_end**2 - b**2)
         omegas[0, k + 1] = w_end
-    return omega_0, omegas, out, "ok"
+    return omega_0, omegas, out, ""
 
 
 def _monte_carlo(
@@ -775,7 +801,7 @@ def _monte_carlo(
     v = np.zeros((n_osc, n_realisations))
     squares = np.zeros((n_osc, n_realisations, grid.size))
     omegas = np.full((n_osc, grid.size), np.nan)
-    status = "ok"
+    status = ""
     if isinstance(path, _Path):
         omegas[:] = path.at(grid)
         w_mid_all = path.at(fine[:-1] + h / 2)
@@ -817,12 +843,125 @@ def _monte_carlo(
     return omega_0, omegas, squares, forcing, status
 
 
+@dataclass(frozen=True)
+class MeanSquareProblem:
+    """What a mean-square method receives (see :func:`mean_square_response`).
+
+    Attributes
+    ----------
+    model
+        The ground-motion model.
+    path
+        The oscillator's frequency path: ``omega_0`` [rad/s] and either ``at(t)`` (a given
+        ω(t), shape ``(n_osc, n_t)``) or, for a frame, ``omega(amplitude_m)``.
+    xi0
+        Damping ratio at ω_0.
+    time_s
+        The uniform analysis grid [s].
+    envelope
+        I_g(t) [m/s²] as a callable of time.
+    n_realisations, seed, confidence, mc_dt_s, keep_samples
+        Monte Carlo settings (ignored by the other methods).
+    """
+
+    model: GroundMotionModel
+    path: _Path | _FrameLaw
+    xi0: float
+    time_s: Floats
+    envelope: Callable[[Floats], Floats]
+    n_realisations: int = 500
+    seed: int | None = None
+    confidence: float = 0.95
+    mc_dt_s: float | None = None
+    keep_samples: bool = False
+
+    def common(self) -> dict[str, Any]:
+        """The fields every :class:`MeanSquareResult` of this problem shares."""
+        return {
+            "omega_path": "frame" if isinstance(self.path, _FrameLaw) else self.path.name,
+            "alpha_reading": self.model.alpha_reading,
+            "time_s": self.time_s,
+            "xi0": self.xi0,
+        }
+
+
+class MeanSquareMethodFunction(Protocol):
+    """A mean-square method: a :class:`MeanSquareProblem` in, a :class:`MeanSquareResult` out."""
+
+    __name__: str
+
+    def __call__(self, problem: MeanSquareProblem, /) -> MeanSquareResult: ...
+
+
+def _deterministic(
+    name: Method,
+    solver: Callable[
+        [GroundMotionModel, _Path | _FrameLaw, float, Floats, Callable[[Floats], Floats]],
+        tuple[Floats, Floats, Floats, str],
+    ],
+    problem: MeanSquareProblem,
+) -> MeanSquareResult:
+    p = problem
+    omega_0, omegas, out, stopped = solver(p.model, p.path, p.xi0, p.time_s, p.envelope)
+    return MeanSquareResult(
+        name, omega_0_rad_s=omega_0, omega_rad_s=omegas, mean_square_m2=out,
+        status="lower_bound" if stopped else "ok", message=stopped, **p.common(),
+    )  # fmt: skip
+
+
+def covariance_method(problem: MeanSquareProblem) -> MeanSquareResult:
+    """The exact covariance (Liapunov) ODE of the augmented linear system (module docstring)."""
+    return _deterministic("covariance", _covariance, problem)
+
+
+def scalar_method(problem: MeanSquareProblem) -> MeanSquareResult:
+    """The scalar slowly-varying eq. 6.4 (module docstring)."""
+    return _deterministic("scalar", _scalar, problem)
+
+
+def monte_carlo_method(problem: MeanSquareProblem) -> MeanSquareResult:
+    """Monte Carlo with simulated motions, χ² confidence band (module docstring)."""
+    p = problem
+    if not (isinstance(p.n_realisations, int) and p.n_realisations >= 2):
+        raise InputError(f"n_realisations = {p.n_realisations!r}, expected an integer ≥ 2")
+    if not 0 < p.confidence < 1:
+        raise InputError(f"confidence = {p.confidence}, expected 0 < confidence < 1")
+    omega_0, omegas, squares, _, stopped = _monte_carlo(
+        p.model, p.path, p.xi0, p.time_s, p.envelope, p.n_realisations, p.seed, p.mc_dt_s
+    )
+    mean, lower, upper = chi_square_band(squares, p.confidence)
+    return MeanSquareResult(
+        "monte-carlo",
+        omega_0_rad_s=omega_0,
+        omega_rad_s=omegas,
+        mean_square_m2=mean,
+        lower_m2=lower,
+        upper_m2=upper,
+        n_realisations=p.n_realisations,
+        seed=p.seed,
+        confidence=p.confidence,
+        status="lower_bound" if stopped else "ok",
+        message=stopped,
+        samples={"x2": squares} if p.keep_samples else {},
+        **p.common(),
+    )
+
+
+#: The mean-square methods by name, cheap to dear
+#: (:data:`stepframe.stochastic.methods.MeanSquareMethod` names them).
+METHODS: dict[str, MeanSquareMethodFunction] = {
+    "scalar": scalar_method,
+    "covariance": covariance_method,
+    "monte-carlo": monte_carlo_method,
+}
+
+
 def mean_square_response(
     model: GroundMotionModel,
     omega: OmegaSpec | float | Callable[[Floats], ArrayLike],
     xi0: float,
     *,
-    method: Method = "covariance",
+    method: Method | MeanSquareMethodFunction = "covariance",
     time_s: ArrayLike | None = None,
     envelope: EnvelopeFn | None = None,
     peak_intensity: float = 1.0,
@@ -868,8 +1007,12 @@ def mean_square_response(
     InputError
         Bad arguments, or a method's limits (scalar: ω(t) ≤ β; covariance: ξ_0 < 1e-6).
     """
-    if method not in METHODS:
-        raise InputError(f"method = {method!r}, expected one of {METHODS}")
+    if callable(method):
+        implementation: MeanSquareMethodFunction = method
+    elif method in METHODS:
+        implementation = METHODS[method]
+    else:
+        raise InputError(f"method = {method!r}, expected one of {tuple(METHODS)} or a function")
     if not (isinstance(xi0, int | float) and math.isfinite(xi0) and xi0 >= 0):
         raise InputError(f"xi0 = {xi0!r}, expected a damping fraction ≥ 0")
     grid = analysis_grid(model) if time_s is None else _uniform_grid(time_s)
@@ -883,56 +1026,11 @@ def mean_square_response(
     path: _Path | _FrameLaw = (
         _FrameLaw(spec) if isinstance(spec, FrameDriven) else _Path(spec, model, grid)
     )
-    path_name = "frame" if isinstance(path, _FrameLaw) else path.name
     env = _envelope_fn(model, envelope, peak_intensity)
-    common: dict[str, Any] = {
-        "omega_path": path_name,
-        "alpha_reading": model.alpha_reading,
-        "time_s": grid,
-        "xi0": float(xi0),
-    }
-    if method == "covariance":
-        omega_0, omegas, out, status = _covariance(model, path, xi0, grid, env)
-        return MeanSquareResult(
-            "covariance",
-            omega_0_rad_s=omega_0,
-            omega_rad_s=omegas,
-            mean_square_m2=out,
-            status=status,
-            **common,
-        )
-    if method == "scalar":
-        omega_0, omegas, out, status = _scalar(model, path, xi0, grid, env)
-        return MeanSquareResult(
-            "scalar",
-            omega_0_rad_s=omega_0,
-            omega_rad_s=omegas,
-            mean_square_m2=out,
-            status=status,
-            **common,
-        )
-    if not (isinstance(n_realisations, int) and n_realisations >= 2):
-        raise InputError(f"n_realisations = {n_realisations!r}, expected an integer ≥ 2")
-    if not 0 < confidence < 1:
-        raise InputError(f"confidence = {confidence}, expected 0 < confidence < 1")
-    omega_0, omegas, squares, _, status = _monte_carlo(
-        model, path, xi0, grid, env, n_realisations, seed, mc_dt_s
+    problem = MeanSquareProblem(
+        model, path, float(xi0), grid, env, n_realisations, seed, confidence, mc_dt_s, keep_samples
     )
-    mean, lower, upper = chi_square_band(squares, confidence)
-    return MeanSquareResult(
-        "monte-carlo",
-        omega_0_rad_s=omega_0,
-        omega_rad_s=omegas,
-        mean_square_m2=mean,
-        lower_m2=lower,
-        upper_m2=upper,
-        n_realisations=n_realisations,
-        seed=seed,
-        confidence=confidence,
-        status=status,
-        samples={"x2": squares} if keep_samples else {},
-        **common,
-    )
+    return implementation(problem)
 
 
 def chi_square_band(squares: Floats, confidence: float) -> tuple[Floats, Floats, Floats]:
@@ -956,11 +1054,16 @@ __all__ = [
     "Constant",
     "FrameDriven",
     "Given",
+    "MeanSquareMethodFunction",
+    "MeanSquareProblem",
     "MeanSquareResult",
     "Method",
     "Tracking",
     "analysis_grid",
     "chi_square_band",
+    "covariance_method",
     "mean_square_response",
+    "monte_carlo_method",
+    "scalar_method",
     "white_noise_response",
 ]

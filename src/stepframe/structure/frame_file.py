@@ -21,12 +21,11 @@ the key.
 from __future__ import annotations
 
 import re
-import tomllib
 from collections.abc import Mapping
 from os import PathLike
-from pathlib import Path
 from typing import Any
 
+from stepframe.core.io import read_toml
 from stepframe.errors import InputError
 from stepframe.structure.frame import W_COL_CONVENTIONS, PortalFrame
 
@@ -259,17 +258,10 @@ def read_frame_file(path: str | PathLike[str]) -> PortalFrame:
     Raises
     ------
     InputError
-        Not TOML, unknown table or key, wrong type, missing key, or a non-physical frame.
-    FileNotFoundError
-        The file does not exist.
+        Missing or unreadable, not TOML, unknown table or key, wrong type, missing key, or a
+        non-physical frame.
     """
-    text = Path(path).read_text(encoding="utf-8")
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as error:
-        match = re.search(r"line (\d+)", str(error))
-        line = int(match.group(1)) if match else None
-        raise InputError(f"not valid TOML ({error}), expected a FRAME.toml", path, line) from None
+    data, text = read_toml(path, "a FRAME.toml")
     return frame_from_mapping(data, path=path, text=text)
 
 

@@ -32,12 +32,13 @@ period spectra only) → ``"iteration"`` (the AASHTO/Priestley procedure itself,
 from __future__ import annotations
 
 import math
-import tomllib
 from collections.abc import Callable, Mapping
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
+from stepframe.core.io import read_toml
+from stepframe.core.results import Status
 from stepframe.errors import InputError
 from stepframe.structure.damping import (
     DAMPING_METHODS,
@@ -55,7 +56,6 @@ from stepframe.structure.design_spectrum import (
 
 Method = Literal["closed-form", "iteration", "search"]
 BranchChoice = Literal["auto", "short", "long", "very-long"]
-IterationStatus = Literal["converged", "converged-to-zero", "left-domain", "max-iterations"]
 
 #: A displacement δ with w·δ below this is the trivial fixed point δ_1* = 0.
 _ZERO_W_DELTA = 1e-13
@@ -435,19 +435,30 @@ class Iteration:
     rows
         δ_0, δ_1, ... with K_i, T_i and the branch used at each step.
     status
-        ``"converged"``, ``"converged-to-zero"`` (δ → δ_1* = 0), ``"left-domain"`` (an iterate
-        reached δ ≥ 1/w: no lateral capacity left, the procedure has no answer) or
-        ``"max-iterations"``.
+        From :data:`stepframe.core.results.STATUSES`: ``"ok"`` (converged, possibly to
+        δ_1* = 0: see ``to_zero``), ``"failed"`` (an iterate reached δ ≥ 1/w: no lateral
+        capacity left, the procedure has no answer) or ``"not_converged"`` (``max_iterations``
+        reached).
     delta_m, period_s
         The last iterate and its period (δ* and T* when converged).
+    branch_choice
+        The branch option the iteration ran with.
+    notes
+        Remarks (a forced branch used off its range).
+    message
+        What happened, one line.
+    to_zero
+        Whether it converged to δ_1* = 0 (the procedure predicts no rocking).
     """
 
     rows: tuple[IterateRow, ...]
-    status: IterationStatus
+    status: Status
     delta_m: float
     period_s: float
     branch_choice: BranchChoice = "auto"
     notes: tuple[str, ...] = field(default=())
+    message: str = ""
+    to_zero: bool = False
 
     def to_dict(self) -> dict[str, Any]:
         """Trace and outcome as a dictionary."""
@@ -511,7 +522,9 @@ def iterate(
     rows: list[IterateRow] = []
     notes: list[str] = []
     delta = start
-    status: IterationStatus = "max-iterations"
+    status: Status = "not_converged"
+    message = f"no convergence in {max_iterations} iterations"
+    to_zero = False
     for i in range(max_iterations + 1):
         period = stepping_map.period_s(delta)
         used = branch_at(period)
@@ -527,22 +540,25 @@ def iterate(
             break
         nxt = step(delta)
         if not (math.isfinite(nxt) and 0 <= nxt < 1.0 / w):
-            status = "left-domain"
+            status = "failed"
+            message = f"iterate {i + 1} left the domain 0 ≤ δ < 1/w: no lateral capacity left"
             break
         if w * nxt < _ZERO_W_DELTA:
             rows.append(IterateRow(i + 1, nxt, None, stepping_map.period_s(nxt), used))
-            status = "converged-to-zero"
+            status, message, to_zero = "ok", "converged to δ_1* = 0 (no rocking)", True
             break
         if abs(nxt - delta) <= rtol * nxt:
             period = stepping_map.period_s(nxt)
             rows.append(
                 IterateRow(i + 1, nxt, stepping_map.stiffness_n_m(nxt), period, branch_at(period))
             )
-            status = "converged"
+            status, message = "ok", "converged"
             break
         delta = nxt
     last = rows[-1]
-    return Iteration(tuple(rows), status, last.delta_m, last.period_s, branch, tuple(notes))
+    return Iteration(
+        tuple(rows), status, last.delta_m, last.period_s, branch, tuple(notes), message, to_zero
+    )
 
 
 def map_derivative(
@@ -609,8 +625,9 @@ class DesignResult:
     method
         How it was found.
     status
-        ``"ok"``; ``"zero"`` when the only stable answer is δ_1* = 0 (the procedure predicts no
-        rocking); ``"none"`` when no stable fixed point lies on its branch (δ is then None).
+        ``"ok"`` (δ* may be 0 when the only stable answer is δ_1* = 0: the procedure predicts no
+        rocking; ``message`` says so), or ``"failed"`` when no stable fixed point lies on its
+        branch (δ is then None).
     delta_m, period_s, multiplier, branch
         δ*, T*, f'(δ*) and the spectrum branch at T*.
     stepping_effectiveness
@@ -620,13 +637,14 @@ class DesignResult:
     """
 
     method: Method
-    status: Literal["ok", "zero", "none"]
+    status: Status
     delta_m: float | None
     period_s: float | None
     multiplier: float | None
     branch: Branch | None
     stepping_effectiveness: float | None
     iteration: Iteration | None = None
+    message: str = ""
 
     def to_dict(self) -> dict[str, Any]:
         """The fields as a dictionary."""
@@ -684,36 +702,42 @@ def design_displacement(
     elif method == "iteration":
         start = 0.05 * stepping_map.delta_limit_m if delta0_m is None else delta0_m
         trace = iterate(stepping_map, spectrum, start, max_iterations=max_iterations)
-        if trace.status in ("converged", "converged-to-zero"):
-            zero = trace.status == "converged-to-zero"
-            delta = 0.0 if zero else trace.delta_m
+        if trace.status == "ok":
+            delta = 0.0 if trace.to_zero else trace.delta_m
             return DesignResult(
                 method,
-                "zero" if zero else "ok",
+                "ok",
                 delta,
                 stepping_map.period_s(delta),
                 map_derivative(stepping_map, spectrum, delta),
                 spectrum.branch(stepping_map.period_s(delta)),
                 stepping_effectiveness(stepping_map, delta),
                 trace,
+                _NO_ROCKING if trace.to_zero else "",
             )
-        return DesignResult(method, "none", None, None, None, None, None, trace)
+        return DesignResult(method, "failed", None, None, None, None, None, trace, trace.message)
     else:
         raise InputError(f"method {method!r}, expected 'closed-form', 'iteration' or 'search'")
     usable = [p for p in points if p.stable and p.on_branch and p.delta_m is not None]
     nonzero = [p for p in usable if p.delta_m]
     chosen = nonzero[0] if nonzero else (usable[0] if usable else None)
     if chosen is None or chosen.delta_m is None:
-        return DesignResult(method, "none", None, None, None, None, None)
+        return DesignResult(method, "failed", None, None, None, None, None, None, _NO_ANSWER)
     return DesignResult(
         method,
-        "ok" if chosen.delta_m > 0 else "zero",
+        "ok",
         chosen.delta_m,
         chosen.period_s,
         chosen.multiplier,
         chosen.branch,
         stepping_effectiveness(stepping_map, chosen.delta_m),
+        None,
+        "" if chosen.delta_m > 0 else _NO_ROCKING,
     )
+
+
+_NO_ROCKING = "the only stable answer is δ_1* = 0: the procedure predicts no rocking"
+_NO_ANSWER = "no stable fixed point lies on its branch"
 
 
 # ----------------------------------------------------------------------------------------------
@@ -835,13 +859,6 @@ def case_from_dict(data: Mapping[str, Any], where: str = "design input") -> Desi
 
 
 def read_case(path: str | Path) -> DesignCase:
-    """Read a design input TOML file; errors name the file."""
-    p = Path(path)
-    try:
-        with p.open("rb") as handle:
-            data = tomllib.load(handle)
-    except OSError as exc:
-        raise InputError(f"cannot read: {exc.strerror}", path=p) from None
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"not valid TOML ({exc})", path=p) from None
-    return case_from_dict(data, where=str(p))
+    """Read a design input TOML file; errors name the file (and the line of a TOML error)."""
+    data, _ = read_toml(path, "a design input TOML file")
+    return case_from_dict(data, where=str(path))

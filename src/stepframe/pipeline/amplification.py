@@ -1,0 +1,377 @@
+"""Stage: moving-resonance amplification of a site for one oscillator, and its curve over f0.
+
+Two kinds of oscillator: one given by its small-amplitude frequency f0 (its ω(t) tracks the
+ground, ω_0·ω_g(t)/ω_p), and a stepping frame (ω(t) = 2π/T(A) from the frame's period-amplitude
+law, A = √2·σ_x). :func:`amplify` reports the paper's spectral ratio (eq. 6.18) and its two
+approximations (eq. 6.19) next to the response amplification computed by the exact covariance
+method (optionally confirmed by Monte Carlo): two kinds of amplification, each named for what it
+is (DESIGN.md). :func:`amplification_curve` gives both over a range of f0 as an
+``xarray.Dataset``, stored and read back with :func:`write_curve` and :func:`read_curve`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from os import PathLike
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from stepframe.core.results import Status
+from stepframe.errors import InputError
+from stepframe.pipeline.site import SiteModel
+from stepframe.pipeline.tables import read_dataset, write_dataset
+
+if TYPE_CHECKING:
+    import xarray as xr
+    from numpy.typing import ArrayLike
+
+    from stepframe.stochastic.mean_square import FrameDriven
+    from stepframe.structure.frame import PortalFrame
+
+#: Damping ratio of an oscillator given by f0 when none is given (fraction).
+DEFAULT_XI0 = 0.05
+
+
+@dataclass(frozen=True)
+class Oscillator:
+    """The oscillator whose response is amplified.
+
+    Attributes
+    ----------
+    f0_hz
+        Small-amplitude frequency [Hz].
+    xi0
+        Damping ratio at f0 (fraction).
+    frame_law
+        The frame's ω(t) = 2π/T(A) (None: ω(t) tracks the ground, ω_0·ω_g(t)/ω_p).
+    participation
+        Factor on the ground intensity: the frame's p_1 (its equation of motion takes
+        -p_1 ẍ_g in the unstepped phase, eq. 4.11), 1 for a plain oscillator.
+    inputs
+        What describes it in the result's ``inputs`` (the frame file, p_1).
+    """
+
+    f0_hz: float
+    xi0: float
+    frame_law: FrameDriven | None = None
+    participation: float = 1.0
+    inputs: dict[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.xi0) and self.xi0 > 0):
+            raise InputError(f"--xi0 {self.xi0}, expected a damping fraction > 0 (e.g. 0.05)")
+
+
+def tracking_oscillator(f0_hz: float, xi0: float | None = None) -> Oscillator:
+    """An oscillator of small-amplitude frequency ``f0_hz`` [Hz] (default damping 0.05)."""
+    return Oscillator(float(f0_hz), DEFAULT_XI0 if xi0 is None else float(xi0))
+
+
+def frame_oscillator(
+    frame: PortalFrame, xi0: float | None = None, name: str | PathLike[str] | None = None
+) -> Oscillator:
+    """A stepping frame: ω(t) = 2π/T(A) from its period-amplitude law (default damping xi_1).
+
+    Parameters
+    ----------
+    frame
+        The frame.
+    xi0
+        Damping ratio (fraction; default the frame's ``xi_1``).
+    name
+        The frame file, reported in the result's ``inputs``.
+    """
+    from stepframe.stochastic.mean_square import FrameDriven
+    from stepframe.structure.period_amplitude import period_amplitude
+
+    def period_s(amplitude_m: float) -> float:
+        return float(period_amplitude(frame, amplitude_m, beyond_x_star="inf"))
+
+    return Oscillator(
+        f0_hz=1.0 / period_s(0.0),
+        xi0=frame.xi_1 if xi0 is None else float(xi0),
+        frame_law=FrameDriven(period_s),
+        participation=frame.p_1,
+        inputs={"frame": None if name is None else str(name), "participation_p_1": frame.p_1},
+    )
+
+
+@dataclass(frozen=True)
+class MonteCarloCheck:
+    """The Monte Carlo confirmation of a response amplification (95 % bands)."""
+
+    n_realisations: int
+    seed: int | None
+    confidence: float
+    response_amplification_vs_fixed: float
+    response_amplification_vs_fixed_band: list[float]
+    response_amplification_vs_stationary: float
+    response_amplification_vs_stationary_band: list[float]
+    status: Status
+    message: str = ""
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready form."""
+        return dict(self.__dict__)
+
+
+@dataclass(frozen=True)
+class AmplificationResult:
+    """Both kinds of amplification for one site and one oscillator.
+
+    ``status`` is ``"ok"``, or ``"lower_bound"`` when a frame stopped the run (its period law gave
+    no finite period: overturning), so the peak RMS so far is only a lower bound; ``message``
+    says where it stopped.
+    """
+
+    spectral_ratio_eq_6_18: float
+    approx_eq_6_19_first: float
+    approx_eq_6_19_last: float
+    response_amplification_vs_fixed: float
+    response_amplification_vs_stationary: float
+    peak_rms_moving_m: float
+    peak_rms_fixed_m: float
+    stationary_rms_m: float
+    omega_path: str
+    alpha_reading: str
+    method: str
+    status: Status
+    message: str
+    f0_hz: float
+    xi0: float
+    peak_intensity_m_s2: float
+    duration_s: float
+    n_steps: int
+    inputs: dict[str, Any]
+    monte_carlo: MonteCarloCheck | None = None
+
+    @property
+    def lower_bound(self) -> bool:
+        """Whether the response values are lower bounds (a frame stopped the run)."""
+        return self.status != "ok"
+
+    def describe(self) -> str:
+        """The result as text, one quantity a line (what ``stochastic amplify`` prints)."""
+        return _describe(self.to_dict())
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready form (what ``stepframe stochastic amplify --json`` prints)."""
+        out = {key: value for key, value in self.__dict__.items() if key != "monte_carlo"}
+        out["lower_bound"] = self.lower_bound
+        if self.monte_carlo is not None:
+            out["monte_carlo"] = self.monte_carlo.to_dict()
+        return out
+
+
+def amplify(
+    site: SiteModel,
+    oscillator: Oscillator,
+    *,
+    peak_intensity_m_s2: float | None = None,
+    n_steps: int = 4000,
+    monte_carlo: int = 0,
+    seed: int | None = None,
+) -> AmplificationResult:
+    """Spectral ratio (eqs. 6.18-6.19) and response amplification of one oscillator.
+
+    Parameters
+    ----------
+    site
+        The site model.
+    oscillator
+        :func:`tracking_oscillator` or :func:`frame_oscillator`.
+    peak_intensity_m_s2
+        max I_g [m/s²] (default the site's); multiplied by the oscillator's participation.
+        Matters only for a frame (a linear oscillator's ratios do not depend on it).
+    n_steps
+        Time steps of the analysis grid.
+    monte_carlo
+        0, or N ≥ 2 synthetic motions to confirm the covariance result.
+    seed
+        Seed of the Monte Carlo motions.
+    """
+    from stepframe.stochastic.amplification import (
+        approx_eq_6_19_first,
+        approx_eq_6_19_last,
+        response_amplification,
+        spectral_ratio_eq_6_18,
+    )
+    from stepframe.stochastic.mean_square import analysis_grid
+
+    if monte_carlo < 0 or monte_carlo == 1:
+        raise InputError(f"--monte-carlo {monte_carlo}, expected 0 (none) or N ≥ 2")
+    model = site.model
+    base = site.peak_intensity_m_s2 if peak_intensity_m_s2 is None else peak_intensity_m_s2
+    intensity = base * oscillator.participation
+    grid = analysis_grid(model, n_steps=n_steps)
+    omega_0 = 2 * math.pi * oscillator.f0_hz
+    tracked = None if oscillator.frame_law is not None else [omega_0]
+    covariance = response_amplification(
+        model, tracked, oscillator.xi0, frame=oscillator.frame_law, peak_intensity=intensity,
+        time_s=grid,
+    )  # fmt: skip
+    check = None
+    if monte_carlo:
+        mc = response_amplification(
+            model, tracked, oscillator.xi0, frame=oscillator.frame_law, method="monte-carlo",
+            peak_intensity=intensity, time_s=grid, n_realisations=monte_carlo, seed=seed,
+        )  # fmt: skip
+        if mc.vs_fixed_band is None or mc.vs_stationary_band is None:
+            raise RuntimeError("the Monte Carlo method returned no confidence band")
+        check = MonteCarloCheck(
+            n_realisations=monte_carlo,
+            seed=seed,
+            confidence=0.95,
+            response_amplification_vs_fixed=float(mc.vs_fixed[0]),
+            response_amplification_vs_fixed_band=mc.vs_fixed_band[0].tolist(),
+            response_amplification_vs_stationary=float(mc.vs_stationary[0]),
+            response_amplification_vs_stationary_band=mc.vs_stationary_band[0].tolist(),
+            status=mc.moving.status,
+            message=mc.moving.message,
+        )
+    return AmplificationResult(
+        spectral_ratio_eq_6_18=float(spectral_ratio_eq_6_18(model, omega_0)),
+        approx_eq_6_19_first=approx_eq_6_19_first(model),
+        approx_eq_6_19_last=approx_eq_6_19_last(model),
+        response_amplification_vs_fixed=float(covariance.vs_fixed[0]),
+        response_amplification_vs_stationary=float(covariance.vs_stationary[0]),
+        peak_rms_moving_m=float(covariance.peak_rms_moving_m[0]),
+        peak_rms_fixed_m=float(covariance.peak_rms_fixed_m[0]),
+        stationary_rms_m=float(covariance.stationary_rms_m[0]),
+        omega_path=covariance.omega_path,
+        alpha_reading=model.alpha_reading,
+        method="covariance",
+        status=covariance.moving.status,
+        message=covariance.moving.message,
+        f0_hz=oscillator.f0_hz,
+        xi0=oscillator.xi0,
+        peak_intensity_m_s2=intensity,
+        duration_s=float(grid[-1]),
+        n_steps=int(grid.size - 1),
+        inputs={"ground_motion_model": model.to_dict(), **site.source, **oscillator.inputs},
+        monte_carlo=check,
+    )
+
+
+def _describe(data: dict[str, Any]) -> str:
+    """The result as text, one quantity a line."""
+    lines = [
+        f"oscillator f0 = {data['f0_hz']:.4g} Hz, xi0 = {data['xi0']:.3g}, "
+        f"omega path: {data['omega_path']}, alpha reading: {data['alpha_reading']}",
+        f"  spectral ratio eq. 6.18 at f0          {data['spectral_ratio_eq_6_18']:.4g}",
+        f"  eq. 6.19 first approximation           {data['approx_eq_6_19_first']:.4g}",
+        f"  eq. 6.19 last approximation (ωp/ωs)²   {data['approx_eq_6_19_last']:.4g}",
+        f"  response amplification vs fixed       {data['response_amplification_vs_fixed']:.4g}",
+        "  response amplification vs stationary  "
+        f"{data['response_amplification_vs_stationary']:.4g}",
+    ]
+    mc = data.get("monte_carlo")
+    if mc:
+        lo, hi = mc["response_amplification_vs_fixed_band"]
+        lines.append(
+            f"  Monte Carlo (N = {mc['n_realisations']}): vs fixed "
+            f"{mc['response_amplification_vs_fixed']:.4g} [{lo:.4g}, {hi:.4g}] (95 %)"
+        )
+    if data["status"] != "ok":
+        lines.append(f"  status: {data['status']}")
+    return "\n".join(lines)
+
+
+#: Column dictionary of an amplification curve: variable → (unit, meaning).
+CURVE_VARIABLES: dict[str, tuple[str, str]] = {
+    "spectral_ratio_eq_6_18": ("1", "ratio of spectral densities at f0, eq. 6.18"),
+    "response_amplification_vs_fixed": ("1", "peak RMS, moving ω(t) / held at ω_0"),
+    "response_amplification_vs_stationary": ("1", "peak RMS, moving ω(t) / stationary"),
+}
+
+
+def amplification_curve(
+    site: SiteModel, frequencies_hz: ArrayLike, xi0: float = DEFAULT_XI0, *, n_steps: int = 4000
+) -> xr.Dataset:
+    """Both amplifications of tracking oscillators over a range of f0.
+
+    Parameters
+    ----------
+    site
+        The site model.
+    frequencies_hz
+        Small-amplitude frequencies f0 [Hz].
+    xi0
+        Damping ratio (fraction).
+    n_steps
+        Time steps of the analysis grid.
+
+    Returns
+    -------
+    xarray.Dataset
+        :data:`CURVE_VARIABLES` on ``frequency`` [Hz], with ``units`` and ``long_name``
+        attributes; attributes ``xi0``, ``alpha_reading``, ``omega_path``,
+        ``approx_eq_6_19_last``, ``status`` and the site model's parameters.
+    """
+    import numpy as np
+    import xarray as xr
+
+    from stepframe.stochastic.amplification import (
+        approx_eq_6_19_last,
+        response_amplification,
+        spectral_ratio_eq_6_18,
+    )
+    from stepframe.stochastic.mean_square import analysis_grid
+
+    model = site.model
+    frequencies = np.asarray(frequencies_hz, dtype=np.float64)
+    grid = analysis_grid(model, n_steps=n_steps)
+    curve = response_amplification(model, 2 * np.pi * frequencies, xi0, time_s=grid)
+    values = {
+        "spectral_ratio_eq_6_18": spectral_ratio_eq_6_18(model, 2 * np.pi * frequencies),
+        "response_amplification_vs_fixed": curve.vs_fixed,
+        "response_amplification_vs_stationary": curve.vs_stationary,
+    }
+    attrs: dict[str, Any] = {
+        "xi0": float(xi0),
+        "alpha_reading": model.alpha_reading,
+        "omega_path": curve.omega_path,
+        "approx_eq_6_19_last": approx_eq_6_19_last(model),
+        "status": curve.moving.status,
+        "peak_intensity_m_s2": site.peak_intensity_m_s2,
+    }
+    attrs |= {
+        f"model_{key}": value
+        for key, value in model.to_dict().items()
+        if value is not None and key != "alpha_reading"
+    }
+    return xr.Dataset(
+        {
+            name: ("frequency", np.asarray(values[name], dtype=np.float64),
+                   {"units": unit, "long_name": meaning})
+            for name, (unit, meaning) in CURVE_VARIABLES.items()
+        },
+        coords={"frequency": ("frequency", frequencies, {"units": "Hz"})},
+        attrs=attrs,
+    )  # fmt: skip
+
+
+def write_curve(curve: xr.Dataset, path: str | PathLike[str]) -> Path:
+    """Write an amplification curve as NetCDF (atomically); :func:`read_curve` reads it back."""
+    return write_dataset(curve, path)
+
+
+def read_curve(path: str | PathLike[str]) -> xr.Dataset:
+    """An amplification curve written by :func:`write_curve` (loaded into memory)."""
+    return read_dataset(path, "an amplification curve (NetCDF)")
+
+
+__all__ = [
+    "CURVE_VARIABLES",
+    "DEFAULT_XI0",
+    "AmplificationResult",
+    "MonteCarloCheck",
+    "Oscillator",
+    "amplification_curve",
+    "amplify",
+    "frame_oscillator",
+    "read_curve",
+    "tracking_oscillator",
+    "write_curve",
+]

@@ -1,0 +1,173 @@
+"""Stage: a record's components described, and their response spectra with RotD.
+
+What ``stepframe records info`` prints (:func:`record_info`: sampling, units and intensity
+measures of each component), and what ``stepframe records spectrum`` prints and draws: PSA [g],
+PSV [m/s] and SD [m] of each component (:func:`stepframe.records.spectra.response_spectrum`)
+and, with exactly two horizontal components, their geometric mean, RotD50 and RotD100
+(:mod:`stepframe.records.rotd`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from os import PathLike
+from typing import TYPE_CHECKING, Any
+
+from numpy.typing import ArrayLike
+
+from stepframe.errors import InputError
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+    from obspy import Trace
+
+#: Channel names of vertical components (SEED codes ending in Z are vertical too).
+VERTICAL_NAMES = {"up", "ud", "ud1", "ud2", "z", "v", "ver", "vert", "vertical", "dwn", "down"}
+
+
+def is_vertical(channel: str) -> bool:
+    """Whether a channel name is a vertical component (``UP``, ``Z``, SEED ``..Z``)."""
+    name = channel.strip().lower()
+    return name in VERTICAL_NAMES or (len(name) == 3 and name.endswith("z"))
+
+
+def record_info(traces: Sequence[Trace], file: str | PathLike[str] = "") -> list[dict[str, Any]]:
+    """One row per component: file, station, component, npts, dt [s], duration [s], the units
+    in the file, and the intensity measures of
+    :func:`stepframe.records.intensity.intensity_measures` (PGA in g only)."""
+    from stepframe.records.intensity import intensity_measures
+
+    rows = []
+    for trace in traces:
+        dt = float(trace.stats.delta)
+        measures = intensity_measures(trace.data, dt)
+        rows.append(
+            {
+                "file": str(file),
+                "station": trace.stats.station,
+                "component": trace.stats.channel,
+                "npts": int(trace.stats.npts),
+                "dt_s": dt,
+                "duration_s": dt * (int(trace.stats.npts) - 1),
+                "units_in": trace.stats.stepframe.units_in,
+                **{key: value for key, value in measures.items() if key != "pga_m_s2"},
+            }
+        )
+    return rows
+
+
+def info_text(rows: Sequence[Mapping[str, Any]]) -> str:
+    """:func:`record_info` rows as text, one line per component."""
+    return "\n".join(
+        f"{r['file']} {r['station']} {r['component']}: {r['npts']} samples at {r['dt_s']} s, "
+        f"units {r['units_in']}, PGA {r['pga_g']:.4g} g, PGV {r['pgv_m_s']:.4g} m/s, "
+        f"PGD {r['pgd_m']:.4g} m, Arias {r['arias_m_s']:.4g} m/s, D5-95 {r['d5_95_s']:.4g} s"
+        for r in rows
+    )
+
+
+def record_spectra(
+    traces: Sequence[Trace], periods_s: ArrayLike | None = None, damping: float = 0.05
+) -> dict[str, Any]:
+    """Response spectra of every component; geometric mean and RotD of two horizontal ones.
+
+    Parameters
+    ----------
+    traces
+        Record components (``obspy.Trace`` in m/s²); two horizontal ones (vertical channels are
+        recognised by name) also give ``geomean_g``, ``rotd50_g`` and ``rotd100_g``.
+    periods_s
+        Oscillator periods [s] (default :data:`stepframe.records.spectra.DEFAULT_PERIODS_S`).
+    damping
+        Damping ratio (fraction).
+
+    Returns
+    -------
+    dict
+        ``period_s``, ``damping``, ``components`` (each: ``component``, ``station``, ``psa_g``,
+        ``psv_m_s``, ``sd_m``) and, for two horizontals, ``h1``, ``h2`` and the combined spectra.
+    """
+    import numpy as np
+
+    from stepframe.records.spectra import DEFAULT_PERIODS_S, response_spectrum
+
+    periods = np.asarray(DEFAULT_PERIODS_S if periods_s is None else periods_s, dtype=float)
+    components = []
+    for trace in traces:
+        result = response_spectrum(trace.data, float(trace.stats.delta), periods, damping)
+        components.append(
+            {
+                "component": trace.stats.channel,
+                "station": trace.stats.station,
+                "psa_g": result.psa_g,
+                "psv_m_s": result.psv_m_s,
+                "sd_m": result.sd_m,
+            }
+        )
+    data: dict[str, Any] = {
+        "period_s": periods,
+        "damping": damping,
+        "components": components,
+    }
+    horizontal = [t for t in traces if not is_vertical(t.stats.channel)]
+    if len(horizontal) == 2:
+        from stepframe.records.rotd import rotd_spectrum
+
+        h1, h2 = horizontal
+        if float(h1.stats.delta) != float(h2.stats.delta):
+            raise InputError(
+                f"horizontal components sampled at {h1.stats.delta} s and {h2.stats.delta} s, "
+                "expected the same sampling interval"
+            )
+        rotd = rotd_spectrum(h1.data, h2.data, float(h1.stats.delta), periods, damping)
+        data.update(
+            h1=h1.stats.channel,
+            h2=h2.stats.channel,
+            geomean_g=rotd.in_g("geomean"),
+            rotd50_g=rotd.in_g("rotd50"),
+            rotd100_g=rotd.in_g("rotd100"),
+        )
+    return data
+
+
+def spectra_figure(data: Mapping[str, Any]) -> Figure:
+    """The PSA of each component (and RotD50/RotD100) of :func:`record_spectra`'s result."""
+    from stepframe.records.plots import response_spectra_figure
+
+    combined = {
+        name: data[key]
+        for key, name in (("rotd50_g", "RotD50"), ("rotd100_g", "RotD100"))
+        if key in data
+    }
+    return response_spectra_figure(
+        data["period_s"],
+        {c["component"]: c["psa_g"] for c in data["components"]},
+        damping=data["damping"],
+        combined_g=combined,
+    )
+
+
+def spectra_text(data: Mapping[str, Any]) -> str:
+    """:func:`record_spectra`'s result as a text table (PSA [g] per period)."""
+    names = [c["component"] for c in data["components"]]
+    header = ["period_s"] + [f"psa_g[{n}]" for n in names]
+    columns = [data["period_s"]] + [c["psa_g"] for c in data["components"]]
+    for key in ("geomean_g", "rotd50_g", "rotd100_g"):
+        if key in data:
+            header.append(key)
+            columns.append(data[key])
+    lines = [f"damping {data['damping']}", "  ".join(f"{h:>12}" for h in header)]
+    for i in range(len(data["period_s"])):
+        lines.append("  ".join(f"{float(col[i]):12.5g}" for col in columns))
+    return "\n".join(lines)
+
+
+__all__ = [
+    "VERTICAL_NAMES",
+    "info_text",
+    "is_vertical",
+    "record_info",
+    "record_spectra",
+    "spectra_figure",
+    "spectra_text",
+]

@@ -1,0 +1,140 @@
+"""Stage: the stepping response of a frame to one record, summarised.
+
+:func:`simulate_record` checks the record, runs the exact simulator
+(:func:`stepframe.structure.simulator.simulate`) and gathers what ``stepframe structure simulate``
+reports: the record, the frame with its derived quantities, the summary and the stepping
+episodes, as a :class:`RecordResponse` (``to_dict``, ``describe``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from os import PathLike
+from typing import TYPE_CHECKING, Any
+
+from stepframe.errors import InputError
+
+if TYPE_CHECKING:
+    from obspy import Trace
+
+    from stepframe.structure.frame import PortalFrame
+    from stepframe.structure.simulator import SimulationResult
+
+
+@dataclass(frozen=True)
+class RecordResponse:
+    """A frame's response to one record.
+
+    Attributes
+    ----------
+    summary
+        JSON-ready: ``record``, ``component``, ``npts``, ``dt_s``, ``scale``, ``pga_m_s2``
+        (scaled), ``tail_s``, ``frame`` (its parameters, x* [m] and uplift acceleration
+        [m/s²]), the simulation summary and ``episodes``.
+    result
+        The simulation (its history when asked for).
+    """
+
+    summary: dict[str, Any]
+    result: SimulationResult = field(repr=False)
+
+    @property
+    def status(self) -> str:
+        """The simulation's status."""
+        return str(self.summary["status"])
+
+    def to_dict(self) -> dict[str, Any]:
+        """A copy of :attr:`summary`."""
+        return dict(self.summary)
+
+    def describe(self) -> str:
+        """Peaks, stepping episodes, impacts, residual and overturning as text."""
+        data = self.summary
+        drift = data["peak_drift_ratio"]
+        ok = data["status"] in ("ok", "success")
+        lines = [
+            f"{data['record']} [{data['component']}] × {data['scale']:g}: {data['npts']} samples "
+            f"at {data['dt_s']:g} s, PGA {data['pga_m_s2']:.4g} m/s², tail {data['tail_s']:g} s",
+            f"peak |x| {data['peak_abs_x_m']:.6g} m at {data['peak_time_s']:.4f} s"
+            + ("" if drift is None else f" (drift ratio {drift:.4g})"),
+            f"x_c {data['frame']['x_c_m']:.6g} m, x* {data['frame']['x_star_m']:.6g} m; "
+            f"{data['n_stepping_episodes']} stepping episodes, {data['n_impacts']} impacts",
+            f"residual x {data['residual_x_m']:.6g} m",
+            (
+                f"OVERTURNED at {data['overturn_time_s']:.4f} s"
+                if data["overturned"]
+                else "not overturned"
+            )
+            + ("" if ok else f"; numerical status: {data['status']}"),
+        ]
+        return "\n".join(lines)
+
+
+def simulate_record(
+    frame: PortalFrame,
+    trace: Trace,
+    *,
+    scale: float = 1.0,
+    tail_s: float | None = None,
+    record_history: bool = False,
+    name: str | PathLike[str] = "",
+) -> RecordResponse:
+    """Simulate ``frame`` under ``trace`` × ``scale`` and summarise.
+
+    Parameters
+    ----------
+    frame
+        The stepping frame.
+    trace
+        One record component (``obspy.Trace`` in m/s²).
+    scale
+        Factor on the record [-].
+    tail_s
+        Free vibration after the record [s] (default the simulator's).
+    record_history
+        Keep x(t), v(t) and the phase (for a figure).
+    name
+        The record file, reported and named in errors.
+
+    Raises
+    ------
+    InputError
+        A non-finite sample (its index and time).
+    """
+    import numpy as np
+
+    from stepframe.structure.simulator import DEFAULT_TAIL_S, simulate
+
+    dt_s = float(trace.stats.delta)
+    samples = np.asarray(trace.data, dtype=float)
+    bad = np.flatnonzero(~np.isfinite(samples))
+    if bad.size:
+        raise InputError(
+            f"sample {bad[0]} (t = {bad[0] * dt_s:g} s) is {samples[bad[0]]} ({bad.size} "
+            "non-finite samples), expected finite accelerations",
+            name or None,
+        )
+    tail = DEFAULT_TAIL_S if tail_s is None else float(tail_s)
+    result = simulate(
+        frame, samples, dt_s, scale=float(scale), tail_s=tail, record_history=record_history
+    )
+    summary: dict[str, Any] = {
+        "record": str(name),
+        "component": str(trace.stats.channel),
+        "npts": int(trace.stats.npts),
+        "dt_s": dt_s,
+        "scale": float(scale),
+        "pga_m_s2": float(np.max(np.abs(trace.data))) * float(scale),
+        "tail_s": tail,
+        "frame": {
+            **frame.to_dict(),
+            "x_star_m": frame.x_star_m,
+            "uplift_acceleration_m_s2": frame.uplift_acceleration_m_s2,
+        },
+        **result.summary.to_dict(),
+        "episodes": result.episode_records(),
+    }
+    return RecordResponse(summary, result)
+
+
+__all__ = ["RecordResponse", "simulate_record"]

@@ -1,0 +1,38 @@
+"""Names of the stochastic method families, without importing them (cheap: typing only).
+
+Each family is a registry ``{name: implementation}`` in the module that implements it:
+
+- ω_g(t) estimators: :data:`stepframe.stochastic.features.FREQUENCY_ESTIMATORS`;
+- evolutionary spectra: :data:`stepframe.stochastic.spectra.SPECTRUM_METHODS`;
+- mean-square methods: :data:`stepframe.stochastic.mean_square.METHODS`.
+
+The ``Literal`` types below name the registered methods (for type checkers and for the command
+line's ``choices``, which must not import numpy to build ``stepframe --help``); a test asserts that
+each ``Literal`` and its registry hold the same names. Everywhere a name is accepted, a callable
+with the family's signature is accepted too (as ``scipy.integrate.solve_ivp`` accepts a solver
+class).
+"""
+
+from __future__ import annotations
+
+from typing import Literal, get_args
+
+#: ω_g(t) estimators, fast to dear (the fidelity ladder of DESIGN.md).
+FrequencyMethod = Literal["zero-crossing", "ridge", "moment", "wavelet-ridge"]
+#: Evolutionary-spectrum methods.
+SpectrumMethod = Literal["stft", "wavelet", "parametric"]
+#: Mean-square response methods, cheap to dear.
+MeanSquareMethod = Literal["scalar", "covariance", "monte-carlo"]
+
+FREQUENCY_METHOD_NAMES: tuple[str, ...] = get_args(FrequencyMethod)
+SPECTRUM_METHOD_NAMES: tuple[str, ...] = get_args(SpectrumMethod)
+MEAN_SQUARE_METHOD_NAMES: tuple[str, ...] = get_args(MeanSquareMethod)
+
+__all__ = [
+    "FREQUENCY_METHOD_NAMES",
+    "MEAN_SQUARE_METHOD_NAMES",
+    "SPECTRUM_METHOD_NAMES",
+    "FrequencyMethod",
+    "MeanSquareMethod",
+    "SpectrumMethod",
+]

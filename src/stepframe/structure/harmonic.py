@@ -1,0 +1,377 @@
+"""Stepping frames and rigid blocks under harmonic and pulse ground motion, in closed form.
+
+The ground acceleration is ẍ_g(t) = A cos(ωt + φ) [m/s²] (a sine is φ = -π/2), for all time
+(:func:`simulate_harmonic`, :func:`stroboscopic_map`) or for one cycle followed by free motion
+(:func:`simulate_pulse`). Each phase of eqs. 4.11-4.12 is integrated in closed form by
+:mod:`stepframe.structure._harmonic_kernel`, so the forcing carries no sampling error and the
+stroboscopic map comes with its exact Jacobian (phase transition matrices composed with the
+saltation matrices of lift-off and impact).
+
+Overturning: under forcing bounded by A the stepped-phase coordinate u = s·x - x*, w = s·ẋ obeys
+z' = λ₁z + f with z = w - λ₂u (λ₁ > 0 > λ₂ the roots of λ² + 2ξ₂ω₂λ - ω₂² = 0) and
+|f| ≤ P₂A; once z > P₂A/λ₁, z grows without bound and the frame cannot return: the run stops with
+``overturned=True``. With A = 0 this is the simulator's escape test. A frame with ``x_cap_m`` also
+stops when |x| reaches it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+import numpy as np
+
+from stepframe.core.results import Status
+from stepframe.errors import InputError
+
+PulseKind = Literal["cosine", "sine"]
+PULSE_KINDS: tuple[str, ...] = ("cosine", "sine")
+
+#: Default bound on events per integration call (Zeno sequences are cut by the hold state).
+DEFAULT_MAX_EVENTS = 200_000
+
+_KERNEL_STATUS: dict[int, Status] = {0: "ok", 1: "nonfinite", 2: "too_many_events"}
+
+
+def frame_parameters(frame: Any) -> np.ndarray:
+    """Kernel parameter vector (ω₁, ω₂, P₁, P₂, γ₁, ξ₁, ξ₂, x_c, C_r, x_cap) of a frame.
+
+    Parameters
+    ----------
+    frame
+        A :class:`~stepframe.structure.frame.PortalFrame` (or any object with its fields).
+    """
+    from stepframe.structure.simulator import model_of
+
+    m = model_of(frame)
+    return np.array(
+        [
+            m.omega_1_rad_s,
+            m.omega_2_rad_s,
+            m.p_1,
+            m.p_2,
+            m.gamma_1_m_s2,
+            m.xi_1,
+            m.xi_2,
+            m.x_c_m,
+            m.c_r,
+            m.x_cap_m,
+        ],
+        dtype=float,
+    )
+
+
+def _finite(name: str, value: float, minimum: float | None = None, strict: bool = False) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float | np.floating | np.integer):
+        raise InputError(f"{name} = {value!r}, expected a number")
+    number = float(value)
+    if not math.isfinite(number):
+        raise InputError(f"{name} = {number!r}, expected a finite number")
+    if minimum is not None and (number <= minimum if strict else number < minimum):
+        raise InputError(f"{name} = {number!r}, expected {'>' if strict else '≥'} {minimum}")
+    return number
+
+
+@dataclass(frozen=True)
+class HarmonicRun:
+    """Response to harmonic ground acceleration, exact at the output times.
+
+    Attributes
+    ----------
+    time_s, x_m, v_m_s
+        Output times [s] and the state there [m, m/s] (NaN after an overturn).
+    status
+        One of :data:`stepframe.core.results.STATUSES`.
+    overturned
+        True when the frame left on the escaping branch or reached x_cap.
+    t_end_s
+        Time the run ended [s] (the overturn time when it overturned).
+    n_liftoffs, n_impacts
+        Event counts.
+    peak_abs_x_m
+        Largest |x| [m].
+    """
+
+    time_s: np.ndarray
+    x_m: np.ndarray
+    v_m_s: np.ndarray
+    status: Status
+    overturned: bool
+    t_end_s: float
+    n_liftoffs: int
+    n_impacts: int
+    peak_abs_x_m: float
+    message: str = ""
+
+    def to_dict(self) -> dict[str, Any]:
+        """Summary fields (not the histories) as plain Python values."""
+        return {
+            "status": self.status,
+            "message": self.message,
+            "overturned": self.overturned,
+            "t_end_s": self.t_end_s,
+            "n_liftoffs": self.n_liftoffs,
+            "n_impacts": self.n_impacts,
+            "peak_abs_x_m": self.peak_abs_x_m,
+        }
+
+
+def simulate_harmonic(
+    frame: Any,
+    amplitude_m_s2: float,
+    omega_rad_s: float,
+    duration_s: float,
+    *,
+    phase_rad: float = 0.0,
+    x0_m: float = 0.0,
+    v0_m_s: float = 0.0,
+    samples_per_period: int = 64,
+    max_events: int = DEFAULT_MAX_EVENTS,
+) -> HarmonicRun:
+    """Response to ẍ_g = A cos(ωt + φ) from (x₀, v₀) at t = 0 over ``duration_s``.
+
+    Parameters
+    ----------
+    frame
+        A :class:`~stepframe.structure.frame.PortalFrame` (x_c = 0: Housner's block).
+    amplitude_m_s2
+        A [m/s²], ≥ 0.
+    omega_rad_s
+        ω [rad/s], > 0.
+    duration_s
+        Length of the run [s], > 0.
+    phase_rad
+        φ [rad] (-π/2: a sine).
+    x0_m, v0_m_s
+        Initial state [m, m/s].
+    samples_per_period
+        Output samples per forcing period (the integration itself is exact between them).
+    max_events
+        Bound on events between two output samples (status ``too_many_events`` beyond).
+    """
+    from stepframe.structure import _harmonic_kernel as hk
+
+    prm = frame_parameters(frame)
+    amp = _finite("amplitude_m_s2", amplitude_m_s2, 0.0)
+    om = _finite("omega_rad_s", omega_rad_s, 0.0, strict=True)
+    dur = _finite("duration_s", duration_s, 0.0, strict=True)
+    phi = _finite("phase_rad", phase_rad)
+    x = _finite("x0_m", x0_m)
+    v = _finite("v0_m_s", v0_m_s)
+    if samples_per_period < 1:
+        raise InputError(f"samples_per_period = {samples_per_period}, expected ≥ 1")
+    n = max(1, math.ceil(dur * om / (2 * math.pi) * samples_per_period))
+    if n > 50_000_000:
+        raise InputError(f"{n} output samples, expected ≤ 50,000,000 (lower samples_per_period)")
+    times = np.linspace(0.0, dur, n + 1)
+    xs = np.full(n + 1, np.nan)
+    vs = np.full(n + 1, np.nan)
+    xs[0] = x
+    vs[0] = v
+    phase = int(hk.start_phase(x, v, amp * math.cos(phi), prm))
+    jac = np.eye(2)
+    n_lift = n_imp = 0
+    peak = abs(x)
+    status: Status = "ok"
+    overturned = False
+    t_end = dur
+    for i in range(n):
+        st, x, v, phase, nl, ni, pk, ov, te = hk.advance(
+            prm, amp, om, phi, times[i], times[i + 1], x, v, phase, jac, False, max_events, amp
+        )
+        n_lift += nl
+        n_imp += ni
+        peak = max(peak, pk)
+        if st != hk.K_OK:
+            status = _KERNEL_STATUS[int(st)]
+            t_end = float(te)
+            break
+        if ov:
+            overturned = True
+            t_end = float(te)
+            break
+        xs[i + 1] = x
+        vs[i + 1] = v
+    message = "" if status == "ok" else f"stopped at t = {t_end:.6g} s"
+    return HarmonicRun(
+        times, xs, vs, status, overturned, t_end, n_lift, n_imp, float(peak), message
+    )
+
+
+@dataclass(frozen=True)
+class PulseOutcome:
+    """Response of a frame at rest to one cycle of a sinusoidal pulse, then free motion.
+
+    Attributes
+    ----------
+    overturned
+        True when the frame overturns (during the pulse or, decided exactly, after it).
+    peak_abs_x_m
+        Largest |x| while it is decided [m].
+    status
+        One of :data:`stepframe.core.results.STATUSES`.
+    n_impacts
+        Impacts counted.
+    """
+
+    overturned: bool
+    peak_abs_x_m: float
+    status: Status
+    n_impacts: int
+    message: str = ""
+
+
+def pulse_phase_rad(kind: PulseKind) -> float:
+    """φ of a pulse kind: ``"cosine"`` A cos(ωt), ``"sine"`` A sin(ωt) = A cos(ωt - π/2)."""
+    if kind == "cosine":
+        return 0.0
+    if kind == "sine":
+        return -0.5 * math.pi
+    raise InputError(f"kind = {kind!r}, expected one of {PULSE_KINDS}")
+
+
+def simulate_pulse(
+    frame: Any,
+    amplitude_m_s2: float,
+    omega_rad_s: float,
+    *,
+    kind: PulseKind = "cosine",
+    free_periods: float = 20.0,
+    max_events: int = DEFAULT_MAX_EVENTS,
+) -> PulseOutcome:
+    """Frame at rest hit by one cycle ẍ_g = A cos(ωt + φ), 0 ≤ t ≤ 2π/ω, then free motion.
+
+    After the pulse the ground is still: a stepped state overturns exactly when it is on the
+    escaping branch, which the kernel tests on every piece. The free motion is followed for
+    ``free_periods`` forcing periods (a frame that has not escaped by then is losing energy at
+    every impact and cannot escape later); the result is ``lower_bound`` if it was still moving
+    with enough energy to reach x* (never seen in practice).
+
+    Parameters
+    ----------
+    frame
+        A :class:`~stepframe.structure.frame.PortalFrame`.
+    amplitude_m_s2, omega_rad_s
+        Pulse amplitude A [m/s²] and circular frequency ω [rad/s].
+    kind
+        ``"cosine"`` (φ = 0) or ``"sine"`` (φ = -π/2).
+    free_periods
+        Free motion followed after the pulse, in pulse periods.
+    """
+    from stepframe.structure import _harmonic_kernel as hk
+
+    prm = frame_parameters(frame)
+    amp = _finite("amplitude_m_s2", amplitude_m_s2, 0.0)
+    om = _finite("omega_rad_s", omega_rad_s, 0.0, strict=True)
+    phi = pulse_phase_rad(kind)
+    tp = 2.0 * math.pi / om
+    jac = np.eye(2)
+    phase = int(hk.start_phase(0.0, 0.0, amp * math.cos(phi), prm))
+    st, x, v, phase, _nl, ni, pk, ov, _te = hk.advance(
+        prm, amp, om, phi, 0.0, tp, 0.0, 0.0, phase, jac, False, max_events, amp
+    )
+    if st != hk.K_OK:
+        return PulseOutcome(False, float(pk), _KERNEL_STATUS[int(st)], int(ni), "during the pulse")
+    if ov:
+        return PulseOutcome(True, float(pk), "ok", int(ni))
+    phase = int(hk.start_phase(x, v, 0.0, prm)) if phase in (2, -2) else phase
+    st2, x, v, phase, _nl2, ni2, pk2, ov2, _te2 = hk.advance(
+        prm,
+        0.0,
+        om,
+        phi,
+        tp,
+        tp * (1.0 + free_periods),
+        x,
+        v,
+        phase,
+        jac,
+        False,
+        max_events,
+        0.0,
+    )
+    peak = float(max(pk, pk2))
+    if st2 != hk.K_OK:
+        return PulseOutcome(False, peak, _KERNEL_STATUS[int(st2)], int(ni + ni2), "after the pulse")
+    return PulseOutcome(bool(ov2), peak, "ok", int(ni + ni2))
+
+
+@dataclass(frozen=True)
+class MapStep:
+    """The stroboscopic map applied n times from one state.
+
+    Attributes
+    ----------
+    x_m, v_m_s
+        State after n forcing periods [m, m/s].
+    jacobian
+        ∂(x, v)/∂(x₀, v₀) (2×2), exact (saltation matrices at every event).
+    status
+        One of :data:`stepframe.core.results.STATUSES`.
+    overturned
+        True when the frame overturned inside (the state is the one at overturning).
+    n_impacts, n_liftoffs
+        Events over the n periods.
+    phases
+        Phase code at the end.
+    """
+
+    x_m: float
+    v_m_s: float
+    jacobian: np.ndarray
+    status: Status
+    overturned: bool
+    n_impacts: int
+    n_liftoffs: int
+    phases: list[int] = field(default_factory=list)
+
+
+def stroboscopic_map(
+    frame: Any,
+    amplitude_m_s2: float,
+    omega_rad_s: float,
+    x_m: float,
+    v_m_s: float,
+    *,
+    n_periods: int = 1,
+    phase_rad: float = 0.0,
+    max_events: int = DEFAULT_MAX_EVENTS,
+    params: np.ndarray | None = None,
+) -> MapStep:
+    """P^n(x, v): the state n forcing periods after (x, v) at a period boundary (t = 0 mod T).
+
+    ``params`` (from :func:`frame_parameters`) skips re-reading the frame in tight loops.
+    """
+    from stepframe.structure import _harmonic_kernel as hk
+
+    prm = frame_parameters(frame) if params is None else params
+    period = 2.0 * math.pi / omega_rad_s
+    jac = np.eye(2)
+    x = float(x_m)
+    v = float(v_m_s)
+    phase = int(hk.start_phase(x, v, amplitude_m_s2 * math.cos(phase_rad), prm))
+    n_imp = n_lift = 0
+    phases = []
+    for i in range(n_periods):
+        st, x, v, phase, nl, ni, _pk, ov, _te = hk.advance(
+            prm,
+            amplitude_m_s2,
+            omega_rad_s,
+            phase_rad,
+            i * period,
+            (i + 1) * period,
+            x,
+            v,
+            phase,
+            jac,
+            True,
+            max_events,
+            amplitude_m_s2,
+        )
+        n_imp += ni
+        n_lift += nl
+        phases.append(int(phase))
+        if st != hk.K_OK or ov:
+            return MapStep(x, v, jac, _KERNEL_STATUS[int(st)], bool(ov), n_imp, n_lift, phases)
+    return MapStep(x, v, jac, "ok", False, n_imp, n_lift, phases)

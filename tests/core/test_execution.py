@@ -1,0 +1,61 @@
+"""core.execution.map_items: input order, failures recorded, any executor, equal results."""
+
+from __future__ import annotations
+
+from concurrent.futures import ThreadPoolExecutor
+
+import pytest
+
+from stepframe.core.execution import map_items
+from stepframe.errors import InputError
+
+
+def square_or_fail(value: int) -> int:
+    """Module level, so a process pool can pickle it."""
+    if value % 5 == 3:
+        raise ValueError(f"{value} is unlucky")
+    return value * value
+
+
+ITEMS = list(range(23))
+EXPECTED = [v * v for v in ITEMS if v % 5 != 3]
+
+
+def test_serial_order_failures_and_indices() -> None:
+    outcome = map_items(square_or_fail, ITEMS, jobs=1, stage="square", name_of=lambda v: f"#{v}")
+    results, failures = outcome
+    assert results == EXPECTED
+    assert outcome.indices == [v for v in ITEMS if v % 5 != 3]
+    assert [(f.item, f.stage, f.error_type) for f in failures] == [
+        (f"#{v}", "square", "ValueError") for v in (3, 8, 13, 18)
+    ]
+    assert failures[0].message == "3 is unlucky"
+    assert outcome.seconds >= 0
+
+
+@pytest.mark.parametrize("chunk_size", [1, 4, 64])
+def test_a_thread_pool_and_a_process_pool_give_the_serial_result(chunk_size: int) -> None:
+    serial = map_items(square_or_fail, ITEMS, jobs=1)
+    with ThreadPoolExecutor(max_workers=3) as pool:
+        threaded = map_items(square_or_fail, ITEMS, executor=pool, chunk_size=chunk_size)
+    processes = map_items(square_or_fail, ITEMS, jobs=2, chunk_size=chunk_size)
+    for other in (threaded, processes):
+        assert other.results == serial.results
+        assert other.indices == serial.indices
+        assert other.failures == serial.failures
+
+
+def test_an_empty_batch_and_bad_arguments() -> None:
+    assert map_items(square_or_fail, [], jobs=2).results == []
+    with pytest.raises(InputError, match="jobs = 0"):
+        map_items(square_or_fail, ITEMS, jobs=0)
+    with pytest.raises(InputError, match="chunk_size = 0"):
+        map_items(square_or_fail, ITEMS, chunk_size=0)
+
+
+def test_progress_prints_one_summary_line_when_stderr_is_not_a_terminal(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    map_items(square_or_fail, ITEMS, jobs=1, progress="squares")
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("squares: 23 items, 4 failed, ")
