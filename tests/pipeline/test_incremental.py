@@ -145,7 +145,7 @@ def test_site_from_records_is_the_median_of_the_fitted_parameters(scene: Path) -
     write_workflow(scene, text)
     report = _run(scene / "wf.toml")
     features = _features(report)
-    site = pd.read_parquet(report.outputs["site"][0]).iloc[0]
+    site = pd.read_parquet(scene / "stepframe-work" / "outputs" / "site_model.parquet").iloc[0]
     for name in ("omega_p_rad_s", "omega_s_rad_s", "omega_r_rad_s", "xi_p", "xi_r", "t_max_s"):
         assert site[name] == pytest.approx(float(np.median(features[name])), rel=1e-14)
     assert site["n_components"] == SMALL

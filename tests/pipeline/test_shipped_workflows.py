@@ -42,8 +42,10 @@ def test_site_amplification_from_the_papers_parameters(copy: Path) -> None:
     site = pd.read_parquet(outputs / "site_model.parquet").iloc[0]
     assert site["omega_p_rad_s"] == pytest.approx(2 * math.pi * 7.43, rel=1e-15)
     assert site["alpha_reading"] == "paper"
+    stored = json.loads((outputs / "site_model.json").read_text())
+    assert stored["ground_motion_model"]["omega_s_rad_s"] == site["omega_s_rad_s"]
     curve = xr.open_dataset(outputs / "amplification.nc", engine="h5netcdf")
-    f = curve["frequency_hz"].values
+    f = curve["frequency"].values
     assert f[0] == pytest.approx(0.1) and f[-1] == pytest.approx(10.0) and f.size == 60
     # eq. 6.19, last approximation: the paper's "5.67" for this site
     assert curve.attrs["approx_eq_6_19_last"] == pytest.approx((7.43 / 3.12) ** 2, rel=1e-14)

@@ -35,7 +35,7 @@ from stepframe.pipeline.lock import workspace_lock
 from stepframe.pipeline.plan import check_forced, plan_stages
 from stepframe.pipeline.scheduler import Execution, open_execution
 from stepframe.pipeline.stages import Context, Stage, Task, registry
-from stepframe.pipeline.store import KEY_COLUMN, Store, write_table
+from stepframe.pipeline.store import KEY_COLUMN, Store, write_output_table
 from stepframe.pipeline.workflow import Workflow, load_workflow
 
 if TYPE_CHECKING:
@@ -377,7 +377,7 @@ def _publish(workflow: Workflow, context: Context, report: RunReport) -> None:
         if stage.kind == "item":
             table = context.tables[name].drop(columns=[KEY_COLUMN])
             table.attrs = dict(context.tables[name].attrs)
-            paths = write_table(table, folder / f"{name}.parquet")
+            paths = write_output_table(table, folder / f"{name}.parquet")
             failed = [f for f in report.failures if f.stage == name]
             failures_file = failures_path(folder / f"{name}.csv")
             _write_csv(failures_table(failed), failures_file)

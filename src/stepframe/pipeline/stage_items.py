@@ -186,13 +186,14 @@ def component_features(
         record_options=tuple(sorted(record_options.items())),
         omega_max_rad_s=params["omega_max_rad_s"],
     )
-    row, failure = component_row(
-        np.asarray(trace.data, dtype=np.float64), float(trace.stats.delta), options
-    )
-    if row is None:
-        assert failure is not None
-        step, reason = failure
-        raise ItemFailure(f"{step}: {reason}")
+    try:
+        row = component_row(
+            np.asarray(trace.data, dtype=np.float64), float(trace.stats.delta), options
+        )
+    except Exception as error:
+        # component_row names the step that failed (features or fit) and keeps its error
+        step = getattr(error, "stage", "features")
+        raise ItemFailure(f"{step}: {_one_line(getattr(error, 'error', error))}") from None
     return [row]
 
 

@@ -15,10 +15,10 @@ import math
 from pathlib import Path
 from typing import Any
 
-from stepframe.core.io import atomic_write, write_bytes
+from stepframe.core.io import write_bytes
 from stepframe.errors import InputError
 from stepframe.pipeline.stages import Context, Param, Stage, register_stage
-from stepframe.pipeline.store import make_key, write_table
+from stepframe.pipeline.store import make_key, write_output_table
 
 SITE_VERSION = 1
 AMPLIFICATION_VERSION = 1
@@ -56,9 +56,8 @@ MODEL_FROM_FEATURES = {
     "t_max_s": "t_max_s",
     "t_dur_s": "t_dur_s",
 }
-SITE_TABLE = "site_model.parquet"
+SITE_JSON = "site_model.json"
 CURVE_NETCDF = "amplification.nc"
-CURVE_TABLE = "amplification.parquet"
 
 
 def _site_upstream(workflow: Any) -> tuple[str, ...]:
@@ -87,9 +86,12 @@ def _site_check(workflow: Any) -> None:
 
 
 def _model_from_parameters(params: dict[str, Any]) -> Any:
-    from stepframe.stochastic.model import GroundMotionModel
+    """The :class:`~stepframe.pipeline.site.SiteModel` of the ``[site]`` parameters."""
+    from dataclasses import replace
 
-    return GroundMotionModel.from_hz(
+    from stepframe.pipeline.site import site_from_parameters
+
+    site = site_from_parameters(
         params["fp_hz"],
         params["fs_hz"],
         params["fr_hz"],
@@ -99,6 +101,7 @@ def _model_from_parameters(params: dict[str, Any]) -> Any:
         t_dur_s=params["t_dur_s"],
         alpha_reading=params["alpha_reading"],
     )
+    return replace(site, peak_intensity_m_s2=params["peak_intensity_m_s2"])
 
 
 def _ok_features(context: Context, plausible_only: bool) -> Any:
@@ -116,60 +119,62 @@ def _site_key(context: Context) -> str:
     return make_key("site", SITE_VERSION, params)
 
 
-def _site_run(context: Context, folder: Path) -> None:
-    import pandas as pd
-
+def _site_from_records(context: Context, params: dict[str, Any]) -> Any:
+    """The site of the records: each fitted parameter's statistic over the components used."""
+    from stepframe.pipeline.site import SiteModel
     from stepframe.stochastic.model import GroundMotionModel
+
+    used = _ok_features(context, params["plausible_only"])
+    if used.empty:
+        raise InputError(
+            "no component with fitted features"
+            + (" passing the plausibility checks" if params["plausible_only"] else "")
+            + ", expected at least one for a site model from records"
+        )
+    reduce = "median" if params["statistic"] == "median" else "mean"
+    values = {
+        field: float(getattr(used[column].astype(float), reduce)())
+        for field, column in MODEL_FROM_FEATURES.items()
+    }
+    model = GroundMotionModel(**values, alpha_reading=params["alpha_reading"])
+    intensity = float(getattr(used["max_intensity_m_s2"].astype(float), reduce)())
+    source = {
+        "site": "records",
+        "statistic": reduce,
+        "plausible_only": params["plausible_only"],
+        "n_components": len(used),
+    }
+    return SiteModel(model, intensity, source)
+
+
+def _site_run(context: Context, folder: Path) -> None:
+    from stepframe.pipeline.site import write_site_model
 
     params = SITE_STAGE.parameters(context.workflow)
     if params["from"] == "parameters":
-        model = _model_from_parameters(params)
-        intensity = params["peak_intensity_m_s2"]
-        count = 0
+        site = _model_from_parameters(params)
     else:
-        used = _ok_features(context, params["plausible_only"])
-        if used.empty:
-            raise InputError(
-                "no component with fitted features"
-                + (" passing the plausibility checks" if params["plausible_only"] else "")
-                + ", expected at least one for a site model from records"
-            )
-        reduce = "median" if params["statistic"] == "median" else "mean"
-        values = {
-            field: float(getattr(used[column].astype(float), reduce)())
-            for field, column in MODEL_FROM_FEATURES.items()
-        }
-        model = GroundMotionModel(**values, alpha_reading=params["alpha_reading"])
-        intensity = float(getattr(used["max_intensity_m_s2"].astype(float), reduce)())
-        count = len(used)
+        site = _site_from_records(context, params)
+    write_site_model(site, folder / SITE_JSON)
+
+
+def site_table(site: Any) -> Any:
+    """A site model as a one-row table (the model's fields, f in Hz, intensity, source)."""
+    import pandas as pd
+
+    model = site.model
     row = {
         **model.to_dict(),
         "fp_hz": model.omega_p_rad_s / (2 * math.pi),
         "fs_hz": model.omega_s_rad_s / (2 * math.pi),
         "fr_hz": model.omega_r_rad_s / (2 * math.pi),
-        "peak_intensity_m_s2": intensity,
-        "source": params["from"],
-        "statistic": params["statistic"] if params["from"] == "records" else "",
-        "n_components": count,
+        "peak_intensity_m_s2": site.peak_intensity_m_s2,
+        "source": site.source.get("site", ""),
+        "n_components": int(site.source.get("n_components", 0)),
     }
-    row["omega_c_rad_s"] = math.nan if row["omega_c_rad_s"] is None else row["omega_c_rad_s"]
-    write_table(pd.DataFrame([row]), folder / SITE_TABLE, csv=False)
-
-
-def read_site_model(folder: Path) -> tuple[Any, float]:
-    """The ground-motion model and peak intensity [m/s²] stored by the ``site`` stage."""
-    import pandas as pd
-
-    from stepframe.stochastic.model import GroundMotionModel
-
-    row = pd.read_parquet(folder / SITE_TABLE).iloc[0].to_dict()
-    fields = {name: row[name] for name in GroundMotionModel.__dataclass_fields__}
-    for name, value in fields.items():
-        if isinstance(value, float | int) and not isinstance(value, bool):
-            fields[name] = float(value)
-    if fields.get("omega_c_rad_s") is not None and math.isnan(fields["omega_c_rad_s"]):
-        fields["omega_c_rad_s"] = None
-    return GroundMotionModel.from_dict(fields), float(row["peak_intensity_m_s2"])
+    if row["omega_c_rad_s"] is None:
+        row["omega_c_rad_s"] = math.nan
+    return pd.DataFrame([row])
 
 
 def _copy_files(source: Path, target: Path) -> list[Path]:
@@ -184,9 +189,11 @@ def _copy_files(source: Path, target: Path) -> list[Path]:
 
 
 def _site_publish(folder: Path, outputs: Path) -> list[Path]:
-    import pandas as pd
+    from stepframe.pipeline.site import read_site_model
 
-    return write_table(pd.read_parquet(folder / SITE_TABLE), outputs / "site_model.parquet")
+    site = read_site_model(folder / SITE_JSON)
+    json_copy = write_bytes(outputs / SITE_JSON, (folder / SITE_JSON).read_bytes())
+    return [json_copy, *write_output_table(site_table(site), outputs / "site_model.parquet")]
 
 
 SITE_STAGE = register_stage(
@@ -239,74 +246,36 @@ def _amplification_key(context: Context) -> str:
     return make_key("amplification", AMPLIFICATION_VERSION, params, context.set_keys["site"])
 
 
-def amplification_curve(model: Any, peak_intensity: float, params: dict[str, Any]) -> Any:
-    """The amplification curve of a site model as an ``xarray.Dataset`` over ``frequency_hz``.
-
-    Variables: ``spectral_ratio_eq_6_18`` (the paper's ratio of spectral densities, eq. 6.18),
-    ``response_amplification_vs_fixed`` and ``..._vs_stationary`` (peak RMS response of the
-    oscillator whose frequency tracks ω_g(t), over the fixed oscillator's and over the
-    stationary one's; exact covariance method) and the three peak RMS values [m]. Attributes:
-    eq. 6.19's first and last approximations (single numbers).
-    """
-    import numpy as np
-    import xarray as xr
-
-    from stepframe.stochastic.amplification import (
-        approx_eq_6_19_first,
-        approx_eq_6_19_last,
-        response_amplification,
-        spectral_ratio_eq_6_18,
-    )
-    from stepframe.stochastic.mean_square import analysis_grid
-
-    frequency = np.geomspace(params["f_min_hz"], params["f_max_hz"], params["n_frequencies"])
-    omega = 2 * np.pi * frequency
-    grid = analysis_grid(model, n_steps=params["n_steps"])
-    response = response_amplification(
-        model, omega, params["xi0"], peak_intensity=peak_intensity, time_s=grid
-    )
-    dims = ("frequency_hz",)
-    data = {
-        "spectral_ratio_eq_6_18": (dims, spectral_ratio_eq_6_18(model, omega), {"units": "1"}),
-        "response_amplification_vs_fixed": (dims, response.vs_fixed, {"units": "1"}),
-        "response_amplification_vs_stationary": (dims, response.vs_stationary, {"units": "1"}),
-        "peak_rms_moving_m": (dims, response.peak_rms_moving_m, {"units": "m"}),
-        "peak_rms_fixed_m": (dims, response.peak_rms_fixed_m, {"units": "m"}),
-        "stationary_rms_m": (dims, response.stationary_rms_m, {"units": "m"}),
-    }
-    return xr.Dataset(
-        {name: xr.Variable(*value) for name, value in data.items()},
-        coords={"frequency_hz": ("frequency_hz", frequency, {"units": "Hz"})},
-        attrs={
-            "approx_eq_6_19_first": approx_eq_6_19_first(model),
-            "approx_eq_6_19_last": approx_eq_6_19_last(model),
-            "xi0": params["xi0"],
-            "alpha_reading": model.alpha_reading,
-            "omega_path": response.omega_path,
-            "method": "covariance",
-            "status": str(response.moving.status),
-            "peak_intensity_m_s2": peak_intensity,
-        },
-    )
-
-
 def _amplification_run(context: Context, folder: Path) -> None:
+    import numpy as np
+
+    from stepframe.pipeline.amplification import amplification_curve, write_curve
+    from stepframe.pipeline.site import read_site_model
+    from stepframe.stochastic.amplification import approx_eq_6_19_first
+
     params = AMPLIFICATION_STAGE.parameters(context.workflow)
-    model, intensity = read_site_model(context.set_dirs["site"])
-    curve = amplification_curve(model, intensity, params)
-    with atomic_write(folder / CURVE_NETCDF, "wb") as out:
-        curve.to_netcdf(out, engine="h5netcdf")
+    site = read_site_model(context.set_dirs["site"] / SITE_JSON)
+    frequencies = np.geomspace(params["f_min_hz"], params["f_max_hz"], params["n_frequencies"])
+    curve = amplification_curve(site, frequencies, params["xi0"], n_steps=params["n_steps"])
+    # eq. 6.19 has two approximations; the curve carries the last, the report wants both
+    curve.attrs["approx_eq_6_19_first"] = approx_eq_6_19_first(site.model)
+    write_curve(curve, folder / CURVE_NETCDF)
+
+
+def curve_table(curve: Any) -> Any:
+    """An amplification curve as a table: a row per frequency, eq. 6.19's values repeated."""
     table = curve.to_dataframe().reset_index()
     for name in ("approx_eq_6_19_first", "approx_eq_6_19_last"):
         table[name] = curve.attrs[name]
-    write_table(table, folder / CURVE_TABLE, csv=False)
+    return table
 
 
 def _amplification_publish(folder: Path, outputs: Path) -> list[Path]:
-    import pandas as pd
+    from stepframe.pipeline.amplification import read_curve
 
-    curve = write_bytes(outputs / CURVE_NETCDF, (folder / CURVE_NETCDF).read_bytes())
-    return [curve, *write_table(pd.read_parquet(folder / CURVE_TABLE), outputs / CURVE_TABLE)]
+    netcdf = write_bytes(outputs / CURVE_NETCDF, (folder / CURVE_NETCDF).read_bytes())
+    table = curve_table(read_curve(folder / CURVE_NETCDF))
+    return [netcdf, *write_output_table(table, outputs / "amplification.parquet")]
 
 
 AMPLIFICATION_STAGE = register_stage(

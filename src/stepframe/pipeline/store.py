@@ -256,23 +256,13 @@ def _write_parquet(table: pd.DataFrame, path: Path) -> None:
         plain.to_parquet(out, index=False, engine="pyarrow")
 
 
-def write_table(table: pd.DataFrame, path: Path, *, csv: bool = True) -> list[Path]:
-    """Write a final table as Parquet (and a CSV copy for people) atomically; the paths.
+def write_output_table(table: pd.DataFrame, path: Path) -> list[Path]:
+    """Write a final table as Parquet, with a CSV copy for people and its column dictionary
+    (:func:`stepframe.pipeline.tables.write_table`: ``X.csv`` and ``X.columns.csv``), atomically.
 
-    The column dictionary in ``table.attrs["column_dictionary"]``, if any, goes to
-    ``<name>.columns.csv``.
+    Returns the paths written (Parquet first).
     """
-    written = [path]
+    from stepframe.pipeline.tables import write_table
+
     _write_parquet(table, path)
-    if csv:
-        csv_path = path.with_suffix(".csv")
-        with atomic_write(csv_path) as out:
-            table.to_csv(out, index=False, lineterminator="\n")
-        written.append(csv_path)
-    dictionary = table.attrs.get("column_dictionary")
-    if dictionary is not None:
-        columns_path = path.with_name(f"{path.stem}.columns.csv")
-        with atomic_write(columns_path) as out:
-            dictionary.to_csv(out, index=False, lineterminator="\n")
-        written.append(columns_path)
-    return written
+    return [path, *write_table(table, path.with_suffix(".csv"))]
