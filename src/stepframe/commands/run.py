@@ -72,7 +72,7 @@ def register(subparsers: Any) -> None:
         type=int,
         default=None,
         metavar="N",
-        help="items stored per batch (default 256, or 32 per worker if more): a killed run "
+        help="items stored per batch (default 1024, or 32 per worker if more): a killed run "
         "loses at most one batch",
     )
 

@@ -41,8 +41,9 @@ from stepframe.pipeline.workflow import Workflow, load_workflow
 if TYPE_CHECKING:
     import pandas as pd
 
-#: Items computed per stored segment by default: a killed run loses at most one batch.
-DEFAULT_BATCH_ITEMS = 256
+#: Items computed per stored segment by default: a killed run loses at most one batch, and
+#: each batch starts its worker processes (about 1 s of CPU each), so batches are not small.
+DEFAULT_BATCH_ITEMS = 1024
 #: With many workers, at least this many items per worker in a batch.
 BATCH_ITEMS_PER_WORKER = 32
 #: A batch of at most this many items per worker runs in this process (no pool to start).
