@@ -15,7 +15,9 @@ from .conftest import FEATURES_WORKFLOW, write_workflow
 
 
 @pytest.mark.slow
-def test_local_cluster_tables_equal_the_serial_run(scene: Path) -> None:
+def test_local_cluster_tables_equal_the_serial_run(
+    scene: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     distributed = pytest.importorskip("dask.distributed")
     serial = write_workflow(scene, 'workspace = "serial"\n' + FEATURES_WORKFLOW, "serial.toml")
     remote = write_workflow(scene, 'workspace = "dask"\n' + FEATURES_WORKFLOW, "dask.toml")
@@ -24,7 +26,9 @@ def test_local_cluster_tables_equal_the_serial_run(scene: Path) -> None:
         n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None
     ) as cluster:
         assert cluster.scheduler_address.startswith("tcp://127.0.0.1:")
-        dask_report = run_workflow(remote, scheduler=cluster.scheduler_address)
+        # the workflow named relative to a folder the workers are not in: they get absolute paths
+        monkeypatch.chdir(scene)
+        dask_report = run_workflow(remote.name, scheduler=cluster.scheduler_address)
     assert dask_report.execution.startswith(cluster.scheduler_address)
     assert [s.computed for s in dask_report.stages] == [s.computed for s in serial_report.stages]
     for name in ("features.parquet", "features.csv", "features.failures.csv"):

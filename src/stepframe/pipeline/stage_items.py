@@ -73,7 +73,8 @@ def _inventory_tasks(context: Context) -> list[Task]:
             Task(
                 key=key,
                 name=relative,
-                payload=(str(path), options),
+                # absolute: a Dask worker's current folder is not this process's
+                payload=(str(path.absolute()), options),
                 context={"file": relative, "content_sha256": sha},
             )
         )
@@ -149,7 +150,7 @@ def _features_tasks(context: Context) -> list[Task]:
             Task(
                 key=key,
                 name=f"{row['file']} [{row['component']}]",
-                payload=(str(folder / str(row["file"])), options, index, params),
+                payload=(str((folder / str(row["file"])).absolute()), options, index, params),
                 context={
                     "file": row["file"],
                     "station": row["station"],
