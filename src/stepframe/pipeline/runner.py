@@ -33,7 +33,7 @@ from stepframe.core.results import Failure, failures_path, failures_table
 from stepframe.errors import InputError
 from stepframe.pipeline.lock import workspace_lock
 from stepframe.pipeline.plan import check_forced, plan_stages
-from stepframe.pipeline.scheduler import Execution, open_execution
+from stepframe.pipeline.scheduler import Execution, check_scheduler, open_execution
 from stepframe.pipeline.stages import Context, Stage, Task, registry
 from stepframe.pipeline.store import KEY_COLUMN, Store, write_output_table
 from stepframe.pipeline.workflow import Workflow, load_workflow
@@ -205,33 +205,35 @@ def run_workflow(
     store = Store(workflow.workspace / "store")
     if dry_run:
         return _dry_run(workflow, planned, store, forced, retry_failed)
-    with open_execution(scheduler, jobs) as execution:
+    check_scheduler(scheduler, jobs)  # before the lock: a user error writes nothing
+    # the lock before the executor: a busy workspace is reported before a cluster starts
+    with (
+        workspace_lock(workflow.workspace, wait=wait),
+        open_execution(scheduler, jobs) as execution,
+    ):
         report = RunReport(
             str(workflow.path), str(workflow.workspace), execution.description, False
         )
-        with workspace_lock(workflow.workspace, wait=wait):
-            store.prepare()
-            _remove_temporaries(workflow.outputs_folder)
-            context = Context(
-                workflow, {}, {}, {}, {}, execution.jobs, execution.executor, progress
-            )
-            batch = batch_items or max(DEFAULT_BATCH_ITEMS, BATCH_ITEMS_PER_WORKER * execution.jobs)
-            for name in planned:
-                stage = registry()[name]
-                summary = StageSummary(name, stage.kind)
-                start = time.perf_counter()
-                blocked = [u for u in stage.upstream(workflow) if not _available(context, u)]
-                if blocked:
-                    summary.status = "skipped"
-                    summary.message = f"upstream stage {blocked[0]} has no result"
-                elif stage.kind == "item":
-                    _run_items(stage, context, store, execution, summary, report, forced,
-                               retry_failed, batch)  # fmt: skip
-                else:
-                    _run_set(stage, context, store, summary, name in forced)
-                summary.seconds = round(time.perf_counter() - start, 3)
-                report.stages.append(summary)
-            _publish(workflow, context, report)
+        store.prepare()
+        _remove_temporaries(workflow.outputs_folder)
+        context = Context(workflow, {}, {}, {}, {}, execution.jobs, execution.executor, progress)
+        batch = batch_items or max(DEFAULT_BATCH_ITEMS, BATCH_ITEMS_PER_WORKER * execution.jobs)
+        for name in planned:
+            stage = registry()[name]
+            summary = StageSummary(name, stage.kind)
+            start = time.perf_counter()
+            blocked = [u for u in stage.upstream(workflow) if not _available(context, u)]
+            if blocked:
+                summary.status = "skipped"
+                summary.message = f"upstream stage {blocked[0]} has no result"
+            elif stage.kind == "item":
+                _run_items(stage, context, store, execution, summary, report, forced,
+                           retry_failed, batch)  # fmt: skip
+            else:
+                _run_set(stage, context, store, summary, name in forced)
+            summary.seconds = round(time.perf_counter() - start, 3)
+            report.stages.append(summary)
+        _publish(workflow, context, report)
     return report
 
 

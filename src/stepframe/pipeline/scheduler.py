@@ -39,6 +39,23 @@ def _import_dask() -> Any:
     return distributed
 
 
+def check_scheduler(scheduler: str | None, jobs: int | None) -> None:
+    """Check ``--scheduler`` and ``--jobs`` without starting anything.
+
+    Raises
+    ------
+    InputError
+        ``jobs`` below 1, an unknown scheduler, or Dask missing (naming the install command).
+    """
+    if jobs is not None and jobs < 1:
+        raise InputError(f"--jobs {jobs}, expected ≥ 1")
+    if scheduler is None:
+        return
+    if scheduler != "dask-local" and not scheduler.startswith("tcp://"):
+        raise InputError(f"--scheduler {scheduler}, expected dask-local or tcp://HOST:PORT")
+    _import_dask()
+
+
 @contextlib.contextmanager
 def open_execution(scheduler: str | None, jobs: int | None) -> Iterator[Execution]:
     """The executor for a run, closed (cluster stopped) when the ``with`` block ends.
