@@ -30,6 +30,26 @@ def at2_bytes(values_g: np.ndarray, dt_s: float, title: str, event: str, station
     return ("\n".join(lines) + "\n").encode("ascii")
 
 
+def example_name(row: dict[str, Any]) -> str:
+    """The AT2 file name of an example component (its RSN and PEER component name)."""
+    return f"RSN{int(row['rsn'])}_{str(row['component_name']).replace('/', '_')}.AT2"
+
+
+def example_metadata(folder: Path) -> Any:
+    """The example catalogue's metadata table with ``file`` = the component's AT2 file in
+    ``folder`` (magnitude, distances, Vs30, ... for the selection filters)."""
+    from stepframe.records.examples import metadata
+
+    table = metadata()
+    rows: list[dict[str, Any]] = table.to_dict(orient="records")  # type: ignore[assignment]
+    table = table.assign(
+        file=[str(folder / example_name(row)) for row in rows],
+        event=table["event"].astype(str) + " " + table["year"].astype(str),
+    )
+    table.attrs = {}
+    return table
+
+
 def example_files(scale: float = 1.0) -> Iterator[tuple[str, bytes]]:
     """(file name, AT2 bytes) of each example component, in catalogue order.
 
@@ -47,7 +67,7 @@ def example_files(scale: float = 1.0) -> Iterator[tuple[str, bytes]]:
     for trace, row in zip(stream, rows, strict=True):
         values_g = np.asarray(trace.data) / STANDARD_GRAVITY_M_S2 * scale
         # the stored values are exact decimals: rounding to 9 digits gives the source's text
-        name = f"RSN{int(row['rsn'])}_{str(row['component_name']).replace('/', '_')}.AT2"
+        name = example_name(row)
         title = str(row["component_name"]).rsplit("/", 1)[-1]
         yield (
             name,

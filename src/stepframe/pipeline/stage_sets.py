@@ -339,15 +339,34 @@ def _selection_run(context: Context, folder: Path) -> None:
             f"record selection is not available in this installation ({error}), "
             "expected stepframe.pipeline.selection"
         ) from None
+    from stepframe.pipeline.stage_items import record_folder
+
     features = context.tables["features"].drop(columns=["_key"])
+    # select_records re-reads records by path (spectra, confirmation): give it absolute paths
+    folder_of_records = record_folder(context).absolute()
+    features["file"] = [str(folder_of_records / name) for name in features["file"]]
+    inventory = context.tables["inventory"]
+    extra = inventory[["file", "component", "event", "magnitude"]].copy()
+    extra["file"] = [str(folder_of_records / name) for name in extra["file"]]
+    features = features.merge(extra, on=["file", "component"], how="left")
+    records = context.workflow.records
+    if records is not None and records.example is not None:
+        from stepframe.pipeline.example_files import example_metadata
+
+        features = _join_new_columns(features, example_metadata(folder_of_records))
+    kwargs: dict[str, Any] = {"jobs": context.jobs, "executor": context.executor}
+    if records is not None and records.options:
+        kwargs["record_options"] = dict(records.options)
     result = select_records(
-        features,
-        context.workflow.frame,
-        _selection_options(context.workflow),
-        jobs=context.jobs,
-        executor=context.executor,
+        features, context.workflow.frame, _selection_options(context.workflow), **kwargs
     )
     result.write(folder)
+
+
+def _join_new_columns(table: Any, extra: Any) -> Any:
+    """``table`` with the columns of ``extra`` it lacks, matched on ``file``."""
+    new = [c for c in extra.columns if c not in table.columns]
+    return table.merge(extra[["file", *new]], on="file", how="left")
 
 
 def _selection_publish(folder: Path, outputs: Path) -> list[Path]:
