@@ -123,4 +123,4 @@ def test_the_command_tree_builds_whatever_module_is_imported_first() -> None:
         done = subprocess.run(
             [sys.executable, "-c", probe], capture_output=True, text=True, check=True
         )
-        assert done.stdout.strip() == "['demo', 'records', 'stochastic', 'structure']"
+        assert done.stdout.strip() == "['demo', 'records', 'run', 'stochastic', 'structure']"
