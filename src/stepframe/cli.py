@@ -27,6 +27,7 @@ from stepframe.commands import (
     group_modules,
     to_jsonable,
 )
+from stepframe.core.text import terminal_safe
 from stepframe.errors import InputError
 
 EXAMPLES = """\
@@ -73,7 +74,7 @@ def _print_result(result: CommandResult, as_json: bool) -> None:
     if as_json:
         print(json.dumps(to_jsonable(result.data), indent=2, allow_nan=False))
     elif result.text:
-        print(result.text)
+        print(terminal_safe(result.text))
 
 
 def _one_line_warning(
@@ -85,7 +86,8 @@ def _one_line_warning(
     line: str | None = None,
 ) -> None:
     """Show a warning (a skipped channel, a degraded result) as one line, like errors."""
-    print(f"stepframe: warning: {message}", file=sys.stderr if file is None else file)
+    text = terminal_safe(str(message).replace("\n", " "))
+    print(f"stepframe: warning: {text}", file=sys.stderr if file is None else file)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -113,12 +115,13 @@ def _run(args_list: list[str], debug: bool) -> int:
         if debug:
             traceback.print_exc()
         message = error.one_line() if isinstance(error, InputError) else str(error)
-        print(f"stepframe: error: {message}", file=sys.stderr)
+        print(f"stepframe: error: {terminal_safe(message)}", file=sys.stderr)
         return 2
     except (FileNotFoundError, IsADirectoryError, PermissionError) as error:
         if debug:
             traceback.print_exc()
-        print(f"stepframe: error: {error.filename}: {error.strerror}", file=sys.stderr)
+        where = terminal_safe(str(error.filename))
+        print(f"stepframe: error: {where}: {error.strerror}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("stepframe: interrupted", file=sys.stderr)

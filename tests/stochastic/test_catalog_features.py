@@ -35,7 +35,8 @@ def test_folder_rows_failures_and_parallel_equals_serial(tmp_path: Path) -> None
     acc = _motions(3)
     for i, x in enumerate(acc):
         _write_fema(tmp_path / f"rec{i}.txt", x, 0.01)
-    _write_fema(tmp_path / "flat.txt", np.zeros(4000), 0.01)  # constant: fails at "features"
+    # Constant but not zero (read() refuses an all-zero record): fails at "features".
+    _write_fema(tmp_path / "flat.txt", np.full(4000, 0.01), 0.01)
     (tmp_path / "junk.txt").write_text("not an accelerogram\n")  # fails at "read"
     (tmp_path / ".hidden").write_text("ignored")
     table, failures = catalog_features(tmp_path, n_jobs=1)

@@ -59,7 +59,7 @@ def test_free_rocking_quarter_period_and_decay(theta0_rad: float) -> None:
 
 
 def test_block_at_rest_starts_rocking_only_above_g_tan_alpha() -> None:
-    g = 9.80665
+    g = block_g()  # the structure API's one default gravity
     below = np.full(200, 0.99 * g * ALPHA_RAD)
     assert (
         simulate_rigid_block(P_RAD_S, ALPHA_RAD, ETA, below, 0.01).summary.n_stepping_episodes == 0

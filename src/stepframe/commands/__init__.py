@@ -17,6 +17,7 @@ from types import ModuleType
 from typing import TYPE_CHECKING, Any, NoReturn
 
 from stepframe.errors import InputError
+from stepframe.records.formats import format_names_help
 
 if TYPE_CHECKING:
     from obspy import Stream
@@ -93,9 +94,7 @@ def add_command(
     return parser
 
 
-FORMAT_NAMES_HELP = (
-    "at2, cosmos, dmg, geonet, esm, text, fema, or an obspy format name in lower case"
-)
+FORMAT_NAMES_HELP = format_names_help()
 
 
 def add_record_options(parser: argparse.ArgumentParser) -> None:

@@ -108,8 +108,9 @@ def run_spectrum(args: argparse.Namespace) -> CommandResult:
 
 def run_catalog(args: argparse.Namespace) -> CommandResult:
     """Catalogue a folder; progress on stderr unless --json."""
-    from stepframe.records.catalog import catalog, write_catalog
+    from stepframe.records.catalog import catalog, check_output, write_catalog
 
+    outputs = check_output(args.output)  # before the work, not after it
     table, failures = catalog(
         args.folder,
         format=args.format,
@@ -118,6 +119,7 @@ def run_catalog(args: argparse.Namespace) -> CommandResult:
         inventory=args.inventory,
         component=args.component,
         progress=not getattr(args, "json", False),
+        exclude=outputs,
     )
     paths = write_catalog(table, failures, args.output)
     data = {

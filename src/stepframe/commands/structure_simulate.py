@@ -93,6 +93,7 @@ def run_simulate(args: argparse.Namespace) -> CommandResult:
     """Read the frame and the record, simulate, summarise (and plot)."""
     import os
 
+    from stepframe.core.validation import in_range, length
     from stepframe.pipeline.response import simulate_record
     from stepframe.structure.frame_file import read_frame_file
 
@@ -102,8 +103,10 @@ def run_simulate(args: argparse.Namespace) -> CommandResult:
         check_figure_path(args.plot)
     frame = read_frame_file(args.frame)
     trace = _one_trace(read_record_file(args.record, args), args.record)
+    tail_s = None if args.tail_s is None else length("--tail-s", args.tail_s, high=1e5)
+    scale = in_range("--scale", args.scale, 0.0, 1e3, low_open=True)
     response = simulate_record(
-        frame, trace, scale=args.scale, tail_s=args.tail_s, record_history=args.plot is not None,
+        frame, trace, scale=scale, tail_s=tail_s, record_history=args.plot is not None,
         name=args.record,
     )  # fmt: skip
     data = response.to_dict()

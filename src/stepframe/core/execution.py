@@ -14,6 +14,8 @@ pool), which is used and left open.
 from __future__ import annotations
 
 import math
+import multiprocessing
+import multiprocessing.context
 import os
 import sys
 import time
@@ -80,6 +82,18 @@ def _die_with_parent() -> None:
         # The parent may have died between fork and prctl.
         if os.getppid() == 1:
             os._exit(1)
+
+
+def _pool_context() -> multiprocessing.context.BaseContext:
+    """Workers start from a fork server where there is one (Linux, macOS).
+
+    A plain fork is unsafe once this process has run numba's parallel loop: GNU OpenMP kills a
+    child forked after its parent used its thread pool (the batch simulator does). The fork server
+    is forked early from a clean state; a worker's parent is then the server, which exits when
+    this process dies, so the workers still die with it.
+    """
+    methods = multiprocessing.get_all_start_methods()
+    return multiprocessing.get_context("forkserver" if "forkserver" in methods else "spawn")
 
 
 def _run_chunk(
@@ -204,7 +218,9 @@ def map_items(
             _gather(executor, function, chunks, stage, name_of, take)
         else:
             with ProcessPoolExecutor(
-                max_workers=min(workers, len(chunks)), initializer=_die_with_parent
+                max_workers=min(workers, len(chunks)),
+                mp_context=_pool_context(),
+                initializer=_die_with_parent,
             ) as pool:
                 _gather(pool, function, chunks, stage, name_of, take)
     finally:

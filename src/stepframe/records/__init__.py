@@ -7,16 +7,14 @@ The record type is an ``obspy.Trace`` in m/s² with ``stats.stepframe`` metadata
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+import sys
+import types
+from typing import TYPE_CHECKING, Any
 
 from stepframe._lazy import lazy_exports
 
-# ``catalog`` is imported at once: the function shares its module's name, and a lazy export
-# would be shadowed by the submodule as soon as anything imported ``stepframe.records.catalog``.
-from stepframe.records.catalog import catalog
-
 if TYPE_CHECKING:
-    from stepframe.records.catalog import intensity_table, write_catalog
+    from stepframe.records.catalog import catalog, intensity_table, write_catalog
     from stepframe.records.examples import fema_p695
     from stepframe.records.intensity import intensity_measures, trace_intensity_measures
     from stepframe.records.io import read
@@ -44,6 +42,29 @@ _EXPORTS = {
 
 
 __getattr__ = lazy_exports(__name__, _EXPORTS)
+
+
+class _Records(types.ModuleType):
+    """The package, whose ``catalog`` attribute stays the function.
+
+    ``catalog`` shares its name with its submodule: importing ``stepframe.records.catalog`` sets
+    the package's ``catalog`` attribute to the module. This property keeps the public name bound
+    to the function, so it too can be imported lazily (``stepframe --help`` imports no numpy).
+    """
+
+    @property
+    def catalog(self) -> Any:
+        from stepframe.records.catalog import catalog as function
+
+        return function
+
+    @catalog.setter
+    def catalog(self, value: Any) -> None:
+        # The import system binds the submodule here; the property already resolves the name.
+        pass
+
+
+sys.modules[__name__].__class__ = _Records
 
 
 __all__ = [

@@ -9,6 +9,7 @@ files or the new ones, never half a file.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import warnings
 from collections.abc import Iterable
@@ -24,6 +25,7 @@ import numpy as np
 from stepframe.core.execution import map_items
 from stepframe.core.io import atomic_write
 from stepframe.core.results import Failure, failures_path, failures_table
+from stepframe.core.text import spreadsheet_safe
 from stepframe.errors import InputError
 from stepframe.records.intensity import MEASURES, intensity_measures
 from stepframe.records.units import STANDARD_GRAVITY_M_S2
@@ -122,9 +124,42 @@ def intensity_table(stream: Iterable[Trace]) -> pd.DataFrame:
     return table
 
 
-def record_files(path: str | PathLike[str]) -> list[Path]:
-    """Files under ``path`` (or ``path`` itself), sorted, hidden files and folders skipped."""
+#: Files in a record folder that are documentation, not records (never counted as failures).
+_NOT_RECORD_NAMES = ("license", "licence", "readme", "provenance", "copying", "notice")
+_NOT_RECORD_SUFFIXES = (".md", ".rst", ".html", ".pdf", ".png", ".json", ".toml", ".nc", ".py")
+#: Names of the files stepframe writes beside a catalogue (excluded when scanning).
+_OUTPUT_SUFFIXES = (".columns.csv", ".failures.csv")
+
+
+def _is_record_candidate(path: Path) -> bool:
+    name = path.name.lower()
+    if name.startswith(_NOT_RECORD_NAMES) or name.endswith(_NOT_RECORD_SUFFIXES):
+        return False
+    return not (name.endswith(_OUTPUT_SUFFIXES) or name == "failures.csv")
+
+
+def record_files(
+    path: str | PathLike[str], *, exclude: Iterable[str | PathLike[str]] = ()
+) -> list[Path]:
+    """Record files under ``path`` (or ``path`` itself), sorted.
+
+    Skipped: hidden files and folders; anything that is not a regular file (a FIFO or a device
+    would block or never end, a socket cannot be read); documentation beside records (LICENSE,
+    README, PROVENANCE, ``*.md``, ``*.json``, ...); stepframe's own outputs (``*.columns.csv``,
+    ``*.failures.csv``) and the paths in ``exclude`` (a catalogue written inside the folder it
+    scans must not be read back as a record on the next run).
+
+    Parameters
+    ----------
+    path
+        A folder (walked recursively) or one file.
+    exclude
+        Files never listed (the outputs of the run).
+    """
+    import stat
+
     root = Path(path)
+    excluded = {Path(p).resolve() for p in exclude}
     if root.is_file():
         return [root]
     if not root.is_dir():
@@ -132,7 +167,16 @@ def record_files(path: str | PathLike[str]) -> list[Path]:
     files = []
     for folder, dirs, names in os.walk(root):
         dirs[:] = sorted(d for d in dirs if not d.startswith("."))
-        files += [Path(folder) / name for name in sorted(names) if not name.startswith(".")]
+        for name in sorted(names):
+            file = Path(folder) / name
+            if name.startswith(".") or not _is_record_candidate(file):
+                continue
+            try:
+                regular = stat.S_ISREG(file.stat().st_mode)
+            except OSError:
+                regular = True  # let read() report a dangling link or a permission problem
+            if regular and file.resolve() not in excluded:
+                files.append(file)
     return files
 
 
@@ -187,6 +231,7 @@ def catalog(
     jobs: int | None = 1,
     executor: Executor | None = None,
     progress: bool | str = False,
+    exclude: Iterable[str | PathLike[str]] = (),
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
     """Catalogue every record under a folder: one row per component.
 
@@ -201,6 +246,8 @@ def catalog(
         at a time in this process.
     progress
         Count, rate and ETA on stderr (see :func:`~stepframe.core.execution.map_items`).
+    exclude
+        Files not to catalogue (the run's own outputs when they are inside ``path``).
 
     Returns
     -------
@@ -214,7 +261,7 @@ def catalog(
     """
     import pandas as pd
 
-    files = record_files(path)
+    files = record_files(path, exclude=exclude)
     options = _ReadOptions(
         format, units, dt_s, None if inventory is None else str(inventory), component
     )
@@ -254,13 +301,38 @@ def output_paths(out: str | PathLike[str]) -> tuple[Path, Path, Path]:
     )
 
 
+def check_output(out: str | PathLike[str]) -> tuple[Path, Path, Path]:
+    """The output paths of :func:`write_catalog`, refused before any work if they cannot be written.
+
+    Raises
+    ------
+    InputError
+        The folder does not exist, or one of the paths is a folder.
+    """
+    paths = output_paths(out)
+    if not paths[0].parent.is_dir():
+        raise InputError("output folder does not exist, expected an existing folder", paths[0])
+    for target in paths:
+        if target.is_dir():
+            raise InputError("is a folder, expected a file name for the output", target)
+    return paths
+
+
 def write_catalog(
     table: pd.DataFrame, failures: pd.DataFrame, out: str | PathLike[str]
 ) -> tuple[Path, Path, Path]:
-    """Write the table, its column dictionary and the failures (each atomically)."""
-    paths = output_paths(out)
+    """Write the table, its column dictionary and the failures, together.
+
+    All three are written to temporaries beside their targets first; only when every one is
+    complete are they renamed, failures and columns first and the table last, so a run killed
+    while writing leaves the previous outputs untouched, and one that fails leaves no
+    temporary. Files get the user's umask; text cells are spreadsheet-safe.
+    """
+    paths = check_output(out)
     frames = (table, table.attrs.get("column_dictionary", column_dictionary()), failures)
-    for frame, target in zip(frames, paths, strict=True):
-        with atomic_write(target) as stream:
-            frame.to_csv(stream, index=False)
+    with contextlib.ExitStack() as stack:
+        # Entered table first, so exited (renamed) last.
+        for frame, target in zip(frames, paths, strict=True):
+            stream = stack.enter_context(atomic_write(target))
+            spreadsheet_safe(frame).to_csv(stream, index=False)
     return paths

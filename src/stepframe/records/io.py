@@ -4,23 +4,59 @@ A gzip-compressed file (``RSN1.AT2.gz``; data centres often ship them) is read a
 holds: it is decompressed to a temporary file with the inner name, and ``source_file`` names the
 ``.gz``. Units are never guessed: a reader that cannot tell them refuses with a message saying how
 to give them.
+
+Hostile input (docs/reliability.md): the file type is checked before anything is opened, so a
+FIFO or a device never blocks; standard input (``-``), ``/dev/stdin`` and process substitution
+(``<(zcat f.gz)``) are buffered once, then sniffed and read like a file; a file (or a gzip's
+content) larger than :data:`MAX_RECORD_BYTES` is refused before it is read; every sample is
+checked for plausibility (finite, not all zero, within :data:`MAX_ABS_G` g); and a reader that
+fails in a way it did not foresee still gives a one-line error naming the file.
 """
 
 from __future__ import annotations
 
+import errno
 import gzip
-import shutil
+import os
+import select
+import stat
+import sys
 import tempfile
 import warnings
 from os import PathLike
 from pathlib import Path
 from typing import Any
 
-from stepframe.errors import InputError
-from stepframe.records.formats import FORMATS, SNIFF_BYTES, ReadOptions, RecordFormat
-from stepframe.records.units import normalize_units
+import numpy as np
+
+from stepframe.errors import FormatError, InputError, StepframeError
+from stepframe.records.formats import (
+    SNIFF_BYTES,
+    ReadOptions,
+    RecordFormat,
+    format_labels,
+    registered_formats,
+)
+from stepframe.records.formats._header import MAX_DT_S, MIN_DT_S
+from stepframe.records.units import STANDARD_GRAVITY_M_S2, normalize_units
 
 _GZIP_MAGIC = b"\x1f\x8b"
+
+#: Largest record file read by default [bytes]: far above the largest real accelerogram files
+#: (a multi-channel COSMOS V0 or a day of 200 Hz MiniSEED is tens of MB), far below what would
+#: exhaust memory once parsed. ``read(..., max_bytes=...)`` overrides it.
+MAX_RECORD_BYTES = 256 * 1024**2
+
+#: Largest plausible acceleration [g]: the largest recorded peaks are about 4 g (Iwate-Miyagi
+#: 2008); a sample beyond this is a damaged file or wrong units. ``read(..., max_abs_g=None)``
+#: turns the check off.
+MAX_ABS_G = 100.0
+
+#: Seconds to wait for the next bytes from a pipe or device before giving up.
+STREAM_TIMEOUT_S = 10.0
+
+#: The path that names standard input.
+STDIN = "-"
 
 
 def read(
@@ -30,17 +66,21 @@ def read(
     dt: float | None = None,
     inventory: str | PathLike[str] | None = None,
     component: str | None = None,
+    *,
+    max_bytes: int = MAX_RECORD_BYTES,
+    max_abs_g: float | None = MAX_ABS_G,
 ) -> Any:
     """Read an accelerogram file into an ``obspy.Stream`` of records in m/s².
 
     Parameters
     ----------
     path
-        The file (optionally gzip-compressed).
+        The file (optionally gzip-compressed); ``"-"`` reads standard input; a pipe such as
+        ``/dev/stdin`` or a process substitution is buffered, then read like a file.
     format
-        A format name (``"at2"``, ``"cosmos"``, ``"dmg"``, ``"geonet"``, ``"esm"``, ``"text"``,
-        ``"fema"``, or any obspy waveform format in lower case such as ``"mseed"``, ``"sac"``,
-        ``"knet"``); None sniffs the file.
+        A format name (one of :func:`stepframe.records.formats.format_names`, or any obspy
+        waveform format in lower case such as ``"mseed"``, ``"sac"``, ``"knet"``); None sniffs
+        the file.
     units
         Units of the values when the file does not state them (``"g"``, ``"m/s2"``,
         ``"cm/s2"``/``"gal"``, ``"mm/s2"``). A file that states units different from these is
@@ -51,6 +91,10 @@ def read(
         StationXML file for response removal (formats in counts).
     component
         Keep only this channel of a multi-channel file.
+    max_bytes
+        Largest file (or decompressed gzip content, or piped input) accepted [bytes].
+    max_abs_g
+        Largest plausible absolute acceleration [g]; None accepts any finite value.
 
     Returns
     -------
@@ -61,16 +105,20 @@ def read(
     Raises
     ------
     InputError
-        Missing file, unknown format, units that cannot be determined, or a file that does not
-        follow its format (one line naming the file and line).
+        Missing file, unknown format, units that cannot be determined, a file that does not
+        follow its format, a file too large, a FIFO or device without data, or samples that are
+        not finite, all zero or beyond ``max_abs_g`` (one line naming the file and line).
     """
-    file = Path(path)
-    if not file.exists():
-        raise InputError("no such file, expected an existing record file", file)
-    if file.is_dir():
-        raise InputError("is a directory, expected a record file", file)
-    if dt is not None and not dt > 0:
+    from stepframe.core import validation
+
+    display = Path(path)
+    max_bytes = validation.integer("max_bytes", max_bytes, low=1)
+    if max_abs_g is not None:
+        validation.positive("max_abs_g", max_abs_g)
+    if dt is not None and not (isinstance(dt, int | float) and dt > 0 and dt < float("inf")):
         raise InputError(f"dt = {dt} s, expected a positive sampling interval")
+    if dt is not None:
+        validation.in_range("dt", dt, MIN_DT_S, MAX_DT_S, unit="s")
     options = ReadOptions(
         units=None if units is None else normalize_units(units),
         dt_s=dt,
@@ -79,19 +127,138 @@ def read(
     )
     if options.inventory is not None and not Path(options.inventory).is_file():
         raise InputError("no such inventory file, expected a StationXML file", options.inventory)
-    with file.open("rb") as handle:
-        head = handle.read(SNIFF_BYTES)
-    if head.startswith(_GZIP_MAGIC):
-        stream = _read_gzip(file, format, options)
+    if str(path) == STDIN:
+        display = Path("<stdin>")
+        stream = _read_bytes(
+            _drain(sys.stdin.fileno(), display, max_bytes), display, format, options, max_bytes
+        )
     else:
-        stream = _read_plain(file, head, format, options)
-    _check_agreement(stream, options, file)
+        kind = _file_kind(display, max_bytes)
+        if kind == "stream":
+            stream = _read_bytes(
+                _read_stream(display, max_bytes), display, format, options, max_bytes
+            )
+        else:
+            with display.open("rb") as handle:
+                head = handle.read(SNIFF_BYTES)
+            if head.startswith(_GZIP_MAGIC):
+                stream = _read_gzip(display, format, options, max_bytes)
+            else:
+                stream = _read_plain(display, head, format, options)
+    _check_agreement(stream, options, display)
+    _check_plausible(stream, display, max_abs_g)
     if component is not None:
         stream = stream.select(channel=component)
         if len(stream) == 0:
             raise InputError(
-                f"no channel {component!r} in the file, expected an existing one", file
+                f"no channel {component!r} in the file, expected an existing one", display
             )
+    return stream
+
+
+def _file_kind(file: Path, max_bytes: int) -> str:
+    """``"file"`` or ``"stream"`` (pipe, character device), checked before any ``open``."""
+    try:
+        info = file.stat()
+    except FileNotFoundError:
+        raise InputError("no such file, expected an existing record file", file) from None
+    except OSError as exc:
+        raise InputError(
+            f"cannot access ({exc.strerror}), expected a readable file", file
+        ) from None
+    mode = info.st_mode
+    if stat.S_ISDIR(mode):
+        raise InputError("is a directory, expected a record file", file)
+    if stat.S_ISFIFO(mode) or stat.S_ISCHR(mode):
+        return "stream"
+    if not stat.S_ISREG(mode):
+        raise InputError(
+            "not a regular file (socket or block device), expected a record file", file
+        )
+    if info.st_size > max_bytes:
+        raise InputError(
+            f"{info.st_size} bytes, expected a record file of at most {max_bytes} bytes "
+            "(raise the limit with max_bytes= if this file is a real record)",
+            file,
+        )
+    return "file"
+
+
+def _read_stream(file: Path, max_bytes: int) -> bytes:
+    """All bytes of a FIFO or device, never blocking: a FIFO without a writer is an error."""
+    try:
+        fd = os.open(file, os.O_RDONLY | os.O_NONBLOCK)
+    except OSError as exc:
+        raise InputError(f"cannot open ({exc.strerror}), expected a readable file", file) from None
+    try:
+        return _drain(fd, file, max_bytes)
+    finally:
+        os.close(fd)
+
+
+def _drain(fd: int, file: Path, max_bytes: int) -> bytes:
+    """Read ``fd`` to its end (at most ``max_bytes``), waiting at most STREAM_TIMEOUT_S per chunk.
+
+    A pipe whose writer has gone (or that never had one) reads as end of file at once, so a
+    named FIFO nobody writes to gives "empty" instead of blocking for ever.
+    """
+    os.set_blocking(fd, False)
+    chunks: list[bytes] = []
+    size = 0
+    poller = select.poll()
+    poller.register(fd, select.POLLIN | select.POLLHUP | select.POLLERR)
+    while True:
+        try:
+            chunk = os.read(fd, 1 << 16)
+        except BlockingIOError:
+            if not poller.poll(STREAM_TIMEOUT_S * 1000):
+                raise InputError(
+                    f"no data for {STREAM_TIMEOUT_S:g} s from a pipe or device, expected a "
+                    "record file or a pipe that delivers one",
+                    file,
+                ) from None
+            continue
+        except OSError as exc:
+            if exc.errno == errno.EINTR:
+                continue
+            raise InputError(
+                f"cannot read ({exc.strerror}), expected a readable file", file
+            ) from None
+        if not chunk:
+            break
+        size += len(chunk)
+        if size > max_bytes:
+            raise InputError(
+                f"more than {max_bytes} bytes from a pipe or device, expected a record "
+                "(raise the limit with max_bytes=)",
+                file,
+            )
+        chunks.append(chunk)
+    return b"".join(chunks)
+
+
+def _read_bytes(
+    data: bytes, display: Path, format: str | None, options: ReadOptions, max_bytes: int
+) -> Any:
+    """Read buffered bytes (standard input, a pipe) through a temporary file."""
+    if not data:
+        raise InputError(
+            "empty input (no data, or a FIFO with no writer), expected a record", display
+        )
+    name = display.name if display.name not in ("", "stdin", "<stdin>") else "stdin"
+    if name.isdigit():  # /dev/fd/63 of a process substitution
+        name = f"fd{name}"
+    with tempfile.TemporaryDirectory(prefix="stepframe-") as folder:
+        plain = Path(folder) / name
+        plain.write_bytes(data)
+        if data.startswith(_GZIP_MAGIC):
+            stream = _read_gzip(plain, format, options, max_bytes, display=display)
+        else:
+            stream = _as_user_file(
+                plain, display, lambda: _read_plain(plain, data[:SNIFF_BYTES], format, options)
+            )
+    for trace in stream:
+        trace.stats.stepframe.source_file = str(display)
     return stream
 
 
@@ -99,41 +266,78 @@ def _read_plain(file: Path, head: bytes, format: str | None, options: ReadOption
     if not head:
         raise InputError("empty file, expected an accelerogram", file)
     fmt = _by_name(format, file) if format is not None else _sniff(head, file)
-    return fmt.read(file, options)
+    try:
+        return fmt.read(file, options)
+    except StepframeError:
+        raise
+    except MemoryError:
+        raise InputError(
+            f"out of memory reading it as {fmt.name}, expected a record that fits in memory", file
+        ) from None
+    except Exception as exc:  # a reader (or obspy's) failing in a way it did not foresee
+        detail = " ".join(str(exc).split())[:120]
+        raise FormatError(
+            f"not readable as {fmt.name} ({type(exc).__name__}: {detail}), expected a valid "
+            f"{fmt.name} file",
+            file,
+        ) from exc
 
 
-def _read_gzip(file: Path, format: str | None, options: ReadOptions) -> Any:
-    inner = file.name[:-3] if file.name.lower().endswith(".gz") else file.name + ".data"
+def _as_user_file(plain: Path, file: Path, read_it: Any) -> Any:
+    """Run ``read_it()`` on a temporary copy, naming the user's file in errors and warnings."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            stream = read_it()
+        except InputError as exc:
+            path = file if exc.path == str(plain) else exc.path
+            raise type(exc)(exc.what.replace(str(plain), str(file)), path, exc.line) from None
+    for warning in caught:
+        message = str(warning.message).replace(str(plain), str(file))
+        warnings.warn(message, warning.category, stacklevel=4)
+    return stream
+
+
+def _read_gzip(
+    file: Path,
+    format: str | None,
+    options: ReadOptions,
+    max_bytes: int,
+    display: Path | None = None,
+) -> Any:
+    shown = file if display is None else display
+    name = shown.name
+    inner = name[:-3] if name.lower().endswith(".gz") else name + ".data"
     with tempfile.TemporaryDirectory(prefix="stepframe-") as folder:
-        plain = Path(folder) / inner
+        plain = Path(folder) / (inner or "record")
         try:
             with gzip.open(file, "rb") as source, plain.open("wb") as target:
-                shutil.copyfileobj(source, target)
-        except (OSError, EOFError) as exc:
-            raise InputError(f"corrupt gzip file ({exc}), expected a whole .gz", file) from None
+                size = 0
+                while chunk := source.read(1 << 20):
+                    size += len(chunk)
+                    if size > max_bytes:
+                        raise InputError(
+                            f"decompresses to more than {max_bytes} bytes, expected a record "
+                            "(raise the limit with max_bytes=)",
+                            shown,
+                        )
+                    target.write(chunk)
+        except (OSError, EOFError, gzip.BadGzipFile) as exc:
+            detail = " ".join(str(exc).split())[:80]
+            raise InputError(f"corrupt gzip file ({detail}), expected a whole .gz", shown) from None
         with plain.open("rb") as handle:
             head = handle.read(SNIFF_BYTES)
-        # Messages must name the user's file, not the temporary one.
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            try:
-                stream = _read_plain(plain, head, format, options)
-            except InputError as exc:
-                raise type(exc)(
-                    exc.what, file if exc.path == str(plain) else exc.path, exc.line
-                ) from None
-        for warning in caught:
-            message = str(warning.message).replace(str(plain), str(file))
-            warnings.warn(message, warning.category, stacklevel=3)
+        stream = _as_user_file(plain, shown, lambda: _read_plain(plain, head, format, options))
     for trace in stream:
-        trace.stats.stepframe.source_file = str(file)
+        trace.stats.stepframe.source_file = str(shown)
     return stream
 
 
 def _by_name(format: str, file: Path) -> RecordFormat:
     name = format.lower()
-    if name in FORMATS:
-        return FORMATS[name]
+    formats = registered_formats()
+    if name in formats:
+        return formats[name]
     from stepframe.records.formats.obspy_formats import obspy_format_names, read_with_obspy
 
     if name in obspy_format_names():
@@ -141,20 +345,49 @@ def _by_name(format: str, file: Path) -> RecordFormat:
             name, lambda head, path: False, lambda p, o: read_with_obspy(p, o, name)
         )
     raise InputError(
-        f"unknown format {format!r}, expected one of {', '.join(FORMATS)} "
+        f"unknown format {format!r}, expected one of {', '.join(formats)} "
         "or another obspy waveform format in lower case"
     )
 
 
 def _sniff(head: bytes, file: Path) -> RecordFormat:
-    for fmt in FORMATS.values():
+    for fmt in registered_formats().values():
         if fmt.sniff(head, file):
             return fmt
     raise InputError(
-        "format not recognised, expected AT2, COSMOS, CSMIP/DMG, GeoNet, ESM, FEMA P695 text, "
-        "plain text or an obspy waveform format (give it with --format)",
+        f"format not recognised, expected {format_labels()} or an obspy waveform format "
+        "(give it with --format)",
         file,
     )
+
+
+def _check_plausible(stream: Any, file: Path, max_abs_g: float | None) -> None:
+    """Refuse samples that no accelerogram has: not finite, all zero, or beyond ``max_abs_g``."""
+    for trace in stream:
+        data = np.asarray(trace.data, dtype=np.float64)
+        name = trace.stats.channel or trace.stats.station or "record"
+        channel = f" (channel {name})" if len(stream) > 1 else ""
+        bad = ~np.isfinite(data)
+        if bad.any():
+            first = int(np.argmax(bad))
+            time_s = first * float(trace.stats.delta)
+            raise FormatError(
+                f"{int(bad.sum())} NaN/inf samples (first at sample {first}){channel}: sample "
+                f"{first} (t = {time_s:g} s) is {data[first]}, expected finite accelerations",
+                file,
+            )
+        if data.size and not np.any(data):
+            raise FormatError(
+                f"all samples equal 0.0{channel}, expected a varying accelerogram", file
+            )
+        if max_abs_g is not None and data.size:
+            peak_g = float(np.max(np.abs(data))) / STANDARD_GRAVITY_M_S2
+            if peak_g > max_abs_g:
+                raise FormatError(
+                    f"peak {peak_g:.3g} g{channel}, expected at most {max_abs_g:g} g "
+                    "(wrong units or a damaged file; max_abs_g= overrides)",
+                    file,
+                )
 
 
 def _check_agreement(stream: Any, options: ReadOptions, file: Path) -> None:

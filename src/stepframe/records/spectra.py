@@ -26,6 +26,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from stepframe.core.validation import damping_fraction, finite_array, in_range
 from stepframe.errors import InputError
 from stepframe.records.intensity import check_record
 from stepframe.records.units import STANDARD_GRAVITY_M_S2
@@ -69,23 +70,24 @@ class ResponseSpectrum:
         return self.psa_m_s2 / STANDARD_GRAVITY_M_S2
 
 
+#: Oscillator periods accepted [s]: a 1 kHz oscillator is already far above any accelerograph's
+#: band, and a shorter period would upsample the record without bound; 10⁴ s is far below the
+#: longest period a record of finite length can constrain, yet keeps ω finite and non-zero.
+PERIOD_RANGE_S = (1e-3, 1e4)
+
+
 def check_periods(period_s: ArrayLike) -> NDArray[np.float64]:
-    """Periods [s] as a 1-D float array; refuses empty, non-finite or non-positive values."""
-    periods = np.atleast_1d(np.asarray(period_s, dtype=np.float64))
-    if periods.ndim != 1 or periods.size == 0:
-        raise InputError(f"periods of shape {periods.shape}, expected a non-empty list")
-    if not np.all(np.isfinite(periods) & (periods > 0)):
-        raise InputError(f"periods {periods.tolist()} s, expected positive finite values")
+    """Periods [s] as a 1-D float array within :data:`PERIOD_RANGE_S`; refuses anything else."""
+    periods = finite_array("periods", period_s, positive_values=True)
+    low, high = PERIOD_RANGE_S
+    for period in periods:
+        in_range("period", float(period), low, high, unit="s")
     return periods
 
 
 def check_damping(damping: float) -> float:
-    """Damping ratio as a float in [0, 1); a percentage (5 for 5 %) is refused."""
-    if not (math.isfinite(damping) and 0.0 <= damping < 1.0):
-        raise InputError(
-            f"damping {damping}, expected a fraction of critical in [0, 1) such as 0.05"
-        )
-    return float(damping)
+    """Damping ratio as a float in [0, 1); a percentage (5 for 5 %) is refused with a hint."""
+    return damping_fraction("damping", damping)
 
 
 #: Below this ωΔt the coefficients come from a Taylor series (the closed form loses digits there:

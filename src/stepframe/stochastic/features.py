@@ -43,6 +43,7 @@ from typing import TYPE_CHECKING, Literal, Protocol
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from stepframe.core import validation
 from stepframe.errors import InputError
 from stepframe.stochastic.envelope import DEFAULT_DURATION_THRESHOLD
 from stepframe.stochastic.methods import FrequencyMethod
@@ -389,6 +390,11 @@ def record_features(
     if not 0 < threshold < 1:
         raise InputError(f"threshold = {threshold}, expected 0 < threshold < 1")
     data, dt = record_samples(record_or_array, dt_s)
+    # Finite and at most 10⁶ s (a window longer than the record is refused further on).
+    validation.length("window_s", window_s)
+    validation.length("hop_s", hop_s)
+    if omega_max_rad_s is not None:
+        validation.positive("omega_max_rad_s", omega_max_rad_s)
     nyquist = math.pi / dt
     if omega_max_rad_s is not None and omega_max_rad_s > nyquist:
         raise InputError(

@@ -41,6 +41,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from stepframe.core import validation
 from stepframe.errors import InputError
 from stepframe.stochastic.features import RecordFeatures, smooth
 from stepframe.stochastic.model import AlphaReading, GroundMotionModel
@@ -227,8 +228,10 @@ def fit_model(
         Fewer than 5 strong-motion frames with a frequency estimate (record too short or too
         quiet for the window), bad options.
     """
-    if not (isinstance(bootstrap, int) and bootstrap >= 0):
-        raise InputError(f"bootstrap = {bootstrap!r}, expected an integer ≥ 0")
+    # Each refit keeps its parameters and resamples every frame's residual (float64 each).
+    replicate_bytes = 8 * (8 + 2 * features.time_s.size)
+    bootstrap = validation.count("bootstrap", bootstrap, bytes_each=replicate_bytes, low=0)
+    seed = validation.seed("seed", seed)
     if fit_corner and spectrum is None:
         raise InputError("fit_corner needs the record's STFT spectrum, expected spectrum=...")
     flags = list(features.flags)

@@ -44,6 +44,7 @@ import numba
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from stepframe.core import validation
 from stepframe.core.results import Status
 from stepframe.errors import InputError
 from stepframe.stochastic.correlation import r_g
@@ -465,8 +466,8 @@ def analysis_grid(
         duration_s = model.t0_s + 2.0 * model.t_dur_s
     if not (math.isfinite(duration_s) and duration_s > 0):
         raise InputError(f"duration_s = {duration_s}, expected a positive number")
-    if not (isinstance(n_steps, int) and n_steps >= 2):
-        raise InputError(f"n_steps = {n_steps!r}, expected an integer ≥ 2")
+    # The covariance and Monte Carlo paths keep a few float64 arrays per step.
+    n_steps = validation.count("n_steps", n_steps, bytes_each=8 * 16, low=2)
     return np.linspace(0.0, duration_s, n_steps + 1)
 
 
@@ -549,11 +550,17 @@ class _Path:
         return np.asarray(out)
 
 
+#: Oscillator frequencies accepted [rad/s] (periods from 63 µs to 6,000 s): outside, the time
+#: step or the transient of the Liapunov solution leaves floating point.
+OMEGA_RANGE_RAD_S = (1e-3, 1e5)
+
+
 def _positive_vector(values: ArrayLike, name: str) -> Floats:
-    v = np.atleast_1d(np.asarray(values, dtype=np.float64))
-    if v.ndim != 1 or v.size == 0 or not np.all(np.isfinite(v)) or not np.all(v > 0):
-        raise InputError(f"{name} = {values!r}, expected positive finite numbers")
-    return v
+    vector = validation.finite_array(name, values, positive_values=True)
+    low, high = OMEGA_RANGE_RAD_S
+    for value in vector:
+        validation.in_range(name, float(value), low, high, unit="rad/s")
+    return vector
 
 
 class _FrameLaw:
@@ -922,12 +929,14 @@ def scalar_method(problem: MeanSquareProblem) -> MeanSquareResult:
 def monte_carlo_method(problem: MeanSquareProblem) -> MeanSquareResult:
     """Monte Carlo with simulated motions, χ² confidence band (module docstring)."""
     p = problem
-    if not (isinstance(p.n_realisations, int) and p.n_realisations >= 2):
-        raise InputError(f"n_realisations = {p.n_realisations!r}, expected an integer ≥ 2")
+    # Each realisation keeps its squared response on the grid and its motion (float64 each).
+    n_realisations = validation.count(
+        "n_realisations", p.n_realisations, bytes_each=8 * 2 * p.time_s.size, low=2
+    )
     if not 0 < p.confidence < 1:
         raise InputError(f"confidence = {p.confidence}, expected 0 < confidence < 1")
     omega_0, omegas, squares, _, stopped = _monte_carlo(
-        p.model, p.path, p.xi0, p.time_s, p.envelope, p.n_realisations, p.seed, p.mc_dt_s
+        p.model, p.path, p.xi0, p.time_s, p.envelope, n_realisations, p.seed, p.mc_dt_s
     )
     mean, lower, upper = chi_square_band(squares, p.confidence)
     return MeanSquareResult(
@@ -937,7 +946,7 @@ def monte_carlo_method(problem: MeanSquareProblem) -> MeanSquareResult:
         mean_square_m2=mean,
         lower_m2=lower,
         upper_m2=upper,
-        n_realisations=p.n_realisations,
+        n_realisations=n_realisations,
         seed=p.seed,
         confidence=p.confidence,
         status="lower_bound" if stopped else "ok",
@@ -1013,8 +1022,8 @@ def mean_square_response(
         implementation = METHODS[method]
     else:
         raise InputError(f"method = {method!r}, expected one of {tuple(METHODS)} or a function")
-    if not (isinstance(xi0, int | float) and math.isfinite(xi0) and xi0 >= 0):
-        raise InputError(f"xi0 = {xi0!r}, expected a damping fraction ≥ 0")
+    # Over-damped oscillators are modelled (ξ₀ up to 5); 5 and above read as a percentage.
+    xi0 = validation.damping_fraction("xi0", xi0, high=5.0)
     grid = analysis_grid(model) if time_s is None else _uniform_grid(time_s)
     spec: OmegaSpec
     if isinstance(omega, Constant | Tracking | Given | FrameDriven):

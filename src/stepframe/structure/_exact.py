@@ -22,8 +22,15 @@ threshold crossing is bracketed by the end values and found by bracketed Newton.
 past x_c between two samples (grazing) is therefore never missed.
 
 Phase codes: 0 unstepped, +1/-1 stepped on that side, +2/-2 held at x = ±x_c with ẋ = 0 (the
-contact force balance keeps the frame on the switching surface; reached after a touchdown with
-C_r = 0 or with a negligible rebound velocity, which also ends Zeno impact sequences).
+contact force balance keeps the frame on the switching surface). An impact whose rebound is too
+small to follow by root finding is handled by :func:`_impact_rule`: its excursion, or the whole
+accumulating sequence of impacts (chatter), is summed in closed form and the frame is seated
+until the ground can lift it again (docs/paper-notes.md, "Chatter").
+
+Without a cap, a stepped state beyond reach of return, s·ẋ - λ₂(s·x - y_e) > 0 with
+y_e = (γ₁ + P₂·max|ẍ_g| over the rest of the record)/ω₂², is an overturn from that sample on
+(the comparison argument is in docs/paper-notes.md); a run that does not overturn therefore never
+passes y_e, and one that does is reported as failed rather than as a success.
 """
 
 from __future__ import annotations
@@ -34,12 +41,17 @@ from typing import Any
 import numpy as np
 from numba import njit, prange
 
-# Status codes and event kinds: one definition, shared with the reference and the result.
-from stepframe.structure.simulator import (
+from stepframe.structure.status import (
+    CHATTER_DRIFT,
+    CHATTER_EPS,
     EVENT_CAP,
     EVENT_ESCAPE,
     EVENT_LIFTOFF,
+    EVENT_SETTLE,
     EVENT_TOUCHDOWN,
+    INVARIANT_RTOL,
+    STATUS_IMPOSSIBLE,
+    STATUS_INVARIANT,
     STATUS_NONFINITE,
     STATUS_OK,
     STATUS_TOO_MANY_EVENTS,
@@ -241,6 +253,93 @@ def _surface_phase(
 
 
 @njit(cache=True)
+def _impact_rule(
+    s: float,
+    w: float,
+    ag_now: float,
+    slope: float,
+    rem: float,
+    w1: float,
+    w2: float,
+    p1: float,
+    p2: float,
+    g1: float,
+    xc: float,
+    cr: float,
+    w_tiny: float,
+) -> tuple[int, float, float]:
+    """What follows a touchdown on the surface x = s·x_c with rebound speed w = C_r·|ẋ| ≥ 0.
+
+    Returns (kind, delay, w_back): kind 0, follow the rebound by root finding (it enters the
+    inner phase with speed w); kind 1, a rebound too small to follow returns to the surface
+    after ``delay`` and lifts off again on side s with speed ``w_back``; kind 2, the impacts
+    accumulate (chatter) at ``delay`` after this one and the frame is seated from then on.
+    C_r = 0 is the limit C_r → 0+: w = 0 gives delay 0, and the inner phase is preferred.
+    """
+    # Accelerations at rest on the surface, positive away from it: into the inner phase (the
+    # unstepped phase, or for the rigid block the stepped phase on the other side) and back out.
+    p_in = w1 * w1 * xc + s * p1 * ag_now if xc > 0.0 else -g1 + s * p2 * ag_now
+    p_back = w2 * w2 * xc - g1 - s * p2 * ag_now
+    # Accelerations within rounding of zero: the sign at this instant is noise, and the seated
+    # state (whose exit follows the sign change of the forcing) decides instead.
+    p_eps = INVARIANT_RTOL * max(w1, w2) ** 2 * max(xc, g1 / (w2 * w2))
+    if w > w_tiny or p_in > p_eps:
+        return 0, 0.0, w
+    if p_in >= -p_eps:
+        return (2, 0.0, 0.0) if w == 0.0 else (0, 0.0, w)
+    t_in = 2.0 * w / -p_in
+    # Rates of the two accelerations: the closed form holds them constant over its duration.
+    rate_in = abs(s * (p1 if xc > 0.0 else p2) * slope)
+    rate_back = abs(p2 * slope)
+    # Returning from the other side, a rigid block strikes again (x = 0 is its only surface).
+    w_back = w if xc > 0.0 else cr * w
+    # Below w_tiny/10 the closed form is used even where the forcing drifts: flights that small
+    # would soon sink below the rounding of x if followed one by one.
+    forced = w <= 0.1 * w_tiny
+    if p_back > p_eps or (p_back >= -p_eps and w > 0.0):
+        if t_in > rem or (rate_in * t_in > CHATTER_DRIFT * -p_in and not forced):
+            return 0, 0.0, w
+        return 1, t_in, w_back
+    if p_back >= -p_eps:
+        return 2, 0.0, 0.0
+    # Each cycle (in and back out) takes 2w(1/|p_in| + C_back/|p_back|) and multiplies w by
+    # C_r (portal frame: one impact per cycle, C_back = 1) or C_r² (block: two, C_back = C_r).
+    c_back = 1.0 if xc > 0.0 else cr
+    ratio = cr if xc > 0.0 else cr * cr
+    cycle = 2.0 * w * (1.0 / -p_in + c_back / -p_back)
+    # C_r = 1 does not accumulate; a rebound below w_tiny is then taken as rest after one cycle.
+    delay = cycle / (1.0 - ratio) if ratio < 1.0 else cycle
+    drift = max(rate_in * delay / -p_in, rate_back * delay / -p_back)
+    if delay > rem or (drift > CHATTER_DRIFT and not forced):
+        return 0, 0.0, w
+    return 2, delay, 0.0
+
+
+@njit(cache=True, inline="always")
+def _push(
+    n_ev: int,
+    ev_t: np.ndarray,
+    ev_kind: np.ndarray,
+    ev_v_in: np.ndarray,
+    ev_v_out: np.ndarray,
+    ev_peak: np.ndarray,
+    t: float,
+    kind: int,
+    v_in: float,
+    v_out: float,
+    peak: float,
+) -> int:
+    """Store one event if there is room; returns the new event count."""
+    if n_ev < ev_t.shape[0]:
+        ev_t[n_ev] = t
+        ev_kind[n_ev] = kind
+        ev_v_in[n_ev] = v_in
+        ev_v_out[n_ev] = v_out
+        ev_peak[n_ev] = peak
+    return n_ev + 1
+
+
+@njit(cache=True)
 def integrate(
     ag: np.ndarray,
     dt: float,
@@ -283,7 +382,16 @@ def integrate(
     x_star = g1 / (w2 * w2)
     # Negative root of the stepped phase's characteristic equation (escape test, free motion).
     lam2 = -w2 * (xi2 + math.sqrt(1.0 + xi2 * xi2))
-    v_eps = 1e-12 * max(xc, x_star) * max(w1, w2)
+    x_ref = max(xc, x_star)
+    w_tiny = CHATTER_EPS * max(w1, w2) * x_ref
+    tol_x = INVARIANT_RTOL * x_ref
+    # Without a cap: the largest |ẍ_g| still to come from each sample (0 in the free tail), for
+    # the certain-escape test during the record.
+    no_cap = xcap == math.inf
+    suffix = np.zeros(n_rec + 2 if no_cap else 0)
+    if no_cap:
+        for jj in range(n_rec, -1, -1):
+            suffix[jj] = max(abs(ag[jj]), suffix[jj + 1])
 
     # Full-interval constants of the unstepped phase, for the event-free fast path.
     beta1 = xi1 * w1
@@ -356,6 +464,16 @@ def integrate(
             ag_b = 0.0
         slope = (ag_b - ag_a) / dt
         in_free = i >= n_rec
+        if no_cap and overturned == 0 and (phase == 1 or phase == -1):
+            # Beyond reach of return whatever the rest of the record does (paper-notes).
+            s = 1.0 if phase > 0 else -1.0
+            y_e = (g1 + p2 * (suffix[i] if i < n_rec else 0.0)) / (w2 * w2)
+            if s * v - lam2 * (s * x - y_e) > 0.0:
+                overturned = 1
+                t_over = t0
+                n_ev = _push(n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak,
+                             t0, EVENT_ESCAPE, v, v, x)  # fmt: skip
+                break
         if in_free and not escape_checked:
             escape_checked = True
             if phase == 1 or phase == -1:
@@ -500,6 +618,10 @@ def integrate(
                             if fb >= 0.0 and fa <= 0.0 and fb > fa:
                                 if fresh and first_piece and fa == 0.0:
                                     continue
+                                if fa == 0.0 and fb <= tol_x and n_sub == 2 and sub == 0:
+                                    # From the surface to an extremum within rounding of it:
+                                    # touching x_c, not a lift-off.
+                                    continue
                                 ev_sig = _root(seg, a_k, e_k, sgn * xc, 0)
                                 ev_type = EVENT_LIFTOFF
                                 ev_target = sgn * xc
@@ -508,6 +630,10 @@ def integrate(
                         fa = s * x_a - xc
                         fb = s * x_b - xc
                         just_left = fresh and first_piece and fa == 0.0
+                        if fa == 0.0 and fb >= -tol_x and n_sub == 2 and sub == 0:
+                            # Back to an extremum within rounding of the surface: touching
+                            # it, not an impact (a seated frame leaving as the ground turns).
+                            just_left = True
                         if fb <= 0.0 and fa >= 0.0 and fb < fa and not just_left:
                             ev_sig = _root(seg, a_k, e_k, s * xc, 0)
                             ev_type = EVENT_TOUCHDOWN
@@ -541,61 +667,78 @@ def integrate(
                                 ev_v_out[n_ev] = v_ev
                                 ev_peak[n_ev] = cur_side * xc
                             n_ev += 1
-                            if in_free:
-                                s = 1.0 if phase > 0 else -1.0
-                                if s * v - lam2 * (s * x - x_star) > 0.0 and overturned == 0:
-                                    overturned = 1
-                                    if xcap == math.inf:
-                                        t_over = t_ev
-                                        stop = True
-                        elif ev_type == EVENT_TOUCHDOWN:
                             s = 1.0 if phase > 0 else -1.0
-                            v = cr * v_ev
+                            p_back = w2 * w2 * xc - g1 - s * p2 * (ag_a + slope * tau)
+                            graze = 2.0 * abs(v_ev) / -p_back if p_back < 0.0 else math.inf
+                            if abs(v_ev) <= w_tiny and graze <= dt - tau:
+                                # A grazing lift-off too slow to follow: the stepped phase pulls
+                                # it straight back, a touchdown at speed |ẋ| after 2|ẋ|/|p_back|.
+                                tau += graze
+                                t_ev += graze
+                                v_ev = -v_ev
+                                ev_type = EVENT_TOUCHDOWN
+                            elif (
+                                in_free
+                                and s * v - lam2 * (s * x - x_star) > 0.0
+                                and overturned == 0
+                            ):
+                                overturned = 1
+                                if xcap == math.inf:
+                                    t_over = t_ev
+                                    stop = True
+                        if ev_type == EVENT_TOUCHDOWN:
+                            s = 1.0 if phase > 0 else -1.0
+                            w_reb = cr * abs(v_ev)
                             n_imp += 1
                             if cur_lift >= 0 and cur_lift < cap_ev:
                                 ev_peak[cur_lift] = cur_side * ep_peak
-                            if n_ev < cap_ev:
-                                ev_t[n_ev] = t_ev
-                                ev_kind[n_ev] = EVENT_TOUCHDOWN
-                                ev_v_in[n_ev] = v_ev
-                                ev_v_out[n_ev] = v
-                                ev_peak[n_ev] = ep_peak
-                            n_ev += 1
                             cur_lift = -1
-                            if abs(v) <= v_eps:
-                                v = 0.0
-                                phase = _surface_phase(
-                                    s, ag_a + slope * tau, w1, w2, p1, p2, g1, xc
-                                )
-                                if phase == 1 or phase == -1:
+                            kind, delay, w_back = _impact_rule(
+                                s, w_reb, ag_a + slope * tau, slope, dt - tau,
+                                w1, w2, p1, p2, g1, xc, cr, w_tiny,
+                            )  # fmt: skip
+                            n_ev = _push(
+                                n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak,
+                                t_ev, EVENT_TOUCHDOWN, v_ev, -s * w_reb, ep_peak,
+                            )  # fmt: skip
+                            if kind == 0:
+                                v = -s * w_reb
+                                if xc > 0.0:
+                                    phase = 0
+                                else:
+                                    # Rigid-block limit: impact at x = 0 passes to the other side.
+                                    phase = -int(s)
                                     n_lift += 1
                                     cur_lift = n_ev
-                                    cur_side = 1.0 if phase > 0 else -1.0
-                                    ep_peak = xc
-                                    if n_ev < cap_ev:
-                                        ev_t[n_ev] = t_ev
-                                        ev_kind[n_ev] = EVENT_LIFTOFF
-                                        ev_v_in[n_ev] = 0.0
-                                        ev_v_out[n_ev] = 0.0
-                                        ev_peak[n_ev] = cur_side * xc
-                                    n_ev += 1
-                            elif xc > 0.0:
-                                phase = 0
-                            else:
-                                # Rigid-block limit: impact at x = 0 passes to the other side.
-                                phase = -int(s)
+                                    cur_side = -s
+                                    ep_peak = 0.0
+                                    n_ev = _push(n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak,
+                                                 t_ev, EVENT_LIFTOFF, v, v, 0.0)  # fmt: skip
+                            elif kind == 1:
+                                tau += delay
+                                t_ev += delay
+                                if xc == 0.0:
+                                    # The block's return strikes again before it lifts off.
+                                    n_imp += 1
+                                    n_ev = _push(n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak,
+                                                 t_ev, EVENT_TOUCHDOWN, s * w_reb, s * w_back,
+                                                 0.0)  # fmt: skip
+                                phase = int(s)
+                                v = s * w_back
                                 n_lift += 1
                                 cur_lift = n_ev
-                                cur_side = 1.0 if phase > 0 else -1.0
-                                ep_peak = 0.0
-                                if n_ev < cap_ev:
-                                    ev_t[n_ev] = t_ev
-                                    ev_kind[n_ev] = EVENT_LIFTOFF
-                                    ev_v_in[n_ev] = v
-                                    ev_v_out[n_ev] = v
-                                    ev_peak[n_ev] = 0.0
-                                n_ev += 1
-                        else:
+                                cur_side = s
+                                ep_peak = xc
+                                n_ev = _push(n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak,
+                                             t_ev, EVENT_LIFTOFF, v, v, s * xc)  # fmt: skip
+                            else:
+                                tau += delay
+                                t_ev += delay
+                                v = 0.0
+                                phase = 2 * int(s)
+                                n_ev = _push(n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak,
+                                             t_ev, EVENT_SETTLE, -s * w_reb, 0.0, 0.0)  # fmt: skip
+                        elif ev_type == EVENT_CAP:
                             v = v_ev
                             overturned = 1
                             t_over = t_ev
@@ -631,6 +774,12 @@ def integrate(
                 if not (math.isfinite(x) and math.isfinite(v)):
                     status = STATUS_NONFINITE
                     stop = True
+                elif (phase == 0 and abs(x) > xc + tol_x) or (
+                    phase != 0 and (1.0 if phase > 0 else -1.0) * x < xc - tol_x
+                ):
+                    # The state left its phase's side without an event: not a solution.
+                    status = STATUS_INVARIANT
+                    stop = True
                 break
         if stop:
             if do_hist:
@@ -645,8 +794,21 @@ def integrate(
             hist_x[i] = x
             hist_v[i] = v
             hist_p[i] = phase
+    if do_hist:
+        # A run that stopped early holds its final state to the end of the history.
+        for jj in range(i + 1, hist_x.shape[0]):
+            hist_x[jj] = x
+            hist_v[jj] = v
+            hist_p[jj] = phase
     if cur_lift >= 0 and cur_lift < cap_ev:
         ev_peak[cur_lift] = cur_side * ep_peak
+    if status == STATUS_OK and overturned == 0:
+        # A frame that neither passed the cap nor escaped cannot be beyond either bound.
+        bound = xcap
+        if no_cap:
+            bound = max(abs(x0), (g1 + p2 * suffix[0]) / (w2 * w2)) * (1.0 + INVARIANT_RTOL)
+        if not peak <= bound:
+            status = STATUS_IMPOSSIBLE
     t_end = i * dt
     if not math.isnan(t_over):
         t_end = t_over
@@ -666,8 +828,7 @@ def integrate(
     )
 
 
-@njit(cache=True, parallel=True)
-def integrate_batch(
+def _batch(
     flat_ag: np.ndarray,
     offsets: np.ndarray,
     rec_index: np.ndarray,
@@ -724,3 +885,10 @@ def integrate_batch(
         out[j, 7] = res[8]
         out[j, 8] = res[9]
         out[j, 9] = res[10]
+
+
+#: All cores through numba's parallel loop (the default, from a process's main thread).
+integrate_batch = njit(cache=True, parallel=True)(_batch)
+#: The same loop on one thread: for worker threads of an executor, where a parallel launch from
+#: several threads at once is not safe with every numba threading layer (workqueue aborts).
+integrate_batch_serial = njit(cache=True)(_batch)

@@ -22,6 +22,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, Literal, Protocol
 
+from stepframe.core import validation
 from stepframe.errors import InputError
 
 #: Name of a spectrum branch: plateau (S_DS), constant velocity (S_D1/T), constant displacement
@@ -45,14 +46,6 @@ class Spectrum(Protocol):
         ...
 
 
-def _finite_positive(name: str, value: object) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
-        raise InputError(f"{name} = {value!r}, expected a finite number")
-    if not value > 0:
-        raise InputError(f"{name} = {value}, expected > 0")
-    return float(value)
-
-
 @dataclass(frozen=True)
 class TwoPeriodSpectrum:
     """Two-period design spectrum (S_DS, S_D1, optional T_L).
@@ -72,10 +65,10 @@ class TwoPeriodSpectrum:
     t_l_s: float | None = None
 
     def __post_init__(self) -> None:
-        _finite_positive("s_ds_m_s2", self.s_ds_m_s2)
-        _finite_positive("s_d1_m_s", self.s_d1_m_s)
+        validation.positive("s_ds_m_s2", self.s_ds_m_s2)
+        validation.positive("s_d1_m_s", self.s_d1_m_s)
         if self.t_l_s is not None:
-            _finite_positive("t_l_s", self.t_l_s)
+            validation.positive("t_l_s", self.t_l_s)
             if not self.t_l_s > self.t_s_s:
                 raise InputError(
                     f"t_l_s = {self.t_l_s} s, expected > T_s = S_D1/S_DS = {self.t_s_s:.6g} s"
@@ -86,9 +79,11 @@ class TwoPeriodSpectrum:
         cls, s_ds_g: float, s_d1_g: float, *, g_m_s2: float = 9.81, t_l_s: float | None = None
     ) -> TwoPeriodSpectrum:
         """Build from S_DS and S_D1 in units of g (the paper's examples use g = 9.81 m/s²)."""
-        g = _finite_positive("g_m_s2", g_m_s2)
+        g = validation.positive("g_m_s2", g_m_s2)
         return cls(
-            _finite_positive("s_ds_g", s_ds_g) * g, _finite_positive("s_d1_g", s_d1_g) * g, t_l_s
+            validation.positive("s_ds_g", s_ds_g) * g,
+            validation.positive("s_d1_g", s_d1_g) * g,
+            t_l_s,
         )
 
     @property
@@ -157,7 +152,7 @@ class TabulatedSpectrum:
         for k, (p, v) in enumerate(zip(periods, values, strict=True)):
             if not (math.isfinite(p) and p >= 0):
                 raise InputError(f"periods_s[{k}] = {p}, expected a finite period ≥ 0")
-            _finite_positive(f"sa_m_s2[{k}]", v)
+            validation.positive(f"sa_m_s2[{k}]", v)
         for k in range(1, len(periods)):
             if not periods[k] > periods[k - 1]:
                 raise InputError(
@@ -247,8 +242,8 @@ def _one_of(data: Mapping[str, Any], si: str, in_g: str, g_m_s2: float, where: s
     if (si in data) == (in_g in data):
         raise InputError(f"{where}: expected exactly one of {si} or {in_g}")
     if si in data:
-        return _finite_positive(si, data[si])
-    return _finite_positive(in_g, data[in_g]) * g_m_s2
+        return validation.positive(si, data[si])
+    return validation.positive(in_g, data[in_g]) * g_m_s2
 
 
 def _number_list(value: object, what: str) -> list[float]:

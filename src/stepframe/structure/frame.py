@@ -37,6 +37,10 @@ import math
 from dataclasses import asdict, dataclass, fields
 from typing import Any, Literal, get_args
 
+from stepframe.core.validation import damping_fraction, in_range
+from stepframe.core.validation import finite as _finite
+from stepframe.core.validation import non_negative as _non_negative
+from stepframe.core.validation import positive as _positive
 from stepframe.errors import InputError
 
 WColConvention = Literal["total", "per-column"]
@@ -46,24 +50,23 @@ W_COL_CONVENTIONS: tuple[str, ...] = get_args(WColConvention)
 PAPER_G_M_S2 = 9.81
 
 
-def _finite(name: str, value: object) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
-        raise InputError(f"{name} = {value!r}, expected a finite number")
-    return float(value)
+#: Plausible range of the model's circular frequencies [rad/s] (periods from 63 µs to 6,000 s):
+#: beyond it a value is a typing or unit error, and the integrator's step would underflow.
+OMEGA_RANGE_RAD_S = (1e-3, 1e5)
+#: Largest damping ratio a frame object takes (over-damped phases are modelled; a frame FILE
+#: takes fractions below 1 only, where 5 is far more likely a percentage than a ratio).
+MAX_DAMPING = 5.0
+#: Plausible range of the participation factors P₁, P₂ [-] (about 1 for real frames).
+P_RANGE = (1e-3, 1e3)
 
 
-def _positive(name: str, value: object) -> float:
-    number = _finite(name, value)
-    if not number > 0:
-        raise InputError(f"{name} = {number!r}, expected > 0")
-    return number
+def _omega(name: str, value: object) -> float:
+    low, high = OMEGA_RANGE_RAD_S
+    return in_range(name, _positive(name, value), low, high, unit="rad/s")
 
 
-def _non_negative(name: str, value: object) -> float:
-    number = _finite(name, value)
-    if not number >= 0:
-        raise InputError(f"{name} = {number!r}, expected ≥ 0")
-    return number
+def _participation(name: str, value: object) -> float:
+    return in_range(name, _positive(name, value), *P_RANGE)
 
 
 @dataclass(frozen=True)
@@ -112,10 +115,14 @@ class PortalFrame:
             if value is None and name in ("x_cap_m", "h_r_m"):
                 continue
             _finite(name, value)
-        for name in ("omega_1_rad_s", "omega_2_rad_s", "p_1", "p_2", "gamma_1_m_s2"):
-            _positive(name, getattr(self, name))
-        for name in ("xi_1", "xi_2", "x_c_m"):
-            _non_negative(name, getattr(self, name))
+        for name in ("omega_1_rad_s", "omega_2_rad_s"):
+            _omega(name, getattr(self, name))
+        for name in ("p_1", "p_2"):
+            _participation(name, getattr(self, name))
+        _positive("gamma_1_m_s2", self.gamma_1_m_s2)
+        for name in ("xi_1", "xi_2"):
+            damping_fraction(name, getattr(self, name), high=MAX_DAMPING)
+        _non_negative("x_c_m", self.x_c_m)
         if not 0 <= self.c_r <= 1:
             raise InputError(f"c_r = {self.c_r}, expected 0 ≤ c_r ≤ 1 (a velocity ratio)")
         if not self.x_c_m < self.x_star_m:
@@ -575,9 +582,13 @@ class AFrame:
             if value is None and name == "x_cap_m":
                 continue
             _finite(name, value)
-        for name in ("omega_1_rad_s", "omega_2_rad_s", "p_1", "p_2", "gamma_1_m_s2", "x_c_m"):
+        for name in ("omega_1_rad_s", "omega_2_rad_s"):
+            _omega(name, getattr(self, name))
+        for name in ("p_1", "p_2"):
+            _participation(name, getattr(self, name))
+        for name in ("gamma_1_m_s2", "x_c_m"):
             _positive(name, getattr(self, name))
-        _non_negative("xi_1", self.xi_1)
+        damping_fraction("xi_1", self.xi_1, high=MAX_DAMPING)
         if not 0 <= self.theta_rad < math.pi / 2:
             raise InputError(f"theta_rad = {self.theta_rad}, expected 0 ≤ theta_rad < π/2")
         if not 0 <= self.c_r <= 1:

@@ -26,6 +26,7 @@ from os import PathLike
 from typing import Any
 
 from stepframe.core.io import read_toml
+from stepframe.core.validation import damping_fraction
 from stepframe.errors import InputError
 from stepframe.structure.frame import W_COL_CONVENTIONS, PortalFrame
 
@@ -99,7 +100,15 @@ def _number(value: Any, table: str, key: str, where: _Where) -> float:
         raise where.error(
             f"[{table}] {key} = {value!r}, expected a number: {TABLES[table][key]}", table, key
         )
-    return float(value)
+    try:
+        return float(value)
+    except OverflowError:
+        raise where.error(
+            f"[{table}] {key} = {str(value)[:20]}... ({len(str(value))} digits), expected a "
+            f"number: {TABLES[table][key]}",
+            table,
+            key,
+        ) from None
 
 
 def frame_from_mapping(
@@ -164,6 +173,10 @@ def frame_from_mapping(
     for key in ("xi_1", "xi_2"):
         if key not in frame_table:
             raise where.error(f"missing key {key} in [frame]: {TABLES['frame'][key]}", "frame")
+        try:  # a frame file takes fractions below 1 only: 5 is a percentage, not a ratio
+            damping_fraction(key, frame_table[key])
+        except InputError as error:
+            raise where.error(error.what, "frame", key) from None
     common: dict[str, Any] = {key: frame_table.get(key) for key in ("c_r", "x_c_m", "x_cap_m")}
     common.update(xi_1=frame_table["xi_1"], xi_2=frame_table["xi_2"])
     try:

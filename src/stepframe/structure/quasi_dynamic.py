@@ -37,6 +37,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
+from stepframe.core import validation
 from stepframe.core.io import read_toml
 from stepframe.core.results import Status
 from stepframe.errors import InputError
@@ -59,14 +60,6 @@ BranchChoice = Literal["auto", "short", "long", "very-long"]
 
 #: A displacement δ with w·δ below this is the trivial fixed point δ_1* = 0.
 _ZERO_W_DELTA = 1e-13
-
-
-def _number(name: str, value: object, *, positive: bool = True) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
-        raise InputError(f"{name} = {value!r}, expected a finite number")
-    if positive and not value > 0:
-        raise InputError(f"{name} = {value}, expected > 0")
-    return float(value)
 
 
 @dataclass(frozen=True)
@@ -113,11 +106,11 @@ class PierInputs:
 
     def __post_init__(self) -> None:
         for name in ("weight_super_n", "weight_total_n", "footing_length_m", "height_m", "g_m_s2"):
-            _number(name, getattr(self, name))
-        _number("weight_col_n", self.weight_col_n, positive=False)
+            validation.positive(name, getattr(self, name))
+        validation.finite("weight_col_n", self.weight_col_n)
         if self.weight_col_n < 0:
             raise InputError(f"weight_col_n = {self.weight_col_n}, expected ≥ 0")
-        factor = _number("col_weight_factor", self.col_weight_factor, positive=False)
+        factor = validation.finite("col_weight_factor", self.col_weight_factor)
         if not 0 <= factor <= 1:
             raise InputError(f"col_weight_factor = {factor}, expected 0 ≤ col_weight_factor ≤ 1")
         if self.weight_total_n < self.weight_super_n:
@@ -133,10 +126,10 @@ class PierInputs:
                 "bearing_capacity_pa (a = W_T / (B_F q_n)), not both and not neither"
             )
         if given_a:
-            _number("block_width_m", self.block_width_m)
+            validation.positive("block_width_m", self.block_width_m)
         else:
-            _number("footing_width_m", self.footing_width_m)
-            _number("bearing_capacity_pa", self.bearing_capacity_pa)
+            validation.positive("footing_width_m", self.footing_width_m)
+            validation.positive("bearing_capacity_pa", self.bearing_capacity_pa)
         if not self.block_width_m_value < self.footing_length_m:
             raise InputError(
                 f"compression block a = {self.block_width_m_value:.6g} m ≥ footing_length_m = "
@@ -211,11 +204,11 @@ class SteppingMap:
     lift_off_force_n: float | None = None
 
     def __post_init__(self) -> None:
-        _number("w_per_m", self.w_per_m)
-        _number("c_s2_per_m", self.c_s2_per_m)
-        _number("beta", self.beta)
+        validation.positive("w_per_m", self.w_per_m)
+        validation.positive("c_s2_per_m", self.c_s2_per_m)
+        validation.positive("beta", self.beta)
         if self.lift_off_force_n is not None:
-            _number("lift_off_force_n", self.lift_off_force_n)
+            validation.positive("lift_off_force_n", self.lift_off_force_n)
 
     @classmethod
     def from_pier(cls, pier: PierInputs, beta: float) -> SteppingMap:
@@ -236,8 +229,13 @@ class SteppingMap:
 
         c follows from λ_2 = β S_D1 √c / 2π; F_0 is unknown, so stiffnesses are not reported.
         """
-        lam = _number("lambda_2_sqrt_m", lambda_2_sqrt_m)
-        c = (2.0 * math.pi * lam / (_number("beta", beta) * _number("s_d1_m_s", s_d1_m_s))) ** 2
+        lam = validation.positive("lambda_2_sqrt_m", lambda_2_sqrt_m)
+        c = (
+            2.0
+            * math.pi
+            * lam
+            / (validation.positive("beta", beta) * validation.positive("s_d1_m_s", s_d1_m_s))
+        ) ** 2
         return cls(w_per_m=w_per_m, c_s2_per_m=c, beta=beta)
 
     @property
@@ -497,7 +495,7 @@ def iterate(
         The trace; failure to converge is a status, not an exception.
     """
     w = stepping_map.w_per_m
-    start = _number("delta0_m", delta0_m, positive=False)
+    start = validation.finite("delta0_m", delta0_m)
     if not 0 <= start < 1.0 / w:
         raise InputError(f"delta0_m = {start} m, expected 0 ≤ delta0_m < 1/w = {1.0 / w:.6g} m")
     if max_iterations < 1:
@@ -800,7 +798,7 @@ def resolve_beta(
     if "beta" in damping:
         if "method" in damping:
             raise InputError(f"{where}: method given with beta, expected method only with xi/c_r")
-        beta = _number("beta", damping["beta"])
+        beta = validation.positive("beta", damping["beta"])
         if beta > 2:
             raise InputError(f"beta = {beta}, expected a reduction factor in (0, 2]")
         return beta, None, None
@@ -810,7 +808,7 @@ def resolve_beta(
             f"{where}: method = {method!r}, expected one of {', '.join(DAMPING_METHODS)}"
         )
     if "xi" in damping:
-        xi = _number("xi", damping["xi"], positive=False)
+        xi = validation.finite("xi", damping["xi"])
     else:
         xi = equivalent_damping_from_cr(damping["c_r"])
     return damping_reduction(xi, method), xi, method
@@ -833,7 +831,11 @@ def case_from_dict(data: Mapping[str, Any], where: str = "design input") -> Desi
         if name not in data:
             raise InputError(f"{where}: missing table [{name}]")
     pier = PierInputs.from_dict(data["pier"], f"{where} [pier]") if "pier" in data else None
-    g = pier.g_m_s2 if pier is not None else _number("g_m_s2", data["map"].get("g_m_s2", 9.81))
+    g = (
+        pier.g_m_s2
+        if pier is not None
+        else validation.positive("g_m_s2", data["map"].get("g_m_s2", 9.81))
+    )
     spectrum = spectrum_from_dict(data["spectrum"], g_m_s2=g, where=f"{where} [spectrum]")
     beta, xi, method = resolve_beta(data["damping"], f"{where} [damping]")
     if pier is not None:
@@ -854,7 +856,7 @@ def case_from_dict(data: Mapping[str, Any], where: str = "design input") -> Desi
     starts = iteration.get("delta0_m", [])
     if isinstance(starts, int | float):
         starts = [starts]
-    delta0 = tuple(_number("delta0_m", s, positive=False) for s in starts)
+    delta0 = tuple(validation.finite("delta0_m", s) for s in starts)
     return DesignCase(stepping_map, spectrum, pier, xi, method, delta0)
 
 

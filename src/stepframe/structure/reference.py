@@ -8,6 +8,13 @@ from the stepped phase on side s, s·x = x_c inward (touchdown) and s·x = x_cap
 non-terminal event on ẋ = 0 gives the true peaks. It shares no code with
 :mod:`stepframe.structure._exact` and is used by tests and benchmarks, never by default: it is
 orders of magnitude slower.
+
+It follows the same model rules, written here afresh: an impact rebound below
+``CHATTER_EPS·ω·x_ref`` is summed in closed form (one excursion and lift-off, or the whole
+accumulating sequence and then seated); C_r = 0 is the limit C_r → 0+; without a cap, a stepped
+state that cannot return whatever the rest of the record does is an overturn from that sample;
+a state on the wrong side of its phase, or a peak past the bound a non-escaping frame respects,
+ends the run with a failure status (docs/paper-notes.md, "Chatter").
 """
 
 from __future__ import annotations
@@ -17,11 +24,17 @@ from typing import Any
 
 import numpy as np
 
-from stepframe.structure.simulator import (
+from stepframe.structure.status import (
+    CHATTER_DRIFT,
+    CHATTER_EPS,
     EVENT_CAP,
     EVENT_ESCAPE,
     EVENT_LIFTOFF,
+    EVENT_SETTLE,
     EVENT_TOUCHDOWN,
+    INVARIANT_RTOL,
+    STATUS_IMPOSSIBLE,
+    STATUS_INVARIANT,
     STATUS_OK,
     STATUS_SOLVER_FAILED,
     Model,
@@ -119,7 +132,46 @@ def integrate_reference(
         ev_v_in.append(v)
         ev_v_out.append(v)
         ev_peak.append(math.copysign(xc, phase))
-    v_eps = 1e-12 * max(xc, x_star) * max(w1, w2)
+    x_ref = max(xc, x_star)
+    w_small = CHATTER_EPS * max(w1, w2) * x_ref
+    # Largest |ẍ_g| from each sample to the end of the record (certain-escape test, no cap).
+    ahead = np.maximum.accumulate(np.abs(ag[::-1]))[::-1] if ag.size else np.zeros(0)
+
+    def after_impact(
+        side: float, w: float, agv: float, rate: float, left: float
+    ) -> tuple[str, float, float]:
+        """("follow", 0, w), ("lift", delay, speed) or ("seat", delay, 0) after an impact."""
+        # Accelerations at rest on the surface: into the inner region (unstepped, or the far
+        # side for the block) and back out into the stepped phase on this side.
+        into = (w1**2 * xc + side * p1 * agv) if xc > 0 else (side * p2 * agv - g1)
+        out = w2**2 * xc - g1 - side * p2 * agv
+        # Within rounding of zero an acceleration's sign is noise: seated decides instead.
+        noise = INVARIANT_RTOL * max(w1, w2) ** 2 * x_ref
+        if w > w_small or into > noise:
+            return "follow", 0.0, w
+        if abs(into) <= noise:
+            return ("seat", 0.0, 0.0) if w == 0 else ("follow", 0.0, w)
+        first = 2 * w / abs(into)
+        block = xc == 0
+        # How fast each acceleration changes: the closed form assumes both constant.
+        d_into = abs((p2 if block else p1) * rate)
+        d_out = abs(p2 * rate)
+        # Below w_small/10 the sum is used even where the forcing drifts (flights that small
+        # would sink below the rounding of x).
+        forced = w <= 0.1 * w_small
+        if out > noise or (abs(out) <= noise and w > 0):
+            steady = forced or d_into * first <= CHATTER_DRIFT * abs(into)
+            lift = first <= left and steady
+            return ("lift", first, cr * w if block else w) if lift else ("follow", 0, w)
+        if abs(out) <= noise:
+            return "seat", 0.0, 0.0
+        # The rebound speeds after each impact form a geometric series: w, C_r w, C_r² w, ...
+        # (the block strikes at both ends of a cycle, the portal frame once).
+        per_cycle = cr**2 if block else cr
+        one = first + 2 * w * (cr if block else 1.0) / abs(out)
+        total = one / (1 - per_cycle) if per_cycle < 1 else one
+        steady = forced or max(d_into / abs(into), d_out / abs(out)) * total <= CHATTER_DRIFT
+        return ("seat", total, 0.0) if total <= left and steady else ("follow", 0.0, w)
 
     def liftoff(t: float, vel: float) -> None:
         nonlocal n_lift, cur_lift, ep_peak
@@ -146,6 +198,18 @@ def integrate_reference(
         t1 = t0 + dt_s
         a0, a1 = (ag[i], ag[i + 1]) if i < n_rec else (0.0, 0.0)
         slope = (a1 - a0) / dt_s
+        if xcap == math.inf and phase in (1, -1) and not overturned:
+            # Beyond reach of return whatever the rest of the record does: overturned now.
+            side = 1.0 if phase > 0 else -1.0
+            reach = (g1 + p2 * (ahead[i] if i < n_rec else 0.0)) / w2**2
+            if side * v - lam2 * (side * x - reach) > 0:
+                overturned, t_over = True, t0
+                ev_t.append(t0)
+                ev_kind.append(EVENT_ESCAPE)
+                ev_v_in.append(v)
+                ev_v_out.append(v)
+                ev_peak.append(x)
+                break
         if i == n_rec and phase in (1, -1) and not overturned:
             side = 1.0 if phase > 0 else -1.0
             if side * v - lam2 * (side * x - x_star) > 0:
@@ -155,9 +219,6 @@ def integrate_reference(
                 ev_v_in.append(v)
                 ev_v_out.append(v)
                 ev_peak.append(x)
-                if xcap == math.inf:
-                    t_over = t0
-                    break
         t = t0
         fresh = False
         while t < t1:
@@ -229,26 +290,39 @@ def integrate_reference(
                 if phase != 0:
                     ep_peak = max(ep_peak, abs(x))
                 t = t1
+                slack = INVARIANT_RTOL * x_ref
+                side = 1.0 if phase > 0 else -1.0
+                inside = abs(x) <= xc + slack if phase == 0 else side * x >= xc - slack
+                if not inside:
+                    status, done = STATUS_INVARIANT, True
                 break
             k, te, ye = hit
             t = te
             fresh = True
             vel = float(ye[1])
+            touch = phase != 0 and k == 0
+            cap = phase != 0 and k != 0
             if phase == 0:
                 x = xc if k == 0 else -xc
                 phase = 1 if k == 0 else -1
                 v = vel
                 peak = max(peak, xc)
                 liftoff(te, vel)
-                if i >= n_rec:
-                    side = float(phase)
-                    if side * v - lam2 * (side * x - x_star) > 0 and not overturned:
-                        overturned = True
-                        if xcap == math.inf:
-                            t_over = te
-                            done = True
-                            break
-            elif k == 0:
+                side = float(phase)
+                back = w2**2 * xc - g1 - side * p2 * (a0 + slope * (te - t0))
+                if abs(vel) <= w_small and back < 0 and te + 2 * abs(vel) / -back <= t1:
+                    # Grazing lift-off: pulled straight back, touchdown at the same speed.
+                    te += 2 * abs(vel) / -back
+                    t = te
+                    vel = -vel
+                    touch = True
+                elif i >= n_rec and side * v - lam2 * (side * x - x_star) > 0 and not overturned:
+                    overturned = True
+                    if xcap == math.inf:
+                        t_over = te
+                        done = True
+                        break
+            if touch:
                 side = 1.0 if phase > 0 else -1.0
                 x = side * xc
                 v = cr * vel
@@ -260,17 +334,35 @@ def integrate_reference(
                 ev_v_out.append(v)
                 ev_peak.append(ep_peak)
                 cur_lift = -1
-                if abs(v) <= v_eps:
-                    v = 0.0
-                    phase = surface(side, a0 + slope * (te - t0))
-                    if phase in (1, -1):
-                        liftoff(te, 0.0)
-                elif xc > 0:
+                agv_te = a0 + slope * (te - t0)
+                what, delay, speed = after_impact(side, abs(v), agv_te, slope, t1 - te)
+                if what == "follow" and xc > 0:
                     phase = 0
-                else:
+                elif what == "follow":
                     phase = -int(side)
                     liftoff(te, v)
-            else:
+                elif what == "lift":
+                    t = te + delay
+                    if xc == 0:
+                        n_imp += 1
+                        ev_t.append(t)
+                        ev_kind.append(EVENT_TOUCHDOWN)
+                        ev_v_in.append(side * abs(v))
+                        ev_v_out.append(side * speed)
+                        ev_peak.append(0.0)
+                    phase = int(side)
+                    v = side * speed
+                    liftoff(t, v)
+                else:
+                    t = te + delay
+                    ev_t.append(t)
+                    ev_kind.append(EVENT_SETTLE)
+                    ev_v_in.append(v)
+                    ev_v_out.append(0.0)
+                    ev_peak.append(0.0)
+                    v = 0.0
+                    phase = 2 * int(side)
+            elif cap:
                 x = float(ye[0])
                 v = vel
                 peak = max(peak, abs(x))
@@ -290,6 +382,11 @@ def integrate_reference(
         hist_v.append(v)
         hist_p.append(phase)
     close_episode()
+    if status == STATUS_OK and not overturned:
+        no_escape = (g1 + p2 * (ahead[0] if ag.size else 0.0)) / w2**2
+        limit = xcap if xcap < math.inf else max(abs(x0), no_escape) * (1 + INVARIANT_RTOL)
+        if peak > limit:
+            status = STATUS_IMPOSSIBLE
     n_hist = n_total + 1 if record_history else 0
     hx = np.full(n_hist, x)
     hv = np.full(n_hist, v)

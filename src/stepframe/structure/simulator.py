@@ -15,97 +15,60 @@ when, in free vibration after the record, a stepped state lies on the escaping b
 stepped phase in free motion, u = s·x - x* and w = s·ẋ (s the side) obey ü + 2ξ₂ω₂u̇ - ω₂²u = 0,
 whose solution is c₁e^{λ₁t} + c₂e^{λ₂t} with λ₁ > 0 > λ₂; the frame escapes exactly when
 c₁ ∝ w - λ₂u > 0. For ξ₂ = 0 this is w + ω₂u > 0, which contains the set E = ẋ² - ω₂²(x - x*)² ≥ 0
-with ẋ outward (see docs/paper-notes.md). Under forcing a trajectory may return from beyond x*, so
-nothing is decided before the record ends.
+with ẋ outward (see docs/paper-notes.md). Under forcing a trajectory may return from beyond x*;
+without a cap it is declared overturned at the first sample where it cannot return whatever the
+rest of the record does (the same test with x* replaced by (γ₁ + P₂·max remaining |ẍ_g|)/ω₂²).
+
+Impacts that accumulate (chatter, the Zeno sequence of a rocking frame or block coming to rest)
+are summed in closed form and the frame is then seated on the surface until the ground can lift
+it again; C_r = 0 is the limit C_r → 0+. A result that is not a solution of the model (a state on
+the wrong side of its phase) or not physically possible (past the cap, or past the bound a
+frame that does not escape respects, without an overturn verdict) has status "failed", never
+"ok" (docs/paper-notes.md, "Chatter, C_r → 0+ and the certain-escape verdict").
+
+Methods are a registry, :data:`METHODS` (``{name: Integrator}``); ``method=`` takes a name or
+any :class:`Integrator` callable. Status and event codes live in
+:mod:`stepframe.structure.status`, shared by every integrator.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from concurrent.futures import Executor
 from dataclasses import asdict, dataclass, field
 from functools import cached_property
-from typing import TYPE_CHECKING, Any, Literal, NamedTuple
+from typing import TYPE_CHECKING, Any, Literal, Protocol
 
 import numpy as np
 
 from stepframe.errors import InputError
+from stepframe.structure.frame import PAPER_G_M_S2
+from stepframe.structure.status import (
+    EVENT_LIFTOFF,
+    EVENT_NAMES,
+    EVENT_TOUCHDOWN,
+    INVARIANT_RTOL,
+    STATUS_IMPOSSIBLE,
+    STATUS_MESSAGES,
+    STATUS_NAMES,
+    STATUS_NONFINITE,
+    STATUS_OK,
+    Model,
+    RawRun,
+    SimulationStatus,
+)
 
 if TYPE_CHECKING:
     import pandas as pd
     import xarray as xr
 
-    from stepframe.structure.frame import PortalFrame
-
 Method = Literal["exact", "RK45", "DOP853", "Radau", "LSODA"]
-Status = Literal["success", "nonfinite", "too_many_events", "solver_failed"]
-
-_METHODS: tuple[str, ...] = ("exact", "RK45", "DOP853", "Radau", "LSODA")
-#: Status codes of a run (:class:`RawRun`), set by the kernel and by the solve_ivp reference.
-STATUS_OK = 0
-STATUS_NONFINITE = 1
-STATUS_TOO_MANY_EVENTS = 2
-STATUS_SOLVER_FAILED = 3
-_STATUS: dict[int, Status] = {
-    STATUS_OK: "success",
-    STATUS_NONFINITE: "nonfinite",
-    STATUS_TOO_MANY_EVENTS: "too_many_events",
-    STATUS_SOLVER_FAILED: "solver_failed",
-}
-
-#: Event kinds stored in :attr:`RawRun.ev_kind`, by the kernel and by the solve_ivp reference.
-EVENT_LIFTOFF = 1
-EVENT_TOUCHDOWN = 2
-EVENT_CAP = 3
-EVENT_ESCAPE = 4
-_EVENT_NAMES = {
-    EVENT_LIFTOFF: "liftoff",
-    EVENT_TOUCHDOWN: "touchdown",
-    EVENT_CAP: "cap",
-    EVENT_ESCAPE: "escape",
-}
+#: Status of a run: a state of :data:`stepframe.core.results.STATUSES`.
+Status = SimulationStatus
 
 #: Default free-vibration tail after the record [s].
 DEFAULT_TAIL_S = 10.0
-
-
-class Model(NamedTuple):
-    """Model constants passed to the kernels (SI; x_c may be 0 for the rigid-block limit)."""
-
-    omega_1_rad_s: float
-    omega_2_rad_s: float
-    p_1: float
-    p_2: float
-    gamma_1_m_s2: float
-    xi_1: float
-    xi_2: float
-    x_c_m: float
-    c_r: float
-    x_cap_m: float  # math.inf when there is no cap
-
-
-@dataclass
-class RawRun:
-    """What an integrator hands back, before it is turned into a :class:`SimulationResult`."""
-
-    status: int
-    n_liftoffs: int
-    n_impacts: int
-    peak_abs_x: float
-    peak_time_s: float
-    overturned: bool
-    overturn_time_s: float
-    x_end: float
-    v_end: float
-    phase_end: int
-    ev_t: np.ndarray
-    ev_kind: np.ndarray
-    ev_v_in: np.ndarray
-    ev_v_out: np.ndarray
-    ev_peak: np.ndarray
-    hist_x: np.ndarray
-    hist_v: np.ndarray
-    hist_p: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -132,8 +95,12 @@ class SimulationSummary:
     residual_x_m, residual_v_m_s
         State at the end of the simulation (record plus tail) [m], [m/s].
     status
-        "success", or the numerical failure met ("nonfinite", "too_many_events",
-        "solver_failed").
+        "ok", or a failure state of :data:`stepframe.core.results.STATUSES`: "nonfinite",
+        "too_many_events", "not_converged" (solve_ivp failed a step) or "failed" (the state
+        broke its phase invariant, or the result is physically impossible without an overturn
+        verdict); see ``message``.
+    message
+        One line saying what went wrong ("" when the status is "ok").
     """
 
     peak_abs_x_m: float
@@ -146,6 +113,7 @@ class SimulationSummary:
     residual_x_m: float
     residual_v_m_s: float
     status: Status
+    message: str = ""
 
     def to_dict(self) -> dict[str, Any]:
         """Plain dictionary (JSON-ready)."""
@@ -168,8 +136,10 @@ class SimulationResult:
         that side, ±2 held on the surface x = ±x_c) on ``time`` [s] at the sample times; None
         when ``record_history=False``.
     events
-        ``pandas.DataFrame``: time_s, kind (liftoff, touchdown, cap, escape), v_in_m_s,
-        v_out_m_s (velocity before and after, C_r applied at touchdown).
+        ``pandas.DataFrame``: time_s, kind (liftoff, touchdown, cap, escape, settle), v_in_m_s,
+        v_out_m_s (velocity before and after, C_r applied at touchdown). A ``settle`` event
+        ends an accumulating sequence of impacts summed in closed form (chatter): from then on
+        the frame is seated on the surface until the ground can lift it again.
     episodes
         ``pandas.DataFrame``: start_s, end_s (NaN if still stepped at the end), side (+1/-1),
         peak_abs_x_m; :meth:`episode_records` gives the same rows as dictionaries.
@@ -204,8 +174,8 @@ class SimulationResult:
 
     @cached_property
     def event_kinds(self) -> list[str]:
-        """Kind of each event in time order (liftoff, touchdown, cap, escape)."""
-        return [_EVENT_NAMES.get(int(k), "unknown") for k in self.raw.ev_kind]
+        """Kind of each event in time order (liftoff, touchdown, cap, escape, settle)."""
+        return [EVENT_NAMES.get(int(k), "unknown") for k in self.raw.ev_kind]
 
     @cached_property
     def events(self) -> pd.DataFrame:
@@ -266,8 +236,43 @@ class SimulationResult:
         return np.asarray(self.raw.ev_t[keep], dtype=float)
 
 
-def model_of(frame: PortalFrame | Any) -> Model:
-    """Model constants of a frame (any object with the fields of PortalFrame)."""
+class FrameLike(Protocol):
+    """What the simulator reads from a frame: the model constants of eqs. 4.11-4.12.
+
+    :class:`~stepframe.structure.frame.PortalFrame` is one; any object with these attributes
+    (SI units, as documented there) is accepted. A height for drift ratios is taken from
+    ``h_r_m`` or ``drift_ratio_per_m`` when the object has one.
+    """
+
+    @property
+    def omega_1_rad_s(self) -> float: ...
+    @property
+    def omega_2_rad_s(self) -> float: ...
+    @property
+    def p_1(self) -> float: ...
+    @property
+    def p_2(self) -> float: ...
+    @property
+    def gamma_1_m_s2(self) -> float: ...
+    @property
+    def xi_1(self) -> float: ...
+    @property
+    def xi_2(self) -> float: ...
+    @property
+    def x_c_m(self) -> float: ...
+    @property
+    def c_r(self) -> float: ...
+    @property
+    def x_cap_m(self) -> float | None: ...
+
+
+def model_of(frame: FrameLike) -> Model:
+    """Model constants of a frame (any object with the fields of PortalFrame).
+
+    An x_c below ``INVARIANT_RTOL``·x* (1e-9 x*) is taken as the rigid-block limit x_c = 0: the
+    unstepped phase is then narrower than the rounding of x near the surface, so no integrator
+    can tell which side of it a state is on, and crossing it takes no time at any finite speed.
+    """
     names = Model._fields
     values = []
     for name in names:
@@ -283,6 +288,9 @@ def model_of(frame: PortalFrame | Any) -> Model:
     for name in ("omega_1_rad_s", "omega_2_rad_s", "gamma_1_m_s2"):
         if not getattr(model, name) > 0:
             raise InputError(f"{name} = {getattr(model, name)}, expected > 0")
+    x_star = model.gamma_1_m_s2 / model.omega_2_rad_s**2
+    if model.x_c_m < INVARIANT_RTOL * x_star:
+        model = model._replace(x_c_m=0.0)
     return model
 
 
@@ -309,7 +317,7 @@ def _check_scalar(name: str, value: float, minimum: float | None = None) -> floa
     return float(value)
 
 
-def _height(frame: Any, height_m: float | None) -> float | None:
+def _height(frame: FrameLike, height_m: float | None) -> float | None:
     if height_m is not None:
         height = _check_scalar("height_m", height_m)
         if height <= 0:
@@ -377,7 +385,83 @@ def _run_exact(
     )
 
 
-def _result(raw: RawRun, dt_s: float, height: float | None, units: str) -> SimulationResult:
+class Integrator(Protocol):
+    """A simulator method: integrates :class:`Model` under ``ag`` and returns a :class:`RawRun`.
+
+    ``ag`` is the scaled ground acceleration [m/s²] at spacing ``dt_s`` [s], linear between
+    samples, followed by ``n_tail`` free intervals; ``rtol``/``atol`` are for methods that take
+    tolerances (others ignore them). Pass one as ``method=`` to :func:`simulate` to add a method
+    without registering it, or add it to :data:`METHODS` under a name.
+    """
+
+    def __call__(
+        self,
+        model: Model,
+        ag: np.ndarray,
+        dt_s: float,
+        n_tail: int,
+        x0: float,
+        v0: float,
+        record_history: bool,
+        rtol: float,
+        atol: float,
+    ) -> RawRun: ...
+
+
+def _exact_method(
+    model: Model, ag: np.ndarray, dt_s: float, n_tail: int, x0: float, v0: float,
+    record_history: bool, rtol: float, atol: float,
+) -> RawRun:  # fmt: skip
+    return _run_exact(model, ag, dt_s, n_tail, x0, v0, record_history)
+
+
+@dataclass(frozen=True)
+class _SolveIvpMethod:
+    """The solve_ivp reference with one of scipy's methods (imported only when run)."""
+
+    name: str
+
+    def __call__(
+        self, model: Model, ag: np.ndarray, dt_s: float, n_tail: int, x0: float, v0: float,
+        record_history: bool, rtol: float, atol: float,
+    ) -> RawRun:  # fmt: skip
+        from stepframe.structure.reference import integrate_reference
+
+        return integrate_reference(
+            model, ag, dt_s, n_tail, x0, v0, self.name, rtol, atol, record_history
+        )
+
+
+#: Simulator methods by name: the exact piecewise-analytic kernel, and the solve_ivp
+#: cross-checks. :data:`Method` lists the same names (a test keeps them in sync).
+METHODS: dict[str, Integrator] = {
+    "exact": _exact_method,
+    **{name: _SolveIvpMethod(name) for name in ("RK45", "DOP853", "Radau", "LSODA")},
+}
+
+
+def _checked_status(raw: RawRun, model: Model, ag: np.ndarray, x0: float) -> int:
+    """The run's status, downgraded when the result is not physically possible.
+
+    Applied to every method (a user's callable too): non-finite values are never "ok", and a
+    frame that did not overturn can pass neither its cap nor y_e = (γ₁ + P₂ max|ẍ_g|)/ω₂², the
+    displacement beyond which a stepped frame moving outward cannot return (docs/paper-notes.md).
+    """
+    if raw.status != STATUS_OK:
+        return raw.status
+    values = (raw.peak_abs_x, raw.x_end, raw.v_end)
+    if not all(math.isfinite(value) for value in values):
+        return STATUS_NONFINITE
+    if raw.overturned:
+        return STATUS_OK
+    reach = (model.gamma_1_m_s2 + model.p_2 * float(np.max(np.abs(ag)))) / model.omega_2_rad_s**2
+    bound = min(model.x_cap_m, max(abs(x0), reach) * (1.0 + INVARIANT_RTOL))
+    return STATUS_OK if raw.peak_abs_x <= bound else STATUS_IMPOSSIBLE
+
+
+def _result(
+    raw: RawRun, dt_s: float, height: float | None, units: str, status: int
+) -> SimulationResult:
     summary = SimulationSummary(
         peak_abs_x_m=raw.peak_abs_x,
         peak_time_s=raw.peak_time_s,
@@ -390,19 +474,20 @@ def _result(raw: RawRun, dt_s: float, height: float | None, units: str) -> Simul
         n_impacts=raw.n_impacts,
         residual_x_m=raw.x_end,
         residual_v_m_s=raw.v_end,
-        status=_STATUS.get(raw.status, "solver_failed"),
+        status=STATUS_NAMES.get(status, "failed"),
+        message=STATUS_MESSAGES.get(status, f"unknown status code {status}"),
     )
     return SimulationResult(summary=summary, raw=raw, dt_s=dt_s, units=units)
 
 
 def simulate(
-    frame: PortalFrame | Any,
+    frame: FrameLike,
     ground_acc_m_s2: Any,
     dt_s: float,
     *,
     scale: float = 1.0,
     tail_s: float = DEFAULT_TAIL_S,
-    method: Method = "exact",
+    method: Method | Integrator = "exact",
     rtol: float = 1e-10,
     atol: float = 1e-14,
     x0_m: float = 0.0,
@@ -427,10 +512,12 @@ def simulate(
         Free vibration (zero ground acceleration) after the record [s]; rounded up to whole
         steps of ``dt_s``.
     method
-        ``"exact"`` (piecewise-analytic, default) or a ``solve_ivp`` method name for the
-        cross-check (``"RK45"``, ``"DOP853"``, ``"Radau"``, ``"LSODA"``).
+        A name of :data:`METHODS`: ``"exact"`` (piecewise-analytic, default) or a ``solve_ivp``
+        method for the cross-check (``"RK45"``, ``"DOP853"``, ``"Radau"``, ``"LSODA"``); or an
+        :class:`Integrator` callable.
     rtol, atol
-        Tolerances of the ``solve_ivp`` methods (unused by ``"exact"``).
+        Tolerances of the ``solve_ivp`` methods (checked and passed to any method; unused by
+        ``"exact"``).
     x0_m, v0_m_s
         Initial displacement [m] and velocity [m/s].
     record_history
@@ -465,25 +552,24 @@ def simulate(
     tail_s = _check_scalar("tail_s", tail_s, minimum=0.0)
     x0 = _check_scalar("x0_m", x0_m)
     v0 = _check_scalar("v0_m_s", v0_m_s)
-    if method not in _METHODS:
-        raise InputError(f"method = {method!r}, expected one of {', '.join(_METHODS)}")
+    if isinstance(method, str):
+        if method not in METHODS:
+            raise InputError(f"method = {method!r}, expected one of {', '.join(METHODS)}")
+        integrator = METHODS[method]
+    elif callable(method):
+        integrator = method
+    else:
+        raise InputError(f"method = {method!r}, expected a name of METHODS or a callable")
     if model.x_cap_m < math.inf and abs(x0) >= model.x_cap_m:
         raise InputError(f"x0_m = {x0}, expected |x0_m| < x_cap_m = {model.x_cap_m}")
+    for name, tol in (("rtol", rtol), ("atol", atol)):
+        if not (isinstance(tol, int | float) and math.isfinite(tol) and tol > 0):
+            raise InputError(f"{name} = {tol!r}, expected a finite tolerance > 0")
     height = _height(frame, height_m)
     n_tail = math.ceil(tail_s / dt_s - 1e-9)
     ag = ag * scale
-    if method == "exact":
-        raw = _run_exact(model, ag, float(dt_s), n_tail, x0, v0, record_history)
-    else:
-        from stepframe.structure.reference import integrate_reference
-
-        for name, tol in (("rtol", rtol), ("atol", atol)):
-            if not (isinstance(tol, int | float) and math.isfinite(tol) and tol > 0):
-                raise InputError(f"{name} = {tol!r}, expected a finite tolerance > 0")
-        raw = integrate_reference(
-            model, ag, float(dt_s), n_tail, x0, v0, method, rtol, atol, record_history
-        )
-    return _result(raw, float(dt_s), height, "m")
+    raw = integrator(model, ag, float(dt_s), n_tail, x0, v0, record_history, rtol, atol)
+    return _result(raw, float(dt_s), height, "m", _checked_status(raw, model, ag, x0))
 
 
 def simulate_rigid_block(
@@ -495,7 +581,7 @@ def simulate_rigid_block(
     *,
     theta0_rad: float = 0.0,
     omega0_rad_s: float = 0.0,
-    g_m_s2: float = 9.80665,
+    g_m_s2: float = PAPER_G_M_S2,
     tail_s: float = DEFAULT_TAIL_S,
     record_history: bool = True,
 ) -> SimulationResult:
@@ -519,7 +605,8 @@ def simulate_rigid_block(
     theta0_rad, omega0_rad_s
         Initial rotation [rad] and angular velocity [rad/s].
     g_m_s2
-        Gravity [m/s²].
+        Gravity [m/s²]; the structure API's one default, 9.81 (the paper's examples, as
+        :meth:`~stepframe.structure.frame.PortalFrame.housner_block`).
     tail_s, record_history
         As in :func:`simulate`.
     """
@@ -533,16 +620,10 @@ def simulate_rigid_block(
     ag = _check_motion(ground_acc_m_s2, dt_s)
     tail_s = _check_scalar("tail_s", tail_s, minimum=0.0)
     n_tail = math.ceil(tail_s / dt_s - 1e-9)
-    raw = _run_exact(
-        model,
-        ag,
-        float(dt_s),
-        n_tail,
-        _check_scalar("theta0_rad", theta0_rad),
-        _check_scalar("omega0_rad_s", omega0_rad_s),
-        record_history,
-    )
-    return _result(raw, float(dt_s), None, "rad")
+    theta0 = _check_scalar("theta0_rad", theta0_rad)
+    omega0 = _check_scalar("omega0_rad_s", omega0_rad_s)
+    raw = _run_exact(model, ag, float(dt_s), n_tail, theta0, omega0, record_history)
+    return _result(raw, float(dt_s), None, "rad", _checked_status(raw, model, ag, theta0))
 
 
 @dataclass(frozen=True)
@@ -553,8 +634,73 @@ class BatchRecord:
     dt_s: float
 
 
+@dataclass(frozen=True)
+class _BatchBlock:
+    """A contiguous block of (record, scale) pairs with only the records it uses (picklable)."""
+
+    series: tuple[np.ndarray, ...]
+    dts: np.ndarray
+    tails: np.ndarray
+    rec_local: np.ndarray
+    scales: np.ndarray
+    params: np.ndarray
+    first: int
+
+    def __str__(self) -> str:
+        return f"pairs {self.first}-{self.first + self.scales.size - 1}"
+
+
+def _run_block(block: _BatchBlock) -> np.ndarray:
+    """Summaries of one block, all cores through numba's ``prange`` (see docs/benchmarks.md).
+
+    In a worker (a thread of a thread pool, or a process of a pool) the block runs on that one
+    thread: the pool is the parallelism there, and numba's OpenMP layer must not be used in a
+    process forked after its parent used it (the child is killed).
+    """
+    import multiprocessing
+    import threading
+
+    from stepframe.structure import _exact
+
+    kernel = _exact.integrate_batch
+    worker_thread = threading.current_thread() is not threading.main_thread()
+    if worker_thread or multiprocessing.parent_process() is not None:
+        kernel = _exact.integrate_batch_serial
+
+    offsets = np.zeros(len(block.series) + 1, dtype=np.int64)
+    offsets[1:] = np.cumsum([a.size for a in block.series])
+    out = np.empty((block.scales.size, 10))
+    kernel(np.concatenate(block.series), offsets, block.rec_local, block.scales,
+           block.dts, block.tails, block.params, out)  # fmt: skip
+    return out
+
+
+def _blocks(
+    series: list[np.ndarray], dts: list[float], rec_index: np.ndarray, pair_scales: np.ndarray,
+    tail_s: float, params: np.ndarray, n_blocks: int,
+) -> list[_BatchBlock]:  # fmt: skip
+    size = max(1, math.ceil(rec_index.size / n_blocks))
+    blocks = []
+    for first in range(0, rec_index.size, size):
+        recs = rec_index[first : first + size]
+        used, local = np.unique(recs, return_inverse=True)
+        block_dts = np.asarray([dts[r] for r in used])
+        blocks.append(
+            _BatchBlock(
+                series=tuple(series[r] for r in used),
+                dts=block_dts,
+                tails=np.asarray([math.ceil(tail_s / dt - 1e-9) for dt in block_dts], np.int64),
+                rec_local=local.astype(np.int64),
+                scales=pair_scales[first : first + size],
+                params=params,
+                first=first,
+            )
+        )
+    return blocks
+
+
 def simulate_batch(
-    frame: PortalFrame | Any,
+    frame: FrameLike,
     records: Sequence[BatchRecord | tuple[Any, float]],
     scales: Sequence[float] | np.ndarray,
     *,
@@ -563,8 +709,17 @@ def simulate_batch(
     x0_m: float = 0.0,
     v0_m_s: float = 0.0,
     height_m: float | None = None,
+    jobs: int = 1,
+    executor: Executor | None = None,
+    progress: bool | str = False,
 ) -> pd.DataFrame:
-    """Summaries of many (record, scale) pairs, run in parallel on all cores (exact method).
+    """Summaries of many (record, scale) pairs with the exact method, through the one executor.
+
+    The pairs are cut into blocks handed to :func:`stepframe.core.execution.map_items`; each
+    block runs on all the cores of its worker through numba's parallel loop. With the default
+    ``jobs=1`` there is one block, run in this process: on one machine that is the fastest way
+    (docs/benchmarks.md measures it against a process pool). ``jobs`` > 1 or an ``executor``
+    (a Dask client's ``get_executor()``) spreads blocks over workers, for clusters.
 
     Parameters
     ----------
@@ -577,15 +732,18 @@ def simulate_batch(
         grid); with ``pairs="zip"`` scales[j] goes with records[j].
     tail_s, x0_m, v0_m_s, height_m
         As in :func:`simulate`.
+    jobs, executor, progress
+        As in :func:`~stepframe.core.execution.map_items` (blocks: 4 per worker).
 
     Returns
     -------
     pandas.DataFrame
-        One row per pair: record, scale, the :class:`SimulationSummary` fields.
+        One row per pair: record, scale, the :class:`SimulationSummary` fields. A block whose
+        worker failed gives its rows status "failed", NaN values and the error as ``message``.
     """
     import pandas as pd
 
-    from stepframe.structure import _exact
+    from stepframe.core.execution import map_items
 
     model = model_of(frame)
     tail_s = _check_scalar("tail_s", tail_s, minimum=0.0)
@@ -615,15 +773,29 @@ def simulate_batch(
         pair_scales = scale_arr
     else:
         raise InputError(f"pairs = {pairs!r}, expected 'product' or 'zip'")
-    offsets = np.zeros(len(series) + 1, dtype=np.int64)
-    offsets[1:] = np.cumsum([s.size for s in series])
-    flat = np.concatenate(series)
-    dt_arr = np.asarray(dts)
-    tails = np.asarray([math.ceil(tail_s / dt - 1e-9) for dt in dts], dtype=np.int64)
     params = np.asarray([*model, x0, v0], dtype=float)
-    out = np.empty((rec_index.size, 10))
-    _exact.integrate_batch(flat, offsets, rec_index.astype(np.int64), pair_scales, dt_arr,
-                           tails, params, out)  # fmt: skip
+    spread = executor is not None or jobs > 1
+    n_blocks = 4 * max(1, jobs) if spread else 1
+    blocks = _blocks(series, dts, rec_index, pair_scales, tail_s, params, n_blocks)
+    # map_items starts its process pool from a fork server: a forked child of a process that ran
+    # numba's OpenMP loop would be killed by the OpenMP runtime.
+    outcome = map_items(
+        _run_block, blocks, jobs=jobs, executor=executor, chunk_size=1, stage="simulate",
+        progress=progress,
+    )  # fmt: skip
+    out = np.full((rec_index.size, 10), np.nan)
+    messages = [""] * rec_index.size
+    codes: list[int | None] = [None] * rec_index.size
+    for k, result in zip(outcome.indices, outcome.results, strict=True):
+        block = blocks[k]
+        out[block.first : block.first + block.scales.size] = result
+        for j in range(block.first, block.first + block.scales.size):
+            codes[j] = int(result[j - block.first, 0])
+            messages[j] = STATUS_MESSAGES.get(codes[j] or 0, "")
+    for failure in outcome.failures:
+        block = next(b for b in blocks if str(b) == failure.item)
+        for j in range(block.first, block.first + block.scales.size):
+            messages[j] = f"{failure.error_type}: {failure.message}"
     overturned = out[:, 5] > 0
     return pd.DataFrame(
         {
@@ -634,10 +806,11 @@ def simulate_batch(
             "peak_drift_ratio": out[:, 3] / height if height is not None else np.nan,
             "overturned": overturned,
             "overturn_time_s": np.where(overturned, out[:, 6], np.nan),
-            "n_stepping_episodes": out[:, 1].astype(np.int64),
-            "n_impacts": out[:, 2].astype(np.int64),
+            "n_stepping_episodes": np.nan_to_num(out[:, 1], nan=-1).astype(np.int64),
+            "n_impacts": np.nan_to_num(out[:, 2], nan=-1).astype(np.int64),
             "residual_x_m": out[:, 7],
             "residual_v_m_s": out[:, 8],
-            "status": [_STATUS.get(int(s), "solver_failed") for s in out[:, 0]],
+            "status": ["failed" if c is None else STATUS_NAMES.get(c, "failed") for c in codes],
+            "message": messages,
         }
     )

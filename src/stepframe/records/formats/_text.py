@@ -15,6 +15,11 @@ import numpy as np
 from stepframe.errors import FormatError
 from stepframe.records.units import normalize_units
 
+#: Largest magnitude accepted for a number in a data block (any unit): far above any real
+#: value in counts, g, cm/s² or header codes; a larger one is damage, and would overflow to
+#: infinity on conversion to m/s².
+MAX_VALUE = 1e100
+
 
 class FormatWarning(UserWarning):
     """A file read cleanly whose header has a problem that does not touch the data."""
@@ -102,6 +107,13 @@ def numbers(
                     f"non-numeric value {bad[:30]!r}{where}, expected numbers", path, index
                 ) from None
             row = [float(f) for f in fixed]
+        if not all(abs(v) <= MAX_VALUE for v in row):  # also false for NaN
+            bad = next(w for w, v in zip(words, row, strict=True) if not abs(v) <= MAX_VALUE)
+            raise FormatError(
+                f"value {bad[:30]!r} is not a finite number below {MAX_VALUE:g}, expected data",
+                path,
+                index,
+            )
         values.extend(row)
     if count is not None and len(values) > count:
         raise FormatError(
@@ -207,11 +219,20 @@ def check_peak(
 
 
 def resolution_of(text: str) -> float:
-    """Value of the last printed digit of a decimal (``"27.114"`` → 0.001, ``"4"`` → 1)."""
-    mantissa = text.strip().lower().split("e")[0]
+    """Value of the last printed digit of a decimal (``"27.114"`` → 0.001, ``"4"`` → 1).
+
+    Call it on text already checked to be a finite number; the exponent is clamped so that no
+    header can make it overflow.
+    """
+    parts = text.strip().lower().replace("d", "e").split("e")
+    mantissa = parts[0]
     decimals = len(mantissa.split(".")[1]) if "." in mantissa else 0
-    scale = 10.0 ** int(text.lower().split("e")[1]) if "e" in text.lower() else 1.0
-    return 10.0**-decimals * scale
+    try:
+        exponent = int(parts[1]) if len(parts) > 1 else 0
+    except ValueError:
+        exponent = 0
+    power: float = 10.0 ** float(min(max(exponent - decimals, -300), 300))
+    return power
 
 
 def warn(message: str, path: Path, line: int | None = None) -> None:

@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from stepframe.errors import FormatError
-from stepframe.records.formats import ReadOptions, RecordFormat, register
+from stepframe.records.formats import ReadOptions, RecordFormat, _header, register
 from stepframe.records.formats._text import check_count, numbers, read_lines, resolve_units, warn
 from stepframe.records.units import factor_to_m_s2
 
@@ -61,8 +61,7 @@ def _npts_dt(lines: list[str], path: Path) -> tuple[int, float, int]:
                 index + 1,
             )
         try:
-            npts = int(match[1])
-            dt_s = float(match[2])
+            float(match[1]), float(match[2])
         except ValueError:
             raise FormatError(
                 f"NPTS/DT {match[1]!r}/{match[2]!r} are not numbers, "
@@ -70,10 +69,8 @@ def _npts_dt(lines: list[str], path: Path) -> tuple[int, float, int]:
                 path,
                 index + 1,
             ) from None
-        if npts <= 0 or not dt_s > 0:
-            raise FormatError(
-                f"NPTS = {npts}, DT = {dt_s}, expected positive values", path, index + 1
-            )
+        npts = _header.sample_count(match[1], path, index + 1, "NPTS")
+        dt_s = _header.interval(match[2], path, index + 1, "DT")
         return npts, dt_s, index
     raise FormatError(
         f"no NPTS/DT line in the first {_MAX_HEADER} lines, expected 'NPTS= n, DT= dt SEC' "

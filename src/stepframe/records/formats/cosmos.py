@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from stepframe.errors import FormatError
-from stepframe.records.formats import ReadOptions, RecordFormat, register
+from stepframe.records.formats import ReadOptions, RecordFormat, _header, register
 from stepframe.records.formats._text import (
     check_count,
     check_peak,
@@ -118,16 +118,20 @@ def _parse(lines: list[str], path: Path) -> list[_Channel]:
         n_int = int(_expect(_INT_HEADER, lines, i, "'... Integer-header values follow'", path)[1])
         ints, i = numbers(lines, i + 1, path, count=n_int, width=fortran_width(lines[i]))
         check_count(ints, n_int, path, i)
+        for value in ints:
+            _header.small_integer(value, path, i, "integer header value")
         n_real = int(_expect(_REAL_HEADER, lines, i, "'... Real-header values follow'", path)[1])
         reals, i = numbers(lines, i + 1, path, count=n_real, width=fortran_width(lines[i]))
         check_count(reals, n_real, path, i)
+        if not np.all(np.isfinite(reals)):
+            raise FormatError("real header value not finite, expected finite numbers", path, i)
         n_comments = int(_expect(_COMMENTS, lines, i, "'... Comment line(s) follow'", path)[1])
         comments = lines[i + 1 : i + 1 + n_comments]
         i += 1 + n_comments
         channel = _Channel(text, ints, reals, comments, first)
         _expect(_DATA, lines, i, "a data line '<n> acceleration pts, ... units=...'", path)
         while i < len(lines) and (match := _DATA.search(lines[i])):
-            npts = int(match[1])
+            npts = _header.sample_count(match[1], path, i + 1, "number of points")
             values, end = numbers(lines, i + 1, path, count=npts, width=fortran_width(lines[i]))
             check_count(values, npts, path, i + 1)
             channel.blocks.append(
@@ -157,23 +161,12 @@ def _identity(channel: _Channel, index: int) -> tuple[str, str, str, str]:
 
 
 def _start_time(channel: _Channel, path: Path) -> Any:
-    from obspy import UTCDateTime
-
     parts = [channel.integer(n) for n in (40, 42, 43, 44, 45)]
     seconds = channel.real(30)
     if any(p is None for p in parts) or seconds is None:
         return None
-    year, month, day, hour, minute = (int(p) for p in parts if p is not None)
-    try:
-        return UTCDateTime(year, month, day, hour, minute) + seconds
-    except (ValueError, TypeError):
-        warn(
-            f"bad start time {year}-{month}-{day} {hour}:{minute} in the integer header, "
-            "expected a calendar date; start time left at 0",
-            path,
-            channel.first_line + 1,
-        )
-        return None
+    text = "{}-{}-{} {}:{}".format(*parts)
+    return _header.start_time(tuple(parts), seconds, path, channel.first_line + 1, text)
 
 
 def _units(block: _Block, options: ReadOptions, path: Path) -> str:
@@ -236,7 +229,7 @@ def read(path: Path, options: ReadOptions) -> Any:
                 )
             dt_s = options.dt_s
         else:
-            dt_s = dt_ms / 1000.0
+            dt_s = _header.interval(dt_ms / 1000.0, path, channel.first_line + 1, "Real(62) / 1000")
         check_peak(block.values, channel.real(64), path, f"channel {code}")
         units = _units(block, options, path)
         processing: list[dict[str, Any]] = []
@@ -276,7 +269,7 @@ def read(path: Path, options: ReadOptions) -> Any:
             factor = factor_to_m_s2(units)
         magnitude = None
         if len(channel.text) > 2 and (match := _MAGNITUDE.search(channel.text[2])):
-            magnitude = float(match[2])
+            magnitude = _header.number(match[2], path, channel.first_line + 3, "magnitude")
         traces.append(
             make_trace(
                 block.values * factor,

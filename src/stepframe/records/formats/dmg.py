@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from stepframe.errors import FormatError
-from stepframe.records.formats import ReadOptions, RecordFormat, register
+from stepframe.records.formats import ReadOptions, RecordFormat, _header, register
 from stepframe.records.formats._text import (
     check_count,
     check_peak,
@@ -52,6 +52,7 @@ _START = re.compile(
     r"Start\s+time:\s*(\d+)/(\d+)/(\d+),\s*(\d+):\s*(\d+):\s*([\d.]+)\s*(\w*)", re.I
 )
 _END = re.compile(r"^/&")
+_N_CHANNELS = re.compile(r"\(\s*(\d+)\s+Chns\s+of\s+\d+\s+at\s+Sta\s*\)", re.I)
 
 
 def sniff(head: bytes, path: Path) -> bool:
@@ -70,24 +71,15 @@ def sniff(head: bytes, path: Path) -> bool:
 
 
 def _start_time(header: list[str], first: int, path: Path) -> Any:
-    from obspy import UTCDateTime
-
     for offset, line in enumerate(header):
         if match := _START.search(line):
             month, day, year, hour, minute = (int(match[k]) for k in range(1, 6))
             if year < 100:
                 # CSMIP two-digit years: digital records start in the 1970s.
                 year += 1900 if year >= 70 else 2000
-            try:
-                return UTCDateTime(year, month, day, hour, minute) + float(match[6])
-            except (ValueError, TypeError):
-                warn(
-                    f"bad start time {match[0].split(':', 1)[1].strip()!r}, expected "
-                    "month/day/year, hh:mm:ss; start time left at 0",
-                    path,
-                    first + offset + 1,
-                )
-                return None
+            text = match[0].split(":", 1)[-1].strip()
+            parts = (year, month, day, hour, minute)
+            return _header.start_time(parts, match[6], path, first + offset + 1, text)
     return None
 
 
@@ -111,24 +103,17 @@ def _channel(
             start + 1,
         )
     header = lines[start:data_line]
-    npts = int(data_match[1])
-    try:
-        if data_match.re is _V1_DATA:
-            dt_s = 1.0 / float(data_match[2])
-            stated_units = data_match[3]
-        else:
-            dt_s = float(data_match[3])
-            stated_units = data_match[4]
-    except (ValueError, ZeroDivisionError):
-        raise FormatError(
-            f"sampling {data_match[0].strip()!r} not a positive number, expected one",
-            path,
-            data_line + 1,
-        ) from None
-    if not dt_s > 0:
-        raise FormatError(
-            f"sampling interval {dt_s} s, expected a positive one", path, data_line + 1
+    number = data_line + 1
+    npts = _header.sample_count(data_match[1], path, number, "number of points")
+    if data_match.re is _V1_DATA:
+        rate_hz = _header.number(
+            data_match[2], path, number, "sampling rate", low=1.0, kind="positive number"
         )
+        dt_s = _header.interval(1.0 / rate_hz, path, number)
+        stated_units = data_match[3]
+    else:
+        dt_s = _header.interval(data_match[3], path, number)
+        stated_units = data_match[4]
     units = resolve_units(stated_units, options.units, path, data_line + 1)
     values, _ = numbers(
         lines, data_line + 1, path, count=npts, width=fortran_width(lines[data_line])
@@ -150,9 +135,10 @@ def _channel(
                     f"peak units {peak[2]!r} not known, peak not checked", path, start + offset + 1
                 )
             else:
+                stated_peak = _header.number(peak[1], path, start + offset + 1, "peak")
                 check_peak(
                     data_m_s2,
-                    float(peak[1]) * factor,
+                    stated_peak * factor,
                     path,
                     f"channel {orientation or index + 1}",
                     resolution=resolution_of(peak[1]) * factor,
@@ -195,7 +181,23 @@ def read(path: Path, options: ReadOptions) -> Any:
         start = stop + 1
     if not traces:
         raise FormatError("no channel in the file, expected CSMIP/DMG V1 or V2 text", path)
+    _check_channel_count(lines, len(traces), path)
     return Stream(traces)
+
+
+def _check_channel_count(lines: list[str], found: int, path: Path) -> None:
+    """Refuse a file holding fewer channels than its header declares (cut at a channel end)."""
+    for number, line in enumerate(lines[:40], start=1):
+        if match := _N_CHANNELS.search(line):
+            declared = int(match[1])
+            if found < declared:
+                raise FormatError(
+                    f"{found} channel(s) in the file but the header declares {declared} "
+                    "(truncated file?), expected all of them",
+                    path,
+                    number,
+                )
+            return
 
 
 FORMAT = register(

@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from stepframe.errors import FormatError
-from stepframe.records.formats import ReadOptions, RecordFormat, register
+from stepframe.records.formats import ReadOptions, RecordFormat, _header, register
 from stepframe.records.formats._text import (
     check_count,
     check_peak,
@@ -39,33 +39,32 @@ def sniff(head: bytes, path: Path) -> bool:
         return False
 
 
-def _float(header: dict[str, tuple[str, int]], key: str, path: Path) -> float | None:
-    """A numeric header value; None if empty; FormatError naming the line if not a number."""
+def _float(
+    header: dict[str, tuple[str, int]],
+    key: str,
+    path: Path,
+    low: float = -1e9,
+    high: float = 1e9,
+) -> float | None:
+    """A numeric header value in [low, high]; None if empty; FormatError naming the line."""
     if key not in header or not header[key][0]:
         return None
     text, line = header[key]
-    try:
-        return float(text)
-    except ValueError:
-        raise FormatError(f"{key} = {text!r} is not a number, expected one", path, line) from None
+    return _header.number(text, path, line, key, low=low, high=high)
 
 
 def _start_time(header: dict[str, tuple[str, int]], path: Path) -> Any:
-    from obspy import UTCDateTime
 
     key = "DATE_TIME_FIRST_SAMPLE_YYYYMMDD_HHMMSS"
     if key not in header or not header[key][0]:
         return None
     text, line = header[key]
     match = re.fullmatch(r"(\d{4})(\d{2})(\d{2})_(\d{2})(\d{2})(\d{2}(?:\.\d*)?)", text)
-    try:
-        if match is None:
-            raise ValueError(text)
-        parts = [int(match[k]) for k in range(1, 6)]
-        return UTCDateTime(*parts) + float(match[6])
-    except (ValueError, TypeError):
+    if match is None:
         warn(f"bad date {text!r}, expected YYYYMMDD_HHMMSS; start time left at 0", path, line)
         return None
+    parts = tuple(int(match[k]) for k in range(1, 6))
+    return _header.start_time(parts, match[6], path, line, repr(text), what="date")
 
 
 def read(path: Path, options: ReadOptions) -> Any:
@@ -97,23 +96,17 @@ def read(path: Path, options: ReadOptions) -> Any:
     kind, kind_line = header.get("DATA_TYPE", ("ACCELERATION", None))
     if kind and kind.upper() != "ACCELERATION":
         raise FormatError(f"DATA_TYPE {kind!r}, expected ACCELERATION", path, kind_line)
-    dt_s = _float(header, "SAMPLING_INTERVAL_S", path)
-    npts_f = _float(header, "NDATA", path)
-    if dt_s is None or not dt_s > 0 or npts_f is None or npts_f != int(npts_f) or npts_f <= 0:
-        raise FormatError(
-            f"SAMPLING_INTERVAL_S = {dt_s}, NDATA = {npts_f}, expected a positive interval and "
-            "a positive integer",
-            path,
-            header["NDATA"][1],
-        )
-    npts = int(npts_f)
+    dt_text, dt_line = header["SAMPLING_INTERVAL_S"]
+    dt_s = _header.interval(dt_text, path, dt_line, "SAMPLING_INTERVAL_S")
+    npts_text, npts_line = header["NDATA"]
+    npts = _header.sample_count(npts_text, path, npts_line, "NDATA")
     stated, units_line = header.get("UNITS", ("", None))
     units = resolve_units(stated or None, options.units, path, units_line)
     values, _ = numbers(lines, first, path)
     check_count(values, npts, path, header["NDATA"][1])
     data_m_s2 = values * factor_to_m_s2(units)
     if header.get("PGA_CM/S^2", ("", 0))[0]:
-        pga_cm_s2 = _float(header, "PGA_CM/S^2", path)
+        pga_cm_s2 = _float(header, "PGA_CM/S^2", path, -1e6, 1e6)
         check_peak(
             data_m_s2,
             None if pga_cm_s2 is None else pga_cm_s2 * 0.01,
@@ -122,9 +115,9 @@ def read(path: Path, options: ReadOptions) -> Any:
             resolution=resolution_of(header["PGA_CM/S^2"][0]) * 0.01,
             line=header["PGA_CM/S^2"][1],
         )
-    magnitude = _float(header, "MAGNITUDE_W", path)
+    magnitude = _float(header, "MAGNITUDE_W", path, -5.0, 11.0)
     if magnitude is None:
-        magnitude = _float(header, "MAGNITUDE_L", path)
+        magnitude = _float(header, "MAGNITUDE_L", path, -5.0, 11.0)
     trace = make_trace(
         data_m_s2,
         dt_s,
@@ -138,8 +131,8 @@ def read(path: Path, options: ReadOptions) -> Any:
         units_in=units,
         event=header.get("EVENT_ID", ("", 0))[0] or None,
         magnitude=magnitude,
-        repi_km=_float(header, "EPICENTRAL_DISTANCE_KM", path),
-        vs30_m_s=_float(header, "VS30_M/S", path),
+        repi_km=_float(header, "EPICENTRAL_DISTANCE_KM", path, 0.0, 20040.0),
+        vs30_m_s=_float(header, "VS30_M/S", path, 0.0, 1e4),
     )
     return Stream([trace])
 

@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from stepframe.errors import FormatError
-from stepframe.records.formats import SNIFF_BYTES, ReadOptions, RecordFormat, register
+from stepframe.records.formats import SNIFF_BYTES, ReadOptions, RecordFormat, _header, register
 from stepframe.records.units import factor_to_m_s2
 
 _NPTS_DT = re.compile(r"NPTS\s*=\s*(\S+)\s+DT\s*=\s*(\S+)\s*SEC", re.IGNORECASE)
@@ -71,25 +71,16 @@ def parse(path: Path) -> FemaText:
             break
         n_header = number
         if match := _NPTS_DT.search(line):
-            try:
-                npts, dt_s = int(match[1]), float(match[2])
-            except ValueError as exc:
-                raise FormatError(
-                    f"NPTS/DT {match[1]!r}/{match[2]!r} not numbers, "
-                    "expected an integer and seconds",
-                    path,
-                    number,
-                ) from exc
+            npts = _header.sample_count(match[1], path, number, "NPTS")
+            dt_s = _header.interval(match[2], path, number, "DT")
         if match := _RSN.search(line):
             rsn, component = int(match[1]), match[2]
         if match := _EVENT.search(line):
             event, station = match[1].strip(), match[2].strip()
             if mag := _MAGNITUDE.search(event):
-                magnitude = float(mag[1])
+                magnitude = _header.number(mag[1], path, number, "magnitude")
     if npts is None or dt_s is None:
         raise FormatError("no 'NPTS= n DT= dt SEC' header line, expected one", path)
-    if not dt_s > 0:
-        raise FormatError(f"DT = {dt_s}, expected a positive interval in seconds", path)
     values: list[float] = []
     for number, line in enumerate(lines[n_header:], start=n_header + 1):
         try:

@@ -21,8 +21,10 @@ import re
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from stepframe.errors import FormatError
-from stepframe.records.formats import ReadOptions, RecordFormat, register
+from stepframe.records.formats import ReadOptions, RecordFormat, _header, register
 from stepframe.records.formats._text import (
     check_count,
     check_peak,
@@ -30,7 +32,6 @@ from stepframe.records.formats._text import (
     read_lines,
     resolution_of,
     resolve_units,
-    warn,
 )
 from stepframe.records.units import factor_to_m_s2
 
@@ -59,19 +60,9 @@ def sniff(head: bytes, path: Path) -> bool:
 
 
 def _start_time(ints: list[int], path: Path, line: int) -> Any:
-    from obspy import UTCDateTime
-
     year, month, day, hour, minute, tenths = ints[:6]
-    try:
-        return UTCDateTime(year, month, day, hour, minute) + tenths / 10.0
-    except (ValueError, TypeError):
-        warn(
-            f"bad start time {year}-{month}-{day} {hour}:{minute} in the integer header, "
-            "expected a calendar date; start time left at 0",
-            path,
-            line,
-        )
-        return None
+    text = f"{year}-{month}-{day} {hour}:{minute}"
+    return _header.start_time((year, month, day, hour, minute), tenths / 10.0, path, line, text)
 
 
 def _component(lines: list[str], start: int, options: ReadOptions, path: Path) -> tuple[Any, int]:
@@ -89,8 +80,15 @@ def _component(lines: list[str], start: int, options: ReadOptions, path: Path) -
     ints_f, i = numbers(lines, start + _N_TEXT, path, count=_N_INT, width=_WIDTH)
     check_count(ints_f, _N_INT, path, start + _N_TEXT + 1)
     reals, i = numbers(lines, i, path, count=_N_REAL, width=_WIDTH)
-    ints = [int(v) for v in ints_f]
+    int_line = start + _N_TEXT + 1
+    ints = [_header.small_integer(v, path, int_line, "integer header value") for v in ints_f]
+    if not np.all(np.isfinite(reals)):
+        raise FormatError("real header value not finite, expected finite numbers", path, i)
     n_acc, n_vel, n_dis = ints[33:36]
+    if n_vel < 0 or n_dis < 0:
+        raise FormatError(
+            f"velocity/displacement counts {n_vel}/{n_dis}, expected counts ≥ 0", path, int_line
+        )
     dt_s: float | None = None
     stated: str | None = None
     scale = 1.0
@@ -100,21 +98,9 @@ def _component(lines: list[str], start: int, options: ReadOptions, path: Path) -
     for offset, line in enumerate(text):
         number = start + offset + 1
         if (match := _INTERVAL.search(line)) and dt_s is None:
-            try:
-                dt_s = float(match[1])
-            except ValueError:
-                raise FormatError(
-                    f"sampling interval {match[1]!r} is not a number, expected seconds",
-                    path,
-                    number,
-                ) from None
+            dt_s = _header.interval(match[1], path, number)
             if raw := _RAW_UNITS.search(line):
-                try:
-                    scale = float(raw[1])
-                except ValueError:
-                    raise FormatError(
-                        f"unit scale {raw[1]!r} is not a number, expected one", path, number
-                    ) from None
+                scale = _header.number(raw[1], path, number, "unit scale", low=1e-12, high=1e12)
                 stated = raw[2]
         if match := _COMPONENT.match(line):
             channel = match[1]
@@ -125,7 +111,7 @@ def _component(lines: list[str], start: int, options: ReadOptions, path: Path) -
             stated = stated or match[2]
         if match := _EPICENTRE.search(line):
             epicentre = match
-    if dt_s is None or not dt_s > 0:
+    if dt_s is None:
         raise FormatError(
             "no sampling interval in the text header, expected 'at intervals of <dt> s' or "
             "'data at <dt> sec intervals'",
@@ -133,6 +119,7 @@ def _component(lines: list[str], start: int, options: ReadOptions, path: Path) -
             start + 11,
         )
     units = resolve_units(stated, options.units, path, start + 11)
+    n_acc = _header.sample_count(n_acc, path, int_line, "acceleration count")
     values, end = numbers(lines, i, path, count=n_acc, width=_WIDTH)
     check_count(values, n_acc, path, i + 1)
     data_m_s2 = values * scale * factor_to_m_s2(units)
@@ -140,7 +127,7 @@ def _component(lines: list[str], start: int, options: ReadOptions, path: Path) -
         factor = scale * factor_to_m_s2(units)
         check_peak(
             data_m_s2,
-            float(peak_match[1]) * factor,
+            _header.number(peak_match[1], path, peak_line, "peak acceleration") * factor,
             path,
             f"component {channel}",
             resolution=resolution_of(peak_match[1]) * factor,
@@ -152,7 +139,7 @@ def _component(lines: list[str], start: int, options: ReadOptions, path: Path) -
     if start_time is not None and reals.size > 21 and reals[21] > 0:
         # V2A processing pads the front; real 22 is the pad [s]: the header's peak times (from
         # the V1A origin) match the data only once it is subtracted (checked on real files).
-        start_time -= float(reals[21])
+        start_time -= _header.number(reals[21], path, i, "front pad [s]", high=1e6)
     trace = make_trace(
         data_m_s2,
         dt_s,
@@ -164,8 +151,8 @@ def _component(lines: list[str], start: int, options: ReadOptions, path: Path) -
         format="geonet",
         units_in=units,
         event=text[6].strip(),
-        magnitude=float(epicentre[2]) if epicentre else None,
-        repi_km=float(epicentre[1]) if epicentre else None,
+        magnitude=_header.number(epicentre[2], path, None, "magnitude") if epicentre else None,
+        repi_km=_header.number(epicentre[1], path, None, "distance") if epicentre else None,
     )
     return trace, end
 

@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 
 from stepframe.errors import FormatError, InputError
-from stepframe.records.formats import ReadOptions, RecordFormat, register
+from stepframe.records.formats import OBSPY_PRIORITY, ReadOptions, RecordFormat, register
 from stepframe.records.formats._text import check_peak
 from stepframe.records.units import STANDARD_GRAVITY_M_S2, factor_to_m_s2, normalize_units
 
@@ -305,9 +305,15 @@ def _reader(name: str) -> Any:
 
 def _register_all() -> None:
     for name in OBSPY_FORMATS:
-        register(RecordFormat(name=name, sniff=_sniffer(name), read=_reader(name)))
+        register(
+            RecordFormat(name=name, sniff=_sniffer(name), read=_reader(name)),
+            priority=OBSPY_PRIORITY,
+        )
     # KiK-net files are K-NET's layout; the name is offered so users can say what they have.
-    register(RecordFormat(name="kiknet", sniff=lambda head, path: False, read=_reader("kiknet")))
+    register(
+        RecordFormat(name="kiknet", sniff=lambda head, path: False, read=_reader("kiknet")),
+        priority=OBSPY_PRIORITY,
+    )
 
 
 _register_all()

@@ -14,8 +14,8 @@ from typing import Any
 import numpy as np
 
 from stepframe.errors import FormatError
-from stepframe.records.formats import ReadOptions, RecordFormat, register
-from stepframe.records.formats._text import read_lines, resolve_units
+from stepframe.records.formats import ReadOptions, RecordFormat, _header, register
+from stepframe.records.formats._text import MAX_VALUE, read_lines, resolve_units
 from stepframe.records.units import factor_to_m_s2
 
 #: Largest relative deviation of a time step from the mean step (printed times are rounded).
@@ -63,6 +63,7 @@ def read(path: Path, options: ReadOptions) -> Any:
 
     lines = read_lines(path, "plain text")
     rows: list[list[float]] = []
+    row_lines: list[int] = []
     width = 0
     first_line = 0
     for number, line in enumerate(lines, start=1):
@@ -89,15 +90,28 @@ def read(path: Path, options: ReadOptions) -> Any:
         elif len(row) != width:
             raise FormatError(f"{len(row)} columns, expected {width} as above", path, number)
         rows.append(row)
+        row_lines.append(number)
     if not rows:
         raise FormatError("no numeric lines, expected a column of accelerations", path)
     table = np.asarray(rows, dtype=np.float64)
+    # False for NaN too: a NaN time would also switch the uniformity check off.
+    fine = np.all(np.abs(table) <= MAX_VALUE, axis=1)
+    if not np.all(fine):
+        bad = int(np.argmin(fine))
+        first_bad = next(v for v in table[bad] if not abs(v) <= MAX_VALUE)
+        raise FormatError(
+            f"value {first_bad} is not a finite number below {MAX_VALUE:g}, expected data",
+            path,
+            row_lines[bad],
+        )
     if width == 2:
         time_s = table[:, 0]
         if time_s.size < 2:
             raise FormatError("one sample, expected at least two to know the interval", path)
         steps = np.diff(time_s)
         dt_s = float((time_s[-1] - time_s[0]) / (time_s.size - 1))
+        if dt_s > 0:
+            dt_s = _header.interval(dt_s, path, first_line, "time step")
         if not dt_s > 0 or np.max(np.abs(steps - dt_s)) > _UNIFORM_REL * dt_s:
             worst = int(np.argmax(np.abs(steps - dt_s)))
             raise FormatError(

@@ -1,0 +1,124 @@
+"""What every integrator of the stepping simulator shares: status codes, event kinds, the model
+constants it is given (:class:`Model`) and the run it hands back (:class:`RawRun`).
+
+The numba kernel (:mod:`stepframe.structure._exact`), the solve_ivp reference
+(:mod:`stepframe.structure.reference`) and the result (:mod:`stepframe.structure.simulator`) all
+take their integer codes from here, so none imports another for them. The integer codes are what
+the kernels can return; :data:`STATUS_NAMES` maps each onto the project's one status vocabulary
+(:data:`stepframe.core.results.STATUSES`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal, NamedTuple
+
+import numpy as np
+
+#: The run finished as asked.
+STATUS_OK = 0
+#: A non-finite displacement or velocity appeared.
+STATUS_NONFINITE = 1
+#: More events inside one sample interval than the kernel allows.
+STATUS_TOO_MANY_EVENTS = 2
+#: ``solve_ivp`` reported a failed step (reference only).
+STATUS_SOLVER_FAILED = 3
+#: After an event, the state lay on the wrong side of its phase (stepped with |x| < x_c, or
+#: unstepped with |x| > x_c) by more than rounding: the result is not a solution of the model.
+STATUS_INVARIANT = 4
+#: The result is physically impossible without an overturning verdict: |x| passed the cap, or
+#: the bound (γ₁ + P₂ max|ẍ_g|)/ω₂² that a frame which does not escape can never pass.
+STATUS_IMPOSSIBLE = 5
+
+SimulationStatus = Literal["ok", "nonfinite", "too_many_events", "not_converged", "failed"]
+
+#: Integer code → status of :data:`stepframe.core.results.STATUSES`.
+STATUS_NAMES: dict[int, SimulationStatus] = {
+    STATUS_OK: "ok",
+    STATUS_NONFINITE: "nonfinite",
+    STATUS_TOO_MANY_EVENTS: "too_many_events",
+    STATUS_SOLVER_FAILED: "not_converged",
+    STATUS_INVARIANT: "failed",
+    STATUS_IMPOSSIBLE: "failed",
+}
+
+#: Integer code → the one-line message a result carries with its status.
+STATUS_MESSAGES: dict[int, str] = {
+    STATUS_OK: "",
+    STATUS_NONFINITE: "a non-finite displacement or velocity appeared",
+    STATUS_TOO_MANY_EVENTS: "more events in one sample interval than the kernel allows",
+    STATUS_SOLVER_FAILED: "solve_ivp failed to take a step",
+    STATUS_INVARIANT: "a state lay on the wrong side of its phase after an event",
+    STATUS_IMPOSSIBLE: (
+        "peak |x| passed the cap or the no-escape bound (γ₁ + P₂ max|ẍ_g|)/ω₂² "
+        "without an overturning verdict"
+    ),
+}
+
+#: Event kinds stored in ``RawRun.ev_kind``.
+EVENT_LIFTOFF = 1
+EVENT_TOUCHDOWN = 2
+EVENT_CAP = 3
+EVENT_ESCAPE = 4
+#: An accumulation of impacts (chatter) summed in closed form; the frame is seated from then on.
+EVENT_SETTLE = 5
+
+EVENT_NAMES: dict[int, str] = {
+    EVENT_LIFTOFF: "liftoff",
+    EVENT_TOUCHDOWN: "touchdown",
+    EVENT_CAP: "cap",
+    EVENT_ESCAPE: "escape",
+    EVENT_SETTLE: "settle",
+}
+
+#: Relative rebound speed below which an impact's excursions are summed in closed form (see
+#: docs/paper-notes.md, "Chatter"): a rebound w ≤ CHATTER_EPS·ω·x_ref rises at most about
+#: CHATTER_EPS²·x_ref, still 10⁵ times above the rounding of x, and the closed form's neglected
+#: terms are O(CHATTER_EPS) of a duration that is itself O(CHATTER_EPS/ω).
+CHATTER_EPS = 1e-5
+
+#: Largest relative change of a surface acceleration (from the ground's slope) over a flight or an
+#: accumulation summed in closed form, whose leading-order durations assume it constant.
+CHATTER_DRIFT = 1e-3
+
+#: Tolerance of the phase invariant, relative to x_ref = max(x_c, x*).
+INVARIANT_RTOL = 1e-9
+
+
+class Model(NamedTuple):
+    """Model constants passed to the kernels (SI; x_c may be 0 for the rigid-block limit)."""
+
+    omega_1_rad_s: float
+    omega_2_rad_s: float
+    p_1: float
+    p_2: float
+    gamma_1_m_s2: float
+    xi_1: float
+    xi_2: float
+    x_c_m: float
+    c_r: float
+    x_cap_m: float  # math.inf when there is no cap
+
+
+@dataclass
+class RawRun:
+    """What an integrator hands back (:mod:`stepframe.structure.simulator` makes the result)."""
+
+    status: int
+    n_liftoffs: int
+    n_impacts: int
+    peak_abs_x: float
+    peak_time_s: float
+    overturned: bool
+    overturn_time_s: float
+    x_end: float
+    v_end: float
+    phase_end: int
+    ev_t: np.ndarray
+    ev_kind: np.ndarray
+    ev_v_in: np.ndarray
+    ev_v_out: np.ndarray
+    ev_peak: np.ndarray
+    hist_x: np.ndarray
+    hist_v: np.ndarray
+    hist_p: np.ndarray
