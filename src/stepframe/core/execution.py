@@ -18,6 +18,7 @@ import multiprocessing
 import multiprocessing.context
 import os
 import sys
+import threading
 import time
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import Executor, Future, ProcessPoolExecutor
@@ -70,8 +71,13 @@ def default_chunk_size(n_items: int, workers: int) -> int:
     return max(1, min(64, math.ceil(n_items / max(1, 4 * workers))))
 
 
-def _die_with_parent() -> None:
-    """Process-pool initializer: ask Linux to SIGTERM this worker when its parent dies."""
+def _die_with_parent(parent_pid: int) -> None:
+    """Process-pool initializer: end this worker when the process that started the batch dies.
+
+    With a plain fork, Linux's parent-death signal (prctl PR_SET_PDEATHSIG) does it. A worker
+    started from a fork server has the server as its parent, which outlives a SIGKILLed batch, so
+    a daemon thread also polls the batch's process and ends the worker once it is gone.
+    """
     if sys.platform.startswith("linux"):
         import ctypes
         import signal
@@ -79,9 +85,25 @@ def _die_with_parent() -> None:
         pr_set_pdeathsig = 1
         libc = ctypes.CDLL(None, use_errno=True)
         libc.prctl(pr_set_pdeathsig, signal.SIGTERM)
-        # The parent may have died between fork and prctl.
-        if os.getppid() == 1:
-            os._exit(1)
+    if not _running(parent_pid):  # died between the fork and now
+        os._exit(1)
+    threading.Thread(target=_watch, args=(parent_pid,), daemon=True).start()
+
+
+def _running(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # exists, owned by someone else
+        return True
+    return True
+
+
+def _watch(parent_pid: int) -> None:
+    while _running(parent_pid):
+        time.sleep(0.5)
+    os._exit(1)
 
 
 def _pool_context() -> multiprocessing.context.BaseContext:
@@ -221,6 +243,7 @@ def map_items(
                 max_workers=min(workers, len(chunks)),
                 mp_context=_pool_context(),
                 initializer=_die_with_parent,
+                initargs=(os.getpid(),),
             ) as pool:
                 _gather(pool, function, chunks, stage, name_of, take)
     finally:
