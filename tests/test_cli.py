@@ -189,5 +189,5 @@ def test_the_command_tree_builds_whatever_module_is_imported_first() -> None:
             [sys.executable, "-c", probe], capture_output=True, text=True, check=True
         )
         assert done.stdout.strip() == (
-            "['demo', 'records', 'report', 'select', 'stochastic', 'structure']"
+            "['demo', 'records', 'report', 'run', 'select', 'stochastic', 'structure']"
         )

@@ -52,9 +52,10 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--json", action="store_true", help="print only JSON on stdout")
     parser.add_argument("--debug", action="store_true", help="show the traceback of an error")
     groups = parser.add_subparsers(dest="command", metavar="COMMAND")
-    from stepframe.commands import demo, report, select
+    from stepframe.commands import demo, report, run, select
 
     demo.register(groups)
+    run.register(groups)
     select.register(groups)
     report.register(groups)
     for name, (helptext, _module) in GROUPS.items():

@@ -10,6 +10,13 @@ The one package allowed to import every area (records, stochastic, structure). S
 (tables with their column dictionary, read back equal) and :mod:`~stepframe.pipeline.figures`
 (saving figures atomically). The names below are imported when first used (module
 ``__getattr__``), so ``stepframe --help`` stays fast.
+
+``stepframe run`` (docs/workflows.md): :mod:`~stepframe.pipeline.workflow` (workflow files,
+checked with file:line errors), :mod:`~stepframe.pipeline.stages` (the stage registry, with the
+stages in :mod:`~stepframe.pipeline.stage_items` and :mod:`~stepframe.pipeline.stage_sets`),
+:mod:`~stepframe.pipeline.plan`, :mod:`~stepframe.pipeline.store` (results keyed by content,
+parameters and version), :mod:`~stepframe.pipeline.lock`, :mod:`~stepframe.pipeline.scheduler`
+(process pool or Dask) and :mod:`~stepframe.pipeline.runner`.
 """
 
 from __future__ import annotations

@@ -1,0 +1,507 @@
+"""Run a workflow: check everything, take the lock, run the planned stages, publish the outputs.
+
+Order of a run, so that a user error writes nothing and a killed run loses nothing but the batch
+it was computing:
+
+1. read and check the workflow, its frame, the stage tables and the records folder (exit 2);
+2. take the workspace lock (exit 3 if another run holds it, or wait with ``wait=True``);
+3. remove temporaries of killed runs; rebuild the store's index from its files;
+4. per-item stages: compute the items whose key is not stored (or failed, with
+   ``retry_failed``; or all, for a ``force``\\ d stage) in batches through
+   :func:`stepframe.core.execution.map_items`, storing each batch as one segment; then read
+   every item's rows back from the store in input order (so a table is the same bytes whether
+   its rows were computed now or earlier);
+5. whole-set stages: compute the result unless its key is stored;
+6. publish the requested outputs (Parquet, CSV copies, failure tables, NetCDF) atomically.
+
+Exit status (:attr:`RunReport.exit_code`): 0 every requested output produced (failed items are
+listed), 1 an output could not be produced.
+"""
+
+from __future__ import annotations
+
+import operator
+import shutil
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from stepframe.core.execution import map_items
+from stepframe.core.io import TEMPORARY_SUFFIX
+from stepframe.core.results import Failure, failures_path, failures_table
+from stepframe.errors import InputError
+from stepframe.pipeline.lock import workspace_lock
+from stepframe.pipeline.plan import check_forced, plan_stages
+from stepframe.pipeline.scheduler import Execution, check_scheduler, open_execution
+from stepframe.pipeline.stages import Context, Stage, Task, registry
+from stepframe.pipeline.store import KEY_COLUMN, Store, write_output_table
+from stepframe.pipeline.workflow import Workflow, load_workflow
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+#: Items computed per stored segment by default: a killed run loses at most one batch, and
+#: each batch starts its worker processes (about 1 s of CPU each), so batches are not small.
+DEFAULT_BATCH_ITEMS = 1024
+#: With many workers, at least this many items per worker in a batch.
+BATCH_ITEMS_PER_WORKER = 32
+#: A batch of at most this many items per worker runs in this process (no pool to start).
+SMALL_BATCH_PER_WORKER = 2
+
+
+@dataclass
+class StageSummary:
+    """What one stage did in a run.
+
+    Attributes
+    ----------
+    name, kind
+        The stage and ``item``/``set``.
+    items
+        Items of the stage in this run (1 for a whole-set stage).
+    computed, cached, failed
+        Items computed now, taken from the store, and failed (now or stored failures).
+    seconds
+        Wall time [s].
+    status
+        ``ok``, ``failed`` (no result) or ``skipped`` (an upstream stage has no result).
+    message
+        Why, when not ``ok``.
+    """
+
+    name: str
+    kind: str
+    items: int = 0
+    computed: int = 0
+    cached: int = 0
+    failed: int = 0
+    seconds: float = 0.0
+    status: str = "ok"
+    message: str = ""
+
+
+@dataclass
+class RunReport:
+    """The result of :func:`run_workflow`."""
+
+    workflow: str
+    workspace: str
+    execution: str
+    dry_run: bool
+    stages: list[StageSummary] = field(default_factory=list)
+    outputs: dict[str, list[str]] = field(default_factory=dict)
+    missing: dict[str, str] = field(default_factory=dict)
+    failures: list[Failure] = field(default_factory=list)
+
+    @property
+    def exit_code(self) -> int:
+        """0 when every requested output was produced, else 1."""
+        return 1 if self.missing else 0
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready form."""
+        return {
+            "workflow": self.workflow,
+            "workspace": self.workspace,
+            "execution": self.execution,
+            "dry_run": self.dry_run,
+            "stages": [vars(s) for s in self.stages],
+            "outputs": self.outputs,
+            "missing": self.missing,
+            "failures": [f.to_dict() for f in self.failures],
+            "exit_code": self.exit_code,
+        }
+
+
+def _prepare(workflow: Workflow, forced: list[str]) -> list[str]:
+    """Plan and check everything that can be checked before writing anything."""
+    planned = plan_stages(workflow)
+    check_forced(forced, planned)
+    stages = registry()
+    for name in planned:
+        check = stages[name].check
+        if check is not None:
+            check(workflow)
+    if "inventory" in planned:
+        records = workflow.records
+        if records is None:
+            raise InputError(
+                "no [records] table, expected one for the outputs asked "
+                f"({', '.join(workflow.outputs)})",
+                workflow.path,
+            )
+        if records.folder is not None:
+            workflow.record_files()
+    _check_writable(workflow.workspace)
+    _check_writable(workflow.outputs_folder)
+    return planned
+
+
+def _check_writable(folder: Path) -> None:
+    """The folder exists and is writable, or its nearest existing parent is (nothing created)."""
+    import os
+
+    probe = folder
+    while not probe.exists():
+        if probe.parent == probe:
+            break
+        probe = probe.parent
+    if not probe.is_dir():
+        raise InputError("exists and is not a folder, expected a folder", probe)
+    if not os.access(probe, os.W_OK | os.X_OK):
+        raise InputError("is not writable, expected a writable folder", probe)
+
+
+def run_workflow(
+    path: str | Path,
+    *,
+    jobs: int | None = None,
+    scheduler: str | None = None,
+    force: list[str] | None = None,
+    retry_failed: bool = False,
+    dry_run: bool = False,
+    wait: bool = False,
+    progress: bool = False,
+    batch_items: int | None = None,
+) -> RunReport:
+    """Run a workflow file (see the module docstring).
+
+    Parameters
+    ----------
+    path
+        The workflow file.
+    jobs
+        Worker processes (default: the CPUs available); with ``dask-local``, Dask workers.
+    scheduler
+        None (process pool), ``"dask-local"`` or ``"tcp://HOST:PORT"``.
+    force
+        Stages whose items are all recomputed.
+    retry_failed
+        Recompute items whose stored result is a failure.
+    dry_run
+        Only say what would be computed (nothing is written, no lock taken).
+    wait
+        Wait for another run holding the workspace instead of raising ``WorkspaceBusy``.
+    progress
+        Progress lines (count, rate, ETA) per stage on stderr.
+    batch_items
+        Items per stored segment (default: :data:`DEFAULT_BATCH_ITEMS`, or
+        :data:`BATCH_ITEMS_PER_WORKER` per worker when that is more, so that a large cluster
+        is not left idle at the end of each batch).
+
+    Raises
+    ------
+    InputError
+        Any user error (before anything is written).
+    WorkspaceBusy
+        Another run holds the workspace and ``wait`` is False.
+    """
+    if batch_items is not None and batch_items < 1:
+        raise InputError(f"--batch-items {batch_items}, expected ≥ 1")
+    forced = list(force or [])
+    workflow = load_workflow(path)
+    planned = _prepare(workflow, forced)
+    store = Store(workflow.workspace / "store")
+    if dry_run:
+        return _dry_run(workflow, planned, store, forced, retry_failed)
+    check_scheduler(scheduler, jobs)  # before the lock: a user error writes nothing
+    # the lock before the executor: a busy workspace is reported before a cluster starts
+    with (
+        workspace_lock(workflow.workspace, wait=wait),
+        open_execution(scheduler, jobs) as execution,
+    ):
+        report = RunReport(
+            str(workflow.path), str(workflow.workspace), execution.description, False
+        )
+        store.prepare()
+        _remove_temporaries(workflow.outputs_folder)
+        context = Context(workflow, {}, {}, {}, {}, execution.jobs, execution.executor, progress)
+        batch = batch_items or max(DEFAULT_BATCH_ITEMS, BATCH_ITEMS_PER_WORKER * execution.jobs)
+        for name in planned:
+            stage = registry()[name]
+            summary = StageSummary(name, stage.kind)
+            start = time.perf_counter()
+            blocked = [u for u in stage.upstream(workflow) if not _available(context, u)]
+            if blocked:
+                summary.status = "skipped"
+                summary.message = f"upstream stage {blocked[0]} has no result"
+            elif stage.kind == "item":
+                _run_items(stage, context, store, execution, summary, report, forced,
+                           retry_failed, batch)  # fmt: skip
+            else:
+                _run_set(stage, context, store, summary, name in forced)
+            summary.seconds = round(time.perf_counter() - start, 3)
+            report.stages.append(summary)
+        _publish(workflow, context, report)
+    return report
+
+
+def _available(context: Context, name: str) -> bool:
+    if name in context.tables:
+        return len(context.tables[name]) > 0
+    return name in context.set_dirs
+
+
+def _remove_temporaries(folder: Path) -> None:
+    # atomic_write's temporaries: hidden, ending in .tmp; left only by a killed run.
+    if folder.is_dir():
+        for temporary in folder.rglob(f".*{TEMPORARY_SUFFIX}"):
+            if temporary.is_file():
+                temporary.unlink(missing_ok=True)
+
+
+def _compute(item: tuple[str, Any, str]) -> list[dict[str, Any]]:
+    """Worker entry: run stage ``item[0]``'s compute on payload ``item[1]``."""
+    compute = registry()[item[0]].compute
+    assert compute is not None
+    return compute(item[1])
+
+
+def _run_items(
+    stage: Stage,
+    context: Context,
+    store: Store,
+    execution: Execution,
+    summary: StageSummary,
+    report: RunReport,
+    forced: list[str],
+    retry_failed: bool,
+    batch_items: int,
+) -> None:
+    import pandas as pd
+
+    assert stage.tasks is not None
+    tasks = stage.tasks(context)
+    index = store.index(stage.name)
+    force = stage.name in forced
+
+    def wanted(task: Task) -> bool:
+        entry = index.get(task.key)
+        return force or entry is None or (entry.failed and retry_failed)
+
+    todo = [task for task in tasks if wanted(task)]
+    summary.items = len(tasks)
+    summary.computed = len(todo)
+    summary.cached = len(tasks) - len(todo)
+    for start in range(0, len(todo), batch_items):
+        batch = todo[start : start + batch_items]
+        label = stage.name
+        if len(todo) > batch_items:
+            label = f"{stage.name} {start + 1}-{start + len(batch)}/{len(todo)}"
+        # A few items cost less here than starting worker processes (each imports obspy, scipy
+        # and pandas: about a second) would: run them in this process.
+        jobs = execution.jobs if len(batch) > SMALL_BATCH_PER_WORKER * execution.jobs else 1
+        outcome = map_items(
+            _compute,
+            [(stage.name, task.payload, task.name) for task in batch],
+            jobs=jobs if execution.executor is None else None,
+            executor=execution.executor,
+            stage=stage.name,
+            name_of=operator.itemgetter(2),
+            progress=label if context.progress else False,
+        )
+        rows = []
+        for position, result in zip(outcome.indices, outcome.results, strict=True):
+            rows += [{KEY_COLUMN: batch[position].key, **row} for row in result]
+        done = set(outcome.indices)
+        failed_tasks = [task for i, task in enumerate(batch) if i not in done]
+        store.add_rows(
+            stage.name,
+            pd.DataFrame(rows),
+            zip([t.key for t in failed_tasks], outcome.failures, strict=True),
+        )
+    keys = [task.key for task in tasks]
+    stored = store.rows(stage.name, keys)
+    parts = []
+    for task in tasks:
+        rows_of = stored.get(task.key)
+        if rows_of is None:
+            continue
+        part = rows_of.drop(columns=[KEY_COLUMN])
+        for column, value in task.context.items():
+            part[column] = value
+        part[KEY_COLUMN] = task.key
+        parts.append(part)
+    columns = [*stage.columns(), KEY_COLUMN]
+    table = pd.concat(parts, ignore_index=True) if parts else pd.DataFrame(columns=columns)
+    table = table[[c for c in columns if c in table.columns]]
+    table.attrs["column_dictionary"] = pd.DataFrame(
+        [(name, unit, meaning) for name, (unit, meaning) in stage.columns().items()],
+        columns=["column", "unit", "meaning"],
+    )
+    context.tables[stage.name] = table
+    failures = store.failures(stage.name, keys)
+    stage_failures = [failures[t.key] for t in tasks if t.key in failures]
+    summary.failed = len(stage_failures)
+    report.failures += stage_failures
+    context.item_keys[stage.name] = keys
+    if table.empty:
+        summary.status = "failed"
+        summary.message = f"no item computed ({summary.failed} failed of {summary.items})"
+
+
+def _run_set(
+    stage: Stage, context: Context, store: Store, summary: StageSummary, force: bool
+) -> None:
+    assert stage.set_key is not None and stage.run_set is not None
+    summary.items = 1
+    key = stage.set_key(context)
+    target = store.set_dir(stage.name, key)
+    if target.is_dir() and not force:
+        summary.cached = 1
+    else:
+        summary.computed = 1
+        temporary = store.new_set_dir(stage.name, key)
+        try:
+            stage.run_set(context, temporary)
+        except Exception as error:  # the run goes on; this output is reported missing
+            shutil.rmtree(temporary, ignore_errors=True)
+            summary.failed = 1
+            summary.status = "failed"
+            summary.message = Failure.from_exception(context.workflow.path.name, stage.name,
+                                                     error).message  # fmt: skip
+            return
+        store.commit_set(stage.name, key, temporary)
+    context.set_keys[stage.name] = key
+    context.set_dirs[stage.name] = target
+
+
+def _publish(workflow: Workflow, context: Context, report: RunReport) -> None:
+    stages = registry()
+    folder = workflow.outputs_folder
+    for name in workflow.outputs:
+        stage = stages[name]
+        summary = next(s for s in report.stages if s.name == name)
+        if summary.status != "ok":
+            report.missing[name] = summary.message or summary.status
+            continue
+        folder.mkdir(parents=True, exist_ok=True)
+        if stage.kind == "item":
+            table = context.tables[name].drop(columns=[KEY_COLUMN])
+            table.attrs = dict(context.tables[name].attrs)
+            paths = write_output_table(table, folder / f"{name}.parquet")
+            failed = [f for f in report.failures if f.stage == name]
+            failures_file = failures_path(folder / f"{name}.csv")
+            _write_csv(failures_table(failed), failures_file)
+            paths.append(failures_file)
+        else:
+            assert stage.publish is not None
+            paths = stage.publish(context.set_dirs[name], folder)
+        report.outputs[name] = [str(p) for p in paths]
+
+
+def _write_csv(table: pd.DataFrame, path: Path) -> None:
+    from stepframe.core.io import atomic_write
+
+    with atomic_write(path) as out:
+        table.to_csv(out, index=False, lineterminator="\n")
+
+
+def _dry_run(
+    workflow: Workflow, planned: list[str], store: Store, forced: list[str], retry_failed: bool
+) -> RunReport:
+    """What a run would do: per stage, items to compute and cached (nothing written)."""
+    report = RunReport(str(workflow.path), str(workflow.workspace), "dry run", True)
+    stages = registry()
+    context = Context(workflow, {}, {}, {}, {}, None, None, False)
+    import pandas as pd
+
+    for name in planned:
+        stage = stages[name]
+        summary = StageSummary(name, stage.kind)
+        blocked = [u for u in stage.upstream(workflow) if not _available(context, u)]
+        if blocked:
+            summary.status = "pending"
+            summary.message = f"depends on {blocked[0]}, not yet complete"
+        elif stage.kind == "item":
+            assert stage.tasks is not None
+            tasks = _dry_tasks(stage, context)
+            index = store.index(name)
+            todo = [
+                t
+                for t in tasks
+                if name in forced or t.key not in index or (index[t.key].failed and retry_failed)
+            ]
+            summary.items, summary.computed = len(tasks), len(todo)
+            summary.cached = len(tasks) - len(todo)
+            if todo:
+                summary.status = "pending"
+                summary.message = f"{len(todo)} item(s) to compute"
+            else:
+                stored = store.rows(name, [t.key for t in tasks])
+                parts = []
+                for task in tasks:
+                    if task.key in stored:
+                        part = stored[task.key].copy()
+                        for column, value in task.context.items():
+                            part[column] = value
+                        parts.append(part)
+                context.tables[name] = pd.concat(parts) if parts else pd.DataFrame()
+        else:
+            assert stage.set_key is not None
+            key = stage.set_key(context)
+            summary.items = 1
+            if store.set_dir(name, key).is_dir() and name not in forced:
+                summary.cached = 1
+                context.set_keys[name] = key
+                context.set_dirs[name] = store.set_dir(name, key)
+            else:
+                summary.computed = 1
+        report.stages.append(summary)
+    return report
+
+
+def _dry_tasks(stage: Stage, context: Context) -> list[Task]:
+    """The stage's tasks without writing (the example catalogue is hashed in memory)."""
+    assert stage.tasks is not None
+    records = context.workflow.records
+    if stage.name == "inventory" and records is not None and records.example is not None:
+        import hashlib
+
+        from stepframe.pipeline.example_files import example_files
+        from stepframe.pipeline.stage_items import INVENTORY_VERSION
+        from stepframe.pipeline.store import make_key
+
+        options = dict(records.options)
+        tasks = []
+        for name, data in example_files():
+            sha = hashlib.sha256(data).hexdigest()
+            key = make_key("inventory", INVENTORY_VERSION, options, sha)
+            tasks.append(Task(key, name, None, {"file": name, "content_sha256": sha}))
+        return tasks
+    return stage.tasks(context)
+
+
+def describe(report: RunReport) -> str:
+    """The end-of-run summary for people: a line per stage, then the outputs."""
+    lines = [f"workflow {report.workflow} ({report.execution}; workspace {report.workspace})"]
+    header = f"  {'stage':<14}{'items':>7}{'computed':>10}{'cached':>8}{'failed':>8}{'time s':>9}"
+    if report.dry_run:
+        header = f"  {'stage':<14}{'items':>7}{'to compute':>12}{'cached':>8}"
+    lines.append(header)
+    for s in report.stages:
+        if report.dry_run:
+            line = f"  {s.name:<14}{s.items:>7}{s.computed:>12}{s.cached:>8}"
+        else:
+            line = (
+                f"  {s.name:<14}{s.items:>7}{s.computed:>10}{s.cached:>8}{s.failed:>8}"
+                f"{s.seconds:>9.2f}"
+            )
+        if s.status not in ("ok",):
+            line += f"   {s.status}: {s.message}"
+        lines.append(line)
+    if report.dry_run:
+        lines.append("dry run: nothing computed or written")
+        return "\n".join(lines)
+    if report.failures:
+        lines.append(f"failed items ({len(report.failures)}):")
+        lines += [f"  {f.stage}: {f.item}: {f.message}" for f in report.failures[:20]]
+        if len(report.failures) > 20:
+            lines.append(f"  ... and {len(report.failures) - 20} more (see the failures tables)")
+    for name, paths in report.outputs.items():
+        more = f" (+{len(paths) - 1} files)" if len(paths) > 1 else ""
+        lines.append(f"output {name}: {paths[0]}{more}")
+    for name, reason in report.missing.items():
+        lines.append(f"output {name} NOT produced: {reason}")
+    return "\n".join(lines)

@@ -1,0 +1,235 @@
+"""Per-item stages: ``inventory`` (one item per file) and ``features`` (one per component).
+
+``inventory`` hashes each record file (sha256 of its bytes: the key every later result hangs
+from), reads it and lists its components with their metadata. ``features`` runs the catalogue
+features machinery of :mod:`stepframe.stochastic.catalog_features` on one component: the
+record's ω_g(t), α_g(t), I_g(t) and the fitted Beck-Papadimitriou parameters, with the
+plausibility checks. Workers read the record from its path (workers share the filesystem).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+from stepframe.pipeline.stages import Context, Param, Stage, Task, register_stage
+from stepframe.pipeline.store import file_sha256, make_key
+
+INVENTORY_VERSION = 1
+FEATURES_VERSION = 1
+
+#: Column dictionary of the inventory table: name → (unit, meaning).
+INVENTORY_COLUMNS: dict[str, tuple[str, str]] = {
+    "file": ("", "record file, relative to the records folder"),
+    "content_sha256": ("", "sha256 of the file's bytes (the cache key's root)"),
+    "channel_index": ("", "position of the component in the file"),
+    "station": ("", "station name"),
+    "component": ("", "channel / component name"),
+    "event": ("", "event name (empty if the file does not say)"),
+    "magnitude": ("", "magnitude (empty if the file does not say)"),
+    "dt_s": ("s", "sampling interval"),
+    "npts": ("", "number of samples"),
+    "pga_m_s2": ("m/s2", "peak absolute acceleration"),
+}
+
+
+class ItemFailure(Exception):
+    """An item that could not be computed; the message names the step (read, features, fit)."""
+
+
+def _record_options(context: Context) -> dict[str, Any]:
+    records = context.workflow.records
+    return dict(records.options) if records is not None else {}
+
+
+def record_folder(context: Context) -> Path:
+    """The folder the records are read from (the example is written into the workspace)."""
+    workflow = context.workflow
+    assert workflow.records is not None  # the workflow reader checked it
+    if workflow.records.example is not None:
+        return workflow.workspace / "examples" / workflow.records.example
+    assert workflow.records.folder is not None
+    return workflow.records.folder
+
+
+def _inventory_tasks(context: Context) -> list[Task]:
+    workflow = context.workflow
+    folder = record_folder(context)
+    assert workflow.records is not None
+    if workflow.records.example is not None:
+        from stepframe.pipeline.example_files import write_example_files
+
+        files = write_example_files(folder)
+    else:
+        files = workflow.record_files()
+    options = _record_options(context)
+    tasks = []
+    for path in files:
+        sha = file_sha256(path)
+        key = make_key("inventory", INVENTORY_VERSION, options, sha)
+        relative = path.relative_to(folder).as_posix()
+        tasks.append(
+            Task(
+                key=key,
+                name=relative,
+                # absolute: a Dask worker's current folder is not this process's
+                payload=(str(path.absolute()), options),
+                context={"file": relative, "content_sha256": sha},
+            )
+        )
+    return tasks
+
+
+def read_components(payload: tuple[str, dict[str, Any]]) -> list[dict[str, Any]]:
+    """Inventory of one file: a row per component (worker side)."""
+    import numpy as np
+
+    from stepframe.records import read
+
+    path, options = payload
+    try:
+        stream = read(path, **options)
+    except Exception as error:  # a reader may raise anything on a foreign file: recorded
+        raise ItemFailure(f"read: {_one_line(error)}") from None
+    if len(stream) == 0:
+        raise ItemFailure("read: no traces in the file")
+    rows = []
+    for index, trace in enumerate(stream):
+        info = trace.stats.get("stepframe", {})
+        magnitude = info.get("magnitude")
+        rows.append(
+            {
+                "channel_index": index,
+                "station": str(trace.stats.station),
+                "component": str(trace.stats.channel),
+                "event": str(info.get("event") or ""),
+                "magnitude": float(magnitude) if magnitude is not None else math.nan,
+                "dt_s": float(trace.stats.delta),
+                "npts": int(trace.stats.npts),
+                "pga_m_s2": float(np.max(np.abs(trace.data))) if trace.stats.npts else math.nan,
+            }
+        )
+    return rows
+
+
+def _one_line(error: BaseException) -> str:
+    from stepframe.errors import InputError
+
+    if isinstance(error, InputError):
+        return error.one_line()
+    return f"{type(error).__name__}: {error}".replace("\n", " ")
+
+
+FEATURE_PARAMS: dict[str, Param] = {
+    "frequency": Param(
+        "str",
+        "zero-crossing",
+        "how ω_g(t) is measured",
+        ("zero-crossing", "ridge", "moment", "wavelet-ridge"),
+    ),
+    "t0": Param("str", "start", "time origin: record start or picked P onset", ("start", "p-pick")),
+    "window_s": Param("float", 2.0, "analysis window of the spectra [s]"),
+    "fft": Param("str", "scipy", "FFT backend", ("scipy", "pyfftw")),
+    "omega_max_rad_s": Param(
+        "float", None, "highest frequency of interest [rad/s]: coarser records fail"
+    ),
+}
+
+
+def _features_tasks(context: Context) -> list[Task]:
+    inventory = context.tables["inventory"]
+    params = STAGES_FEATURES.parameters(context.workflow)
+    options = _record_options(context)
+    folder = record_folder(context)
+    tasks = []
+    for row in inventory.to_dict(orient="records"):
+        index = int(row["channel_index"])
+        key = make_key("features", FEATURES_VERSION, params, str(row["_key"]), str(index))
+        tasks.append(
+            Task(
+                key=key,
+                name=f"{row['file']} [{row['component']}]",
+                payload=(str((folder / str(row["file"])).absolute()), options, index, params),
+                context={
+                    "file": row["file"],
+                    "station": row["station"],
+                    "component": row["component"],
+                },
+            )
+        )
+    return tasks
+
+
+def component_features(
+    payload: tuple[str, dict[str, Any], int, dict[str, Any]],
+) -> list[dict[str, Any]]:
+    """Features and fitted parameters of one component (worker side): one row.
+
+    Reads the file from its path, takes the component at its position and calls
+    :func:`stepframe.stochastic.catalog_features.component_row`.
+    """
+    import numpy as np
+
+    from stepframe.records import read
+    from stepframe.stochastic.catalog_features import Options, component_row
+
+    path, record_options, index, params = payload
+    try:
+        trace = read(path, **record_options)[index]
+    except Exception as error:  # recorded as this item's failure
+        raise ItemFailure(f"read: {_one_line(error)}") from None
+    options = Options(
+        frequency=params["frequency"],
+        t0=params["t0"],
+        window_s=params["window_s"],
+        fft=params["fft"],
+        record_options=tuple(sorted(record_options.items())),
+        omega_max_rad_s=params["omega_max_rad_s"],
+    )
+    try:
+        row = component_row(
+            np.asarray(trace.data, dtype=np.float64), float(trace.stats.delta), options
+        )
+    except Exception as error:
+        # component_row names the step that failed (features or fit) and keeps its error
+        step = getattr(error, "stage", "features")
+        raise ItemFailure(f"{step}: {_one_line(getattr(error, 'error', error))}") from None
+    return [row]
+
+
+def _features_columns() -> dict[str, tuple[str, str]]:
+    from stepframe.stochastic.catalog_features import COLUMNS
+
+    return dict(COLUMNS)
+
+
+register_stage(
+    Stage(
+        name="inventory",
+        version=INVENTORY_VERSION,
+        description="record files: content hashes and components (no science)",
+        kind="item",
+        params={},
+        upstream=lambda workflow: (),
+        columns=lambda: INVENTORY_COLUMNS,
+        tasks=_inventory_tasks,
+        compute=read_components,
+        needs_records=True,
+    )
+)
+
+STAGES_FEATURES = register_stage(
+    Stage(
+        name="features",
+        version=FEATURES_VERSION,
+        description="per component: ω_g(t), α_g(t), I_g(t) and the fitted B-P parameters",
+        kind="item",
+        params=FEATURE_PARAMS,
+        upstream=lambda workflow: ("inventory",),
+        columns=_features_columns,
+        tasks=_features_tasks,
+        compute=component_features,
+        needs_records=True,
+    )
+)

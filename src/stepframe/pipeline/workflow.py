@@ -1,0 +1,439 @@
+"""Workflow (scene) files: what a run is about and what it wants, checked before anything runs.
+
+A workflow is a TOML file (see :func:`workflow_template`, printed by ``stepframe run
+--template``)::
+
+    name = "site amplification"        # optional
+    workspace = "stepframe-work"       # default: stepframe-work/ beside the workflow
+    [records]   folder + glob (recursive by default), or example = "fema-p695"; record options
+    [frame]     file = "FRAME.toml", or the frame's own tables inline
+    [<stage>]   the parameters of a stage (features, site, amplification, selection, ...)
+    [outputs]   <stage> = true for each output wanted; folder = where they go
+
+Every error (unknown or misspelt key, with the nearest valid one; wrong type; missing file or
+folder; a frame file with errors) is one :class:`~stepframe.errors.InputError` naming the file
+and line. Relative paths are relative to the workflow's folder and must stay inside it; an
+absolute path is taken as given.
+"""
+
+from __future__ import annotations
+
+import difflib
+import re
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from stepframe.core.io import read_toml
+from stepframe.errors import InputError
+from stepframe.pipeline.stages import Param, registry
+
+WHAT = "a workflow file"
+DEFAULT_WORKSPACE = "stepframe-work"
+DEFAULT_OUTPUTS = "outputs"
+EXAMPLES = ("fema-p695",)
+
+#: The keys of the scene tables (not stages): key → Param.
+TOP_KEYS: dict[str, Param] = {
+    "name": Param("str", "", "what the scene is about"),
+    "workspace": Param("str", DEFAULT_WORKSPACE, "workspace folder (cache, lock, outputs)"),
+}
+RECORDS_KEYS: dict[str, Param] = {
+    "folder": Param("str", None, "folder of record files (relative to this file)"),
+    "example": Param("str", None, "the embedded example catalogue instead", EXAMPLES),
+    "glob": Param("str", "*", "which files of the folder (a glob pattern)"),
+    "recursive": Param("bool", True, "look in sub-folders too"),
+    "format": Param("str", None, "record format (at2, cosmos, ...); default: sniffed"),
+    "units": Param("str", None, "units when the file does not say: g, m/s2, cm/s2, mm/s2"),
+    "dt_s": Param("float", None, "sampling interval [s] when the file does not say"),
+    "component": Param("str", None, "keep only this channel of multi-channel files"),
+}
+OUTPUT_KEYS_FIXED: dict[str, Param] = {
+    "folder": Param("str", None, "where outputs go (default: <workspace>/outputs)"),
+}
+RECORD_OPTIONS = ("format", "units", "dt_s", "component")
+
+
+class Lines:
+    """Line numbers of ``key = ...`` and ``[table]`` lines of a TOML text, for messages."""
+
+    _HEADER = re.compile(r"^\s*\[\s*([A-Za-z0-9_.\-\"]+)\s*\]")
+    _KEY = re.compile(r"^\s*([A-Za-z0-9_\-\"]+)\s*=")
+
+    def __init__(self, path: Path, text: str) -> None:
+        self.path = path
+        self.keys: dict[tuple[str, str], int] = {}
+        self.tables: dict[str, int] = {}
+        table = ""
+        for number, line in enumerate(text.splitlines(), start=1):
+            header = self._HEADER.match(line)
+            if header:
+                table = header.group(1).replace('"', "")
+                self.tables.setdefault(table, number)
+                continue
+            key = self._KEY.match(line)
+            if key:
+                self.keys.setdefault((table, key.group(1).replace('"', "")), number)
+
+    def error(self, what: str, table: str, key: str | None = None) -> InputError:
+        """An InputError at the key's line (or the table's, or none)."""
+        line = self.keys.get((table, key)) if key is not None else None
+        if line is None:
+            line = self.tables.get(table)
+        return InputError(what, self.path, line)
+
+
+@dataclass(frozen=True)
+class Records:
+    """The ``[records]`` table: a folder (with glob) or an embedded example, and record options."""
+
+    folder: Path | None
+    example: str | None
+    glob: str
+    recursive: bool
+    options: dict[str, Any]
+
+
+@dataclass(frozen=True)
+class Workflow:
+    """A checked workflow file.
+
+    Attributes
+    ----------
+    path
+        The file.
+    name
+        Its ``name`` (may be empty).
+    workspace
+        The workspace folder.
+    records
+        The ``[records]`` table, or None.
+    frame
+        The frame (a :class:`~stepframe.structure.frame.PortalFrame`) or None.
+    frame_source
+        The frame's parameters as plain data (for the store key), or None.
+    tables
+        The stage tables as given (stage name → key → value).
+    outputs
+        The stages whose outputs are wanted, in registry order.
+    outputs_folder
+        Where the outputs are written.
+    lines
+        Line finder for later errors (records folder missing or empty).
+    """
+
+    path: Path
+    name: str
+    workspace: Path
+    records: Records | None
+    frame: Any
+    frame_source: dict[str, Any] | None
+    tables: dict[str, dict[str, Any]]
+    outputs: tuple[str, ...]
+    outputs_folder: Path
+    lines: Lines = field(repr=False)
+
+    def record_files(self) -> list[Path]:
+        """The record files of ``[records]`` (sorted), checked to exist and be non-empty.
+
+        Raises
+        ------
+        InputError
+            No ``[records]``, a missing folder, or no file matching (an empty folder is an
+            error, not a silent success).
+        """
+        if self.records is None:
+            raise InputError("no [records] table, expected one for the outputs asked", self.path)
+        records = self.records
+        if records.folder is None:
+            raise InputError("[records] has no folder, expected folder or example", self.path)
+        folder = records.folder
+        if not folder.is_dir():
+            raise self.lines.error(
+                f"[records] folder {str(folder)!r} does not exist, expected a folder of records",
+                "records",
+                "folder",
+            )
+        pattern = folder.rglob(records.glob) if records.recursive else folder.glob(records.glob)
+        workspace = self.workspace.resolve()
+        files = []
+        for file in pattern:
+            relative = file.relative_to(folder)
+            if any(part.startswith(".") for part in relative.parts) or not file.is_file():
+                continue
+            if file.resolve().is_relative_to(workspace):
+                continue  # the workspace may sit inside the records folder
+            files.append(file)
+        if not files:
+            raise self.lines.error(
+                f"[records] folder {str(folder)!r} has no file matching {records.glob!r}, "
+                "expected at least one record file",
+                "records",
+                "folder",
+            )
+        return sorted(files, key=lambda p: p.relative_to(folder).as_posix())
+
+
+def _suggest(name: str, valid: list[str]) -> str:
+    close = difflib.get_close_matches(name, valid, n=1, cutoff=0.6)
+    if close:
+        return f"did you mean {close[0]!r}?"
+    return "expected one of " + ", ".join(sorted(valid))
+
+
+def _check_value(value: Any, param: Param, table: str, key: str, lines: Lines) -> Any:
+    where = f"[{table}] {key}" if table else key
+    kind = param.type
+    ok = {
+        "float": isinstance(value, int | float) and not isinstance(value, bool),
+        "int": isinstance(value, int) and not isinstance(value, bool),
+        "bool": isinstance(value, bool),
+        "str": isinstance(value, str),
+        "table": isinstance(value, dict),
+    }[kind]
+    if not ok:
+        expected = {"float": "a number", "int": "an integer", "bool": "true or false"}.get(
+            kind, "a string" if kind == "str" else "a table"
+        )
+        raise lines.error(f"{where} = {value!r}, expected {expected}: {param.help}", table, key)
+    if param.choices and value not in param.choices:
+        raise lines.error(
+            f"{where} = {value!r}, expected one of {', '.join(param.choices)}", table, key
+        )
+    return float(value) if kind == "float" else value
+
+
+def _check_table(
+    given: Mapping[str, Any], params: Mapping[str, Param], table: str, lines: Lines
+) -> dict[str, Any]:
+    out = {}
+    for key, value in given.items():
+        if key not in params:
+            where = f"[{table}] {key}" if table else key
+            raise lines.error(f"unknown key {where}, {_suggest(key, list(params))}", table, key)
+        out[key] = _check_value(value, params[key], table, key, lines)
+    return out
+
+
+def _inside(folder: Path, text: str, table: str, key: str, lines: Lines) -> Path:
+    """A path of the workflow: absolute as given, relative ones inside the workflow's folder."""
+    path = Path(text).expanduser()
+    if path.is_absolute():
+        return path
+    resolved = (folder / path).resolve()
+    if not resolved.is_relative_to(folder.resolve()):
+        raise lines.error(
+            f"[{table}] {key} = {text!r} leaves the workflow's folder, expected a path inside it "
+            "or an absolute path",
+            table,
+            key,
+        )
+    return folder / path
+
+
+def load_workflow(path: str | Path) -> Workflow:
+    """Read and check a workflow file (nothing is written).
+
+    Raises
+    ------
+    InputError
+        Any error in the file or in a frame file it names (one line, file:line).
+    """
+    file = Path(path)
+    data, text = read_toml(file, WHAT)
+    lines = Lines(file, text)
+    stages = registry()
+    scene = ("records", "frame", "outputs")
+    valid_tables = [*scene, *stages]
+    top: dict[str, Any] = {}
+    tables: dict[str, dict[str, Any]] = {}
+    for key, value in data.items():
+        if isinstance(value, dict):
+            if key not in valid_tables:
+                raise lines.error(f"unknown table [{key}], {_suggest(key, valid_tables)}", key)
+            if key in stages and stages[key].free_params:
+                tables[key] = dict(value)
+            elif key in stages:
+                tables[key] = _check_table(value, stages[key].params, key, lines)
+        elif key in TOP_KEYS:
+            top[key] = _check_value(value, TOP_KEYS[key], "", key, lines)
+        else:
+            raise lines.error(
+                f"unknown key {key}, {_suggest(key, [*TOP_KEYS, *valid_tables])}", "", key
+            )
+    folder = file.parent
+    workspace = _inside(folder, top.get("workspace", DEFAULT_WORKSPACE), "", "workspace", lines)
+    records = _records(data.get("records"), folder, lines)
+    frame, frame_source = _frame(data.get("frame"), folder, file, text, lines)
+    outputs, outputs_folder = _outputs(data.get("outputs"), folder, workspace, lines)
+    for name in outputs:
+        stage = stages[name]
+        if stage.needs_frame and frame is None:
+            raise lines.error(
+                f"[outputs] {name} needs a frame, expected a [frame] table", "outputs", name
+            )
+    return Workflow(
+        path=file,
+        name=str(top.get("name", "")),
+        workspace=workspace,
+        records=records,
+        frame=frame,
+        frame_source=frame_source,
+        tables=tables,
+        outputs=outputs,
+        outputs_folder=outputs_folder,
+        lines=lines,
+    )
+
+
+def _records(table: Any, folder: Path, lines: Lines) -> Records | None:
+    if table is None:
+        return None
+    given = _check_table(table, RECORDS_KEYS, "records", lines)
+    if ("folder" in given) == ("example" in given):
+        raise lines.error(
+            '[records] expected exactly one of folder = "..." and example = "fema-p695"',
+            "records",
+        )
+    if "units" in given:
+        from stepframe.records.units import normalize_units
+
+        try:
+            normalize_units(given["units"])
+        except InputError as error:
+            raise lines.error(f"[records] units: {error.what}", "records", "units") from None
+    return Records(
+        folder=_inside(folder, given["folder"], "records", "folder", lines)
+        if "folder" in given
+        else None,
+        example=given.get("example"),
+        glob=given.get("glob", "*"),
+        recursive=given.get("recursive", True),
+        options={k: given[k] for k in RECORD_OPTIONS if k in given},
+    )
+
+
+def _frame(
+    table: Any, folder: Path, file: Path, text: str, lines: Lines
+) -> tuple[Any, dict[str, Any] | None]:
+    if table is None:
+        return None, None
+    from stepframe.structure.frame_file import frame_from_mapping, read_frame_file
+
+    if "file" in table:
+        extra = sorted(set(table) - {"file"})
+        if extra:
+            raise lines.error(
+                f"[frame] file with [frame] {extra[0]}, expected a file or inline tables",
+                "frame",
+                extra[0],
+            )
+        if not isinstance(table["file"], str):
+            raise lines.error(
+                f"[frame] file = {table['file']!r}, expected a path (string)", "frame", "file"
+            )
+        frame_path = _inside(folder, table["file"], "frame", "file", lines)
+        if not frame_path.is_file():
+            raise lines.error(
+                f"[frame] file {table['file']!r} does not exist, expected a FRAME.toml",
+                "frame",
+                "file",
+            )
+        frame = read_frame_file(frame_path)
+    else:
+        # Inline: the frame's scalar keys ([frame] of a FRAME.toml) at this level, its other
+        # tables as [frame.physical], [frame.constants], [frame.conventions].
+        mapping: dict[str, Any] = {"frame": {}}
+        for key, value in table.items():
+            if isinstance(value, dict):
+                mapping[key] = value
+            else:
+                mapping["frame"][key] = value
+        frame = frame_from_mapping(mapping, path=file, text=None)
+    return frame, _frame_data(frame)
+
+
+def _frame_data(frame: Any) -> dict[str, Any]:
+    """The frame as plain data, for its store key."""
+    import dataclasses
+
+    if dataclasses.is_dataclass(frame) and not isinstance(frame, type):
+        return dataclasses.asdict(frame)
+    return {"repr": repr(frame)}
+
+
+def _outputs(
+    table: Any, folder: Path, workspace: Path, lines: Lines
+) -> tuple[tuple[str, ...], Path]:
+    stages = registry()
+    if table is None:
+        raise InputError("no [outputs] table, expected the outputs wanted", lines.path)
+    params = dict(OUTPUT_KEYS_FIXED)
+    params |= {name: Param("bool", False, stage.description) for name, stage in stages.items()}
+    given = _check_table(table, params, "outputs", lines)
+    wanted = tuple(name for name in stages if given.get(name))
+    if not wanted:
+        raise lines.error(
+            "[outputs] asks for nothing, expected at least one of " + ", ".join(stages) + " = true",
+            "outputs",
+        )
+    target = (
+        _inside(folder, given["folder"], "outputs", "folder", lines)
+        if "folder" in given
+        else workspace / DEFAULT_OUTPUTS
+    )
+    return wanted, target
+
+
+def _toml_value(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return f'"{value}"'
+    return repr(value)
+
+
+def workflow_template() -> str:
+    """A commented workflow file listing every table and key, with defaults."""
+    stages = registry()
+    out = [
+        "# A stepframe workflow (scene): what it is about and what it wants.",
+        "# Run it with: stepframe run THIS.toml   (--dry-run shows the plan first)",
+        "# Paths are relative to this file. Only the stages the [outputs] need are run; results",
+        "# are cached in the workspace by content, so re-runs compute only what is new.",
+        "",
+        'name = "my scene"',
+        f'# workspace = "{DEFAULT_WORKSPACE}"   # cache, lock and outputs (beside this file)',
+        "",
+        "[records]",
+        'folder = "records"            # a folder of record files; or: example = "fema-p695"',
+    ]
+    for key, param in RECORDS_KEYS.items():
+        if key in ("folder", "example"):
+            continue
+        default = "" if param.default is None else f" = {_toml_value(param.default)}"
+        out.append(f"# {key}{default}".ljust(34) + f"# {param.help}")
+    out += [
+        "",
+        "[frame]",
+        'file = "FRAME.toml"           # `stepframe structure frame-template` writes one',
+        "",
+    ]
+    for name, stage in stages.items():
+        if stage.free_params:
+            out += [f"# [{name}]".ljust(32) + f"  # {stage.description}", "#   (its own keys)", ""]
+        if not stage.params:
+            continue
+        out.append(f"[{name}]".ljust(32) + f"  # {stage.description}")
+        for key, param in stage.params.items():
+            default = "" if param.default is None else f" = {_toml_value(param.default)}"
+            choices = f" ({' | '.join(param.choices)})" if param.choices else ""
+            out.append(f"# {key}{default}".ljust(34) + f"# {param.help}{choices}")
+        out.append("")
+    out.append("[outputs]")
+    out.append('# folder = "results"              # default: <workspace>/outputs')
+    for name, stage in stages.items():
+        value = "true" if name in ("features",) else "false"
+        out.append(f"{name} = {value}".ljust(34) + f"# {stage.description}")
+    return "\n".join(out) + "\n"

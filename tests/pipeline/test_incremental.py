@@ -1,0 +1,152 @@
+"""Incremental runs: keys from content and parameters, so only what is new or changed runs."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from stepframe.pipeline.example_files import example_files, write_example_files
+from stepframe.pipeline.runner import RunReport, run_workflow
+from stepframe.pipeline.store import Store
+
+from .conftest import FEATURES_WORKFLOW, SMALL, tree, write_workflow
+
+
+def _run(workflow: Path, **options: object) -> RunReport:
+    report = run_workflow(workflow, jobs=1, **options)  # type: ignore[arg-type]
+    assert report.exit_code == 0, report.missing
+    return report
+
+
+def _counts(report: RunReport) -> dict[str, tuple[int, int, int]]:
+    return {s.name: (s.computed, s.cached, s.failed) for s in report.stages}
+
+
+def _features(report: RunReport) -> pd.DataFrame:
+    return pd.read_parquet(report.outputs["features"][0])
+
+
+def test_first_run_matches_the_catalogue_batch_function(scene: Path) -> None:
+    from stepframe.stochastic.catalog_features import catalog_features
+
+    report = _run(scene / "wf.toml")
+    assert _counts(report) == {"inventory": (SMALL, 0, 0), "features": (SMALL, 0, 0)}
+    table = _features(report)
+    reference, failures = catalog_features(scene / "records", n_jobs=1)
+    assert failures.empty
+    reference["file"] = [Path(f).name for f in reference["file"]]
+    pd.testing.assert_frame_equal(table, reference[table.columns], check_dtype=False)
+    csv = pd.read_csv(report.outputs["features"][1])
+    assert np.allclose(csv["omega_p_rad_s"], table["omega_p_rad_s"], rtol=1e-15)
+
+
+def test_no_op_rerun_computes_nothing_and_gives_the_same_bytes(scene: Path) -> None:
+    first = _run(scene / "wf.toml")
+    outputs = tree(scene / "stepframe-work" / "outputs")
+    second = _run(scene / "wf.toml")
+    assert _counts(second) == {"inventory": (0, SMALL, 0), "features": (0, SMALL, 0)}
+    assert tree(scene / "stepframe-work" / "outputs") == outputs
+    assert first.outputs == second.outputs
+
+
+def test_two_new_files_compute_exactly_two_items_per_stage(scene: Path) -> None:
+    _run(scene / "wf.toml")
+    write_example_files(scene / "records", count=SMALL + 2)
+    dry = run_workflow(scene / "wf.toml", dry_run=True)
+    inventory, features = dry.stages
+    assert (inventory.name, inventory.computed, inventory.cached) == ("inventory", 2, SMALL)
+    assert features.status == "pending"  # its items are known once the new files are read
+    report = _run(scene / "wf.toml")
+    assert _counts(report) == {"inventory": (2, SMALL, 0), "features": (2, SMALL, 0)}
+    assert len(_features(report)) == SMALL + 2
+
+
+def test_renamed_folder_recomputes_nothing(scene: Path) -> None:
+    before = _features(_run(scene / "wf.toml"))
+    shutil.move(scene / "records", scene / "renamed")
+    text = (scene / "wf.toml").read_text().replace('"records"', '"renamed"')
+    write_workflow(scene, text)
+    report = _run(scene / "wf.toml")
+    assert _counts(report) == {"inventory": (0, SMALL, 0), "features": (0, SMALL, 0)}
+    pd.testing.assert_frame_equal(_features(report), before)
+
+
+def test_renamed_file_keeps_its_results_under_the_new_name(scene: Path) -> None:
+    before = _features(_run(scene / "wf.toml"))
+    first = sorted((scene / "records").iterdir())[0]
+    first.rename(first.with_name("zz-renamed.AT2"))
+    after = _features(_run(scene / "wf.toml"))
+    assert (after["file"] == "zz-renamed.AT2").sum() == 1
+    moved = after[after["file"] == "zz-renamed.AT2"].iloc[0]
+    original = before[before["file"] == first.name].iloc[0]
+    assert moved["omega_p_rad_s"] == original["omega_p_rad_s"]
+
+
+def test_changed_parameter_recomputes_only_downstream(scene: Path) -> None:
+    _run(scene / "wf.toml")
+    text = (scene / "wf.toml").read_text().replace("[features]", "[features]\nwindow_s = 3.0")
+    write_workflow(scene, text)
+    report = _run(scene / "wf.toml")
+    assert _counts(report) == {"inventory": (0, SMALL, 0), "features": (SMALL, 0, 0)}
+
+
+def test_changed_file_is_recomputed(scene: Path) -> None:
+    before = _features(_run(scene / "wf.toml"))
+    name, data = next(example_files(scale=0.5))
+    (scene / "records" / name).write_bytes(data)
+    report = _run(scene / "wf.toml")
+    assert _counts(report) == {"inventory": (1, SMALL - 1, 0), "features": (1, SMALL - 1, 0)}
+    table = _features(report)
+    # the record at half scale: I_g is linear in the record (9-digit rounding of the file aside)
+    halved = table[table["file"] == name].iloc[0]["max_intensity_m_s2"]
+    original = before[before["file"] == name].iloc[0]["max_intensity_m_s2"]
+    assert halved == pytest.approx(0.5 * original, rel=1e-7)
+
+
+def test_force_recomputes_the_stage(scene: Path) -> None:
+    _run(scene / "wf.toml")
+    report = _run(scene / "wf.toml", force=["features"])
+    assert _counts(report) == {"inventory": (0, SMALL, 0), "features": (SMALL, 0, 0)}
+
+
+def test_failed_items_are_retried_only_when_asked(scene: Path) -> None:
+    (scene / "records" / "garbage.txt").write_text("this is not a record\n")
+    report = _run(scene / "wf.toml")
+    assert _counts(report)["inventory"] == (SMALL + 1, 0, 1)
+    assert report.failures[0].item == "garbage.txt" and report.failures[0].stage == "inventory"
+    failures = pd.read_csv(scene / "stepframe-work" / "outputs" / "features.failures.csv")
+    assert failures.empty  # the inventory's failure is not a failure of a component
+    again = _run(scene / "wf.toml")
+    assert _counts(again)["inventory"] == (0, SMALL + 1, 1)
+    retried = _run(scene / "wf.toml", retry_failed=True)
+    assert _counts(retried)["inventory"] == (1, SMALL, 1)
+
+
+def test_index_is_rebuilt_from_the_segment_files(scene: Path) -> None:
+    _run(scene / "wf.toml")
+    write_example_files(scene / "records", count=SMALL + 1)
+    _run(scene / "wf.toml")
+    store = Store(scene / "stepframe-work" / "store")
+    index = store.index("features")
+    assert len(index) == SMALL + 1
+    assert len({entry.segment for entry in index.values()}) == 2
+    rows = store.rows("features", list(index))
+    assert sorted(rows) == sorted(index)
+
+
+def test_site_from_records_is_the_median_of_the_fitted_parameters(scene: Path) -> None:
+    text = FEATURES_WORKFLOW.replace(
+        "[outputs]", '[site]\nfrom = "records"\nplausible_only = false\n\n[outputs]\nsite = true'
+    )
+    write_workflow(scene, text)
+    report = _run(scene / "wf.toml")
+    features = _features(report)
+    site = pd.read_parquet(scene / "stepframe-work" / "outputs" / "site_model.parquet").iloc[0]
+    for name in ("omega_p_rad_s", "omega_s_rad_s", "omega_r_rad_s", "xi_p", "xi_r", "t_max_s"):
+        assert site[name] == pytest.approx(float(np.median(features[name])), rel=1e-14)
+    assert site["n_components"] == SMALL
+    assert site["fp_hz"] == pytest.approx(site["omega_p_rad_s"] / (2 * np.pi), rel=1e-14)
