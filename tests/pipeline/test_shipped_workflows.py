@@ -37,7 +37,12 @@ def test_every_shipped_workflow_is_tested() -> None:
 
 def test_site_amplification_from_the_papers_parameters(copy: Path) -> None:
     report = run_json(str(copy / "site-amplification.toml"), cwd=copy.parent)
-    assert [s["name"] for s in report["stages"]] == ["site", "amplification"]  # no records read
+    # no records read
+    assert [s["name"] for s in report["stages"]] == [
+        "site",
+        "amplification",
+        "amplification_report",
+    ]
     outputs = copy / "stepframe-work" / "outputs"
     site = pd.read_parquet(outputs / "site_model.parquet").iloc[0]
     assert site["omega_p_rad_s"] == pytest.approx(2 * math.pi * 7.43, rel=1e-15)
@@ -75,6 +80,16 @@ def test_site_amplification_from_the_papers_parameters(copy: Path) -> None:
     )
     table = pd.read_csv(outputs / "amplification.csv")
     np.testing.assert_allclose(table["spectral_ratio_eq_6_18"], printed, rtol=1e-12)
+    # the report stage shows the same site and eq. 6.19 numbers as the curve
+    assert (outputs / "amplification_report.html").stat().st_size > 0
+    numbers = json.loads((outputs / "amplification_report_files" / "numbers.json").read_text())
+    assert numbers["ground_motion_model"]["omega_p_rad_s"] == site["omega_p_rad_s"]
+    assert numbers["approx_eq_6_19_last"] == pytest.approx(
+        curve.attrs["approx_eq_6_19_last"], rel=1e-14
+    )
+    assert numbers["approx_eq_6_19_first"] == pytest.approx(
+        curve.attrs["approx_eq_6_19_first"], rel=1e-14
+    )
     curve.close()
 
 
@@ -96,10 +111,15 @@ def test_site_amplification_from_records(copy: Path) -> None:
 
 @pytest.mark.slow
 def test_selection_workflow(copy: Path) -> None:
-    pytest.importorskip(
-        "stepframe.pipeline.selection", reason="the selection stage's module is not merged yet"
-    )
     report = run_json(str(copy / "selection.toml"), cwd=copy.parent)
-    assert [s["name"] for s in report["stages"]] == ["inventory", "features", "selection"]
+    names = [s["name"] for s in report["stages"]]
+    assert names == ["inventory", "features", "selection", "selection_report"]
     selection = copy / "stepframe-work" / "outputs" / "selection"
     assert any(selection.iterdir())
+    chosen = pd.read_csv(selection / "selection.csv")
+    assert len(chosen) == 10 and chosen["rank"].tolist() == list(range(1, 11))
+    # the report stage shows the run's own selection, row for row
+    outputs = selection.parent
+    assert (outputs / "selection_report.html").stat().st_size > 0
+    shown = pd.read_csv(outputs / "selection_report_files" / "selection.csv")
+    assert shown["file"].tolist() == chosen["file"].tolist()

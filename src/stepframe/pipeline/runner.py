@@ -476,16 +476,16 @@ def _dry_tasks(stage: Stage, context: Context) -> list[Task]:
 def describe(report: RunReport) -> str:
     """The end-of-run summary for people: a line per stage, then the outputs."""
     lines = [f"workflow {report.workflow} ({report.execution}; workspace {report.workspace})"]
-    header = f"  {'stage':<14}{'items':>7}{'computed':>10}{'cached':>8}{'failed':>8}{'time s':>9}"
+    header = f"  {'stage':<22}{'items':>7}{'computed':>10}{'cached':>8}{'failed':>8}{'time s':>9}"
     if report.dry_run:
-        header = f"  {'stage':<14}{'items':>7}{'to compute':>12}{'cached':>8}"
+        header = f"  {'stage':<22}{'items':>7}{'to compute':>12}{'cached':>8}"
     lines.append(header)
     for s in report.stages:
         if report.dry_run:
-            line = f"  {s.name:<14}{s.items:>7}{s.computed:>12}{s.cached:>8}"
+            line = f"  {s.name:<22}{s.items:>7}{s.computed:>12}{s.cached:>8}"
         else:
             line = (
-                f"  {s.name:<14}{s.items:>7}{s.computed:>10}{s.cached:>8}{s.failed:>8}"
+                f"  {s.name:<22}{s.items:>7}{s.computed:>10}{s.cached:>8}{s.failed:>8}"
                 f"{s.seconds:>9.2f}"
             )
         if s.status not in ("ok",):

@@ -177,7 +177,8 @@ def site_table(site: Any) -> Any:
     return pd.DataFrame([row])
 
 
-def _copy_files(source: Path, target: Path) -> list[Path]:
+def copy_files(source: Path, target: Path) -> list[Path]:
+    """Copy every file under ``source`` to ``target`` (atomically each); the written paths."""
     target.mkdir(parents=True, exist_ok=True)
     written = []
     for file in sorted(source.rglob("*")):
@@ -295,10 +296,7 @@ AMPLIFICATION_STAGE = register_stage(
 
 
 def _selection_options(workflow: Any) -> Any:
-    # built by the selection work; the ignore goes once it is merged
-    from stepframe.pipeline.selection import (
-        SelectionOptions,
-    )
+    from stepframe.pipeline.selection import SelectionOptions
 
     given = workflow.tables.get("selection", {})
     try:
@@ -310,10 +308,7 @@ def _selection_options(workflow: Any) -> Any:
 def _selection_check(workflow: Any) -> None:
     if workflow.records is None:
         raise workflow.lines.error("selection without a [records] table, expected one", "outputs")
-    try:
-        _selection_options(workflow)
-    except ImportError:
-        return  # reported when the stage runs: the selection module is not installed
+    _selection_options(workflow)
 
 
 def _selection_key(context: Context) -> str:
@@ -330,23 +325,19 @@ def _selection_key(context: Context) -> str:
 
 
 def _selection_run(context: Context, folder: Path) -> None:
-    try:
-        from stepframe.pipeline.selection import (
-            select_records,
-        )
-    except ImportError as error:
-        raise InputError(
-            f"record selection is not available in this installation ({error}), "
-            "expected stepframe.pipeline.selection"
-        ) from None
+    from stepframe.pipeline.selection import select_records
     from stepframe.pipeline.stage_items import record_folder
 
     features = context.tables["features"].drop(columns=["_key"])
+    # pandas compares attrs when it merges, and a column dictionary (a DataFrame) cannot be
+    # compared that way; the selection writes its own dictionaries.
+    features.attrs = {}
     # select_records re-reads records by path (spectra, confirmation): give it absolute paths
     folder_of_records = record_folder(context).absolute()
     features["file"] = [str(folder_of_records / name) for name in features["file"]]
     inventory = context.tables["inventory"]
     extra = inventory[["file", "component", "event", "magnitude"]].copy()
+    extra.attrs = {}
     extra["file"] = [str(folder_of_records / name) for name in extra["file"]]
     features = features.merge(extra, on=["file", "component"], how="left")
     records = context.workflow.records
@@ -366,11 +357,13 @@ def _selection_run(context: Context, folder: Path) -> None:
 def _join_new_columns(table: Any, extra: Any) -> Any:
     """``table`` with the columns of ``extra`` it lacks, matched on ``file``."""
     new = [c for c in extra.columns if c not in table.columns]
-    return table.merge(extra[["file", *new]], on="file", how="left")
+    right = extra[["file", *new]].copy()
+    right.attrs = {}  # see _selection_run: merge compares attrs
+    return table.merge(right, on="file", how="left")
 
 
 def _selection_publish(folder: Path, outputs: Path) -> list[Path]:
-    return _copy_files(folder, outputs / "selection")
+    return copy_files(folder, outputs / "selection")
 
 
 register_stage(

@@ -94,7 +94,7 @@ def apply_filters(
         rules.append(
             (
                 "fit_quality",
-                "plausible fit (omega_p, omega_r inside the usable band, no clipped xi)",
+                "plausible fit (no parameter at a bound, floor or clip; omega in the usable band)",
                 lambda: np.asarray(table["plausible"], dtype=bool),
             )
         )
