@@ -35,3 +35,6 @@ def test_readme_python_example_runs(data_dir: Path, tmp_path: Path) -> None:
     assert summary.peak_abs_x_m == pytest.approx(float(stated.group(1)), abs=5e-5)
     assert str(summary.overturned) == stated.group(2)
     assert len(namespace["stream"]) == 100  # type: ignore[arg-type]
+    picks = namespace["picks"].selection  # type: ignore[attr-defined]
+    assert picks["rank"].tolist() == [1, 2, 3, 4, 5]
+    assert picks["score"].is_monotonic_decreasing

@@ -28,6 +28,7 @@ def copy(tmp_path: Path) -> Path:
 def test_every_shipped_workflow_is_tested() -> None:
     shipped = sorted(p.name for p in WORKFLOWS.glob("*.toml"))
     assert shipped == [
+        "ida.toml",
         "inbox.toml",  # tests/pipeline/test_scheduling.py
         "selection.toml",
         "site-amplification-records.toml",
@@ -123,3 +124,37 @@ def test_selection_workflow(copy: Path) -> None:
     assert (outputs / "selection_report.html").stat().st_size > 0
     shown = pd.read_csv(outputs / "selection_report_files" / "selection.csv")
     assert shown["file"].tolist() == chosen["file"].tolist()
+
+
+@pytest.mark.slow
+def test_ida_workflow(copy: Path) -> None:
+    """Each record's traced bracket holds when the simulator is run at its two ends."""
+    from stepframe.records.examples import fema_p695
+    from stepframe.structure.frame_file import read_frame_file
+    from stepframe.structure.simulator import simulate
+
+    report = run_json(str(copy / "ida.toml"), cwd=copy.parent)
+    assert [s["name"] for s in report["stages"]] == ["inventory", "ida"]
+    outputs = copy / "stepframe-work" / "outputs"
+    table = pd.read_parquet(outputs / "ida.parquet")
+    summary = json.loads((outputs / "ida_summary.json").read_text())
+    assert len(table) == summary["n_records"] == 100
+    assert summary["n_resurrected"] == int(table["resurrected"].sum())
+    found = table["first_overturning"].dropna()
+    assert summary["first_overturning_pga_g_fractiles"]["q0.5"] == pytest.approx(
+        float(np.quantile(found, 0.5)), rel=1e-12
+    )
+    frame = read_frame_file(copy / "frames" / "example-4.toml")
+    stream, _ = fema_p695()
+    for row in (
+        table.dropna(subset=["first_overturning", "last_survival_below"]).head(5).itertuples()
+    ):
+        trace = next(t for t in stream if row.item.endswith(f"[{t.stats.channel}]"))
+        pga_g = float(np.max(np.abs(trace.data))) / 9.80665
+        at = {
+            level: simulate(
+                frame, trace.data, trace.stats.delta, scale=level / pga_g, tail_s=10.0
+            ).summary.overturned
+            for level in (row.first_overturning, row.last_survival_below)
+        }
+        assert at == {row.first_overturning: True, row.last_survival_below: False}

@@ -142,6 +142,6 @@ def register_stage(stage: Stage) -> Stage:
 
 def registry() -> dict[str, Stage]:
     """Every registered stage, built-in ones loaded, in registration (= pipeline) order."""
-    from stepframe.pipeline import stage_items, stage_reports, stage_sets  # noqa: F401
+    from stepframe.pipeline import stage_ida, stage_items, stage_reports, stage_sets  # noqa: F401
 
     return REGISTRY

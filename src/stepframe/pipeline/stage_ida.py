@@ -1,0 +1,129 @@
+"""The IDA stage: incremental dynamic analysis of the workflow's frame under its records.
+
+Named in ``[outputs]`` as ``ida = true`` (with an optional ``[ida]`` table). Every component of
+the inventory is run by hunt-trace-fill (:func:`stepframe.structure.ida.ida_records`:
+intensities in g of PGA, scaled until overturning, refined between the last survival and the
+first overturning, probed above it for resurrection); the outputs are the per-record table
+(``ida.csv`` / ``ida.parquet``: first overturning, bracket, resurrections, runs, status) and
+the fractiles of the overturning intensity over the records (``ida_summary.json``). The key is
+the inventory's content keys, the frame and the stage's parameters, so new records, another
+frame or another resolution recompute it, and nothing else does.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+from stepframe.core.io import write_bytes, write_text
+
+# The other stages register first: registry order is pipeline order.
+from stepframe.pipeline import stage_items, stage_reports  # noqa: F401
+from stepframe.pipeline.stages import Context, Param, Stage, register_stage
+from stepframe.pipeline.store import make_key, write_output_table
+from stepframe.pipeline.tables import read_table, write_table
+
+IDA_VERSION = 1
+IDA_TABLE = "ida.csv"
+IDA_SUMMARY = "ida_summary.json"
+
+#: Column dictionary of the IDA table: name → (unit, meaning).
+IDA_COLUMNS: dict[str, tuple[str, str]] = {
+    "item": ("", "record file [component]"),
+    "first_overturning": (
+        "g",
+        "lowest PGA found to overturn the frame (empty: none up to the cap)",
+    ),
+    "last_survival_below": ("g", "highest PGA survived below the first overturning"),
+    "n_bands": ("", "separate overturning bands found (more than one: non-monotone)"),
+    "resurrected": ("", "survives some PGA above one that overturned it"),
+    "resurrections": ("g", "overturning -> surviving PGA pairs, ';'-separated"),
+    "n_runs": ("", "simulations run for this record"),
+    "status": ("", "how the trace ended (stepframe.core.results.STATUSES)"),
+    "message": ("", "details of the status"),
+}
+
+IDA_PARAMS: dict[str, Param] = {
+    "resolution_g": Param("float", 0.01, "width of every traced outcome change [g of PGA]"),
+    "max_intensity_g": Param("float", 10.0, "stop hunting here [g of PGA]"),
+    "tail_s": Param("float", 10.0, "free vibration after each record [s]"),
+}
+
+
+def _check(workflow: Any) -> None:
+    params = IDA_STAGE.parameters(workflow)
+    for name in IDA_PARAMS:
+        if not params[name] > 0:
+            raise workflow.lines.error(f"[ida] {name} = {params[name]}, expected > 0", "ida", name)
+    if workflow.records is None:
+        raise workflow.lines.error("ida without a [records] table, expected one", "outputs")
+
+
+def _key(context: Context) -> str:
+    params = IDA_STAGE.parameters(context.workflow)
+    params["frame"] = context.workflow.frame_source
+    return make_key("ida", IDA_VERSION, params, *map(str, context.tables["inventory"]["_key"]))
+
+
+def _run(context: Context, folder: Path) -> None:
+    import pandas as pd
+
+    from stepframe.records import read
+    from stepframe.structure.ida import IdaSettings, capacity_fractiles, ida_records, ida_table
+
+    params = IDA_STAGE.parameters(context.workflow)
+    records = context.workflow.records
+    options = dict(records.options) if records is not None else {}
+    base = stage_items.record_folder(context)
+    inventory = context.tables["inventory"]
+    names, motions = [], []
+    for file, group in inventory.groupby("file", sort=True):
+        stream = read(base / str(file), **options)
+        for index in group["channel_index"].astype(int):
+            trace = stream[index]
+            names.append(f"{file} [{trace.stats.channel}]")
+            motions.append((trace.data, float(trace.stats.delta)))
+    settings = IdaSettings(
+        resolution=params["resolution_g"], max_intensity=params["max_intensity_g"]
+    )
+    items = ida_records(context.workflow.frame, motions, settings=settings, tail_s=params["tail_s"])
+    table = ida_table(items, names)
+    table.attrs["column_dictionary"] = pd.DataFrame(
+        [(name, unit, meaning) for name, (unit, meaning) in IDA_COLUMNS.items()],
+        columns=["column", "unit", "meaning"],
+    )
+    write_table(table, folder / IDA_TABLE)
+    summary = {
+        "n_records": len(items),
+        "n_overturned": int(table["first_overturning"].notna().sum()),
+        "n_resurrected": int(table["resurrected"].sum()),
+        "n_runs": int(table["n_runs"].sum()),
+        "first_overturning_pga_g_fractiles": capacity_fractiles(items),
+        "parameters": params,
+    }
+    write_text(folder / IDA_SUMMARY, json.dumps(summary, indent=2, allow_nan=False) + "\n")
+
+
+def _publish(folder: Path, outputs: Path) -> list[Path]:
+    table = read_table(folder / IDA_TABLE)
+    summary = write_bytes(outputs / IDA_SUMMARY, (folder / IDA_SUMMARY).read_bytes())
+    return [summary, *write_output_table(table, outputs / "ida.parquet")]
+
+
+IDA_STAGE = register_stage(
+    Stage(
+        name="ida",
+        version=IDA_VERSION,
+        description="incremental dynamic analysis (hunt-trace-fill, resurrections) per record",
+        kind="set",
+        params=IDA_PARAMS,
+        upstream=lambda workflow: ("inventory",),
+        set_key=_key,
+        run_set=_run,
+        publish=_publish,
+        needs_records=True,
+        needs_frame=True,
+        check=_check,
+    )
+)
