@@ -8,6 +8,7 @@ nothing shown or saved); the caller saves it, e.g. through
 from __future__ import annotations
 
 import math
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -24,10 +25,38 @@ if TYPE_CHECKING:
     from stepframe.stochastic.model import GroundMotionModel
 
 
+#: 2π, to draw angular frequencies [rad/s] in Hz.
+TWO_PI = 2 * math.pi
+
+
+#: Share of the evolutionary spectrum's energy below the top of the fit figure's spectrum panel.
+ENERGY_SHARE = 0.99
+
+
+def energy_band_hz(spectrum: xr.DataArray, share: float = ENERGY_SHARE) -> float:
+    """The frequency [Hz] below which ``share`` of the evolutionary PSD's energy lies.
+
+    The energy of each frequency is summed over time; the result is the first grid frequency at
+    which the cumulative sum reaches ``share`` of the total (the grid's top when it is all zero).
+    """
+    omega = np.asarray(spectrum["omega"].values, dtype=np.float64)
+    power = np.nan_to_num(np.asarray(spectrum.transpose("time", "omega").values, dtype=np.float64))
+    energy = np.cumsum(np.maximum(power, 0.0).sum(axis=0))
+    if energy[-1] <= 0.0:
+        return float(omega[-1]) / TWO_PI
+    index = int(np.searchsorted(energy, share * energy[-1]))
+    return float(omega[min(index, omega.size - 1)]) / TWO_PI
+
+
 def fit_figure(
     trace: Trace, spectrum: xr.DataArray, features: RecordFeatures, fitted: FitResult
 ) -> Figure:
     """Record, I_g(t), and the evolutionary PSD with the measured and fitted ω_g(t).
+
+    The time origin t0 (the picked P onset, or the record start) and t0 + t_max are drawn on
+    every panel and named in the legend. The spectrum panel shows frequencies [Hz] up to where
+    99 % of the PSD's energy lies (and at least 1.25 f_p = 1.25 ω_p/2π, so the fitted path is
+    seen whole), in dB relative to its peak over a 40 dB range.
 
     Parameters
     ----------
@@ -42,36 +71,63 @@ def fit_figure(
     """
     from matplotlib.figure import Figure
 
+    model = fitted.model
     time = np.arange(trace.stats.npts) * trace.stats.delta
     figure = Figure(figsize=(8, 9), layout="constrained")
     axes = figure.subplots(3, 1, sharex=True)
     axes[0].plot(time, trace.data, lw=0.5, color="k")
     axes[0].set_ylabel("acceleration [m/s²]")
-    axes[0].set_title(f"{trace.stats.station} {trace.stats.channel}")
+    source = (trace.stats.get("stepframe") or {}).get("source_file")
+    name = f"{trace.stats.station} {trace.stats.channel}".strip()
+    if source:
+        name = f"{Path(str(source)).name} [{trace.stats.channel}], {trace.stats.station}"
+    axes[0].set_title(name)
     axes[1].plot(features.time_s, features.intensity, color="C0")
     axes[1].set_ylabel("I_g(t) [m/s²]")
-    for ax in axes[:2]:
-        ax.axvline(features.t0_s, color="0.5", ls=":", lw=1)
-        ax.axvline(features.t0_s + features.t_max_s, color="C3", ls="--", lw=1)
-    omega = spectrum["omega"].values
-    shown = omega <= min(float(omega.max()), 4 * fitted.model.omega_p_rad_s)
-    values = np.log10(np.maximum(spectrum.values[:, shown].T, 1e-30))
-    top = float(values.max())
-    mesh = axes[2].pcolormesh(
-        spectrum["time"].values, omega[shown], values, shading="auto", vmin=top - 4, vmax=top
+    t0 = features.t0_s
+    t0_label = (
+        f"P onset t0 = {t0:.3g} s" if features.t0_source == "p-pick" else f"t0 = {t0:.3g} s (start)"
     )
-    figure.colorbar(mesh, ax=axes[2], label="log10 S [(m/s²)²·s/rad]")
-    axes[2].plot(features.time_s, features.omega_g_rad_s, color="w", lw=1, label="ω_g measured")
+    t_max = t0 + features.t_max_s
+    t_max_label = f"t_max: t0 + {features.t_max_s:.3g} s"
+    for ax in axes:
+        # named once, in the top panel's legend; the same lines cross the panels below
+        first = ax is axes[0]
+        ax.axvline(t0, color="0.6", ls=":", lw=1.2, label=t0_label if first else None)
+        ax.axvline(t_max, color="C3", ls="--", lw=1.2, label=t_max_label if first else None)
+    for ax in axes[:2]:
+        ax.grid(True, lw=0.3)
+    axes[0].legend(loc="upper right", fontsize=8)
+    frequency = np.asarray(spectrum["omega"].values, dtype=np.float64) / TWO_PI
+    f_p = model.omega_p_rad_s / TWO_PI
+    top = min(float(frequency[-1]), max(1.1 * energy_band_hz(spectrum), 1.25 * f_p))
+    power = np.asarray(spectrum.transpose("time", "omega").values, dtype=np.float64).T
+    db = 10 * np.log10(np.maximum(power / max(float(np.nanmax(power)), 1e-300), 1e-6))
+    mesh = axes[2].pcolormesh(
+        spectrum["time"].values, frequency, db, shading="auto", cmap="magma", vmin=-40, vmax=0
+    )
+    figure.colorbar(mesh, ax=axes[2], label="S(ω, t) [dB re peak]")
+    strong = features.strong_motion()
+    measured = features.omega_g_rad_s / TWO_PI
+    axes[2].plot(features.time_s, np.where(strong, np.nan, measured), color="0.7", lw=0.8)
     axes[2].plot(
         features.time_s,
-        fitted.model.omega_g(features.time_s),
-        color="C1",
-        lw=2,
-        label="ω_g fitted (eq. 6.10)",
+        np.where(strong, measured, np.nan),
+        color="#7ee787",
+        lw=1.2,
+        label="ω_g/2π measured (strong motion; grey outside)",
     )
-    axes[2].set_ylabel("ω [rad/s]")
+    axes[2].plot(
+        features.time_s,
+        model.omega_g(features.time_s) / TWO_PI,
+        color="#58a6ff",
+        lw=2,
+        label=f"ω_g/2π fitted (eq. 6.10), f_p = {f_p:.3g} Hz",
+    )
+    axes[2].set_ylim(0.0, top)
+    axes[2].set_ylabel("frequency [Hz]")
     axes[2].set_xlabel("time from record start [s]")
-    axes[2].legend(loc="upper right")
+    axes[2].legend(loc="upper right", fontsize=8, framealpha=0.85)
     return figure
 
 
@@ -156,10 +212,6 @@ def amplification_figure(
     ax.grid(True, which="both", lw=0.3)
     ax.legend(fontsize=8)
     return figure
-
-
-#: 2π, to draw angular frequencies [rad/s] in Hz.
-TWO_PI = 2 * math.pi
 
 
 def mark_site_frequencies(ax: Axes, model: GroundMotionModel, *, axis: str = "x") -> None:
@@ -355,7 +407,9 @@ def response_amplification_figure(
 
 
 __all__ = [
+    "ENERGY_SHARE",
     "amplification_figure",
+    "energy_band_hz",
     "fit_figure",
     "mark_site_frequencies",
     "omega_path_figure",

@@ -12,6 +12,7 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -69,19 +70,40 @@ def cobweb_figure(
     return figure
 
 
-def response_figure(result: SimulationResult, frame: PortalFrame, *, title: str) -> Figure:
+def response_figure(
+    result: SimulationResult,
+    frame: PortalFrame,
+    *,
+    title: str,
+    ground_acc_m_s2: ArrayLike | None = None,
+    dt_s: float | None = None,
+    scale: float = 1.0,
+) -> Figure:
     """x(t) with the stepped samples highlighted, ±x_c and ±x* marked, and any overturning.
+
+    With the ground motion, a top panel draws the scaled ground acceleration [g] on the same time
+    axis, with the frame's static uplift acceleration ±ω₁² x_c / P₁ marked. The legend sits below
+    the axes, where it hides no line.
 
     Parameters
     ----------
     result
         A simulation run with ``record_history=True``.
     frame
-        The frame simulated (for x_c [m] and x* [m]).
+        The frame simulated (for x_c [m], x* [m] and the uplift acceleration [m/s²]).
     title
         The figure title (the record and its scale).
+    ground_acc_m_s2
+        The record as given to the simulator [m/s²], unscaled; None: no ground-motion panel.
+    dt_s
+        Its sampling interval [s] (default the simulation's, ``result.dt_s``).
+    scale
+        The factor the simulation applied to the record [-]; the panel draws
+        ``scale · ground_acc_m_s2`` in g.
     """
     from matplotlib.figure import Figure
+
+    from stepframe.records.units import STANDARD_GRAVITY_M_S2
 
     history = result.history
     if history is None:
@@ -89,19 +111,53 @@ def response_figure(result: SimulationResult, frame: PortalFrame, *, title: str)
     time_s = history["time"].to_numpy()
     x_m = history["x"].to_numpy()
     stepped = history["phase"].to_numpy() != 0
-    figure = Figure(figsize=(9, 4), layout="tight")
-    ax = figure.add_subplot()
+    if ground_acc_m_s2 is None:
+        figure = Figure(figsize=(9, 4.6), layout="constrained")
+        ax = figure.add_subplot()
+        axes = [ax]
+    else:
+        figure = Figure(figsize=(9, 6.2), layout="constrained")
+        ground_ax, ax = figure.subplots(2, 1, sharex=True, height_ratios=(1, 2))
+        axes = [ground_ax, ax]
+        step = result.dt_s if dt_s is None else float(dt_s)
+        acc_g = float(scale) * np.asarray(ground_acc_m_s2, dtype=float) / STANDARD_GRAVITY_M_S2
+        ground_ax.plot(
+            np.arange(acc_g.size) * step,
+            acc_g,
+            lw=0.6,
+            color="0.2",
+            label=f"ground acceleration × {scale:g}",
+        )
+        uplift_g = frame.uplift_acceleration_m_s2 / STANDARD_GRAVITY_M_S2
+        ground_ax.axhline(
+            uplift_g, ls=":", color="tab:orange", lw=0.9, label=f"±uplift {uplift_g:.3g} g"
+        )
+        ground_ax.axhline(-uplift_g, ls=":", color="tab:orange", lw=0.9)
+        ground_ax.set_ylabel("ground acc. [g]")
+        ground_ax.set_title(title)
+        ground_ax.grid(True, lw=0.3)
     ax.plot(time_s, x_m, lw=0.7, color="0.3", label="x (unstepped)")
-    ax.plot(time_s, np.where(stepped, x_m, np.nan), lw=1.4, color="tab:red", label="stepped")
-    for level, style, name in ((frame.x_c_m, ":", "±x_c"), (frame.x_star_m, "--", "±x*")):
-        ax.axhline(level, ls=style, color="tab:blue", lw=0.8, label=name)
+    ax.plot(time_s, np.where(stepped, x_m, np.nan), lw=1.4, color="tab:red", label="x (stepped)")
+    for level, style, name in ((frame.x_c_m, ":", "±x_c (uplift)"), (frame.x_star_m, "--", "±x*")):
+        ax.axhline(level, ls=style, color="tab:blue", lw=0.8, label=f"{name} = {level:.3g} m")
         ax.axhline(-level, ls=style, color="tab:blue", lw=0.8)
     if result.summary.overturned and result.summary.overturn_time_s is not None:
-        ax.axvline(result.summary.overturn_time_s, color="k", lw=0.8, label="overturned")
+        for each in axes:
+            each.axvline(result.summary.overturn_time_s, color="k", lw=0.8)
+        ax.lines[-1].set_label(f"overturned at {result.summary.overturn_time_s:.3g} s")
     ax.set_xlabel("time [s]")
     ax.set_ylabel("x [m]")
-    ax.set_title(title)
-    ax.legend(loc="upper right", fontsize="small")
+    ax.grid(True, lw=0.3)
+    if ground_acc_m_s2 is None:
+        ax.set_title(title)
+    # Below the axes: inside, the legend would hide a ±x_c or ±x* line (they span the full width).
+    handles, labels = [], []
+    for each in axes:
+        for handle, label in zip(*each.get_legend_handles_labels(), strict=True):
+            if label not in labels:
+                handles.append(handle)
+                labels.append(label)
+    figure.legend(handles, labels, loc="outside lower center", ncol=4, fontsize="small")
     return figure
 
 
