@@ -2,9 +2,12 @@
 
 The examples name files that ship with the project (tests/data: the RSN 8883 pair, the format
 files with their .gz names, ``acc.txt``, the CE.68150 MiniSEED and StationXML); the test runs
-them in a folder holding those files under their names, ``records/`` (the RSN 8883 pair), and the
-parameter files the docs tell a user to make first (``stepframe structure frame-template >
-FRAME.toml``, ``structure design --template > pier.toml``). Each must exit 0.
+them in a folder holding those files under their names, ``records/`` (the RSN 8883 pair), the
+repository's ``workflows/`` folder (without its cache), and what the docs tell a user to make
+first: the parameter files (``stepframe structure frame-template > FRAME.toml``, ``structure
+design --template > pier.toml``), ``meta.csv`` (written as docs/selection.md shows), record files
+in ``workflows/inbox/`` (docs/workflows.md) and ``stepframe-demo/``, the selection output folder
+of ``stepframe demo`` (docs/reports.md). Each must exit 0.
 """
 
 from __future__ import annotations
@@ -83,6 +86,16 @@ def workspace(tmp_path_factory: pytest.TempPathFactory) -> Path:
     (folder / "records").mkdir()
     for path in (DATA / "peer_nga_west2").glob("*.AT2"):
         shutil.copy(path, folder / "records" / path.name)
+    workflows = folder / "workflows"
+    shutil.copytree(ROOT / "workflows", workflows, ignore=shutil.ignore_patterns("stepframe-work"))
+    for path in (folder / "records").glob("*.AT2"):  # record files arrive in the inbox
+        shutil.copy(path, workflows / "inbox" / path.name)
+    selection_md = (ROOT / "docs" / "selection.md").read_text()
+    meta = re.search(r"cat > meta\.csv <<'EOF'\n(.*?)^EOF$", selection_md, re.S | re.M)
+    assert meta, "docs/selection.md writes meta.csv"
+    (folder / "meta.csv").write_text(meta.group(1))
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+        assert main(["demo", "-o", str(folder / "stepframe-demo")]) == 0  # stepframe demo
     return folder
 
 

@@ -24,12 +24,13 @@ AMPLIFICATION_EXAMPLES = """\
       --xi-r 0.655 --t-max-s 5 --t-dur-s 20 --alpha-at-tmax paper \\
       --frame frame.toml --delta-star-m 0.25 -o paper_site.html
   # a site from a folder of its records (every component fitted, usable fits combined)
-  stepframe report amplification --records site_records/ --site-name "Station X" -o x.html
+  stepframe report amplification --records records/ --t0 p-pick --site-name "RSN 8883" -o x.html
 """
 
 SELECTION_EXAMPLES = """\
-  stepframe report selection selection_out/            writes selection_out/selection_report.html
-  stepframe report selection selection_out/ -o sel.html --json
+  # the output folder of stepframe select, or stepframe-demo/ once stepframe demo has run
+  stepframe report selection stepframe-demo/           writes stepframe-demo/selection_report.html
+  stepframe report selection stepframe-demo/ -o sel.html --json
 """
 
 SITE_OPTIONS = ("fp_hz", "fs_hz", "fr_hz", "xi_p", "xi_r", "t_max_s", "t_dur_s")

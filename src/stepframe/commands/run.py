@@ -21,7 +21,8 @@ EXAMPLES = """\
   stepframe run --template > my-scene.toml          a commented workflow to edit
   stepframe run workflows/site-amplification.toml   the paper's site: model and amplification
   stepframe run workflows/selection.toml --dry-run  what would be computed, and what is cached
-  stepframe run workflows/inbox.toml --wait --json  a scheduled run (waits for a running one)
+  stepframe run workflows/inbox.toml --wait --json  a scheduled run over the record files put in
+                                                    workflows/inbox/ (waits for a running one)
   stepframe run workflows/selection.toml --scheduler dask-local --jobs 2
 """
 

@@ -18,9 +18,11 @@ from stepframe.commands import (
 EXAMPLES = """\
   stepframe structure frame-template > FRAME.toml
   stepframe select --frame FRAME.toml --example fema-p695 -n 10 --confirm -o picks
-  stepframe select --frame FRAME.toml records/ -n 7 --magnitude-min 6.5 --scale psa-at-t1 -o picks
-  stepframe select --frame FRAME.toml records/ -n 7 --target-s-ds-g 1.0 --target-s-d1-g 0.6 \\
-      --scale target-mse --spectral-weight 0.5 -o picks --json
+  stepframe select --frame FRAME.toml --example fema-p695 -n 7 --magnitude-min 6.5 \\
+      --scale psa-at-t1 -o picks
+  stepframe select --frame FRAME.toml --example fema-p695 -n 7 --target-s-ds-g 1.0 \\
+      --target-s-d1-g 0.6 --scale target-mse --spectral-weight 0.5 -o picks --json
+  # from a folder of record files: DIR instead of --example, with --metadata CSV for the filters
 """
 
 #: Command-line option → SelectionOptions field, for the options that map one to one.
