@@ -111,14 +111,21 @@ def run_spectrum(args: argparse.Namespace) -> CommandResult:
         from stepframe.pipeline.figures import check_figure_path
 
         check_figure_path(args.plot)
-    traces = [
-        trace for path in record_paths(args.paths, args) for trace in read_record_file(path, args)
-    ]
+    sources: list[str] = []
+    traces = []
+    for path in record_paths(args.paths, args):
+        for trace in read_record_file(path, args):
+            sources.append(path if path is not None else "example")
+            traces.append(trace)
     data = record_spectra(traces, args.periods_s, args.damping)
     if args.plot:
         from stepframe.pipeline.figures import save_figure
 
-        save_figure(spectra_figure(data), args.plot)
+        names = [
+            Path(str(t.stats.get("stepframe", {}).get("source_file") or path)).name
+            for path, t in zip(sources, traces, strict=True)
+        ]
+        save_figure(spectra_figure(data, record=names), args.plot)
     return CommandResult(data=data, text=spectra_text(data))
 
 

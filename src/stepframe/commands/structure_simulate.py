@@ -120,7 +120,10 @@ def run_simulate(args: argparse.Namespace) -> CommandResult:
         from stepframe.structure.plots import response_figure
 
         title = f"{os.path.basename(name)} × {args.scale:g}"
-        save_figure(response_figure(response.result, frame, title=title), args.plot)
+        figure = response_figure(
+            response.result, frame, title=title, ground_acc_m_s2=trace.data, scale=scale
+        )
+        save_figure(figure, args.plot)
         data["plot"] = args.plot
         text += f"\nplot written to {args.plot}"
     return CommandResult(data=data, text=text)

@@ -131,8 +131,11 @@ def record_spectra(
     return data
 
 
-def spectra_figure(data: Mapping[str, Any]) -> Figure:
-    """The PSA of each component (and RotD50/RotD100) of :func:`record_spectra`'s result."""
+def spectra_figure(data: Mapping[str, Any], record: str | Sequence[str] | None = None) -> Figure:
+    """The PSA of each component (and RotD50/RotD100) of :func:`record_spectra`'s result.
+
+    ``record`` names the record in the title: one file name, or one per component.
+    """
     from stepframe.records.plots import response_spectra_figure
 
     combined = {
@@ -144,6 +147,7 @@ def spectra_figure(data: Mapping[str, Any]) -> Figure:
         data["period_s"],
         {c["component"]: c["psa_g"] for c in data["components"]},
         damping=data["damping"],
+        record=record,
         combined_g=combined,
     )
 
