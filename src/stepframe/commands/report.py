@@ -24,7 +24,7 @@ AMPLIFICATION_EXAMPLES = """\
       --xi-r 0.655 --t-max-s 5 --t-dur-s 20 --alpha-at-tmax paper \\
       --frame frame.toml --delta-star-m 0.25 -o paper_site.html
   # a site from a folder of its records (every component fitted, usable fits combined)
-  stepframe report amplification --records records/ --t0 p-pick --site-name "RSN 8883" -o x.html
+  stepframe report amplification --records records/ --site-name "RSN 8883" -o x.html
 """
 
 SELECTION_EXAMPLES = """\
@@ -61,9 +61,10 @@ def register(subparsers: Any) -> None:
     site.add_argument("--records", metavar="DIR", help="a folder of the site's record files")
     site.add_argument(
         "--t0",
-        choices=("start", "p-pick"),
-        default="start",
-        help="with --records: time origin, record start (default) or picked P onset",
+        choices=("auto", "start", "p-pick"),
+        default="auto",
+        help="with --records: time origin, the picked P onset when reliable, else the record "
+        "start (auto, the default), or one of them",
     )
     site.add_argument("--format", metavar="NAME", help="with --records: file format if not sniffed")
     site.add_argument(

@@ -128,7 +128,12 @@ FEATURE_PARAMS: dict[str, Param] = {
         "how ω_g(t) is measured",
         ("zero-crossing", "ridge", "moment", "wavelet-ridge"),
     ),
-    "t0": Param("str", "start", "time origin: record start or picked P onset", ("start", "p-pick")),
+    "t0": Param(
+        "str",
+        "auto",
+        "time origin: picked P onset when reliable, else record start (auto), or one of them",
+        ("auto", "start", "p-pick"),
+    ),
     "window_s": Param("float", 2.0, "analysis window of the spectra [s]"),
     "fft": Param("str", "scipy", "FFT backend", ("scipy", "pyfftw")),
     "omega_max_rad_s": Param(

@@ -70,7 +70,8 @@ class AmplificationOptions:
         The frame's quasi-dynamic design displacement δ* [m] (None: no adjusted displacement;
         the band then ends at :data:`DEFAULT_A_MAX_FRACTION` · x*).
     t0
-        The time origin used by the fits (``"start"`` or ``"p-pick"``), stated in the report.
+        The time origin used by the fits (``"auto"``, ``"start"`` or ``"p-pick"``), stated
+        in the report.
     """
 
     site_name: str = "site"
@@ -80,7 +81,7 @@ class AmplificationOptions:
     n_steps: int = 2000
     peak_intensity_m_s2: float | None = None
     delta_star_m: float | None = None
-    t0: str = "start"
+    t0: str = "auto"
 
 
 def _hz(omega: float) -> float:

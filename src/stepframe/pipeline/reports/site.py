@@ -87,7 +87,7 @@ def site_from_records(
     folder: str | PathLike[str],
     *,
     alpha_reading: AlphaReading = "eq-6-11",
-    t0: str = "start",
+    t0: str = "auto",
     record_format: str | None = None,
     units: str | None = None,
 ) -> SiteFromRecords:
@@ -100,7 +100,8 @@ def site_from_records(
     alpha_reading
         Where the α_g ramp ends (``"eq-6-11"``: t_dur; ``"paper"``: t_max).
     t0
-        Time origin: ``"start"`` (record start) or ``"p-pick"`` (picked P onset).
+        Time origin: ``"auto"`` (the picked P onset when reliable, else the record start),
+        ``"start"`` or ``"p-pick"``.
     record_format, units
         Passed to :func:`stepframe.records.read` when the files do not say.
 
