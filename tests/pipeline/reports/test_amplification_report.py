@@ -69,7 +69,7 @@ def test_adjusted_design_displacement(amplification_html: Path) -> None:
 
 
 def test_site_from_records_combines_usable_fits(site_records: Path) -> None:
-    site = site_from_records(site_records, units="m/s2")
+    site = site_from_records(site_records, units="m/s2", t0="start")
     used = [f for f in site.fits if f.usable]
     assert len(site.fits) == 3 and len(used) == 2  # Nishi-Akashi: ω_p at its bound
     for key in COMBINED:
@@ -136,9 +136,11 @@ def test_cli_paper_site(
 def test_cli_site_with_no_usable_record(
     tmp_path: Path, rsn8883_records: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    # RSN 8883's two components both fit with ω_p at its bound: no usable path
+    # From the record start, RSN 8883's two components both fit with ω_p at its bound (pre-event
+    # noise): no usable path. (With the default t0 = auto, their P picks make both usable.)
     out = tmp_path / "r.html"
-    code = main(["report", "amplification", "--records", str(rsn8883_records), "-o", str(out)])
+    args = ["--records", str(rsn8883_records), "--t0", "start", "-o", str(out)]
+    code = main(["report", "amplification", *args])
     captured = capsys.readouterr()
     assert code == 2
     assert captured.out == ""
