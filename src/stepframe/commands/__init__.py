@@ -154,6 +154,20 @@ def add_record_options(parser: argparse.ArgumentParser) -> None:
     group.add_argument(
         "--component", action=Once, metavar="NAME", help="which channel of a multi-channel file"
     )
+    group.add_argument(
+        "--max-abs-g",
+        action=Once,
+        type=positive_float,
+        metavar="G",
+        help="refuse a record whose peak exceeds G [g] (default 100: wrong units or damage)",
+    )
+    group.add_argument(
+        "--max-file-mb",
+        action=Once,
+        type=positive_float,
+        metavar="MB",
+        help="refuse a record file larger than MB [MiB] (default 256)",
+    )
 
 
 def add_t0_option(parser: argparse.ArgumentParser | argparse._ArgumentGroup, help: str) -> None:
@@ -208,13 +222,21 @@ def record_paths(paths: list[str], args: argparse.Namespace) -> list[str | None]
 
 def record_options(args: argparse.Namespace) -> dict[str, Any]:
     """The record options in ``args`` as keyword arguments of :func:`stepframe.records.read`."""
-    return {
+    options: dict[str, Any] = {
         "format": args.format,
         "units": args.units,
         "dt": args.dt_s,
         "inventory": args.inventory,
         "component": args.component,
     }
+    # The read limits only when given: read(max_abs_g=None) would turn the peak check off.
+    max_abs_g = getattr(args, "max_abs_g", None)
+    if max_abs_g is not None:
+        options["max_abs_g"] = float(max_abs_g)
+    max_file_mb = getattr(args, "max_file_mb", None)
+    if max_file_mb is not None:
+        options["max_bytes"] = max(1, int(max_file_mb * 1024**2))
+    return options
 
 
 def _finite_float(text: str, accept: Callable[[float], bool], refused: str, expected: str) -> float:

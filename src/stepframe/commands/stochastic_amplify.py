@@ -4,7 +4,9 @@ The site is given by its Beck-Papadimitriou parameters or estimated from a recor
 by its small-amplitude frequency (tracking ω(t) = ω_0·ω_g(t)/ω_p) or by a frame file (ω(t) =
 2π/T(A) from the frame's period-amplitude law, A = √2·σ_x). Prints the paper's spectral ratio
 (eq. 6.18) and its two approximations (eq. 6.19) next to the response amplification computed by
-the exact covariance method (optionally confirmed by Monte Carlo). The work is done by
+the exact covariance method (optionally confirmed by Monte Carlo). Without ``--t-max-s`` and
+``--t-dur-s`` under ``--alpha-at-tmax paper`` only eqs. 6.18-6.19 are computed (they do not
+depend on the envelope's times; the response amplification does). The work is done by
 :mod:`stepframe.pipeline.amplification`; heavy imports happen in :func:`run_amplify`.
 """
 
@@ -32,7 +34,10 @@ EXAMPLES = """\
   # the paper's site (eq. 6.19: 5.67) and an oscillator at 3.12 Hz
   stepframe stochastic amplify --fp-hz 7.43 --fs-hz 3.12 --fr-hz 1.11 --xi-p 0.096 \\
       --xi-r 0.655 --t-max-s 5 --t-dur-s 20 --f0-hz 3.12 --alpha-at-tmax paper
-  # the same, confirmed by 500 Monte Carlo motions, with the figure over 0.1-10 Hz
+  # eqs. 6.18-6.19 alone: with the paper's α_g(t_max) = ω_r ξ_r they need no envelope times
+  stepframe stochastic amplify --fp-hz 7.43 --fs-hz 3.12 --fr-hz 1.11 --xi-p 0.096 \\
+      --xi-r 0.655 --f0-hz 3.12 --alpha-at-tmax paper
+  # with the envelope, confirmed by 500 Monte Carlo motions, the figure over 0.1-10 Hz
   stepframe stochastic amplify --fp-hz 7.43 --fs-hz 3.12 --fr-hz 1.11 --xi-p 0.096 \\
       --xi-r 0.655 --t-max-s 5 --t-dur-s 20 --f0-hz 2 --monte-carlo 500 --seed 1 --plot a.png
   # parameters estimated from a record, a frame file for ω(t) = 2π/T(A), JSON output
@@ -51,7 +56,9 @@ def register(subparsers: Subparsers) -> None:
         description=(
             "Spectral ratio of eq. 6.18 at f0, eq. 6.19's first and last approximations, and the "
             "response amplification (peak RMS with the moving frequency over the fixed "
-            "oscillator and over the stationary RMS) by the exact covariance method."
+            "oscillator and over the stationary RMS) by the exact covariance method. With "
+            "--alpha-at-tmax paper, eqs. 6.18-6.19 need no envelope times: without --t-max-s "
+            "and --t-dur-s only they are computed (the response amplification is then null)."
         ),
         examples=EXAMPLES,
         run=run_amplify,
@@ -67,8 +74,19 @@ def register(subparsers: Subparsers) -> None:
     site.add_argument("--fr-hz", type=positive_float, metavar="F", help="surface-wave f_r [Hz]")
     site.add_argument("--xi-p", type=positive_float, metavar="X", help="bandwidth ratio ξ_p")
     site.add_argument("--xi-r", type=positive_float, metavar="X", help="bandwidth ratio ξ_r")
-    site.add_argument("--t-max-s", type=positive_float, metavar="T", help="time of peak I_g [s]")
-    site.add_argument("--t-dur-s", type=positive_float, metavar="T", help="strong duration [s]")
+    site.add_argument(
+        "--t-max-s",
+        type=positive_float,
+        metavar="T",
+        help="time of peak I_g [s] (`stochastic fit` prints t_max_s; the paper's site: 5); "
+        "not needed for eqs. 6.18-6.19 alone with --alpha-at-tmax paper",
+    )
+    site.add_argument(
+        "--t-dur-s",
+        type=positive_float,
+        metavar="T",
+        help="strong duration [s] (`stochastic fit` prints t_dur_s; the paper's site: 20)",
+    )
     site.add_argument(
         "--record", action=Once, metavar="FILE", help="estimate the site from this record (one)"
     )
@@ -142,6 +160,8 @@ def run_amplify(args: argparse.Namespace) -> CommandResult:
             stream[0], t0=args.t0, alpha_reading=args.alpha_at_tmax,
             name=f"example {args.example} {args.component}",
         )  # fmt: skip
+    elif _envelope_free(args):
+        return _run_envelope_free(args)
     else:
         site = site_from_options(
             {name: getattr(args, name) for name in SITE_PARAMETERS},
@@ -184,3 +204,53 @@ def run_amplify(args: argparse.Namespace) -> CommandResult:
         save_figure(figure, args.plot, dpi=110)
         data["plot"] = args.plot
     return CommandResult(data=data, text=result.describe())
+
+
+#: The site parameters that are the envelope's times.
+_TIMES = ("t_max_s", "t_dur_s")
+
+
+def _envelope_free(args: argparse.Namespace) -> bool:
+    """Whether the site is given by its parameters without both envelope times (none given).
+
+    Under the paper's reading that is the envelope-free route; under eq. 6.11's it is an
+    error saying why (α_g(t_max) then depends on t_max/t_dur) and what to give.
+    """
+    from stepframe.pipeline.site import SITE_PARAMETERS
+
+    if args.record is not None or any(getattr(args, name) is not None for name in _TIMES):
+        return False
+    if not all(getattr(args, name) is not None for name in SITE_PARAMETERS if name not in _TIMES):
+        return False  # site_from_options names the first one missing
+    if args.alpha_at_tmax != "paper":
+        raise InputError(
+            f"no --t-max-s and --t-dur-s with --alpha-at-tmax {args.alpha_at_tmax}, expected "
+            "both (eq. 6.18's α_g(t_max) then depends on t_max/t_dur; `stepframe stochastic "
+            "fit` prints t_max_s and t_dur_s of a record of the site, the paper's site has 5 "
+            "and 20 s), or --alpha-at-tmax paper for eqs. 6.18-6.19 alone"
+        )
+    for option, given in (("--monte-carlo", args.monte_carlo), ("--plot", args.plot)):
+        if given:
+            raise InputError(
+                f"{option} without --t-max-s and --t-dur-s, expected both times (the response "
+                "amplification needs the envelope; `stepframe stochastic fit` prints t_max_s and "
+                "t_dur_s of a record of the site, the paper's site has 5 and 20 s)"
+            )
+    return True
+
+
+def _run_envelope_free(args: argparse.Namespace) -> CommandResult:
+    """Eqs. 6.18-6.19 without the envelope: the response amplification keys are null."""
+    from stepframe.pipeline import amplification as stage
+
+    if args.frame is not None:
+        from stepframe.structure.frame_file import read_frame_file
+
+        oscillator = stage.frame_oscillator(read_frame_file(args.frame), args.xi0, args.frame)
+    else:
+        oscillator = stage.tracking_oscillator(args.f0_hz, args.xi0)
+    result = stage.spectral_ratios(
+        args.fp_hz, args.fs_hz, args.fr_hz, args.xi_p, args.xi_r, oscillator,
+        peak_intensity_m_s2=args.peak_intensity_m_s2,
+    )  # fmt: skip
+    return CommandResult(data=result.to_dict(), text=result.describe())

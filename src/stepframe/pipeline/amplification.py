@@ -5,14 +5,17 @@ ground, ω_0·ω_g(t)/ω_p), and a stepping frame (ω(t) = 2π/T(A) from the fra
 law, A = √2·σ_x). :func:`amplify` reports the paper's spectral ratio (eq. 6.18) and its two
 approximations (eq. 6.19) next to the response amplification computed by the exact covariance
 method (optionally confirmed by Monte Carlo): two kinds of amplification, each named for what it
-is (DESIGN.md). :func:`amplification_curve` gives both over a range of f0 as an
-``xarray.Dataset``, stored and read back with :func:`write_curve` and :func:`read_curve`.
+is (DESIGN.md). :func:`spectral_ratios` gives the first kind alone for a site known without its
+envelope times: under the paper's reading (α_g(t_max) = ω_r ξ_r) neither eq. 6.18 nor eq. 6.19
+depends on t_max or t_dur; the response amplification does. :func:`amplification_curve` gives
+both over a range of f0 as an ``xarray.Dataset``, stored and read back with :func:`write_curve`
+and :func:`read_curve`.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -254,6 +257,116 @@ def amplify(
     )
 
 
+#: Why an envelope-free result has no response amplification, and how to get one.
+NO_ENVELOPE_MESSAGE = (
+    "response amplification not computed: it needs the envelope's times, expected --t-max-s "
+    "and --t-dur-s (`stepframe stochastic fit` prints t_max_s and t_dur_s of a record of the "
+    "site; the paper's site has 5 and 20 s) or the site from --record FILE"
+)
+
+#: The keys of :meth:`AmplificationResult.to_dict` that need the envelope (None without it).
+ENVELOPE_KEYS = (
+    "response_amplification_vs_fixed",
+    "response_amplification_vs_stationary",
+    "peak_rms_moving_m",
+    "peak_rms_fixed_m",
+    "stationary_rms_m",
+    "method",
+    "duration_s",
+    "n_steps",
+)
+
+
+@dataclass(frozen=True)
+class SpectralRatios:
+    """Eq. 6.18's spectral ratio and eq. 6.19's approximations of a site without its envelope.
+
+    What :func:`spectral_ratios` returns. :meth:`to_dict` has the keys of
+    :meth:`AmplificationResult.to_dict` in the same order, :data:`ENVELOPE_KEYS` None, the
+    model's ``t_max_s`` and ``t_dur_s`` None, and ``message`` saying how to get the rest.
+    """
+
+    spectral_ratio_eq_6_18: float
+    approx_eq_6_19_first: float
+    approx_eq_6_19_last: float
+    omega_path: str
+    alpha_reading: str
+    f0_hz: float
+    xi0: float
+    peak_intensity_m_s2: float
+    inputs: dict[str, Any]
+    message: str = NO_ENVELOPE_MESSAGE
+    status: Status = "ok"
+
+    def describe(self) -> str:
+        """The result as text, one quantity a line (what ``stochastic amplify`` prints)."""
+        return _describe(self.to_dict())
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready form, shaped as :meth:`AmplificationResult.to_dict`."""
+        out: dict[str, Any] = {}
+        for item in fields(AmplificationResult):
+            if item.name != "monte_carlo":
+                out[item.name] = None if item.name in ENVELOPE_KEYS else getattr(self, item.name)
+        out["lower_bound"] = False
+        return out
+
+
+def spectral_ratios(
+    fp_hz: float,
+    fs_hz: float,
+    fr_hz: float,
+    xi_p: float,
+    xi_r: float,
+    oscillator: Oscillator,
+    *,
+    peak_intensity_m_s2: float | None = None,
+) -> SpectralRatios:
+    """Eqs. 6.18-6.19 for a site known without its envelope times, the paper's reading.
+
+    With α_g(t_max) = ω_r ξ_r (``alpha_reading="paper"``) eq. 6.18 and both approximations of
+    eq. 6.19 depend on the dominant frequencies and bandwidth ratios only; the values are those
+    :func:`amplify` gives for the same site with any t_max ≤ t_dur.
+
+    Parameters
+    ----------
+    fp_hz, fs_hz, fr_hz
+        Dominant frequencies of the P, S and surface waves [Hz].
+    xi_p, xi_r
+        Bandwidth ratios.
+    oscillator
+        :func:`tracking_oscillator` or :func:`frame_oscillator` (eq. 6.18 at its f0).
+    peak_intensity_m_s2
+        max I_g [m/s²] (default 1), reported times the participation; nothing depends on it.
+    """
+    from stepframe.stochastic.amplification import (
+        approx_eq_6_19_first,
+        approx_eq_6_19_last,
+        spectral_ratio_eq_6_18,
+    )
+    from stepframe.stochastic.model import GroundMotionModel
+
+    # The times are placeholders (validated as 0 < t_max ≤ t_dur): under the paper's reading
+    # α_g(t0 + t_max) = ω_r ξ_r whatever they are, and eq. 6.19 does not use them.
+    model = GroundMotionModel.from_hz(
+        fp_hz, fs_hz, fr_hz, xi_p, xi_r, t_max_s=1.0, t_dur_s=1.0, alpha_reading="paper"
+    )
+    described = model.to_dict() | {"t_max_s": None, "t_dur_s": None}
+    omega_0 = 2 * math.pi * oscillator.f0_hz
+    base = 1.0 if peak_intensity_m_s2 is None else peak_intensity_m_s2
+    return SpectralRatios(
+        spectral_ratio_eq_6_18=float(spectral_ratio_eq_6_18(model, omega_0)),
+        approx_eq_6_19_first=approx_eq_6_19_first(model),
+        approx_eq_6_19_last=approx_eq_6_19_last(model),
+        omega_path="frame" if oscillator.frame_law is not None else "tracking",
+        alpha_reading=model.alpha_reading,
+        f0_hz=oscillator.f0_hz,
+        xi0=oscillator.xi0,
+        peak_intensity_m_s2=base * oscillator.participation,
+        inputs={"ground_motion_model": described, "site": "parameters", **oscillator.inputs},
+    )
+
+
 def _describe(data: dict[str, Any]) -> str:
     """The result as text, one quantity a line."""
     lines = [
@@ -262,6 +375,13 @@ def _describe(data: dict[str, Any]) -> str:
         f"  spectral ratio eq. 6.18 at f0          {data['spectral_ratio_eq_6_18']:.4g}",
         f"  eq. 6.19 first approximation           {data['approx_eq_6_19_first']:.4g}",
         f"  eq. 6.19 last approximation (ωp/ωs)²   {data['approx_eq_6_19_last']:.4g}",
+    ]
+    if data["response_amplification_vs_fixed"] is None:
+        import textwrap
+
+        lines += textwrap.wrap(data["message"], 96, initial_indent="  ", subsequent_indent="    ")
+        return "\n".join(lines)
+    lines += [
         f"  response amplification vs fixed       {data['response_amplification_vs_fixed']:.4g}",
         "  response amplification vs stationary  "
         f"{data['response_amplification_vs_stationary']:.4g}",
@@ -365,13 +485,17 @@ def read_curve(path: str | PathLike[str]) -> xr.Dataset:
 __all__ = [
     "CURVE_VARIABLES",
     "DEFAULT_XI0",
+    "ENVELOPE_KEYS",
+    "NO_ENVELOPE_MESSAGE",
     "AmplificationResult",
     "MonteCarloCheck",
     "Oscillator",
+    "SpectralRatios",
     "amplification_curve",
     "amplify",
     "frame_oscillator",
     "read_curve",
+    "spectral_ratios",
     "tracking_oscillator",
     "write_curve",
 ]

@@ -38,7 +38,11 @@ from stepframe.records.formats import (
     registered_formats,
 )
 from stepframe.records.formats._header import MAX_DT_S, MIN_DT_S
-from stepframe.records.units import STANDARD_GRAVITY_M_S2, normalize_units
+from stepframe.records.units import (
+    ACCELERATION_UNITS_TO_M_S2,
+    STANDARD_GRAVITY_M_S2,
+    normalize_units,
+)
 
 _GZIP_MAGIC = b"\x1f\x8b"
 
@@ -51,6 +55,15 @@ MAX_RECORD_BYTES = 256 * 1024**2
 #: 2008); a sample beyond this is a damaged file or wrong units. ``read(..., max_abs_g=None)``
 #: turns the check off.
 MAX_ABS_G = 100.0
+
+#: How a size refusal says to raise the limit (command line, then Python).
+_RAISE_SIZE = "raise the limit with --max-file-mb MB, or max_bytes= in Python"
+
+
+def _mib(size: int) -> str:
+    """``size`` bytes in MiB, for messages (``--max-file-mb`` counts MiB)."""
+    return f"{size / 1024**2:.4g} MiB"
+
 
 #: Seconds to wait for the next bytes from a pipe or device before giving up.
 STREAM_TIMEOUT_S = 10.0
@@ -92,9 +105,11 @@ def read(
     component
         Keep only this channel of a multi-channel file.
     max_bytes
-        Largest file (or decompressed gzip content, or piped input) accepted [bytes].
+        Largest file (or decompressed gzip content, or piped input) accepted [bytes]; the
+        commands' ``--max-file-mb MB`` sets it in MiB.
     max_abs_g
-        Largest plausible absolute acceleration [g]; None accepts any finite value.
+        Largest plausible absolute acceleration [g]; None accepts any finite value; the
+        commands' ``--max-abs-g G`` sets it.
 
     Returns
     -------
@@ -177,8 +192,8 @@ def _file_kind(file: Path, max_bytes: int) -> str:
         )
     if info.st_size > max_bytes:
         raise InputError(
-            f"{info.st_size} bytes, expected a record file of at most {max_bytes} bytes "
-            "(raise the limit with max_bytes= if this file is a real record)",
+            f"{info.st_size} bytes ({_mib(info.st_size)}), expected a record file of at most "
+            f"{max_bytes} bytes ({_mib(max_bytes)}; {_RAISE_SIZE} if this file is a real record)",
             file,
         )
     return "file"
@@ -229,8 +244,8 @@ def _drain(fd: int, file: Path, max_bytes: int) -> bytes:
         size += len(chunk)
         if size > max_bytes:
             raise InputError(
-                f"more than {max_bytes} bytes from a pipe or device, expected a record "
-                "(raise the limit with max_bytes=)",
+                f"more than {max_bytes} bytes ({_mib(max_bytes)}) from a pipe or device, "
+                f"expected a record ({_RAISE_SIZE})",
                 file,
             )
         chunks.append(chunk)
@@ -317,8 +332,8 @@ def _read_gzip(
                     size += len(chunk)
                     if size > max_bytes:
                         raise InputError(
-                            f"decompresses to more than {max_bytes} bytes, expected a record "
-                            "(raise the limit with max_bytes=)",
+                            f"decompresses to more than {max_bytes} bytes ({_mib(max_bytes)}), "
+                            f"expected a record ({_RAISE_SIZE})",
                             shown,
                         )
                     target.write(chunk)
@@ -385,9 +400,18 @@ def _check_plausible(stream: Any, file: Path, max_abs_g: float | None) -> None:
             if peak_g > max_abs_g:
                 raise FormatError(
                     f"peak {peak_g:.3g} g{channel}, expected at most {max_abs_g:g} g "
-                    "(wrong units or a damaged file; max_abs_g= overrides)",
+                    "(wrong units or a damaged file; --max-abs-g G, or max_abs_g= in Python, "
+                    "overrides)",
                     file,
                 )
+
+
+def _same_units(stated: str, given: str) -> bool:
+    """Whether two unit names mean the same unit (``gal`` and ``cm/s2`` do)."""
+    if stated == given:
+        return True
+    factors = ACCELERATION_UNITS_TO_M_S2
+    return stated in factors and given in factors and factors[stated] == factors[given]
 
 
 def _check_agreement(stream: Any, options: ReadOptions, file: Path) -> None:
@@ -398,7 +422,7 @@ def _check_agreement(stream: Any, options: ReadOptions, file: Path) -> None:
     """
     for trace in stream:
         stated_units = trace.stats.stepframe.units_in
-        if options.units is not None and stated_units != options.units:
+        if options.units is not None and not _same_units(stated_units, options.units):
             raise InputError(
                 f"file states units {stated_units!r} but --units {options.units!r} was given, "
                 "expected them to agree (omit --units)",

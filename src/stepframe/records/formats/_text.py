@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from stepframe.errors import FormatError
-from stepframe.records.units import normalize_units
+from stepframe.records.units import ACCELERATION_UNITS_TO_M_S2, normalize_units
 
 #: Largest magnitude accepted for a number in a data block (any unit): far above any real
 #: value in counts, g, cm/s² or header codes; a larger one is damage, and would overflow to
@@ -41,7 +41,7 @@ def read_lines(path: Path, what: str) -> list[str]:
     if b"\x00" in raw[:65536]:
         raise FormatError(f"binary content (NUL bytes), expected {what} text", path)
     try:
-        text = raw.decode("ascii")
+        text = raw.decode("utf-8")  # ASCII is UTF-8; a unit such as m/s² in a header often is
     except UnicodeDecodeError:
         # Latin-1 station names occur in real headers; numbers are ASCII in every text format.
         text = raw.decode("latin-1")
@@ -142,6 +142,74 @@ def _is_number(word: str) -> bool:
     return True
 
 
+#: A unit in brackets or parentheses: ``Accel[g]``, ``Acceleration (cm/s/s)``, ``{gal}``.
+_BRACKETED = re.compile(r"[\[({]\s*([^\[\](){}]{1,16}?)\s*[\])}]")
+#: A unit after the word "unit(s)": ``units: g``, ``IN UNITS OF G``, ``unit = cm/s^2``.
+_AFTER_UNITS = re.compile(
+    r"\bunits?\b\s*(?:of\b|in\b|[:=])?\s*([a-z][a-z/^*0-9'\u00b2]*)", re.IGNORECASE
+)
+#: A snake-case unit suffix of a column name: ``acc_g``, ``accel_gal``, ``a_cm_s2``.
+_SUFFIX = re.compile(r"[a-z]\w*?_(g|gals?|cm_s2|m_s2|mm_s2)", re.IGNORECASE)
+#: Unit words that name an acceleration on their own (``g`` alone is too ambiguous).
+_BARE = re.compile(r"[a-z]+(?:/[a-z]+)+(?:\^?\*{0,2}[2\u00b2])?|gals?", re.IGNORECASE)
+
+
+def _as_unit(word: str) -> str | None:
+    """``word`` as a known acceleration unit's canonical name, or None."""
+    text = word.strip().replace("\u00b2", "2").replace(" ", "").lower().replace("sec", "s")
+    text = {"cm_s2": "cm/s2", "m_s2": "m/s2", "mm_s2": "mm/s2"}.get(text, text)
+    try:
+        return normalize_units(text)
+    except Exception:  # not an acceleration unit: Time (s), cm/s, counts
+        return None
+
+
+def header_units(lines: list[str], first: int = 1) -> list[tuple[str, str, int]]:
+    """The acceleration units a free-text header names, where it names them.
+
+    Recognised: a unit in brackets or parentheses (``Accel[g]``, ``Acceleration (g)``,
+    ``Acc (cm/s^2)``), after the word "units" (``units: gal``, ``IN UNITS OF G``), a snake-case
+    column suffix (``acc_gal``, ``accel_g``) or a unit word standing alone (``cm/s/s``, ``gal``).
+    Other units (``Time (s)``, ``Velocity (cm/s)``) are ignored.
+
+    Parameters
+    ----------
+    lines
+        The header lines.
+    first
+        The 1-based line number of ``lines[0]``.
+
+    Returns
+    -------
+    list
+        ``(unit as written, canonical unit, 1-based line)`` per mention, in file order.
+    """
+    found: list[tuple[str, str, int]] = []
+    for number, line in enumerate(lines, start=first):
+        candidates = [m[1] for m in _BRACKETED.finditer(line)]
+        candidates += [m[1] for m in _AFTER_UNITS.finditer(line)]
+        for word in re.split(r"[\s,;]+", line):
+            word = word.strip("\"'#:=")
+            suffix = _SUFFIX.fullmatch(word)
+            if suffix:
+                candidates.append(suffix[1])
+            elif _BARE.fullmatch(word):
+                candidates.append(word)
+        for word in candidates:
+            unit = _as_unit(word)
+            if unit is not None:
+                found.append((word, unit, number))
+    return found
+
+
+def same_units(a: str, b: str) -> bool:
+    """Whether two unit names mean the same unit (``gal`` and ``cm/s2`` do)."""
+    return (
+        ACCELERATION_UNITS_TO_M_S2[normalize_units(a)]
+        == ACCELERATION_UNITS_TO_M_S2[normalize_units(b)]
+    )
+
+
 def resolve_units(stated: str | None, given: str | None, path: Path, line: int | None) -> str:
     """The units to use: the file's stated units, checked against the user's ``--units``.
 
@@ -167,7 +235,7 @@ def resolve_units(stated: str | None, given: str | None, path: Path, line: int |
             path,
             line,
         ) from None
-    if given is not None and normalize_units(given) != units:
+    if given is not None and not same_units(given, units):
         raise FormatError(
             f"header states units {stated!r} but --units {given!r} was given, "
             "expected them to agree (omit --units)",

@@ -1,9 +1,12 @@
 """Plain text accelerograms (format name ``text``): one column (dt given) or two (time, value).
 
-Non-numeric lines before the first number are a header and are skipped; after it every line must
-hold the same number of numbers (one or two). A text file states neither its units nor, with one
-column, its sampling interval: both must be given (``--units``, ``--dt-s``), never guessed. With
-two columns the interval is (t_last - t_first)/(n - 1), and the times must be uniform.
+Non-numeric lines before the first number are a header; after it every line must hold the same
+number of numbers (one or two). Units are never guessed: a header that names them (``Time[s]
+Accel[g]``, ``Acceleration (g)``, ``units: cm/s/s``, ``acc_gal``, as PEER-style and exported text
+files do; :func:`stepframe.records.formats._text.header_units`) gives them, and a ``--units`` that
+contradicts it is an error naming the header line; otherwise they must be given (``--units``).
+With one column the sampling interval must be given (``--dt-s``); with two the interval is
+(t_last - t_first)/(n - 1), and the times must be uniform.
 """
 
 from __future__ import annotations
@@ -15,8 +18,14 @@ import numpy as np
 
 from stepframe.errors import FormatError
 from stepframe.records.formats import ReadOptions, RecordFormat, _header, register
-from stepframe.records.formats._text import MAX_VALUE, read_lines, resolve_units
-from stepframe.records.units import factor_to_m_s2
+from stepframe.records.formats._text import (
+    MAX_VALUE,
+    header_units,
+    read_lines,
+    resolve_units,
+    same_units,
+)
+from stepframe.records.units import factor_to_m_s2, normalize_units
 
 #: Largest relative deviation of a time step from the mean step (printed times are rounded).
 _UNIFORM_REL = 1e-3
@@ -35,7 +44,10 @@ def _numeric_row(line: str) -> list[float] | None:
 def sniff(head: bytes, path: Path) -> bool:
     """True if, after any header lines, the first lines are numbers in one or two columns."""
     try:
-        lines = head.decode("ascii").splitlines()[:-1]  # the last line may be cut short
+        if b"\x00" in head:
+            return False
+        # The header may hold non-ASCII text (m/s², a station name); the numbers may not.
+        lines = head.decode("latin-1").splitlines()[:-1]  # the last line may be cut short
         rows = [r for r in (_numeric_row(x) for x in lines) if r is not None]
         if not rows:
             return False
@@ -53,8 +65,10 @@ def read(path: Path, options: ReadOptions) -> Any:
     Raises
     ------
     FormatError
-        Units or (one column) the sampling interval not given, a line with another column
-        count or a non-numeric value after the data started, non-uniform times, or a ``--dt-s``
+        Units neither named by the header nor given (or given against the header's), a
+        header naming two units and none given, one column and no sampling interval, a line
+        with another column count or a non-numeric value after the data started, non-uniform
+        times, or a ``--dt-s``
         that disagrees with the times.
     """
     from obspy import Stream
@@ -64,6 +78,7 @@ def read(path: Path, options: ReadOptions) -> Any:
     lines = read_lines(path, "plain text")
     rows: list[list[float]] = []
     row_lines: list[int] = []
+    header: list[tuple[int, str]] = []  # (1-based line, text) before the data
     width = 0
     first_line = 0
     for number, line in enumerate(lines, start=1):
@@ -78,6 +93,7 @@ def read(path: Path, options: ReadOptions) -> Any:
                     path,
                     number,
                 )
+            header.append((number, line))
             continue
         if not rows:
             width, first_line = len(row), number
@@ -137,7 +153,7 @@ def read(path: Path, options: ReadOptions) -> Any:
             )
         dt_s = options.dt_s
         values = table[:, 0]
-    units = resolve_units(None, options.units, path, None)
+    units = _units(header, options.units, path)
     trace = make_trace(
         values * factor_to_m_s2(units),
         dt_s,
@@ -147,6 +163,38 @@ def read(path: Path, options: ReadOptions) -> Any:
         units_in=units,
     )
     return Stream([trace])
+
+
+def _units(header: list[tuple[int, str]], given: str | None, path: Path) -> str:
+    """The units the header names (checked against ``--units``), else ``--units``.
+
+    ``header`` holds the (1-based line, text) of the lines before the data.
+    """
+    mentions: list[tuple[str, str, int]] = []
+    for number, text in header:
+        mentions += header_units([text], number)
+    if not mentions:
+        return resolve_units(None, given, path, None)
+    word, unit, where = mentions[0]
+    other = next((m for m in mentions if not same_units(m[1], unit)), None)
+    if other is not None:
+        if given is None:
+            raise FormatError(
+                f"header names units {word!r} (line {where}) and {other[0]!r} (line "
+                f"{other[2]}), expected one (give the record's units with --units)",
+                path,
+                other[2],
+            )
+        return normalize_units(given)  # the user decides between the header's two
+    if given is not None and not same_units(given, unit):
+        shown = " ".join(dict(header)[where].split())[:60]
+        raise FormatError(
+            f"header line {where} {shown!r} states units {word!r} but --units {given!r} was "
+            "given, expected them to agree (omit --units)",
+            path,
+            where,
+        )
+    return unit
 
 
 FORMAT = register(
