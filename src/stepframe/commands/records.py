@@ -19,9 +19,13 @@ from stepframe.commands import (
     add_record_options,
     float_list,
     read_record_file,
+    record_options,
     record_paths,
 )
 from stepframe.errors import InputError
+
+#: The read options that are limits (given only when the user overrides them).
+READ_LIMITS = ("max_abs_g", "max_bytes")
 
 if TYPE_CHECKING:
     from stepframe.commands import Subparsers
@@ -154,6 +158,7 @@ def run_catalog(args: argparse.Namespace) -> CommandResult:
         component=args.component,
         progress=not getattr(args, "json", False),
         exclude=outputs,
+        limits={k: v for k, v in record_options(args).items() if k in READ_LIMITS},
     )
     paths = write_catalog(table, failures, args.output)
     return _catalog_result(table, len(failures), paths)

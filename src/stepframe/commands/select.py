@@ -13,6 +13,7 @@ from stepframe.commands import (
     add_record_options,
     float_list,
     positive_float,
+    record_options,
 )
 
 EXAMPLES = """\
@@ -275,14 +276,8 @@ def run(args: argparse.Namespace) -> CommandResult:
 
 
 def _record_options(args: argparse.Namespace) -> dict[str, Any]:
-    options = {
-        "format": args.format,
-        "units": args.units,
-        "dt": args.dt_s,
-        "inventory": args.inventory,
-        "component": args.component,
-    }
-    return {k: v for k, v in options.items() if v is not None}
+    # The shared record options (read limits included), without the unset ones.
+    return {k: v for k, v in record_options(args).items() if v is not None}
 
 
 def selection_run(

@@ -12,7 +12,7 @@ from __future__ import annotations
 import contextlib
 import os
 import warnings
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from concurrent.futures import Executor
 from dataclasses import dataclass
 from functools import partial
@@ -194,6 +194,8 @@ class _ReadOptions:
     dt_s: float | None = None
     inventory: str | None = None
     component: str | None = None
+    #: Read limits given by the user (``max_abs_g``, ``max_bytes`` of :func:`~.io.read`).
+    limits: tuple[tuple[str, float], ...] = ()
 
 
 def _catalog_file(file: Path, options: _ReadOptions) -> tuple[list[dict[str, Any]], list[Failure]]:
@@ -212,6 +214,7 @@ def _catalog_file(file: Path, options: _ReadOptions) -> tuple[list[dict[str, Any
             dt=options.dt_s,
             inventory=options.inventory,
             component=options.component,
+            **dict(options.limits),  # type: ignore[arg-type]  # max_abs_g: float, max_bytes: int
         )
     warning_text = "; ".join(str(w.message).replace("\n", " ") for w in caught)
     rows: list[dict[str, Any]] = []
@@ -237,6 +240,7 @@ def catalog(
     executor: Executor | None = None,
     progress: bool | str = False,
     exclude: Iterable[str | PathLike[str]] = (),
+    limits: Mapping[str, float] | None = None,
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
     """Catalogue every record under a folder: one row per component.
 
@@ -251,6 +255,9 @@ def catalog(
         at a time in this process.
     progress
         Count, rate and ETA on stderr (see :func:`~stepframe.core.execution.map_items`).
+    limits
+        Read limits overriding the defaults of :func:`stepframe.records.read` (``max_abs_g``
+        [g], ``max_bytes``).
     exclude
         Files not to catalogue (the run's own outputs when they are inside ``path``).
 
@@ -268,7 +275,12 @@ def catalog(
 
     files = record_files(path, exclude=exclude)
     options = _ReadOptions(
-        format, units, dt_s, None if inventory is None else str(inventory), component
+        format,
+        units,
+        dt_s,
+        None if inventory is None else str(inventory),
+        component,
+        tuple(sorted((limits or {}).items())),
     )
     outcome = map_items(
         partial(_catalog_file, options=options),
