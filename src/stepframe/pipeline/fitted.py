@@ -23,6 +23,7 @@ from stepframe.core.io import CSV_FLOAT_FORMAT, atomic_write
 from stepframe.core.results import failures_path
 from stepframe.errors import InputError
 from stepframe.pipeline.tables import read_dataset, write_dataset, write_table
+from stepframe.stochastic.model import MODEL_FIELDS
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -34,17 +35,7 @@ if TYPE_CHECKING:
     from stepframe.stochastic.methods import FrequencyMethod, SpectrumMethod
 
 #: Keys of the parameter set printed by ``fit`` (plus ``<key>_stderr`` for fitted values).
-FIT_KEYS = (
-    "omega_p_rad_s",
-    "omega_s_rad_s",
-    "omega_r_rad_s",
-    "xi_p",
-    "xi_r",
-    "t_max_s",
-    "t_dur_s",
-    "t0_s",
-    "fit_quality",
-)
+FIT_KEYS = (*MODEL_FIELDS, "fit_quality")
 
 #: Column dictionary of a fit table: column → (unit, meaning); ``<key>_stderr`` columns follow
 #: their key's unit.

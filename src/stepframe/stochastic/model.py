@@ -33,6 +33,19 @@ AlphaReading = Literal["eq-6-11", "paper"]
 ALPHA_READINGS: tuple[AlphaReading, ...] = ("eq-6-11", "paper")
 
 
+#: The numeric fields of a fitted ground-motion model, in order (table columns use these names).
+MODEL_FIELDS = (
+    "omega_p_rad_s",
+    "omega_s_rad_s",
+    "omega_r_rad_s",
+    "xi_p",
+    "xi_r",
+    "t_max_s",
+    "t_dur_s",
+    "t0_s",
+)
+
+
 @dataclass(frozen=True)
 class GroundMotionModel:
     """Parameters of the Beck-Papadimitriou model (eqs. 6.10-6.11).
@@ -72,16 +85,7 @@ class GroundMotionModel:
     omega_c_rad_s: float | None = None
 
     def __post_init__(self) -> None:
-        for name in (
-            "omega_p_rad_s",
-            "omega_s_rad_s",
-            "omega_r_rad_s",
-            "xi_p",
-            "xi_r",
-            "t_max_s",
-            "t_dur_s",
-            "t0_s",
-        ):
+        for name in MODEL_FIELDS:
             value = getattr(self, name)
             if not isinstance(value, int | float) or not math.isfinite(value):
                 raise InputError(f"{name} = {value!r}, expected a finite number")

@@ -33,7 +33,7 @@ from stepframe.pipeline.reports.document import (
 )
 from stepframe.pipeline.reports.provenance import Provenance
 from stepframe.pipeline.reports.selection_folder import SelectionOutputs, read_selection_folder
-from stepframe.stochastic.model import GroundMotionModel
+from stepframe.stochastic.model import MODEL_FIELDS, GroundMotionModel
 
 TWO_PI = 2 * math.pi
 
@@ -44,15 +44,7 @@ SPECTRUM_PERIODS_S = np.geomspace(0.05, 10.0, 60)
 DROPPED_COLUMNS = ("dropped_by", "filter", "dropped_by_filter")
 
 #: Columns of the fitted ground-motion model in the selection table.
-MODEL_COLUMNS = (
-    "omega_p_rad_s",
-    "omega_s_rad_s",
-    "omega_r_rad_s",
-    "xi_p",
-    "xi_r",
-    "t_max_s",
-    "t_dur_s",
-)
+MODEL_COLUMNS = MODEL_FIELDS[:-1]  # without t0_s
 
 #: A record loader: (selection row, folder) → obspy Trace in m/s², or None when not found.
 RecordLoader = Callable[[dict[str, Any], Path], Any]

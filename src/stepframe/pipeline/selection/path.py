@@ -22,19 +22,10 @@ from numpy.typing import NDArray
 
 from stepframe.errors import InputError
 from stepframe.stochastic.envelope import DEFAULT_DURATION_THRESHOLD
-from stepframe.stochastic.model import GroundMotionModel
+from stepframe.stochastic.model import MODEL_FIELDS, GroundMotionModel
 
 Floats = NDArray[np.float64]
-MODEL_COLUMNS = (
-    "omega_p_rad_s",
-    "omega_s_rad_s",
-    "omega_r_rad_s",
-    "xi_p",
-    "xi_r",
-    "t_max_s",
-    "t_dur_s",
-    "t0_s",
-)
+MODEL_COLUMNS = MODEL_FIELDS
 
 
 @dataclass(frozen=True)
