@@ -107,15 +107,25 @@ def _watch(parent_pid: int) -> None:
 
 
 def _pool_context() -> multiprocessing.context.BaseContext:
-    """Workers start from a fork server where there is one (Linux, macOS).
+    """A plain fork while it is safe, else a fork server (Linux, macOS), else spawn.
 
-    A plain fork is unsafe once this process has run numba's parallel loop: GNU OpenMP kills a
-    child forked after its parent used its thread pool (the batch simulator does). The fork server
-    is forked early from a clean state; a worker's parent is then the server, which exits when
-    this process dies, so the workers still die with it.
+    A forked worker starts at once with this process's imports, which matters for short batches
+    (docs/benchmarks.md, parallel efficiency). It is unsafe once this process has run numba's
+    parallel loop: GNU OpenMP kills a child forked after its parent used its thread pool (the
+    batch simulator does). Then workers come from a fork server, forked early from a clean
+    state; a worker's parent is the server, and each worker watches this process (see
+    :func:`_die_with_parent`), so the workers still die with it.
     """
     methods = multiprocessing.get_all_start_methods()
+    if "fork" in methods and not _numba_threads_started():
+        return multiprocessing.get_context("fork")
     return multiprocessing.get_context("forkserver" if "forkserver" in methods else "spawn")
+
+
+def _numba_threads_started() -> bool:
+    """Whether this process has started numba's parallel thread pool (without importing numba)."""
+    parallel = sys.modules.get("numba.np.ufunc.parallel")
+    return bool(getattr(parallel, "_is_initialized", False))
 
 
 def _run_chunk(
