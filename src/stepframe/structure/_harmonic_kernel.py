@@ -38,6 +38,9 @@ import numpy as np
 
 from stepframe.core.jit import njit
 
+# E_C(σ), E_S(σ) of a linear phase: the same closed form as the sampled-record kernel's.
+from stepframe.structure._exact import _ecs
+
 #: Kernel status codes (mapped to :data:`stepframe.core.results.STATUSES` by the caller).
 K_OK = 0
 K_NONFINITE = 1
@@ -48,25 +51,6 @@ N_PARAMS = 10
 
 _PIECES_PER_CYCLE = 16.0
 _TWO_PI = 2.0 * math.pi
-
-
-@njit(cache=True, inline="always")
-def _ecs(beta: float, disc: float, sig: float) -> tuple[float, float]:
-    if disc < 0.0:
-        d = math.sqrt(-disc)
-        e = math.exp(-beta * sig)
-        return e * math.cos(d * sig), e * (math.sin(d * sig) / d)
-    if disc > 0.0:
-        d = math.sqrt(disc)
-        z = d * sig
-        if z < 20.0:
-            e = math.exp(-beta * sig)
-            return e * math.cosh(z), e * (math.sinh(z) / d)
-        ep = math.exp((d - beta) * sig)
-        em = math.exp(-(d + beta) * sig)
-        return 0.5 * (ep + em), 0.5 * (ep - em) / d
-    e = math.exp(-beta * sig)
-    return e, e * sig
 
 
 @njit(cache=True)
