@@ -126,8 +126,6 @@ def bifurcation_diagram(
     """
     import os
 
-    import xarray as xr
-
     from stepframe.core.execution import map_items
 
     prm = frame_parameters(frame)
@@ -173,34 +171,11 @@ def bifurcation_diagram(
         stage="bifurcation",
         name_of=_chunk_name,
     )
-    pts = np.full((amps.size, x0.size, n_keep, 4), np.nan)
-    code = np.full((amps.size, x0.size), OUTCOME_STOPPED, dtype=np.int8)
-    for idx, (out, flags) in zip(outcome.indices, outcome.results, strict=True):
-        s = starts[idx]
-        pts[s : s + out.shape[0]] = out
-        c = np.where(flags[..., 0] != 0, OUTCOME_STOPPED, flags[..., 1])
-        code[s : s + out.shape[0]] = c
-    return xr.Dataset(
-        {
-            "x_m": (("amplitude", "initial", "sample"), pts[..., 0], {"units": "m"}),
-            "v_m_s": (("amplitude", "initial", "sample"), pts[..., 1], {"units": "m/s"}),
-            "impacts": (("amplitude", "initial", "sample"), pts[..., 2], {"units": "1/period"}),
-            "outcome": (
-                ("amplitude", "initial"),
-                code,
-                {"meaning": "0 survives, 1 overturns, 2 stopped (kernel status)"},
-            ),
-            "x0_m": (("initial",), x0, {"units": "m"}),
-            "v0_m_s": (("initial",), v0, {"units": "m/s"}),
-        },
-        coords={"amplitude": ("amplitude", amps, {"units": "m/s2"})},
-        attrs={
-            "omega_rad_s": float(omega_rad_s),
-            "phase_rad": float(phase_rad),
-            "n_periods": int(n_periods),
-            "failures": [f.message for f in outcome.failures],
-        },
-    )
+    return _diagram(
+        outcome, starts, x0, v0, n_keep, ("amplitude", amps, "m/s2"),
+        {"omega_rad_s": float(omega_rad_s), "phase_rad": float(phase_rad),
+         "n_periods": int(n_periods)},
+    )  # fmt: skip
 
 
 def orbit_period(x_points: np.ndarray, *, max_period: int = 8, rtol: float = 1e-6) -> int:
@@ -293,8 +268,6 @@ def frequency_diagram(
     """
     import os
 
-    import xarray as xr
-
     from stepframe.core.execution import map_items
 
     prm = frame_parameters(frame)
@@ -326,30 +299,46 @@ def frequency_diagram(
         _omega_chunk, items, jobs=jobs, executor=executor, chunk_size=1, stage="bifurcation",
         name_of=_omega_chunk_name,
     )  # fmt: skip
-    pts = np.full((oms.size, x0.size, n_keep, 4), np.nan)
-    code = np.full((oms.size, x0.size), OUTCOME_STOPPED, dtype=np.int8)
+    return _diagram(
+        outcome, starts, x0, v0, n_keep, ("omega", oms, "rad/s"),
+        {"amplitude_m_s2": float(amplitude_m_s2), "phase_rad": float(phase_rad),
+         "n_periods": int(n_periods)},
+    )  # fmt: skip
+
+
+def _diagram(
+    outcome: Any,
+    starts: list[int],
+    x0: Any,
+    v0: Any,
+    n_keep: int,
+    swept: tuple[str, Any, str],
+    attrs: dict[str, Any],
+) -> xr.Dataset:
+    """The diagram's dataset from the chunks' results: one row per swept value and start."""
+    import xarray as xr
+
+    name, values, unit = swept
+    pts = np.full((values.size, x0.size, n_keep, 4), np.nan)
+    code = np.full((values.size, x0.size), OUTCOME_STOPPED, dtype=np.int8)
     for idx, (out, flags) in zip(outcome.indices, outcome.results, strict=True):
         s = starts[idx]
         pts[s : s + out.shape[0]] = out
         code[s : s + out.shape[0]] = np.where(flags[..., 0] != 0, OUTCOME_STOPPED, flags[..., 1])
+    dims = (name, "initial", "sample")
     return xr.Dataset(
         {
-            "x_m": (("omega", "initial", "sample"), pts[..., 0], {"units": "m"}),
-            "v_m_s": (("omega", "initial", "sample"), pts[..., 1], {"units": "m/s"}),
-            "impacts": (("omega", "initial", "sample"), pts[..., 2], {"units": "1/period"}),
+            "x_m": (dims, pts[..., 0], {"units": "m"}),
+            "v_m_s": (dims, pts[..., 1], {"units": "m/s"}),
+            "impacts": (dims, pts[..., 2], {"units": "1/period"}),
             "outcome": (
-                ("omega", "initial"),
+                (name, "initial"),
                 code,
                 {"meaning": "0 survives, 1 overturns, 2 stopped (kernel status)"},
             ),
             "x0_m": (("initial",), x0, {"units": "m"}),
             "v0_m_s": (("initial",), v0, {"units": "m/s"}),
         },
-        coords={"omega": ("omega", oms, {"units": "rad/s"})},
-        attrs={
-            "amplitude_m_s2": float(amplitude_m_s2),
-            "phase_rad": float(phase_rad),
-            "n_periods": int(n_periods),
-            "failures": [f.message for f in outcome.failures],
-        },
+        coords={name: (name, values, {"units": unit})},
+        attrs={**attrs, "failures": [f.message for f in outcome.failures]},
     )
