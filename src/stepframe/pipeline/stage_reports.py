@@ -93,7 +93,9 @@ def _amplification_report_run(context: Context, folder: Path) -> None:
         site.model,
         folder / AMPLIFICATION_REPORT_HTML,
         frame=context.workflow.frame,
-        options=AmplificationOptions(monte_carlo=params["monte_carlo"]),
+        options=AmplificationOptions(
+            site_name=context.workflow.name or "site", monte_carlo=params["monte_carlo"]
+        ),
         provenance=_provenance(context, {"site": site.to_dict(), **params}),
     )
 
