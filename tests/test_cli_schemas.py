@@ -38,6 +38,8 @@ def test_every_command_is_documented() -> None:
     assert names == {
         "demo", "records info", "records spectrum", "records catalog", "stochastic fit",
         "stochastic features", "stochastic amplify", "structure design", "structure simulate",
+        "select", "report amplification", "report selection", "run", "structure harmonic",
+        "structure bifurcation", "structure ida",
     }  # fmt: skip
 
 
@@ -48,6 +50,15 @@ def workspace(tmp_path_factory: pytest.TempPathFactory) -> Path:
     for path in (DATA / "peer_nga_west2").glob("*.AT2"):
         shutil.copy(path, folder)
         shutil.copy(path, folder / "records")
+    shutil.copy(ROOT / "workflows" / "site-amplification.toml", folder)
+    # the selection folder `report selection` reads, whichever order the commands run in
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        assert main(["structure", "frame-template"]) == 0
+    (folder / "FRAME.toml").write_text(out.getvalue())
+    words = ["select", "--frame", str(folder / "FRAME.toml"), "--example", "fema-p695", "-n", "3"]
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+        assert main([*words, "-o", str(folder / "picks")]) == 0
     return folder
 
 
