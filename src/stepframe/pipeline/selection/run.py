@@ -397,23 +397,11 @@ def select_records(
         have = np.array(sorted(samples), dtype=np.int64)
         for i in set(passing.tolist()) - set(have.tolist()):
             dropped_by[i] = "samples_failed"
-        grid = np.concatenate([[t1], periods])
-        items = [(samples[i][0], samples[i][1], grid, 0.05) for i in have]
-        outcome = map_items(
-            record_spectrum,
-            items,
-            jobs=_workers(jobs, executor, len(items) * SPECTRUM_S),
-            executor=executor,
-            stage="spectra",
-            name_of=_spectrum_name,
-        )
-        for k, values in zip(outcome.indices, outcome.results, strict=True):
-            table.loc[int(have[k]), "psa_t1_g"] = values[0] / G_M_S2
-            psa[have[k]] = values[1:]
-        failures += outcome.failures
-        if options.confirm:
-            items = [(samples[i][0], samples[i][1], np.array([t1]), frame.xi_1) for i in have]
-            outcome = map_items(
+
+        def spectra(grid: Floats, damping: float) -> Any:
+            # PSA of every candidate with samples, in parallel; failures recorded.
+            items = [(samples[i][0], samples[i][1], grid, damping) for i in have]
+            return map_items(
                 record_spectrum,
                 items,
                 jobs=_workers(jobs, executor, len(items) * SPECTRUM_S),
@@ -421,6 +409,14 @@ def select_records(
                 stage="spectra",
                 name_of=_spectrum_name,
             )
+
+        outcome = spectra(np.concatenate([[t1], periods]), 0.05)
+        for k, values in zip(outcome.indices, outcome.results, strict=True):
+            table.loc[int(have[k]), "psa_t1_g"] = values[0] / G_M_S2
+            psa[have[k]] = values[1:]
+        failures += outcome.failures
+        if options.confirm:
+            outcome = spectra(np.array([t1]), frame.xi_1)
             for k, values in zip(outcome.indices, outcome.results, strict=True):
                 sd_t1[have[k]] = values[0] / band.omega_1_rad_s**2
         missing = np.flatnonzero((dropped_by == "") & ~np.isfinite(table["psa_t1_g"].to_numpy()))
