@@ -12,9 +12,7 @@ from __future__ import annotations
 
 import argparse
 import os
-import statistics
 import time
-from typing import Any
 
 import numpy as np
 
@@ -23,18 +21,10 @@ from stepframe.stochastic.catalog_features import catalog_features
 from stepframe.stochastic.features import record_features
 from stepframe.stochastic.fit import fit_model
 from stepframe.stochastic.transforms import stft_power
+from timing import median_seconds
 
 TARGET_COMPONENTS = 43_000
 CORES = 2
-
-
-def _median_time(fn: Any, repeat: int, clock: Any = time.perf_counter) -> float:
-    times = []
-    for _ in range(repeat):
-        start = clock()
-        fn()
-        times.append(clock() - start)
-    return statistics.median(times)
 
 
 def main() -> None:
@@ -60,21 +50,21 @@ def main() -> None:
     features_all("scipy")
     # CPU time of this process: what one core spends, whatever else shares the machine.
     cpu = time.process_time
-    t_stft_fftw = _median_time(lambda: stft_all("pyfftw"), args.repeat, cpu)
-    t_stft_scipy = _median_time(lambda: stft_all("scipy"), args.repeat, cpu)
-    t_stft_slices = _median_time(lambda: stft_all("scipy", "shorttimefft"), 1, cpu)
-    t_feat_fftw = _median_time(lambda: features_all("pyfftw"), args.repeat, cpu)
-    t_feat_scipy = _median_time(lambda: features_all("scipy"), args.repeat, cpu)
-    t_feat_wall = _median_time(lambda: features_all("scipy"), 1)
+    t_stft_fftw = median_seconds(lambda: stft_all("pyfftw"), args.repeat, cpu)
+    t_stft_scipy = median_seconds(lambda: stft_all("scipy"), args.repeat, cpu)
+    t_stft_slices = median_seconds(lambda: stft_all("scipy", "shorttimefft"), 1, cpu)
+    t_feat_fftw = median_seconds(lambda: features_all("pyfftw"), args.repeat, cpu)
+    t_feat_scipy = median_seconds(lambda: features_all("scipy"), args.repeat, cpu)
+    t_feat_wall = median_seconds(lambda: features_all("scipy"), 1)
     lows = list(meta["lowest_usable_frequency_hz"])
-    t_parallel = _median_time(
+    t_parallel = median_seconds(
         lambda: catalog_features(stream, n_jobs=CORES, lowest_usable_hz=lows),
         max(1, args.repeat // 2),
     )
     per_component = t_feat_scipy / n  # the default FFT
     # Scaling: 4 copies of the catalogue (400 components), so start-up is a smaller share.
     big = stream.copy() + stream.copy() + stream.copy() + stream.copy()
-    t_big = _median_time(
+    t_big = median_seconds(
         lambda: catalog_features(big, n_jobs=CORES, lowest_usable_hz=lows * 4, chunk_size=8), 1
     )
     ladder = {}
@@ -85,7 +75,7 @@ def main() -> None:
             for x, dt in subset:
                 fit_model(record_features(x, dt, frequency=method))  # type: ignore[arg-type]
 
-        ladder[method] = _median_time(run, max(1, args.repeat // 2), cpu) / len(subset)
+        ladder[method] = median_seconds(run, max(1, args.repeat // 2), cpu) / len(subset)
     extrapolated = TARGET_COMPONENTS * per_component / CORES
     print(f"machine: {os.cpu_count()} CPUs (shared); {n} components, {samples:,} samples\n")
     print("| quantity | value |")

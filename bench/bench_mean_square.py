@@ -17,8 +17,6 @@ import math
 import statistics
 import subprocess
 import sys
-import time
-from collections.abc import Callable
 
 import numpy as np
 from scipy import integrate
@@ -26,19 +24,11 @@ from scipy import integrate
 from stepframe.stochastic.envelope import default_envelope
 from stepframe.stochastic.mean_square import Given, Tracking, mean_square_response
 from stepframe.stochastic.model import GroundMotionModel
+from timing import median_seconds
 
 SITE = GroundMotionModel.from_hz(7.43, 3.12, 1.11, 0.096, 0.655, t_max_s=5.0, t_dur_s=20.0)
 XI0 = 0.05
 FREQS_HZ = np.geomspace(0.1, 10.0, 200)
-
-
-def _median_time(fn: Callable[[], object], repeat: int = 5) -> float:
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times)
 
 
 def _solve_ivp_reference(omega_0: float, t_end: float) -> float:
@@ -77,8 +67,8 @@ def cost_and_accuracy() -> list[str]:
     grid = np.linspace(0.0, 40.0, 4001)
     fine = np.linspace(0.0, 40.0, 64001)
     mean_square_response(SITE, spec, XI0, time_s=grid)  # warm the numba cache
-    t_cov = _median_time(lambda: mean_square_response(SITE, spec, XI0, time_s=grid))
-    t_sca = _median_time(
+    t_cov = median_seconds(lambda: mean_square_response(SITE, spec, XI0, time_s=grid))
+    t_sca = median_seconds(
         lambda: mean_square_response(SITE, spec, XI0, method="scalar", time_s=grid)
     )
     cov = mean_square_response(SITE, spec, XI0, time_s=grid)
@@ -90,14 +80,14 @@ def cost_and_accuracy() -> list[str]:
     peak_sca = np.abs(sca.peak_rms_m / ref.peak_rms_m - 1)
     # the peer, on 3 frequencies, scaled to 200
     sample = [2 * math.pi * f for f in (0.5, 2.0, 7.43)]
-    t_ivp = _median_time(lambda: [_solve_ivp_reference(w, 40.0) for w in sample], repeat=3)
+    t_ivp = median_seconds(lambda: [_solve_ivp_reference(w, 40.0) for w in sample], repeat=3)
     t_ivp_200 = t_ivp / len(sample) * 200
     ivp_peaks = np.array([_solve_ivp_reference(w, 40.0) for w in sample])
     ours = mean_square_response(SITE, Tracking(sample), XI0, time_s=fine)
     err_ivp = float(np.max(np.abs(np.sqrt(ivp_peaks) / ours.peak_rms_m - 1)))
     # Monte Carlo: one oscillator, N = 200
     mc_grid = np.linspace(0.0, 40.0, 801)
-    t_mc = _median_time(
+    t_mc = median_seconds(
         lambda: mean_square_response(
             SITE,
             Tracking(2 * math.pi * 2.0),

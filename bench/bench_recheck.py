@@ -22,11 +22,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 # Thread limits above must be set before numpy loads, hence the imports below them.
 import argparse
 import json
-import statistics
-import time
-from collections.abc import Callable
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 from scipy import signal
@@ -41,17 +37,9 @@ from stepframe.records.spectra import (
 )
 from stepframe.stochastic.features import record_features
 from stepframe.stochastic.fit import fit_model
+from timing import median_cpu_seconds
 
 PEER = Path(__file__).parents[1] / "tests" / "data" / "peer_nga_west2"
-
-
-def cpu(function: Callable[[], Any], repeat: int) -> float:
-    times = []
-    for _ in range(repeat):
-        start = time.thread_time()
-        function()
-        times.append(time.thread_time() - start)
-    return statistics.median(times)
 
 
 def lfilter_psa_g(acc: np.ndarray, dt: float, periods: np.ndarray, damping: float) -> np.ndarray:
@@ -85,8 +73,10 @@ def main() -> None:
     acc, dt = np.asarray(trace.data, dtype=np.float64), float(trace.stats.delta)
     ours = np.asarray(response_spectrum(acc, dt, periods, 0.05).psa_m_s2) / 9.80665
     theirs = lfilter_psa_g(acc, dt, periods, 0.05)
-    t_ours = cpu(lambda: response_spectrum(acc, dt, periods, 0.05), args.repeat)
-    t_lf = cpu(lambda: lfilter_psa_g(acc, dt, periods, 0.05), max(3, args.repeat // 3))
+    t_ours = median_cpu_seconds(lambda: response_spectrum(acc, dt, periods, 0.05), args.repeat)
+    t_lf = median_cpu_seconds(
+        lambda: lfilter_psa_g(acc, dt, periods, 0.05), max(3, args.repeat // 3)
+    )
     print(f"PSA, RSN 8883 (16,396 samples), 111 periods, 5 %; max |difference| "
           f"{np.max(np.abs(theirs / ours - 1)):.1e} (relative)\n")  # fmt: skip
     print("| method | CPU per component (median) | ratio to stepframe |")
@@ -101,7 +91,7 @@ def main() -> None:
             fit_model(record_features(data, step))
 
     features_and_fit()  # warm
-    total = cpu(features_and_fit, 3)
+    total = median_cpu_seconds(features_and_fit, 3)
     print(f"\nfeatures + fit (default t0='auto'), 100 FEMA components: "
           f"{1e3 * total / len(components):.1f} ms CPU per component (median of 3)")  # fmt: skip
 

@@ -19,11 +19,9 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 # Thread limits above must be set before numpy loads, hence the imports below them.
 import json
-import statistics
 import subprocess
 import sys
 import time
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -40,27 +38,9 @@ from stepframe.records.spectra import (
     upsample,
     upsampling_factors,
 )
+from timing import median_cpu_seconds, median_seconds
 
 PEER = Path(__file__).parents[1] / "tests" / "data" / "peer_nga_west2"
-
-
-def median_time(function: Callable[[], Any], repeat: int) -> float:
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times)
-
-
-def median_cpu(function: Callable[[], Any], repeat: int) -> float:
-    """Median CPU time of this thread: what one core spends, less sensitive to shared cores."""
-    times = []
-    for _ in range(repeat):
-        start = time.thread_time()
-        function()
-        times.append(time.thread_time() - start)
-    return statistics.median(times)
 
 
 def numpy_reference_psa(acc: np.ndarray, dt: float, periods: np.ndarray, damping: float) -> Any:
@@ -97,13 +77,13 @@ def main() -> None:
 
     rows: list[tuple[str, str, str, str]] = []
     response_spectrum(h1, dt, periods)  # compile or load the numba cache
-    ours = median_time(lambda: response_spectrum(h1, dt, periods), 21)
-    ours_cpu = median_cpu(lambda: response_spectrum(h1, dt, periods), 21)
+    ours = median_seconds(lambda: response_spectrum(h1, dt, periods), 21)
+    ours_cpu = median_cpu_seconds(lambda: response_spectrum(h1, dt, periods), 21)
     ours_psa = response_spectrum(h1, dt, periods).psa_g
     rows.append(
         ("stepframe `nigam_jennings` (numba)", f"{1e3 * ours:.1f} ms", "1", error(ours_psa, "h1"))
     )
-    fd = median_time(lambda: response_spectrum(h1, dt, periods, method="frequency_domain"), 5)
+    fd = median_seconds(lambda: response_spectrum(h1, dt, periods, method="frequency_domain"), 5)
     fd_psa = response_spectrum(h1, dt, periods, method="frequency_domain").psa_g
     rows.append(
         (
@@ -113,7 +93,7 @@ def main() -> None:
             error(fd_psa, "h1"),
         )
     )
-    ref = median_time(lambda: numpy_reference_psa(h1, dt, periods, 0.05), 3)
+    ref = median_seconds(lambda: numpy_reference_psa(h1, dt, periods, 0.05), 3)
     ref_psa = numpy_reference_psa(h1, dt, periods, 0.05)
     rows.append(
         (
@@ -128,7 +108,7 @@ def main() -> None:
 
         freqs = 1 / periods
         h1_g = h1 / 9.80665  # pyrotd returns the input's units
-        pyrotd_time = median_time(lambda: pyrotd.calc_spec_accels(dt, h1_g, freqs, 0.05), 5)
+        pyrotd_time = median_seconds(lambda: pyrotd.calc_spec_accels(dt, h1_g, freqs, 0.05), 5)
         pyrotd_psa = np.asarray(pyrotd.calc_spec_accels(dt, h1_g, freqs, 0.05).spec_accel)
         rows.append(
             (
@@ -156,7 +136,7 @@ def main() -> None:
     print("|---|---|---|---|")
     for spectrum in reference["spectra"]:
         zeta = spectrum["damping"]
-        rotd_time = median_time(lambda z=zeta: rotd_spectrum(h1, h2, dt, periods, z), 3)
+        rotd_time = median_seconds(lambda z=zeta: rotd_spectrum(h1, h2, dt, periods, z), 3)
         result = rotd_spectrum(h1, h2, dt, periods, zeta)
         err = error(result.in_g("rotd50"), "rotd50", spectrum)
         print(f"| stepframe | {zeta} | {rotd_time:.2f} s | {err} |")
@@ -164,7 +144,7 @@ def main() -> None:
             call = lambda z=zeta: pyrotd.calc_rotated_spec_accels(  # noqa: E731
                 dt, h1 / 9.80665, h2 / 9.80665, 1 / periods, z, percentiles=[50]
             )
-            peer_time = median_time(call, 1)
+            peer_time = median_seconds(call, 1)
             rotd50 = np.asarray(call().spec_accel)
             print(f"| pyrotd | {zeta} | {peer_time:.2f} s | {error(rotd50, 'rotd50', spectrum)} |")
 

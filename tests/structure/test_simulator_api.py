@@ -158,3 +158,15 @@ def test_batch_through_an_executor_equals_the_in_process_batch() -> None:
         one = simulate(FRAME, ag, dt, scale=row.scale, tail_s=2.0, record_history=False)
         assert row.peak_abs_x_m == one.summary.peak_abs_x_m
         assert row.status == one.summary.status
+
+
+def test_the_three_declarations_of_the_model_constants_agree() -> None:
+    """PortalFrame (what users build), FrameLike (what the simulator reads) and Model (what the
+    compiled kernels take) each list the constants of eqs. 4.11-4.12; `model_of` copies them by
+    name, so a constant added to one and not the others would be silently dropped."""
+    from stepframe.structure.simulator import FrameLike
+
+    frame_fields = tuple(f.name for f in dataclasses.fields(PortalFrame))
+    protocol = tuple(name for name, value in vars(FrameLike).items() if isinstance(value, property))
+    assert set(Model._fields) == set(protocol)
+    assert set(Model._fields) == set(frame_fields) - {"h_r_m"}  # height: drift ratios only

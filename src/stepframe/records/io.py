@@ -25,7 +25,7 @@ import tempfile
 import warnings
 from os import PathLike
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -43,6 +43,9 @@ from stepframe.records.units import (
     STANDARD_GRAVITY_M_S2,
     normalize_units,
 )
+
+if TYPE_CHECKING:
+    from obspy import Stream
 
 _GZIP_MAGIC = b"\x1f\x8b"
 
@@ -82,7 +85,7 @@ def read(
     *,
     max_bytes: int = MAX_RECORD_BYTES,
     max_abs_g: float | None = MAX_ABS_G,
-) -> Any:
+) -> Stream:
     """Read an accelerogram file into an ``obspy.Stream`` of records in m/s².
 
     Parameters
@@ -277,7 +280,7 @@ def _read_bytes(
     return stream
 
 
-def _read_plain(file: Path, head: bytes, format: str | None, options: ReadOptions) -> Any:
+def _read_plain(file: Path, head: bytes, format: str | None, options: ReadOptions) -> Stream:
     if not head:
         raise InputError("empty file, expected an accelerogram", file)
     fmt = _by_name(format, file) if format is not None else _sniff(head, file)
@@ -298,7 +301,7 @@ def _read_plain(file: Path, head: bytes, format: str | None, options: ReadOption
         ) from exc
 
 
-def _as_user_file(plain: Path, file: Path, read_it: Any) -> Any:
+def _as_user_file(plain: Path, file: Path, read_it: Any) -> Stream:
     """Run ``read_it()`` on a temporary copy, naming the user's file in errors and warnings."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -376,7 +379,7 @@ def _sniff(head: bytes, file: Path) -> RecordFormat:
     )
 
 
-def _check_plausible(stream: Any, file: Path, max_abs_g: float | None) -> None:
+def _check_plausible(stream: Stream, file: Path, max_abs_g: float | None) -> None:
     """Refuse samples that no accelerogram has: not finite, all zero, or beyond ``max_abs_g``."""
     for trace in stream:
         data = np.asarray(trace.data, dtype=np.float64)
@@ -414,7 +417,7 @@ def _same_units(stated: str, given: str) -> bool:
     return stated in factors and given in factors and factors[stated] == factors[given]
 
 
-def _check_agreement(stream: Any, options: ReadOptions, file: Path) -> None:
+def _check_agreement(stream: Stream, options: ReadOptions, file: Path) -> None:
     """Refuse ``units``/``dt`` options that contradict what the file states.
 
     Readers use the options only where the file is silent; an option the file contradicts is a

@@ -214,7 +214,7 @@ STANDARD_HIGHPASS_HZ = 0.1
 STANDARD_TAPER = 0.05
 
 
-def needs_standard_processing(trace: Any) -> bool:
+def needs_standard_processing(trace: Trace) -> bool:
     """Whether the record was made from raw counts (:data:`FROM_COUNTS_STEPS`) and has not been
     high-passed since: its intensity measures need :func:`standard_processing` first."""
     history = list(trace.stats.get("stepframe", {}).get("processing", []))
@@ -225,7 +225,7 @@ def needs_standard_processing(trace: Any) -> bool:
     return not any(s.get("step") == "bandpass" and s.get("freqmin_hz") for s in later)
 
 
-def standard_processing(trace: Any, highpass_hz: float = STANDARD_HIGHPASS_HZ) -> Any:
+def standard_processing(trace: Trace, highpass_hz: float = STANDARD_HIGHPASS_HZ) -> Trace:
     """The stated processing of data converted from raw counts, in place: ``demean`` (offset),
     ``detrend`` (linear baseline), ``taper`` (5 % Hann at each end) and ``bandpass`` as a
     high-pass at ``highpass_hz`` [Hz] (4th-order Butterworth, acausal), each recorded.

@@ -7,12 +7,15 @@ definition requires (for example NIED's mean removal) and grows as processing st
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from stepframe.errors import InputError
+
+if TYPE_CHECKING:
+    from obspy import Trace, UTCDateTime
 
 #: Keys every record's ``stats.stepframe`` carries (``None`` where the format has no value).
 METADATA_KEYS = (
@@ -38,9 +41,9 @@ def make_trace(
     channel: str = "",
     network: str = "",
     location: str = "",
-    starttime: Any = None,
-    **metadata: Any,
-) -> Any:
+    starttime: UTCDateTime | str | float | None = None,
+    **metadata: object,
+) -> Trace:
     """Make a record (``obspy.Trace``) from acceleration samples in m/s².
 
     Parameters

@@ -21,6 +21,9 @@ if TYPE_CHECKING:
     from concurrent.futures import Executor
 
     import xarray as xr
+    from numpy.typing import ArrayLike
+
+    from stepframe.structure.simulator import FrameLike
 
 #: Outcome codes of a basin cell and of a diagram run.
 OUTCOME_SURVIVES = 0
@@ -60,7 +63,7 @@ def _omega_chunk_name(item: tuple[Any, ...]) -> str:
     return f"ω = {item[2][0]:.6g}..{item[2][-1]:.6g} rad/s"
 
 
-def initial_states(frame: Any, n: int, *, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
+def initial_states(frame: FrameLike, n: int, *, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
     """n initial states spread over the region the frame can survive from.
 
     x is uniform in (-x*, x*) and ẋ in (-ω₂x*, ω₂x*) (the velocity that carries the free stepped
@@ -79,12 +82,12 @@ def initial_states(frame: Any, n: int, *, seed: int = 0) -> tuple[np.ndarray, np
 
 
 def bifurcation_diagram(
-    frame: Any,
-    amplitudes_m_s2: Any,
+    frame: FrameLike,
+    amplitudes_m_s2: ArrayLike,
     omega_rad_s: float,
     *,
-    x0_m: Any = None,
-    v0_m_s: Any = None,
+    x0_m: ArrayLike | None = None,
+    v0_m_s: ArrayLike | None = None,
     n_initial: int = 50,
     n_periods: int = 100,
     n_keep: int = 20,
@@ -197,7 +200,7 @@ def orbit_period(x_points: np.ndarray, *, max_period: int = 8, rtol: float = 1e-
 
 
 def basin_of_overturning(
-    frame: Any,
+    frame: FrameLike,
     amplitude_m_s2: float,
     omega_rad_s: float,
     x_m: Any,
@@ -247,12 +250,12 @@ def basin_of_overturning(
 
 
 def frequency_diagram(
-    frame: Any,
+    frame: FrameLike,
     amplitude_m_s2: float,
-    omegas_rad_s: Any,
+    omegas_rad_s: ArrayLike,
     *,
-    x0_m: Any = None,
-    v0_m_s: Any = None,
+    x0_m: ArrayLike | None = None,
+    v0_m_s: ArrayLike | None = None,
     n_initial: int = 50,
     n_periods: int = 100,
     n_keep: int = 20,

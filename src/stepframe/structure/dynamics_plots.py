@@ -8,7 +8,7 @@ module costs nothing.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -136,7 +136,7 @@ def phase_portrait_figure(
     return fig
 
 
-def save_figure(fig: Any, path: str) -> None:
+def save_figure(fig: Figure, path: str) -> None:
     """Write a figure as PNG atomically (nothing half-written)."""
     from stepframe.core.io import atomic_write
 

@@ -18,12 +18,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
 from stepframe.core.results import Status
 from stepframe.errors import InputError
+
+if TYPE_CHECKING:
+    from stepframe.structure.simulator import FrameLike
 
 PulseKind = Literal["cosine", "sine"]
 PULSE_KINDS: tuple[str, ...] = ("cosine", "sine")
@@ -34,7 +37,7 @@ DEFAULT_MAX_EVENTS = 200_000
 _KERNEL_STATUS: dict[int, Status] = {0: "ok", 1: "nonfinite", 2: "too_many_events"}
 
 
-def frame_parameters(frame: Any) -> np.ndarray:
+def frame_parameters(frame: FrameLike) -> np.ndarray:
     """Kernel parameter vector (ω₁, ω₂, P₁, P₂, γ₁, ξ₁, ξ₂, x_c, C_r, x_cap) of a frame.
 
     Parameters
@@ -118,7 +121,7 @@ class HarmonicRun:
 
 
 def simulate_harmonic(
-    frame: Any,
+    frame: FrameLike,
     amplitude_m_s2: float,
     omega_rad_s: float,
     duration_s: float,
@@ -232,7 +235,7 @@ def pulse_phase_rad(kind: PulseKind) -> float:
 
 
 def simulate_pulse(
-    frame: Any,
+    frame: FrameLike,
     amplitude_m_s2: float,
     omega_rad_s: float,
     *,
@@ -328,7 +331,7 @@ class MapStep:
 
 
 def stroboscopic_map(
-    frame: Any,
+    frame: FrameLike,
     amplitude_m_s2: float,
     omega_rad_s: float,
     x_m: float,

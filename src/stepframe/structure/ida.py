@@ -29,6 +29,8 @@ from stepframe.errors import InputError
 if TYPE_CHECKING:
     import pandas as pd
 
+    from stepframe.structure.simulator import FrameLike
+
 #: evaluate(items, intensities) -> (overturned, peak |x| [m], status per run).
 Evaluator = Callable[[list[int], list[float]], tuple[np.ndarray, np.ndarray, list[str]]]
 
@@ -292,7 +294,7 @@ def capacity_fractiles(
 
 
 def ida_records(
-    frame: Any,
+    frame: FrameLike,
     records: Sequence[tuple[Any, float]],
     *,
     settings: IdaSettings | None = None,
@@ -340,7 +342,7 @@ def ida_records(
 
 
 def ida_pulse(
-    frame: Any,
+    frame: FrameLike,
     omegas_rad_s: Sequence[float],
     *,
     kind: str = "cosine",

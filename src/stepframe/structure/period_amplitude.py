@@ -21,7 +21,7 @@ selection and the mean-square analysis take it as the callable :func:`period_amp
 from __future__ import annotations
 
 import math
-from typing import Any, Literal
+from typing import Literal, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -69,9 +69,21 @@ def quarter_periods_s(
     return t_unstepped, t_stepped
 
 
+@overload
+def period_amplitude(
+    frame: PortalFrame, amplitude_m: float, *, beyond_x_star: BeyondXStar = "raise"
+) -> float: ...
+@overload
+def period_amplitude(
+    frame: PortalFrame, amplitude_m: npt.NDArray[np.float64], *, beyond_x_star: BeyondXStar = ...
+) -> npt.NDArray[np.float64]: ...
+@overload
+def period_amplitude(
+    frame: PortalFrame, amplitude_m: npt.ArrayLike, *, beyond_x_star: BeyondXStar = ...
+) -> float | npt.NDArray[np.float64]: ...
 def period_amplitude(
     frame: PortalFrame, amplitude_m: npt.ArrayLike, *, beyond_x_star: BeyondXStar = "raise"
-) -> Any:
+) -> float | npt.NDArray[np.float64]:
     """Free-vibration period T(A) of the conservative two-phase model [s], vectorised.
 
     Parameters
@@ -122,7 +134,19 @@ def period_amplitude(
     return period
 
 
-def amplitude_for_period(frame: PortalFrame, period_s: npt.ArrayLike) -> Any:
+@overload
+def amplitude_for_period(frame: PortalFrame, period_s: float) -> float: ...
+@overload
+def amplitude_for_period(
+    frame: PortalFrame, period_s: npt.NDArray[np.float64]
+) -> npt.NDArray[np.float64]: ...
+@overload
+def amplitude_for_period(
+    frame: PortalFrame, period_s: npt.ArrayLike
+) -> float | npt.NDArray[np.float64]: ...
+def amplitude_for_period(
+    frame: PortalFrame, period_s: npt.ArrayLike
+) -> float | npt.NDArray[np.float64]:
     """Inverse of :func:`period_amplitude` on the stepping branch: A with T(A) = period [m].
 
     T(A) rises monotonically from 2π/ω₁ at A = x_c to infinity at A = x*, so every period above
@@ -162,7 +186,7 @@ def amplitude_for_period(frame: PortalFrame, period_s: npt.ArrayLike) -> Any:
         longer = period_amplitude(frame, middle) > periods
         high = np.where(longer, middle, high)
         low = np.where(longer, low, middle)
-    amplitude = 0.5 * (low + high)
+    amplitude: npt.NDArray[np.float64] = 0.5 * (low + high)
     if amplitude.ndim == 0:
         return float(amplitude)
     return amplitude

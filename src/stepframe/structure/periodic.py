@@ -16,12 +16,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from stepframe.core.results import Status
 from stepframe.structure.harmonic import frame_parameters, stroboscopic_map
+
+if TYPE_CHECKING:
+    from stepframe.structure.simulator import FrameLike
 
 
 @dataclass(frozen=True)
@@ -85,7 +88,7 @@ class PeriodicOrbit:
 
 
 def find_periodic_orbit(
-    frame: Any,
+    frame: FrameLike,
     amplitude_m_s2: float,
     omega_rad_s: float,
     x_m: float,
@@ -225,7 +228,7 @@ def _is_symmetric(
 
 
 def finite_difference_jacobian(
-    frame: Any,
+    frame: FrameLike,
     amplitude_m_s2: float,
     omega_rad_s: float,
     x_m: float,
@@ -263,7 +266,7 @@ def finite_difference_jacobian(
 
 
 def symmetric_orbit_guess(
-    frame: Any, amplitude_m_s2: float, omega_rad_s: float, *, n: int = 1, branch: int = 0
+    frame: FrameLike, amplitude_m_s2: float, omega_rad_s: float, *, n: int = 1, branch: int = 0
 ) -> tuple[float, float, float] | None:
     """Closed-form symmetric (2, n) orbit of Housner's linearised block (x_c = 0), n odd.
 

@@ -62,6 +62,7 @@ from stepframe.structure.status import (
 if TYPE_CHECKING:
     import pandas as pd
     import xarray as xr
+    from numpy.typing import ArrayLike
 
 Method = Literal["exact", "RK45", "DOP853", "Radau", "LSODA"]
 #: Status of a run: a state of :data:`stepframe.core.results.STATUSES`.
@@ -294,7 +295,9 @@ def model_of(frame: FrameLike) -> Model:
     return model
 
 
-def _check_motion(ground_acc_m_s2: Any, dt_s: float, name: str = "ground_acc_m_s2") -> np.ndarray:
+def _check_motion(
+    ground_acc_m_s2: ArrayLike, dt_s: float, name: str = "ground_acc_m_s2"
+) -> np.ndarray:
     ag = np.asarray(ground_acc_m_s2, dtype=float)
     if ag.ndim != 1 or ag.size < 2:
         raise InputError(f"{name} has shape {ag.shape}, expected a 1-D series of ≥ 2 samples")
@@ -482,7 +485,7 @@ def _result(
 
 def simulate(
     frame: FrameLike,
-    ground_acc_m_s2: Any,
+    ground_acc_m_s2: ArrayLike,
     dt_s: float,
     *,
     scale: float = 1.0,
@@ -576,7 +579,7 @@ def simulate_rigid_block(
     p_rad_s: float,
     alpha_rad: float,
     c_r: float,
-    ground_acc_m_s2: Any,
+    ground_acc_m_s2: ArrayLike,
     dt_s: float,
     *,
     theta0_rad: float = 0.0,
@@ -701,7 +704,7 @@ def _blocks(
 
 def simulate_batch(
     frame: FrameLike,
-    records: Sequence[BatchRecord | tuple[Any, float]],
+    records: Sequence[BatchRecord | tuple[ArrayLike, float]],
     scales: Sequence[float] | np.ndarray,
     *,
     pairs: Literal["product", "zip"] = "product",

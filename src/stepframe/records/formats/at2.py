@@ -18,12 +18,15 @@ from __future__ import annotations
 import datetime as dt
 import re
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 from stepframe.errors import FormatError
 from stepframe.records.formats import ReadOptions, RecordFormat, _header, register
 from stepframe.records.formats._text import check_count, numbers, read_lines, resolve_units, warn
 from stepframe.records.units import factor_to_m_s2
+
+if TYPE_CHECKING:
+    from obspy import Stream
 
 _NEW_STYLE = re.compile(r"NPTS\s*=\s*([^,\s]*)\s*,?\s*DT\s*=\s*([^\s,]*?)\s*(?:SEC\b|,|\s|$)", re.I)
 _OLD_STYLE = re.compile(r"^\s*(\S+)\s+(\S+)\s+NPTS\s*,\s*DT\b", re.I)
@@ -114,7 +117,7 @@ def _event_date(date: str | None, path: Path) -> str | None:
         return None
 
 
-def read(path: Path, options: ReadOptions) -> Any:
+def read(path: Path, options: ReadOptions) -> Stream:
     """Read an AT2 file as a one-trace ``obspy.Stream`` in m/s².
 
     Raises

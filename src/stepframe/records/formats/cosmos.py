@@ -21,7 +21,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -37,6 +37,9 @@ from stepframe.records.formats._text import (
     warn,
 )
 from stepframe.records.units import STANDARD_GRAVITY_M_S2, factor_to_m_s2
+
+if TYPE_CHECKING:
+    from obspy import Stream, UTCDateTime
 
 _TEXT_COUNT = re.compile(r"Format\s+v?\s*\d+\.\d+\s+with\s+(\d+)\s+text\s+lines", re.I)
 _INT_HEADER = re.compile(r"^\s*(\d+)\s+Integer-header\s+values\s+follow", re.I)
@@ -160,7 +163,7 @@ def _identity(channel: _Channel, index: int) -> tuple[str, str, str, str]:
     return network, station, "", orientation or str(index + 1)
 
 
-def _start_time(channel: _Channel, path: Path) -> Any:
+def _start_time(channel: _Channel, path: Path) -> UTCDateTime:
     parts = [channel.integer(n) for n in (40, 42, 43, 44, 45)]
     seconds = channel.real(30)
     if any(p is None for p in parts) or seconds is None:
@@ -191,7 +194,7 @@ def _is_acceleration(block: _Block) -> bool:
     return "acc" in block.kind.lower() and "deg" not in block.units_text.lower()
 
 
-def read(path: Path, options: ReadOptions) -> Any:
+def read(path: Path, options: ReadOptions) -> Stream:
     """Read a COSMOS file: one trace per acceleration channel, in m/s².
 
     Raises

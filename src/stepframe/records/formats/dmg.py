@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from stepframe.errors import FormatError
 from stepframe.records.formats import ReadOptions, RecordFormat, _header, register
@@ -33,6 +33,9 @@ from stepframe.records.formats._text import (
     warn,
 )
 from stepframe.records.units import factor_to_m_s2
+
+if TYPE_CHECKING:
+    from obspy import Stream, UTCDateTime
 
 _FIRST_LINE = re.compile(r"^\s*(Uncorrected|Corrected)\s+Accelerogram", re.I)
 _V1_DATA = re.compile(
@@ -70,7 +73,7 @@ def sniff(head: bytes, path: Path) -> bool:
         return False
 
 
-def _start_time(header: list[str], first: int, path: Path) -> Any:
+def _start_time(header: list[str], first: int, path: Path) -> UTCDateTime:
     for offset, line in enumerate(header):
         if match := _START.search(line):
             month, day, year, hour, minute = (int(match[k]) for k in range(1, 6))
@@ -156,7 +159,7 @@ def _channel(
     )
 
 
-def read(path: Path, options: ReadOptions) -> Any:
+def read(path: Path, options: ReadOptions) -> Stream:
     """Read a CSMIP/DMG V1 or V2 file: one trace per channel (acceleration), in m/s².
 
     Raises

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 from stepframe.errors import FormatError
 from stepframe.records.formats import ReadOptions, RecordFormat, _header, register
@@ -25,6 +25,9 @@ from stepframe.records.formats._text import (
     warn,
 )
 from stepframe.records.units import factor_to_m_s2
+
+if TYPE_CHECKING:
+    from obspy import Stream, UTCDateTime
 
 _KEY = re.compile(r"^([A-Z][A-Z0-9_/^.\-]*):\s?(.*?)\s*$")
 _REQUIRED = ("SAMPLING_INTERVAL_S", "NDATA")
@@ -53,7 +56,7 @@ def _float(
     return _header.number(text, path, line, key, low=low, high=high)
 
 
-def _start_time(header: dict[str, tuple[str, int]], path: Path) -> Any:
+def _start_time(header: dict[str, tuple[str, int]], path: Path) -> UTCDateTime:
 
     key = "DATE_TIME_FIRST_SAMPLE_YYYYMMDD_HHMMSS"
     if key not in header or not header[key][0]:
@@ -67,7 +70,7 @@ def _start_time(header: dict[str, tuple[str, int]], path: Path) -> Any:
     return _header.start_time(parts, match[6], path, line, repr(text), what="date")
 
 
-def read(path: Path, options: ReadOptions) -> Any:
+def read(path: Path, options: ReadOptions) -> Stream:
     """Read an ESM ASCII file as a one-trace ``obspy.Stream`` in m/s².
 
     Raises

@@ -10,13 +10,16 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from stepframe.errors import FormatError
 from stepframe.records.formats import SNIFF_BYTES, ReadOptions, RecordFormat, _header, register
 from stepframe.records.units import factor_to_m_s2
+
+if TYPE_CHECKING:
+    from obspy import Stream
 
 _NPTS_DT = re.compile(r"NPTS\s*=\s*(\S+)\s+DT\s*=\s*(\S+)\s*SEC", re.IGNORECASE)
 _RSN = re.compile(r"RSN\s+(\d+),\s*component\s+(\S+)")
@@ -103,7 +106,7 @@ def parse(path: Path) -> FemaText:
     )
 
 
-def read(path: Path, options: ReadOptions) -> Any:
+def read(path: Path, options: ReadOptions) -> Stream:
     """Read a FEMA P695 text file as a one-trace ``obspy.Stream`` in m/s² (values are in g)."""
     from obspy import Stream
 

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -34,6 +34,9 @@ from stepframe.records.formats._text import (
     resolve_units,
 )
 from stepframe.records.units import factor_to_m_s2
+
+if TYPE_CHECKING:
+    from obspy import Stream, UTCDateTime
 
 _FIRST_LINE = re.compile(r"^\s*(Uncorrected|Corrected)\s+accelerogram", re.I)
 _SITE = re.compile(r"^\s*Site\s+(\S+)")
@@ -59,7 +62,7 @@ def sniff(head: bytes, path: Path) -> bool:
         return False
 
 
-def _start_time(ints: list[int], path: Path, line: int) -> Any:
+def _start_time(ints: list[int], path: Path, line: int) -> UTCDateTime:
     year, month, day, hour, minute, tenths = ints[:6]
     text = f"{year}-{month}-{day} {hour}:{minute}"
     return _header.start_time((year, month, day, hour, minute), tenths / 10.0, path, line, text)
@@ -157,7 +160,7 @@ def _component(lines: list[str], start: int, options: ReadOptions, path: Path) -
     return trace, end
 
 
-def read(path: Path, options: ReadOptions) -> Any:
+def read(path: Path, options: ReadOptions) -> Stream:
     """Read a GeoNet V1A/V2A file: one trace per component, in m/s².
 
     Raises

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -31,6 +31,9 @@ from stepframe.errors import FormatError, InputError
 from stepframe.records.formats import OBSPY_PRIORITY, ReadOptions, RecordFormat, register
 from stepframe.records.formats._text import check_peak
 from stepframe.records.units import STANDARD_GRAVITY_M_S2, factor_to_m_s2, normalize_units
+
+if TYPE_CHECKING:
+    from obspy import Stream, Trace
 
 #: obspy waveform formats offered by name, in sniffing order (obspy's own order, PICKLE removed).
 OBSPY_FORMATS = (
@@ -112,7 +115,7 @@ def _obspy_read(path: Path, name: str) -> Any:
         raise FormatError(f"obspy could not read it as {name}: {reason}", path) from None
 
 
-def _nied(trace: Any, path: Path, options: ReadOptions) -> tuple[np.ndarray, str, list[Any]]:
+def _nied(trace: Trace, path: Path, options: ReadOptions) -> tuple[np.ndarray, str, list[Any]]:
     if options.units is not None or options.inventory is not None:
         raise FormatError(
             "K-NET/KiK-net values are defined by the header's scale factor, "
@@ -137,7 +140,7 @@ def _nied(trace: Any, path: Path, options: ReadOptions) -> tuple[np.ndarray, str
     return data_gal * 0.01, "gal", steps
 
 
-def _inventory(trace: Any, inventory: Any, inventory_path: str) -> tuple[np.ndarray, list[Any]]:
+def _inventory(trace: Trace, inventory: Any, inventory_path: str) -> tuple[np.ndarray, list[Any]]:
     try:
         response = inventory.get_response(trace.id, trace.stats.starttime)
     except Exception:
@@ -170,7 +173,7 @@ def _inventory(trace: Any, inventory: Any, inventory_path: str) -> tuple[np.ndar
     return np.asarray(work.data, dtype=np.float64), [step]
 
 
-def _stated(trace: Any, path: Path) -> tuple[np.ndarray, str, list[Any]] | None:
+def _stated(trace: Trace, path: Path) -> tuple[np.ndarray, str, list[Any]] | None:
     """Data in m/s² from the units the format itself states, or None if it states none."""
     data = np.asarray(trace.data, dtype=np.float64)
     if hasattr(trace.stats, "sac"):
@@ -203,7 +206,7 @@ def _stated(trace: Any, path: Path) -> tuple[np.ndarray, str, list[Any]] | None:
     return None
 
 
-def read_with_obspy(path: Path, options: ReadOptions, name: str) -> Any:
+def read_with_obspy(path: Path, options: ReadOptions, name: str) -> Stream:
     """Read ``path`` with obspy as format ``name`` and convert every trace to m/s².
 
     Raises
@@ -288,7 +291,7 @@ def read_with_obspy(path: Path, options: ReadOptions, name: str) -> Any:
     return Stream(traces)
 
 
-def _magnitude(trace: Any) -> float | None:
+def _magnitude(trace: Trace) -> float | None:
     if hasattr(trace.stats, "knet"):
         value = trace.stats.knet.get("mag")
         return None if value is None else float(value)
@@ -296,7 +299,7 @@ def _magnitude(trace: Any) -> float | None:
 
 
 def _reader(name: str) -> Any:
-    def read(path: Path, options: ReadOptions) -> Any:
+    def read(path: Path, options: ReadOptions) -> Stream:
         return read_with_obspy(path, options, name)
 
     read.__doc__ = f"Read a {name.upper()} file through obspy, in m/s²."

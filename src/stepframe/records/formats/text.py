@@ -12,7 +12,7 @@ With one column the sampling interval must be given (``--dt-s``); with two the i
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -26,6 +26,9 @@ from stepframe.records.formats._text import (
     same_units,
 )
 from stepframe.records.units import factor_to_m_s2, normalize_units
+
+if TYPE_CHECKING:
+    from obspy import Stream
 
 #: Largest relative deviation of a time step from the mean step (printed times are rounded).
 _UNIFORM_REL = 1e-3
@@ -59,7 +62,7 @@ def sniff(head: bytes, path: Path) -> bool:
         return False
 
 
-def read(path: Path, options: ReadOptions) -> Any:
+def read(path: Path, options: ReadOptions) -> Stream:
     """Read a plain text accelerogram as a one-trace ``obspy.Stream`` in m/s².
 
     Raises
