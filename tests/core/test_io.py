@@ -7,7 +7,14 @@ from pathlib import Path
 
 import pytest
 
-from stepframe.core.io import atomic_write, read_toml, write_bytes, write_text
+from stepframe.core.io import (
+    atomic_write,
+    publish_folder,
+    read_toml,
+    staged_folder,
+    write_bytes,
+    write_text,
+)
 from stepframe.errors import InputError
 
 
@@ -51,6 +58,52 @@ def test_a_finished_write_replaces_the_file_with_the_umask_mode(tmp_path: Path) 
 def test_a_missing_folder_is_a_user_error(tmp_path: Path) -> None:
     with pytest.raises(InputError, match="output folder does not exist"):
         write_text(tmp_path / "missing" / "x.txt", "x")
+
+
+def test_a_staged_folder_replaces_the_old_one_whole(tmp_path: Path) -> None:
+    target = tmp_path / "report_files"
+    target.mkdir()
+    (target / "old.csv").write_text("old")
+    with staged_folder(target) as staging:
+        (staging / "new.csv").write_text("new")
+        assert sorted(p.name for p in target.iterdir()) == ["old.csv"]  # untouched until the end
+    assert sorted(p.name for p in target.iterdir()) == ["new.csv"]
+    assert [p.name for p in tmp_path.iterdir()] == ["report_files"]  # no staging, no .old left
+    mask = os.umask(0)
+    os.umask(mask)
+    assert target.stat().st_mode & 0o777 == 0o777 & ~mask
+
+
+def test_an_exception_in_a_staged_folder_keeps_the_old_folder(tmp_path: Path) -> None:
+    target = tmp_path / "set"
+    target.mkdir()
+    (target / "a.parquet").write_bytes(b"old")
+    with pytest.raises(Killed), staged_folder(target) as staging:
+        (staging / "a.parquet").write_bytes(b"half")
+        raise Killed
+    assert (target / "a.parquet").read_bytes() == b"old"
+    assert [p.name for p in tmp_path.iterdir()] == ["set"]
+
+
+def test_a_failed_rename_puts_the_old_folder_back(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    target = tmp_path / "set"
+    target.mkdir()
+    (target / "kept").write_text("old")
+    staging = tmp_path / ".set.tmp"
+    staging.mkdir()
+    real_replace = os.replace
+
+    def replace(source: os.PathLike[str], destination: os.PathLike[str]) -> None:
+        if Path(source) == staging:
+            raise Killed
+        real_replace(source, destination)
+
+    monkeypatch.setattr(os, "replace", replace)
+    with pytest.raises(Killed):
+        publish_folder(staging, target)
+    assert (target / "kept").read_text() == "old"
 
 
 def test_read_toml_returns_data_and_text(tmp_path: Path) -> None:

@@ -3,8 +3,10 @@
 Every file the user sees is written through :func:`atomic_write`: to a temporary file in the same
 folder, flushed and fsynced, then renamed over the target, so a reader sees the old file or the
 new one, never a half-written one; on any exception the temporary is removed and the target is
-left as it was. TOML (frame files, design cases, workflows) is read with :func:`read_toml`, whose
-errors are one line naming the file and line.
+left as it was. A folder of files published as one (a report's data folder, a pipeline result
+set) is written into a staging folder and moved into place by :func:`publish_folder`
+(:func:`staged_folder` does both). TOML (frame files, design cases, workflows) is read with
+:func:`read_toml`, whose errors are one line naming the file and line.
 """
 
 from __future__ import annotations
@@ -12,6 +14,7 @@ from __future__ import annotations
 import contextlib
 import os
 import re
+import shutil
 import tempfile
 import tomllib
 from collections.abc import Iterator
@@ -98,6 +101,70 @@ def atomic_write(
     except BaseException:
         Path(temporary).unlink(missing_ok=True)
         raise
+
+
+def publish_folder(staging: str | PathLike[str], target: str | PathLike[str]) -> Path:
+    """Move the complete folder ``staging`` to ``target`` atomically, replacing any folder there.
+
+    ``staging`` must be on the same filesystem (a sibling of ``target``). A reader sees the old
+    folder or the new one, never a mix: the old one is renamed aside, the new one renamed into
+    place (the old one is put back if that fails), then the old one is deleted. Both renames
+    are made durable by syncing the folders.
+
+    Returns
+    -------
+    pathlib.Path
+        ``target``.
+    """
+    staging, target = Path(staging), Path(target)
+    _fsync_folder(staging)
+    old: Path | None = None
+    if target.exists():
+        old = target.with_name(f".{target.name}.{os.getpid()}.old")
+        os.replace(target, old)
+    try:
+        os.replace(staging, target)
+    except BaseException:
+        if old is not None:
+            os.replace(old, target)
+        raise
+    _fsync_folder(target.parent)
+    if old is not None:
+        shutil.rmtree(old, ignore_errors=True)
+    return target
+
+
+@contextlib.contextmanager
+def staged_folder(target: str | PathLike[str]) -> Iterator[Path]:
+    """A staging folder beside ``target``; on success it replaces ``target``.
+
+    The replacement is :func:`publish_folder`.
+
+    On any exception the staging folder is removed and ``target`` is left as it was. The staging
+    folder gets the mode ``mkdir`` would give (the user's umask).
+    """
+    target = Path(target)
+    if not target.parent.is_dir():
+        raise InputError("output folder does not exist, expected an existing folder", target)
+    staging = Path(
+        tempfile.mkdtemp(prefix=f".{target.name}.", suffix=TEMPORARY_SUFFIX, dir=target.parent)
+    )
+    try:
+        os.chmod(staging, 0o777 & ~_umask())  # mkdtemp creates 0700
+        yield staging
+        publish_folder(staging, target)
+    except BaseException:
+        shutil.rmtree(staging, ignore_errors=True)
+        raise
+
+
+def _fsync_folder(folder: Path) -> None:
+    # A rename is durable only once the folder holding the entry is synced.
+    descriptor = os.open(folder, os.O_RDONLY)
+    try:
+        os.fsync(descriptor)
+    finally:
+        os.close(descriptor)
 
 
 def write_text(path: str | PathLike[str], text: str) -> Path:

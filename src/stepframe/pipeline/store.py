@@ -33,7 +33,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from stepframe.core.io import TEMPORARY_SUFFIX, atomic_write
+from stepframe.core.io import TEMPORARY_SUFFIX, atomic_write, publish_folder
 from stepframe.core.results import FAILURE_COLUMNS, Failure
 
 if TYPE_CHECKING:
@@ -229,23 +229,9 @@ class Store:
         return temporary
 
     def commit_set(self, stage: str, key: str, temporary: Path) -> Path:
-        """Rename a complete temporary folder into place (atomic on one filesystem)."""
-        target = self.set_dir(stage, key)
-        if target.exists():  # --force: the new result replaces the old one
-            shutil.rmtree(target)
-        _fsync_dir(temporary)
-        os.replace(temporary, target)
-        _fsync_dir(target.parent)
-        return target
-
-
-def _fsync_dir(folder: Path) -> None:
-    # The rename of a folder is durable only once its parent folder is synced.
-    descriptor = os.open(folder, os.O_RDONLY)
-    try:
-        os.fsync(descriptor)
-    finally:
-        os.close(descriptor)
+        """Move a complete temporary folder into place (atomic on one filesystem); with
+        ``--force`` the new result replaces the old one."""
+        return publish_folder(temporary, self.set_dir(stage, key))
 
 
 def _write_parquet(table: pd.DataFrame, path: Path) -> None:

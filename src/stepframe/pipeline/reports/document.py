@@ -4,8 +4,9 @@ The HTML needs no network: figures are inline PNG (``data:`` URIs), the style sh
 table-sorting script are inline, and the page is fully readable with scripts off. Every number a
 report shows is also written beside it: each table as CSV (with its column dictionary), the summary
 and the provenance as JSON, in the folder ``<report stem>_files/``. Writing is all-or-nothing:
-the page is rendered in memory, the folder is written under a temporary name and swapped in, and
-the HTML is written last with :func:`stepframe.core.io.atomic_write`, so an error leaves no
+the page is rendered in memory, the folder is written under a temporary name and published by
+:func:`stepframe.core.io.staged_folder`, and the HTML is renamed into place last by
+:func:`stepframe.core.io.atomic_write`, so an error leaves no
 partial report.
 """
 
@@ -15,16 +16,13 @@ import base64
 import io
 import json
 import math
-import os
-import shutil
-import tempfile
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from stepframe.core.io import atomic_write
+from stepframe.core.io import atomic_write, staged_folder
 from stepframe.errors import InputError
 from stepframe.pipeline.reports.provenance import Provenance
 
@@ -248,32 +246,9 @@ def write_report(report: Report, out_html: str | PathLike[str]) -> Path:
         raise InputError("output folder does not exist, expected an existing folder", target)
     folder = data_folder_of(target)
     html = render(report, folder.name)  # in memory first: a template error writes nothing
-    staging = Path(tempfile.mkdtemp(prefix=f".{folder.name}.", suffix=".tmp", dir=target.parent))
-    old: Path | None = None
-    swapped = False
-    try:
+    # The HTML is renamed into place last, after its data folder: a reader never finds an HTML
+    # page whose numbers are not beside it. Any error leaves the previous report as it was.
+    with atomic_write(target) as out, staged_folder(folder) as staging:
         _write_folder(report, staging)
-        os.chmod(staging, 0o777 & ~_umask())
-        if folder.exists():
-            old = folder.with_name(f".{folder.name}.{os.getpid()}.old")
-            os.replace(folder, old)
-        os.replace(staging, folder)
-        swapped = True
-        with atomic_write(target) as out:
-            out.write(html)
-    except BaseException:
-        shutil.rmtree(staging, ignore_errors=True)
-        if swapped:
-            shutil.rmtree(folder, ignore_errors=True)
-        if old is not None:  # put the previous report's numbers back
-            os.replace(old, folder)
-        raise
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True)
+        out.write(html)
     return target
-
-
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
