@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
+from stepframe.core import validation
 from stepframe.core.results import Status
 from stepframe.errors import InputError
 
@@ -63,17 +64,6 @@ def frame_parameters(frame: FrameLike) -> np.ndarray:
         ],
         dtype=float,
     )
-
-
-def _finite(name: str, value: float, minimum: float | None = None, strict: bool = False) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float | np.floating | np.integer):
-        raise InputError(f"{name} = {value!r}, expected a number")
-    number = float(value)
-    if not math.isfinite(number):
-        raise InputError(f"{name} = {number!r}, expected a finite number")
-    if minimum is not None and (number <= minimum if strict else number < minimum):
-        raise InputError(f"{name} = {number!r}, expected {'>' if strict else '≥'} {minimum}")
-    return number
 
 
 @dataclass(frozen=True)
@@ -156,12 +146,12 @@ def simulate_harmonic(
     from stepframe.structure import _harmonic_kernel as hk
 
     prm = frame_parameters(frame)
-    amp = _finite("amplitude_m_s2", amplitude_m_s2, 0.0)
-    om = _finite("omega_rad_s", omega_rad_s, 0.0, strict=True)
-    dur = _finite("duration_s", duration_s, 0.0, strict=True)
-    phi = _finite("phase_rad", phase_rad)
-    x = _finite("x0_m", x0_m)
-    v = _finite("v0_m_s", v0_m_s)
+    amp = validation.non_negative("amplitude_m_s2", amplitude_m_s2)
+    om = validation.positive("omega_rad_s", omega_rad_s)
+    dur = validation.positive("duration_s", duration_s)
+    phi = validation.finite("phase_rad", phase_rad)
+    x = validation.finite("x0_m", x0_m)
+    v = validation.finite("v0_m_s", v0_m_s)
     if samples_per_period < 1:
         raise InputError(f"samples_per_period = {samples_per_period}, expected ≥ 1")
     n = max(1, math.ceil(dur * om / (2 * math.pi) * samples_per_period))
@@ -265,8 +255,8 @@ def simulate_pulse(
     from stepframe.structure import _harmonic_kernel as hk
 
     prm = frame_parameters(frame)
-    amp = _finite("amplitude_m_s2", amplitude_m_s2, 0.0)
-    om = _finite("omega_rad_s", omega_rad_s, 0.0, strict=True)
+    amp = validation.non_negative("amplitude_m_s2", amplitude_m_s2)
+    om = validation.positive("omega_rad_s", omega_rad_s)
     phi = pulse_phase_rad(kind)
     tp = 2.0 * math.pi / om
     jac = np.eye(2)

@@ -42,6 +42,7 @@ from typing import TYPE_CHECKING, Any, Literal, Protocol
 
 import numpy as np
 
+from stepframe.core import validation
 from stepframe.errors import InputError
 from stepframe.structure.frame import PAPER_G_M_S2
 from stepframe.structure.status import (
@@ -312,20 +313,9 @@ def _check_motion(
     return ag
 
 
-def _check_scalar(name: str, value: float, minimum: float | None = None) -> float:
-    if not (isinstance(value, int | float) and math.isfinite(value)):
-        raise InputError(f"{name} = {value!r}, expected a finite number")
-    if minimum is not None and value < minimum:
-        raise InputError(f"{name} = {value}, expected ≥ {minimum}")
-    return float(value)
-
-
 def _height(frame: FrameLike, height_m: float | None) -> float | None:
     if height_m is not None:
-        height = _check_scalar("height_m", height_m)
-        if height <= 0:
-            raise InputError(f"height_m = {height_m}, expected > 0")
-        return height
+        return validation.positive("height_m", height_m)
     per_m = getattr(frame, "drift_ratio_per_m", None)
     if isinstance(per_m, int | float) and per_m > 0:
         return 1.0 / float(per_m)
@@ -551,10 +541,10 @@ def simulate(
     """
     model = model_of(frame)
     ag = _check_motion(ground_acc_m_s2, dt_s)
-    scale = _check_scalar("scale", scale)
-    tail_s = _check_scalar("tail_s", tail_s, minimum=0.0)
-    x0 = _check_scalar("x0_m", x0_m)
-    v0 = _check_scalar("v0_m_s", v0_m_s)
+    scale = validation.finite("scale", scale)
+    tail_s = validation.non_negative("tail_s", tail_s)
+    x0 = validation.finite("x0_m", x0_m)
+    v0 = validation.finite("v0_m_s", v0_m_s)
     if isinstance(method, str):
         if method not in METHODS:
             raise InputError(f"method = {method!r}, expected one of {', '.join(METHODS)}")
@@ -614,17 +604,15 @@ def simulate_rigid_block(
         As in :func:`simulate`.
     """
     for name, value in (("p_rad_s", p_rad_s), ("alpha_rad", alpha_rad), ("g_m_s2", g_m_s2)):
-        if not (_check_scalar(name, value) > 0):
-            raise InputError(f"{name} = {value}, expected > 0")
-    if not 0 <= _check_scalar("c_r", c_r) <= 1:
-        raise InputError(f"c_r = {c_r}, expected 0 ≤ c_r ≤ 1")
+        validation.positive(name, value)
+    validation.in_range("c_r", c_r, 0.0, 1.0)
     model = Model(p_rad_s, p_rad_s, 0.0, p_rad_s**2 / g_m_s2, p_rad_s**2 * alpha_rad,
                   0.0, 0.0, 0.0, c_r, math.inf)  # fmt: skip
     ag = _check_motion(ground_acc_m_s2, dt_s)
-    tail_s = _check_scalar("tail_s", tail_s, minimum=0.0)
+    tail_s = validation.non_negative("tail_s", tail_s)
     n_tail = math.ceil(tail_s / dt_s - 1e-9)
-    theta0 = _check_scalar("theta0_rad", theta0_rad)
-    omega0 = _check_scalar("omega0_rad_s", omega0_rad_s)
+    theta0 = validation.finite("theta0_rad", theta0_rad)
+    omega0 = validation.finite("omega0_rad_s", omega0_rad_s)
     raw = _run_exact(model, ag, float(dt_s), n_tail, theta0, omega0, record_history)
     return _result(raw, float(dt_s), None, "rad", _checked_status(raw, model, ag, theta0))
 
@@ -749,9 +737,9 @@ def simulate_batch(
     from stepframe.core.execution import map_items
 
     model = model_of(frame)
-    tail_s = _check_scalar("tail_s", tail_s, minimum=0.0)
-    x0 = _check_scalar("x0_m", x0_m)
-    v0 = _check_scalar("v0_m_s", v0_m_s)
+    tail_s = validation.non_negative("tail_s", tail_s)
+    x0 = validation.finite("x0_m", x0_m)
+    v0 = validation.finite("v0_m_s", v0_m_s)
     height = _height(frame, height_m)
     series = []
     dts = []
@@ -761,7 +749,7 @@ def simulate_batch(
         dts.append(float(dt))
     scale_arr = np.asarray(scales, dtype=float).ravel()
     for j, s in enumerate(scale_arr):
-        _check_scalar(f"scales[{j}]", float(s))
+        validation.finite(f"scales[{j}]", float(s))
     if not series:
         raise InputError("records is empty, expected at least one record")
     if pairs == "product":
