@@ -13,6 +13,7 @@ from stepframe.core.results import (
     check_status,
     failures_path,
     failures_table,
+    get_column_dictionary,
     result_dict,
 )
 from stepframe.errors import InputError
@@ -49,7 +50,7 @@ def test_failures_table_layout_even_when_empty() -> None:
     assert table.to_dict("records") == [
         {"item": "x", "stage": "read", "error_type": "OSError", "message": "gone"}
     ]
-    assert list(table.attrs["column_dictionary"]["column"]) == list(FAILURE_COLUMNS)
+    assert list(get_column_dictionary(table)["column"]) == list(FAILURE_COLUMNS)
 
 
 def test_status_vocabulary() -> None:
@@ -57,3 +58,19 @@ def test_status_vocabulary() -> None:
     assert result_dict("ok", value=1) == {"status": "ok", "message": "", "value": 1}
     with pytest.raises(ValueError, match="unknown status 'converged'"):
         check_status("converged")
+
+
+def test_tables_with_column_dictionaries_concatenate_and_merge() -> None:
+    """pandas compares attrs on concat and merge; a DataFrame kept there made both raise."""
+    import pandas as pd
+
+    from stepframe.core.results import set_column_dictionary
+
+    dictionary = pd.DataFrame({"column": ["x_m"], "unit": ["m"], "meaning": ["peak"]})
+    a = set_column_dictionary(pd.DataFrame({"x_m": [1.0]}), dictionary)
+    b = set_column_dictionary(pd.DataFrame({"x_m": [2.0]}), dictionary)
+    both = pd.concat([a, b], ignore_index=True)
+    assert both["x_m"].tolist() == [1.0, 2.0]
+    assert get_column_dictionary(both).equals(dictionary)  # equal dictionaries are kept
+    assert a.merge(b, how="outer", on="x_m")["x_m"].tolist() == [1.0, 2.0]
+    assert get_column_dictionary(pd.DataFrame({"y": [0]})) is None

@@ -11,6 +11,7 @@ import pandas as pd
 import pytest
 import xarray as xr
 
+from stepframe.core.results import get_column_dictionary
 from stepframe.pipeline.amplification import amplification_curve, read_curve, write_curve
 from stepframe.pipeline.design import (
     design_case,
@@ -65,7 +66,7 @@ def test_features_table_round_trip(traces: list, tmp_path: Path) -> None:  # typ
     assert [p.name for p in paths] == ["features.csv", "features.failures.csv"]
     back = read_table(tmp_path / "features.csv")
     pd.testing.assert_frame_equal(back, table)
-    dictionary = back.attrs["column_dictionary"]
+    dictionary = get_column_dictionary(back)
     assert dictionary.set_index("column").loc["omega_s_rad_s", "unit"] == "rad/s"
     assert list(pd.read_csv(paths[1]).columns) == ["item", "stage", "error_type", "message"]
     assert _only_files(tmp_path) == [

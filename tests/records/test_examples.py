@@ -8,6 +8,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from stepframe.core.results import get_column_dictionary
 from stepframe.records import read
 from stepframe.records.examples import COLUMNS, _decode, _encode, fema_p695
 from stepframe.records.units import STANDARD_GRAVITY_M_S2
@@ -22,7 +23,7 @@ def test_hundred_components_with_unit_named_columns(catalogue: tuple[object, pd.
     stream, table = catalogue
     assert len(stream) == len(table) == 100  # type: ignore[arg-type]
     assert list(table.columns) == list(COLUMNS)
-    assert set(table.attrs["column_dictionary"]["column"]) == set(COLUMNS)
+    assert set(get_column_dictionary(table)["column"]) == set(COLUMNS)
 
 
 def test_pga_npts_dt_match_metadata(catalogue: tuple[object, pd.DataFrame]) -> None:

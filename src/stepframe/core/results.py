@@ -90,11 +90,41 @@ def failures_table(failures: list[Failure] | tuple[Failure, ...]) -> pd.DataFram
     import pandas as pd
 
     table = pd.DataFrame([f.to_dict() for f in failures], columns=list(FAILURE_COLUMNS))
-    table.attrs["column_dictionary"] = pd.DataFrame(
-        [(name, "", meaning) for name, meaning in FAILURE_COLUMNS.items()],
-        columns=["column", "unit", "meaning"],
+    return set_column_dictionary(
+        table,
+        pd.DataFrame(
+            [(name, "", meaning) for name, meaning in FAILURE_COLUMNS.items()],
+            columns=["column", "unit", "meaning"],
+        ),
     )
+
+
+def set_column_dictionary(table: pd.DataFrame, dictionary: pd.DataFrame) -> pd.DataFrame:
+    """Attach a column dictionary (``column``, ``unit``, ``meaning`` rows) to ``table``.
+
+    It is kept in ``table.attrs["column_dictionary"]`` as plain lists per field, not as a
+    DataFrame: pandas compares ``attrs`` when it concatenates or merges tables, and a DataFrame
+    there makes ``pd.concat`` and ``merge`` raise ("truth value of a DataFrame is ambiguous").
+    Tables with equal dictionaries keep theirs through a concatenation.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``table`` itself.
+    """
+    table.attrs["column_dictionary"] = {
+        field: [str(value) for value in dictionary[field]]
+        for field in ("column", "unit", "meaning")
+    }
     return table
+
+
+def get_column_dictionary(table: pd.DataFrame) -> pd.DataFrame | None:
+    """The column dictionary attached by :func:`set_column_dictionary` as a DataFrame, or None."""
+    import pandas as pd
+
+    given = table.attrs.get("column_dictionary")
+    return None if given is None else pd.DataFrame(given, columns=["column", "unit", "meaning"])
 
 
 def failures_path(output: str | PathLike[str]) -> Path:

@@ -46,7 +46,6 @@ def example_metadata(folder: Path) -> Any:
         file=[str(folder / example_name(row)) for row in rows],
         event=table["event"].astype(str) + " " + table["year"].astype(str),
     )
-    table.attrs = {}
     return table
 
 

@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from stepframe.core.io import CSV_FLOAT_FORMAT, atomic_write
-from stepframe.core.results import failures_path
+from stepframe.core.results import failures_path, set_column_dictionary
 from stepframe.errors import InputError
 from stepframe.pipeline.tables import read_dataset, write_dataset, write_table
 from stepframe.stochastic.model import MODEL_FIELDS
@@ -280,9 +280,7 @@ def fit_table(records: Iterable[FittedRecord]) -> pd.DataFrame:
         base = name.removesuffix("_bootstrap_stderr").removesuffix("_stderr")
         unit = FIT_COLUMNS.get(base, ("", ""))[0]
         dictionary.append((name, unit, f"standard error of {base}"))
-    table.attrs["column_dictionary"] = pd.DataFrame(
-        dictionary, columns=["column", "unit", "meaning"]
-    )
+    set_column_dictionary(table, pd.DataFrame(dictionary, columns=["column", "unit", "meaning"]))
     return table
 
 

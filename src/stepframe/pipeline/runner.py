@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING, Any
 
 from stepframe.core.execution import map_items
 from stepframe.core.io import TEMPORARY_SUFFIX
-from stepframe.core.results import Failure, failures_path, failures_table
+from stepframe.core.results import Failure, failures_path, failures_table, set_column_dictionary
 from stepframe.errors import InputError
 from stepframe.pipeline.lock import workspace_lock
 from stepframe.pipeline.plan import check_forced, plan_stages
@@ -326,9 +326,12 @@ def _run_items(
     columns = [*stage.columns(), KEY_COLUMN]
     table = pd.concat(parts, ignore_index=True) if parts else pd.DataFrame(columns=columns)
     table = table[[c for c in columns if c in table.columns]]
-    table.attrs["column_dictionary"] = pd.DataFrame(
-        [(name, unit, meaning) for name, (unit, meaning) in stage.columns().items()],
-        columns=["column", "unit", "meaning"],
+    set_column_dictionary(
+        table,
+        pd.DataFrame(
+            [(name, unit, meaning) for name, (unit, meaning) in stage.columns().items()],
+            columns=["column", "unit", "meaning"],
+        ),
     )
     context.tables[stage.name] = table
     failures = store.failures(stage.name, keys)

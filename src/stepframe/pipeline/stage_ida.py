@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from stepframe.core.io import write_bytes, write_text
+from stepframe.core.results import set_column_dictionary
 
 # The other stages register first: registry order is pipeline order.
 from stepframe.pipeline import stage_items, stage_reports  # noqa: F401
@@ -89,9 +90,12 @@ def _run(context: Context, folder: Path) -> None:
     )
     items = ida_records(context.workflow.frame, motions, settings=settings, tail_s=params["tail_s"])
     table = ida_table(items, names)
-    table.attrs["column_dictionary"] = pd.DataFrame(
-        [(name, unit, meaning) for name, (unit, meaning) in IDA_COLUMNS.items()],
-        columns=["column", "unit", "meaning"],
+    set_column_dictionary(
+        table,
+        pd.DataFrame(
+            [(name, unit, meaning) for name, (unit, meaning) in IDA_COLUMNS.items()],
+            columns=["column", "unit", "meaning"],
+        ),
     )
     write_table(table, folder / IDA_TABLE)
     summary = {

@@ -329,15 +329,11 @@ def _selection_run(context: Context, folder: Path) -> None:
     from stepframe.pipeline.stage_items import record_folder
 
     features = context.tables["features"].drop(columns=["_key"])
-    # pandas compares attrs when it merges, and a column dictionary (a DataFrame) cannot be
-    # compared that way; the selection writes its own dictionaries.
-    features.attrs = {}
     # select_records re-reads records by path (spectra, confirmation): give it absolute paths
     folder_of_records = record_folder(context).absolute()
     features["file"] = [str(folder_of_records / name) for name in features["file"]]
     inventory = context.tables["inventory"]
     extra = inventory[["file", "component", "event", "magnitude"]].copy()
-    extra.attrs = {}
     extra["file"] = [str(folder_of_records / name) for name in extra["file"]]
     features = features.merge(extra, on=["file", "component"], how="left")
     records = context.workflow.records
@@ -357,9 +353,7 @@ def _selection_run(context: Context, folder: Path) -> None:
 def _join_new_columns(table: Any, extra: Any) -> Any:
     """``table`` with the columns of ``extra`` it lacks, matched on ``file``."""
     new = [c for c in extra.columns if c not in table.columns]
-    right = extra[["file", *new]].copy()
-    right.attrs = {}  # see _selection_run: merge compares attrs
-    return table.merge(right, on="file", how="left")
+    return table.merge(extra[["file", *new]], on="file", how="left")
 
 
 def _selection_publish(folder: Path, outputs: Path) -> list[Path]:

@@ -1,11 +1,12 @@
 """Tables and datasets on disk, each read back equal to what was written.
 
-A stage's table is a ``pandas.DataFrame`` whose column dictionary (``column``, ``unit``,
-``meaning``) is in ``table.attrs["column_dictionary"]``. :func:`write_table` writes the table to
-``X.csv`` and the dictionary, with each column's dtype, to ``X.columns.csv`` (both atomically);
-:func:`read_table` uses the dtypes to give back a table equal to the one written (text columns stay
-text, an empty text cell stays ``""``, numbers keep NaN). :func:`write_dataset` and
-:func:`read_dataset` do the same for an ``xarray.Dataset`` (NetCDF 4 through h5netcdf).
+A stage's table is a ``pandas.DataFrame`` carrying a column dictionary (``column``, ``unit``,
+``meaning``; :func:`stepframe.core.results.get_column_dictionary`). :func:`write_table` writes
+the table to ``X.csv`` and the dictionary, with each column's dtype, to ``X.columns.csv``
+(both atomically); :func:`read_table` uses the dtypes to give back a table equal to the one
+written (text columns stay text, an empty text cell stays ``""``, numbers keep NaN).
+:func:`write_dataset` and :func:`read_dataset` do the same for an ``xarray.Dataset`` (NetCDF 4
+through h5netcdf).
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from stepframe.core.io import CSV_FLOAT_FORMAT, atomic_write
+from stepframe.core.results import get_column_dictionary, set_column_dictionary
 from stepframe.errors import InputError
 
 if TYPE_CHECKING:
@@ -38,7 +40,7 @@ def column_dictionary(table: pd.DataFrame) -> pd.DataFrame:
     """
     import pandas as pd
 
-    given = table.attrs.get("column_dictionary")
+    given = get_column_dictionary(table)
     known: dict[str, tuple[str, str]] = {}
     if given is not None:
         for row in given.itertuples(index=False):
@@ -98,7 +100,7 @@ def read_table(path: str | PathLike[str]) -> pd.DataFrame:
     for name, dtype in dtypes.items():
         if name not in text and str(table[name].dtype) != dtype:
             table[name] = table[name].astype(dtype)
-    table.attrs["column_dictionary"] = dictionary[list(DICTIONARY_COLUMNS)].reset_index(drop=True)
+    set_column_dictionary(table, dictionary[list(DICTIONARY_COLUMNS)].reset_index(drop=True))
     return table
 
 

@@ -24,7 +24,13 @@ import numpy as np
 
 from stepframe.core.execution import map_items
 from stepframe.core.io import CSV_FLOAT_FORMAT, atomic_write
-from stepframe.core.results import Failure, failures_path, failures_table
+from stepframe.core.results import (
+    Failure,
+    failures_path,
+    failures_table,
+    get_column_dictionary,
+    set_column_dictionary,
+)
 from stepframe.core.text import spreadsheet_safe
 from stepframe.errors import InputError
 from stepframe.records.intensity import MEASURES, trace_intensity_measures
@@ -120,7 +126,7 @@ def intensity_table(stream: Iterable[Trace]) -> pd.DataFrame:
     import pandas as pd
 
     table = pd.DataFrame([trace_row(trace) for trace in stream], columns=COLUMNS)
-    table.attrs["column_dictionary"] = column_dictionary()
+    set_column_dictionary(table, column_dictionary())
     return table
 
 
@@ -265,7 +271,7 @@ def catalog(
     -------
     table : pandas.DataFrame
         Columns :data:`COLUMNS` (unit in each name); column dictionary in
-        ``table.attrs["column_dictionary"]``.
+        ``stepframe.core.results.get_column_dictionary(table)``.
     failures : pandas.DataFrame
         :func:`stepframe.core.results.failures_table` (``item``, ``stage`` — ``read`` or
         ``measures`` —, ``error_type``, ``message``) of every file or component that could not
@@ -304,7 +310,7 @@ def catalog(
     ]
     rows = [row for found, _ in outcome.results for row in found]
     table = pd.DataFrame(rows, columns=COLUMNS)
-    table.attrs["column_dictionary"] = column_dictionary()
+    set_column_dictionary(table, column_dictionary())
     return table, failures_table(failures)
 
 
@@ -346,7 +352,8 @@ def write_catalog(
     temporary. Files get the user's umask; text cells are spreadsheet-safe.
     """
     paths = check_output(out)
-    frames = (table, table.attrs.get("column_dictionary", column_dictionary()), failures)
+    dictionary = get_column_dictionary(table)
+    frames = (table, column_dictionary() if dictionary is None else dictionary, failures)
     with contextlib.ExitStack() as stack:
         # Entered table first, so exited (renamed) last.
         for frame, target in zip(frames, paths, strict=True):

@@ -25,6 +25,7 @@ if TYPE_CHECKING:
     from obspy import Stream
 import pandas as pd
 
+from stepframe.core.results import set_column_dictionary
 from stepframe.records.units import STANDARD_GRAVITY_M_S2
 
 _ARCHIVE = "fema_p695.npz"
@@ -109,7 +110,7 @@ def metadata() -> pd.DataFrame:
     """The metadata table of the example catalogue (row i describes trace i), without the series."""
     with resources.files("stepframe.records.data").joinpath(_METADATA).open("r") as handle:
         table = pd.read_csv(handle)
-    table.attrs["column_dictionary"] = column_dictionary()
+    set_column_dictionary(table, column_dictionary())
     return table
 
 
@@ -149,7 +150,7 @@ def fema_p695() -> tuple[Stream, pd.DataFrame]:
         magnitude, distances [km] and Vs30 [m/s] in ``stats.stepframe``.
     table : pandas.DataFrame
         The metadata table, row i describing trace i; unit-named columns (:data:`COLUMNS`); the
-        column dictionary is in ``table.attrs["column_dictionary"]``.
+        column dictionary is in ``stepframe.core.results.get_column_dictionary(table)``.
     """
     from obspy import Stream
 

@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from stepframe.core.execution import map_items
-from stepframe.core.results import Failure, failures_table
+from stepframe.core.results import Failure, failures_table, set_column_dictionary
 from stepframe.errors import InputError
 from stepframe.stochastic.features import FrequencyEstimator, TimeOrigin, record_features
 from stepframe.stochastic.fit import PARAMETERS, fit_model
@@ -245,7 +245,7 @@ def catalog_features(
     -------
     table : pandas.DataFrame
         One row per component, columns :data:`COLUMNS` (column dictionary in
-        ``table.attrs["column_dictionary"]``).
+        ``stepframe.core.results.get_column_dictionary(table)``).
     failures : pandas.DataFrame
         :func:`stepframe.core.results.failures_table`: ``item`` (``file [component]``),
         ``stage`` (``read``, ``features`` or ``fit``), ``error_type``, ``message``.
@@ -277,8 +277,11 @@ def catalog_features(
     rows = [entry for entry in produced if not isinstance(entry, Failure)]
     fails = [entry for entry in produced if isinstance(entry, Failure)]
     table = pd.DataFrame(rows, columns=list(COLUMNS))
-    table.attrs["column_dictionary"] = pd.DataFrame(
-        [(k, u, m) for k, (u, m) in COLUMNS.items()], columns=["column", "unit", "meaning"]
+    set_column_dictionary(
+        table,
+        pd.DataFrame(
+            [(k, u, m) for k, (u, m) in COLUMNS.items()], columns=["column", "unit", "meaning"]
+        ),
     )
     # _run_item records its own failures; one the executor caught is an internal error.
     return table, failures_table([*fails, *outcome.failures])

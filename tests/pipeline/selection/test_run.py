@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 import pytest
 
+from stepframe.core.results import get_column_dictionary
 from stepframe.errors import InputError
 from stepframe.pipeline.selection import SelectionOptions, read_selection, select_records
 from stepframe.structure.frame import PortalFrame
@@ -105,7 +106,7 @@ def test_write_and_read_back(run: Any, tmp_path: Path) -> None:
         mine, theirs = getattr(result, name), getattr(back, name)
         assert list(theirs.columns) == list(mine.columns)
         assert len(theirs) == len(mine)
-        assert theirs.attrs["column_dictionary"]["column"].tolist() == list(mine.columns)
+        assert get_column_dictionary(theirs)["column"].tolist() == list(mine.columns)
     assert np.allclose(back.selection["score"], result.selection["score"], rtol=1e-12)
     assert back.summary["filters"] == result.summary["filters"]
 

@@ -9,7 +9,12 @@ from os import PathLike
 from pathlib import Path
 from typing import Any
 
-from stepframe.core.results import STATUSES, check_status
+from stepframe.core.results import (
+    STATUSES,
+    check_status,
+    get_column_dictionary,
+    set_column_dictionary,
+)
 
 #: Output files of :meth:`SelectionResult.write` (table name → file name).
 TABLE_FILES = {
@@ -133,7 +138,7 @@ class SelectionResult:
             with atomic_write(path) as handle:
                 table.to_csv(handle, index=False)
             paths[name] = path
-            columns = table.attrs.get("column_dictionary")
+            columns = get_column_dictionary(table)
             if columns is not None:
                 framed = columns.copy()
                 framed.insert(0, "table", name)
@@ -175,7 +180,7 @@ def read_selection(outdir: str | PathLike[str]) -> SelectionResult:
             if column in table.columns:
                 table[column] = table[column].astype(object).fillna("").astype(str)
         mine = dictionaries[dictionaries["table"] == name].drop(columns="table")
-        table.attrs["column_dictionary"] = mine.reset_index(drop=True)
+        set_column_dictionary(table, mine.reset_index(drop=True))
         tables[name] = table
     band = summary.pop("band_rad_s")
     status = summary.pop("status")

@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from stepframe.core.execution import map_items
-from stepframe.core.results import Failure, failures_table
+from stepframe.core.results import Failure, failures_table, set_column_dictionary
 from stepframe.errors import InputError
 from stepframe.pipeline.selection import confirm as confirmation
 from stepframe.pipeline.selection import scores as sc
@@ -84,9 +84,7 @@ def _with_dictionary(table: Any, columns: Mapping[str, tuple[str, str]]) -> Any:
     for name in table.columns:
         if name not in known:
             known[name] = FEATURE_COLUMNS.get(name, ("", "from the input table"))
-    table.attrs["column_dictionary"] = column_dictionary(
-        {name: known[name] for name in table.columns}
-    )
+    set_column_dictionary(table, column_dictionary({name: known[name] for name in table.columns}))
     return table
 
 
