@@ -35,7 +35,8 @@ def test_selection_is_the_top_of_the_ranking_under_the_cap(run: Any) -> None:
     assert len(passed) == cands["plausible"].astype(bool).sum() - 1
     assert cands.loc[cands["file"] == lost[0], "dropped_by"].tolist()[0] == "samples_failed"
     # Independent re-ranking with the event cap of 2.
-    ordered = passed.sort_values("backbone_amplification", ascending=False, kind="stable")
+    assert result.summary["rank_by"] == "substitute_demand_ratio"  # the default
+    ordered = passed.sort_values("substitute_demand_ratio", ascending=False, kind="stable")
     expected, per_event = [], {}
     for row in ordered.itertuples():
         if per_event.get(row.event, 0) < 2 and len(expected) < 6:
@@ -51,6 +52,35 @@ def test_selection_is_the_top_of_the_ranking_under_the_cap(run: Any) -> None:
     assert np.allclose(scaled[unclipped], median, rtol=1e-12)
     assert result.status == "degraded" and "failed" in result.message
     assert result.failures["stage"].tolist() == ["samples"]
+    # A record score does not depend on the fit: every bootstrap replicate chooses the same set.
+    probability = passed["selection_probability"].to_numpy()
+    assert np.array_equal(probability, passed["selected"].astype(float).to_numpy())
+
+
+def test_substitute_score_is_the_records_own_spectrum(
+    run: Any, example_inputs: Any, example4: PortalFrame
+) -> None:
+    from stepframe.records.spectra import response_spectrum
+
+    result, _ = run
+    levels = result.summary["substitute"]
+    amplitudes = np.array(levels["amplitudes_m"])
+    assert amplitudes[0] == example4.x_c_m and levels["damping"][0] == example4.xi_1
+    records = example_inputs[1]
+    cands = result.candidates[result.candidates["dropped_by"] == ""]
+    for row in cands.head(3).itertuples():
+        acc, dt = records[(row.file, row.component)]
+        # Independent: one response spectrum per level at that level's damping.
+        sd = np.array(
+            [
+                response_spectrum(acc, dt, [period], damping).sd_m[0]
+                for period, damping in zip(levels["periods_s"], levels["damping"], strict=True)
+            ]
+        )
+        scale = example4.x_c_m / (example4.p_1 * sd[0])
+        ratio = scale * np.array(levels["participation"]) * sd / amplitudes
+        assert row.substitute_demand_ratio == pytest.approx(ratio[1:].min(), rel=1e-10)
+        assert row.substitute_overturn_ratio == pytest.approx(max(1.0, 1 / ratio[1:].min()))
 
 
 def test_confirmation_tables(run: Any, example4: PortalFrame) -> None:
@@ -62,7 +92,7 @@ def test_confirmation_tables(run: Any, example4: PortalFrame) -> None:
     assert len(equal) == (result.candidates["dropped_by"] == "").sum()
     # Controls are the lowest ranked candidates.
     cands = result.candidates[result.candidates["dropped_by"] == ""]
-    lowest = cands.sort_values("backbone_amplification").head(6)
+    lowest = cands.sort_values("substitute_demand_ratio").head(6)
     assert set(chosen.loc[chosen["group"] == "control", "file"]) <= set(lowest["file"])
     # At onset ratio 1 the linear frame just reaches x_c: nothing stays below it.
     assert equal["peak_abs_x_m"].min() >= example4.x_c_m * (1 - 1e-3)
@@ -74,7 +104,7 @@ def test_confirmation_tables(run: Any, example4: PortalFrame) -> None:
     entry = next(
         e
         for e in result.summary["correlations"]
-        if e["score"] == "backbone_amplification" and e["response"] == "peak_drift"
+        if e["score"] == "substitute_demand_ratio" and e["response"] == "peak_drift"
     )
     assert (
         entry["n"] == (result.candidates["dropped_by"] == "").sum()

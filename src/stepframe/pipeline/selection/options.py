@@ -73,7 +73,7 @@ class SelectionOptions:
 
     n: int = 10
     unit: Unit = "component"
-    rank_by: str = "backbone_amplification"
+    rank_by: str = "substitute_demand_ratio"
     spectral_weight: float = 0.0
     a_max_m: float | None = None
     design_displacement_m: float | None = None

@@ -451,7 +451,13 @@ def select_records(
     samples: dict[int, Samples] = {}
     if needs_samples:
         samples, fails = _spectra(
-            table, dropped_by, band, levels, periods, (psa, sd_levels), (records, record_options),
+            table,
+            dropped_by,
+            band,
+            levels,
+            periods,
+            (psa, sd_levels),
+            (records, record_options),
             (jobs, executor),
         )
         failures += fails
