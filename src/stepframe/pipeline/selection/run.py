@@ -688,25 +688,16 @@ def _confirm(
             )
     is_chosen = np.isin(candidates, chosen)
     is_control = np.isin(candidates, controls)
+    overturned = run_equal.table["overturned"].to_numpy(dtype=bool)
+    chosen_peak = run.table["peak_abs_x_m"].to_numpy(dtype=np.float64)
+    in_set = np.arange(len(pair)) < len(chosen)
     medians = {
-        "equal_psa_t1_peak_x_m_selected": float(np.median(peak[is_chosen]))
-        if is_chosen.any()
-        else math.nan,
-        "equal_psa_t1_peak_x_m_control": float(np.median(peak[is_control]))
-        if is_control.any()
-        else math.nan,
-        "equal_psa_t1_overturned_selected": int(
-            run_equal.table["overturned"].to_numpy()[is_chosen].sum()
-        ),
-        "equal_psa_t1_overturned_control": int(
-            run_equal.table["overturned"].to_numpy()[is_control].sum()
-        ),
-        "chosen_scale_peak_x_m_selected": float(
-            np.median(run.table["peak_abs_x_m"][: len(chosen)])
-        ),
-        "chosen_scale_peak_x_m_control": float(np.median(run.table["peak_abs_x_m"][len(chosen) :]))
-        if controls
-        else math.nan,
+        "equal_psa_t1_peak_x_m_selected": _median(peak, is_chosen),
+        "equal_psa_t1_peak_x_m_control": _median(peak, is_control),
+        "equal_psa_t1_overturned_selected": int(overturned[is_chosen].sum()),
+        "equal_psa_t1_overturned_control": int(overturned[is_control].sum()),
+        "chosen_scale_peak_x_m_selected": _median(chosen_peak, in_set),
+        "chosen_scale_peak_x_m_control": _median(chosen_peak, ~in_set),
         "n_selected": len(chosen),
         "n_control": len(controls),
         "n_equal_intensity": len(candidates),
@@ -715,3 +706,8 @@ def _confirm(
 
 
 OVER_RANGE_TOP = confirmation.OVERTURN_RATIO_RANGE[1] * 2.0
+
+
+def _median(values: Floats, mask: NDArray[np.bool_]) -> float:
+    """Median of ``values[mask]``; NaN for an empty selection."""
+    return float(np.median(values[mask])) if mask.any() else math.nan
