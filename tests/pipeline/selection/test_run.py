@@ -52,6 +52,12 @@ def test_selection_is_the_top_of_the_ranking_under_the_cap(run: Any) -> None:
     assert np.allclose(scaled[unclipped], median, rtol=1e-12)
     assert result.status == "degraded" and "failed" in result.message
     assert result.failures["stage"].tolist() == ["samples"]
+    assert result.summary["filters"][-1] == {
+        "name": "computed",
+        "rule": "samples read, spectra and scores computed (the rest in failures.csv)",
+        "dropped": 1,
+        "left": len(passed),
+    }
     # A record score does not depend on the fit: every bootstrap replicate chooses the same set.
     probability = passed["selection_probability"].to_numpy()
     assert np.array_equal(probability, passed["selected"].astype(float).to_numpy())
@@ -148,6 +154,24 @@ def test_too_many_asked_names_each_filter(example_inputs: Any, example4: PortalF
     assert error.value.one_line() == (
         f"n = 80 but only {plausible} candidates left (100 candidates, path → 100, "
         f"fit_quality → {plausible}), expected n ≤ {plausible}"
+    )
+
+
+def test_default_score_without_records_says_why(example_inputs: Any, example4: PortalFrame) -> None:
+    # The default score reads the records; a features table whose files are not at hand fails
+    # with one line naming the count, the first failure and what to do.
+    table = example_inputs[0]
+    plausible = int(table["plausible"].astype(bool).sum())
+    with pytest.raises(InputError) as error:
+        select_records(table, example4, SelectionOptions(n=3, n_bootstrap=0), jobs=1)
+    line = error.value.one_line()
+    assert line.startswith(
+        f"no candidate could be computed (100 candidates, path → 100, fit_quality → {plausible}, "
+        "computed → 0; first failure: fema_p695/"
+    )
+    assert line.endswith(
+        "expected readable records for substitute_demand_ratio (records= or the files by path), "
+        "or rank_by a score of the fit"
     )
 
 

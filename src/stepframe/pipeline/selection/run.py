@@ -105,6 +105,11 @@ def _with_dictionary(table: Any, columns: Mapping[str, tuple[str, str]]) -> Any:
 PhysicsItem = tuple[str, dict[str, float], FrameBand, float, float, tuple[float, float]]
 
 
+#: ``dropped_by`` reasons of candidates that passed the filters but could not be computed, and
+#: the rule of the report that counts them.
+COMPUTE_FAILURES = ("physics_failed", "samples_failed", "spectra_failed")
+COMPUTED_RULE = "samples read, spectra and scores computed (the rest in failures.csv)"
+
 #: Rough cost of one item on one core [s]: the physics score, one record's spectrum.
 PHYSICS_S = 0.005
 SPECTRUM_S = 0.01
@@ -466,6 +471,20 @@ def select_records(
         table["substitute_demand_ratio"].to_numpy()
     )
     sd_t1 = sd_levels[:, 0]  # SD(T_1, ξ_1), the confirmation's intensity measure
+    failed = int(np.isin(dropped_by, COMPUTE_FAILURES).sum())
+    if failed:
+        left = int((dropped_by == "").sum())
+        reports.append(FilterReport("computed", COMPUTED_RULE, failed, left))
+        summary_line = filter_summary(reports, len(table))
+        if left == 0:
+            first = (
+                f"; first failure: {failures[0].item}: {failures[0].message}" if failures else ""
+            )
+            raise InputError(
+                f"no candidate could be computed ({summary_line}{first}), expected readable "
+                f"records for {options.rank_by} (records= or the files by path), or rank_by a "
+                "score of the fit"
+            )
     if options.unit == "record":
         _drop_single_components(table, dropped_by, reports)
         summary_line = filter_summary(reports, len(table))
