@@ -143,6 +143,13 @@ def test_long_period_content_ranks_first(example4: PortalFrame) -> None:
     assert ratio["inside"] > ratio["at omega_1"]
     assert predicted_overturn_ratio(np.array([ratio["inside"]]))[0] == 1.0
     assert predicted_overturn_ratio(np.array([0.5]))[0] == 2.0
+    # A rigid block (x_c = 0) has no onset intensity to hold equal: NaN, not a ranking.
+    block = dataclasses.replace(example4, x_c_m=0.0)
+    block_levels = substitute_levels(frame_band(block))
+    block_sd = block_levels.gather(
+        record_spectra((records["inside"], 0.02, tuple(block_levels.spectrum_groups())))
+    )
+    assert np.isnan(substitute_demand_ratio(block_sd[None, :], block_levels)[0])
 
 
 def test_overturning_ratio_of_example_4_matches_the_simulator(example4: PortalFrame) -> None:

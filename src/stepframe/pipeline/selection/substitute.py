@@ -150,7 +150,9 @@ def substitute_levels(band: FrameBand, n_levels: int = N_SUBSTITUTE_LEVELS) -> S
     t1, t2 = quarter_periods_s(frame, amplitudes)
     periods = 4.0 * (t1 + t2)
     periods[0] = band.period_1_s  # A = x_c: the linear frame exactly
-    participation = (t1 * frame.p_1 + t2 * frame.p_2) / (t1 + t2)
+    with np.errstate(invalid="ignore"):  # a rigid block at A = x_c = 0 has no cycle
+        participation = (t1 * frame.p_1 + t2 * frame.p_2) / (t1 + t2)
+    participation[0] = frame.p_1  # A = x_c: the linear frame exactly
     damping = np.round(stepping_damping(frame, amplitudes) / DAMPING_STEP) * DAMPING_STEP
     damping[0] = frame.xi_1
     return SubstituteLevels(amplitudes, periods, damping, participation)
@@ -160,9 +162,13 @@ def demand_ratios(sd_levels_m: Floats, levels: SubstituteLevels) -> Floats:
     """r(A_k) = s·P(A_k)·SD(T(A_k), ξ(A_k))/A_k at equal intensity, per row of ``sd_levels_m``.
 
     ``sd_levels_m`` has shape (n_records, n_levels), its first column SD(T_1, ξ_1): the equal
-    intensity scale is s = x_c/(P_1·SD(T_1, ξ_1)), so r(x_c) = 1.
+    intensity scale is s = x_c/(P_1·SD(T_1, ξ_1)), so r(x_c) = 1. NaN for a rigid block
+    (x_c = 0), which has no onset intensity.
     """
     sd = np.atleast_2d(np.asarray(sd_levels_m, dtype=np.float64))
+    if not levels.amplitudes_m[0] > 0:
+        # A rigid block (x_c = 0) has no onset intensity to hold equal: no ratio to speak of.
+        return np.full(sd.shape, np.nan)
     with np.errstate(divide="ignore", invalid="ignore"):
         scale = levels.amplitudes_m[0] / (levels.participation[0] * sd[:, :1])
         return np.asarray(scale * levels.participation * sd / levels.amplitudes_m)
