@@ -93,16 +93,17 @@ def test_demo_selects_for_example_4(demo_run: tuple[dict[str, object], Path]) ->
     candidates["dropped_by"] = candidates["dropped_by"].fillna("")
     assert payload["n_filtered"] == int((candidates["dropped_by"] != "").sum())
     passed = candidates[candidates["dropped_by"] == ""]
-    top = passed.nlargest(10, "backbone_amplification")
+    rank_by = str(payload["rank_by"])  # the library's default ranking score
+    top = passed.nlargest(10, rank_by)
     selected = payload["selected"]
     assert [s["rank"] for s in selected] == list(range(1, 11))
     assert [s["component"] for s in selected] == top["component"].astype(str).tolist()
-    assert [s["score"] for s in selected] == pytest.approx(top["backbone_amplification"].tolist())
+    assert [s["score"] for s in selected] == pytest.approx(top[rank_by].tolist())
     assert all(s["scale_factor"] == 1.0 for s in selected)
     entry = next(
         e
         for e in payload["correlations"]
-        if e["score"] == "backbone_amplification" and e["response"] == "peak_drift"
+        if e["score"] == rank_by and e["response"] == "peak_drift"
     )
     assert entry["n"] == len(passed)
     assert entry["low"] <= entry["spearman"] <= entry["high"]
@@ -124,13 +125,13 @@ def test_demo_summary_text(demo_run: tuple[dict[str, object], Path]) -> None:
     from stepframe.commands.select import summary_text
     from stepframe.pipeline.selection import read_selection
 
-    _, out = demo_run
+    payload, out = demo_run
     text = summary_text(read_selection(out), out)
     lines = text.splitlines()
     assert lines[0].startswith("band: 0.654 to 6.46 rad/s (T 0.973 to 9.61 s); 100 candidates")
     assert sum(1 for line in lines if line.startswith("  ") and ". RSN" in line) == 10
     assert any(
-        line.startswith("confirmation: Spearman(backbone_amplification, peak_drift)")
+        line.startswith(f"confirmation: Spearman({payload['rank_by']}, peak_drift)")
         for line in lines
     )
     assert lines[-1].startswith(f"outputs: {out}/")

@@ -36,7 +36,8 @@ def test_selection_is_the_top_of_the_ranking_under_the_cap(run: Any) -> None:
     assert len(passed) == cands["plausible"].astype(bool).sum() - 1
     assert cands.loc[cands["file"] == lost[0], "dropped_by"].tolist()[0] == "samples_failed"
     # Independent re-ranking with the event cap of 2.
-    ordered = passed.sort_values("backbone_amplification", ascending=False, kind="stable")
+    assert result.summary["rank_by"] == "substitute_demand_ratio"  # the default
+    ordered = passed.sort_values("substitute_demand_ratio", ascending=False, kind="stable")
     expected, per_event = [], {}
     for row in ordered.itertuples():
         if per_event.get(row.event, 0) < 2 and len(expected) < 6:
@@ -52,6 +53,41 @@ def test_selection_is_the_top_of_the_ranking_under_the_cap(run: Any) -> None:
     assert np.allclose(scaled[unclipped], median, rtol=1e-12)
     assert result.status == "degraded" and "failed" in result.message
     assert result.failures["stage"].tolist() == ["samples"]
+    assert result.summary["filters"][-1] == {
+        "name": "computed",
+        "rule": "samples read, spectra and scores computed (the rest in failures.csv)",
+        "dropped": 1,
+        "left": len(passed),
+    }
+    # A record score does not depend on the fit: every bootstrap replicate chooses the same set.
+    probability = passed["selection_probability"].to_numpy()
+    assert np.array_equal(probability, passed["selected"].astype(float).to_numpy())
+
+
+def test_substitute_score_is_the_records_own_spectrum(
+    run: Any, example_inputs: Any, example4: PortalFrame
+) -> None:
+    from stepframe.records.spectra import response_spectrum
+
+    result, _ = run
+    levels = result.summary["substitute"]
+    amplitudes = np.array(levels["amplitudes_m"])
+    assert amplitudes[0] == example4.x_c_m and levels["damping"][0] == example4.xi_1
+    records = example_inputs[1]
+    cands = result.candidates[result.candidates["dropped_by"] == ""]
+    for row in cands.head(3).itertuples():
+        acc, dt = records[(row.file, row.component)]
+        # Independent: one response spectrum per level at that level's damping.
+        sd = np.array(
+            [
+                response_spectrum(acc, dt, [period], damping).sd_m[0]
+                for period, damping in zip(levels["periods_s"], levels["damping"], strict=True)
+            ]
+        )
+        scale = example4.x_c_m / (example4.p_1 * sd[0])
+        ratio = scale * np.array(levels["participation"]) * sd / amplitudes
+        assert row.substitute_demand_ratio == pytest.approx(ratio[1:].min(), rel=1e-10)
+        assert row.substitute_overturn_ratio == pytest.approx(max(1.0, 1 / ratio[1:].min()))
 
 
 def test_confirmation_tables(run: Any, example4: PortalFrame) -> None:
@@ -63,7 +99,7 @@ def test_confirmation_tables(run: Any, example4: PortalFrame) -> None:
     assert len(equal) == (result.candidates["dropped_by"] == "").sum()
     # Controls are the lowest ranked candidates.
     cands = result.candidates[result.candidates["dropped_by"] == ""]
-    lowest = cands.sort_values("backbone_amplification").head(6)
+    lowest = cands.sort_values("substitute_demand_ratio").head(6)
     assert set(chosen.loc[chosen["group"] == "control", "file"]) <= set(lowest["file"])
     # At onset ratio 1 the linear frame just reaches x_c: nothing stays below it.
     assert equal["peak_abs_x_m"].min() >= example4.x_c_m * (1 - 1e-3)
@@ -75,7 +111,7 @@ def test_confirmation_tables(run: Any, example4: PortalFrame) -> None:
     entry = next(
         e
         for e in result.summary["correlations"]
-        if e["score"] == "backbone_amplification" and e["response"] == "peak_drift"
+        if e["score"] == "substitute_demand_ratio" and e["response"] == "peak_drift"
     )
     assert (
         entry["n"] == (result.candidates["dropped_by"] == "").sum()
@@ -119,6 +155,24 @@ def test_too_many_asked_names_each_filter(example_inputs: Any, example4: PortalF
     assert error.value.one_line() == (
         f"n = 80 but only {plausible} candidates left (100 candidates, path → 100, "
         f"fit_quality → {plausible}), expected n ≤ {plausible}"
+    )
+
+
+def test_default_score_without_records_says_why(example_inputs: Any, example4: PortalFrame) -> None:
+    # The default score reads the records; a features table whose files are not at hand fails
+    # with one line naming the count, the first failure and what to do.
+    table = example_inputs[0]
+    plausible = int(table["plausible"].astype(bool).sum())
+    with pytest.raises(InputError) as error:
+        select_records(table, example4, SelectionOptions(n=3, n_bootstrap=0), jobs=1)
+    line = error.value.one_line()
+    assert line.startswith(
+        f"no candidate could be computed (100 candidates, path → 100, fit_quality → {plausible}, "
+        "computed → 0; first failure: fema_p695/"
+    )
+    assert line.endswith(
+        "expected readable records for substitute_demand_ratio (records= or the files by path), "
+        "or rank_by a score of the fit"
     )
 
 

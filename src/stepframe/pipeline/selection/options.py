@@ -30,7 +30,9 @@ class SelectionOptions:
     unit
         ``"component"`` or ``"record"``.
     rank_by
-        The ranking score (:data:`stepframe.pipeline.selection.scores.RANKABLE`).
+        The ranking score (:data:`stepframe.pipeline.selection.names.RANKABLE`); default
+        ``substitute_demand_ratio``, the score the confirmation supports (docs/selection.md),
+        which reads the records' samples.
     spectral_weight
         Weight of the spectral misfit (target spectrum) against the ranking score in the
         combined objective (0: rank only).
@@ -73,7 +75,7 @@ class SelectionOptions:
 
     n: int = 10
     unit: Unit = "component"
-    rank_by: str = "backbone_amplification"
+    rank_by: str = "substitute_demand_ratio"
     spectral_weight: float = 0.0
     a_max_m: float | None = None
     design_displacement_m: float | None = None

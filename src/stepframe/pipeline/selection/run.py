@@ -18,18 +18,25 @@ from stepframe.pipeline.selection import scores as sc
 from stepframe.pipeline.selection.band import FrameBand, frame_band
 from stepframe.pipeline.selection.choose import Units, choose, percentile_scores
 from stepframe.pipeline.selection.filters import FilterReport, apply_filters, filter_summary
-from stepframe.pipeline.selection.names import PHYSICS_SCORES
+from stepframe.pipeline.selection.names import PHYSICS_SCORES, RECORD_SCORES
 from stepframe.pipeline.selection.options import SelectionOptions
 from stepframe.pipeline.selection.path import MODEL_COLUMNS, strong_motion_paths
 from stepframe.pipeline.selection.result import SelectionResult, column_dictionary
 from stepframe.pipeline.selection.spectral import (
     G_M_S2,
+    SpectraItem,
     misfit_periods_s,
-    record_spectrum,
+    record_spectra,
     scale_factors,
     spectral_misfit,
     target_spectrum,
     target_values,
+)
+from stepframe.pipeline.selection.substitute import (
+    SubstituteLevels,
+    predicted_overturn_ratio,
+    substitute_demand_ratio,
+    substitute_levels,
 )
 from stepframe.structure.frame import PortalFrame
 
@@ -44,6 +51,11 @@ CANDIDATE_COLUMNS: dict[str, tuple[str, str]] = {
     "omega_window_end_rad_s": ("rad/s", "fitted omega_g at the end of strong motion"),
     "enters_from_above": ("", "omega_g starts strong motion above omega_1 and ends below it"),
     **sc.SCORES,
+    "substitute_overturn_ratio": (
+        "",
+        "max(1, 1/substitute_demand_ratio): the substitute structure's estimate of the lowest "
+        "P_1*SD(T_1)/x_c that overturns the frame",
+    ),
     "rank_score_percentile": ("", "percentile of the ranking score among candidates (1 best)"),
     "psa_t1_g": ("g", "PSA at T_1 (5 % damping), unscaled"),
     "scale_factor": ("", "scale factor by the scaling policy"),
@@ -91,6 +103,11 @@ def _with_dictionary(table: Any, columns: Mapping[str, tuple[str, str]]) -> Any:
 PhysicsItem = tuple[str, dict[str, float], FrameBand, float, float, tuple[float, float]]
 
 
+#: ``dropped_by`` reasons of candidates that passed the filters but could not be computed, and
+#: the rule of the report that counts them.
+COMPUTE_FAILURES = ("physics_failed", "samples_failed", "spectra_failed")
+COMPUTED_RULE = "samples read, spectra and scores computed (the rest in failures.csv)"
+
 #: Rough cost of one item on one core [s]: the physics score, one record's spectrum.
 PHYSICS_S = 0.005
 SPECTRUM_S = 0.01
@@ -110,7 +127,7 @@ def _item_name(item: PhysicsItem) -> str:
     return item[0]
 
 
-def _spectrum_name(item: tuple[Floats, float, Floats, float]) -> str:
+def _spectrum_name(item: SpectraItem) -> str:
     return f"record of {item[0].size} samples, dt {item[1]:g} s"
 
 
@@ -298,6 +315,48 @@ def _read_samples(
     return out, failures
 
 
+def _spectra(
+    table: Any,
+    dropped_by: NDArray[np.object_],
+    band: FrameBand,
+    levels: SubstituteLevels,
+    periods: Floats,
+    out: tuple[Floats, Floats],
+    sources: tuple[Mapping[RecordKey, Samples] | None, Mapping[str, Any] | None],
+    parallel: tuple[int | None, Executor | None],
+) -> tuple[dict[int, Samples], list[Failure]]:
+    """Read the passing candidates' samples and run their one spectra pass: PSA (5 %) at T_1
+    and the misfit periods into ``table["psa_t1_g"]`` and ``out[0]``, SD at the substitute
+    structure's levels into ``out[1]`` (SD(T_1, ξ_1) first). Rows without samples or spectra
+    get their ``dropped_by`` reason."""
+    psa, sd_levels = out
+    jobs, executor = parallel
+    passing = np.flatnonzero(dropped_by == "")
+    samples, failures = _read_samples(table, passing, *sources)
+    have = np.array(sorted(samples), dtype=np.int64)
+    for i in set(passing.tolist()) - set(have.tolist()):
+        dropped_by[i] = "samples_failed"
+    with_t1 = np.concatenate([[band.period_1_s], periods])
+    groups = ((with_t1, 0.05), *levels.spectrum_groups())
+    outcome = map_items(
+        record_spectra,
+        [(samples[i][0], samples[i][1], groups) for i in have],
+        jobs=_workers(jobs, executor, have.size * SPECTRUM_S),
+        executor=executor,
+        stage="spectra",
+        name_of=_spectrum_name,
+    )
+    omega_sq = (2.0 * math.pi / with_t1) ** 2
+    for k, (sd_5, *by_group) in zip(outcome.indices, outcome.results, strict=True):
+        values = omega_sq * sd_5
+        table.loc[int(have[k]), "psa_t1_g"] = values[0] / G_M_S2
+        psa[have[k]] = values[1:]
+        sd_levels[have[k]] = levels.gather(by_group)
+    missing = np.flatnonzero((dropped_by == "") & ~np.isfinite(table["psa_t1_g"].to_numpy()))
+    dropped_by[missing] = "spectra_failed"
+    return samples, failures + outcome.failures
+
+
 def select_records(
     features: Any,
     frame: PortalFrame,
@@ -381,46 +440,49 @@ def select_records(
         table["descent_amplification"] = descent
         failures += fails
         dropped_by[failed_rows] = "physics_failed"
-    needs_samples = options.confirm or options.scale != "none" or options.has_target
+    needs_samples = (
+        options.confirm
+        or options.scale != "none"
+        or options.has_target
+        or options.rank_by in RECORD_SCORES
+    )
     periods = misfit_periods_s(options, band)
-    t1 = band.period_1_s
+    levels = substitute_levels(band)
     table["psa_t1_g"] = np.nan
     psa = np.full((len(table), periods.size), np.nan)
-    sd_t1 = np.full(len(table), np.nan)
+    sd_levels = np.full((len(table), levels.periods_s.size), np.nan)
     samples: dict[int, Samples] = {}
     if needs_samples:
-        passing = np.flatnonzero(dropped_by == "")
-        samples, fails = _read_samples(table, passing, records, record_options)
-        failures += fails
-        have = np.array(sorted(samples), dtype=np.int64)
-        for i in set(passing.tolist()) - set(have.tolist()):
-            dropped_by[i] = "samples_failed"
-
-        def spectra(grid: Floats, damping: float) -> Any:
-            # PSA of every candidate with samples, in parallel; failures recorded.
-            items = [(samples[i][0], samples[i][1], grid, damping) for i in have]
-            return map_items(
-                record_spectrum,
-                items,
-                jobs=_workers(jobs, executor, len(items) * SPECTRUM_S),
-                executor=executor,
-                stage="spectra",
-                name_of=_spectrum_name,
-            )
-
-        outcome = spectra(np.concatenate([[t1], periods]), 0.05)
-        for k, values in zip(outcome.indices, outcome.results, strict=True):
-            table.loc[int(have[k]), "psa_t1_g"] = values[0] / G_M_S2
-            psa[have[k]] = values[1:]
-        failures += outcome.failures
-        if options.confirm:
-            outcome = spectra(np.array([t1]), frame.xi_1)
-            for k, values in zip(outcome.indices, outcome.results, strict=True):
-                sd_t1[have[k]] = values[0] / band.omega_1_rad_s**2
-        missing = np.flatnonzero((dropped_by == "") & ~np.isfinite(table["psa_t1_g"].to_numpy()))
-        dropped_by[missing] = np.where(
-            dropped_by[missing] == "", "spectra_failed", dropped_by[missing]
+        samples, fails = _spectra(
+            table,
+            dropped_by,
+            band,
+            levels,
+            periods,
+            (psa, sd_levels),
+            (records, record_options),
+            (jobs, executor),
         )
+        failures += fails
+    table["substitute_demand_ratio"] = substitute_demand_ratio(sd_levels, levels)
+    table["substitute_overturn_ratio"] = predicted_overturn_ratio(
+        table["substitute_demand_ratio"].to_numpy()
+    )
+    sd_t1 = sd_levels[:, 0]  # SD(T_1, ξ_1), the confirmation's intensity measure
+    failed = int(np.isin(dropped_by, COMPUTE_FAILURES).sum())
+    if failed:
+        left = int((dropped_by == "").sum())
+        reports.append(FilterReport("computed", COMPUTED_RULE, failed, left))
+        summary_line = filter_summary(reports, len(table))
+        if left == 0:
+            first = (
+                f"; first failure: {failures[0].item}: {failures[0].message}" if failures else ""
+            )
+            raise InputError(
+                f"no candidate could be computed ({summary_line}{first}), expected readable "
+                f"records for {options.rank_by} (records= or the files by path), or rank_by a "
+                "score of the fit"
+            )
     if options.unit == "record":
         _drop_single_components(table, dropped_by, reports)
         summary_line = filter_summary(reports, len(table))
@@ -430,7 +492,7 @@ def select_records(
     z[passing] = percentile_scores(score[passing])
     table["rank_score_percentile"] = z
     psa_t1 = table["psa_t1_g"].to_numpy() * G_M_S2
-    target_t1 = None if target is None else target.sa_m_s2(t1)
+    target_t1 = None if target is None else target.sa_m_s2(band.period_1_s)
     target_psa = None if target is None else target_values(target, periods)
     scales, clipped = scale_factors(
         options.scale, psa_t1, psa, target_t1, target_psa, (options.scale_min, options.scale_max)
@@ -476,7 +538,10 @@ def select_records(
     ]
     if replicates:
         drawn = pd.concat(replicates, ignore_index=True)
-        if options.rank_by in PHYSICS_SCORES:
+        if options.rank_by in RECORD_SCORES:
+            # The record's spectrum does not depend on the fit: every replicate ranks alike.
+            all_values = np.tile(score[passing], options.n_bootstrap)
+        elif options.rank_by in PHYSICS_SCORES:
             b, d, _, _ = _physics(
                 drawn,
                 np.arange(len(drawn)),
@@ -550,6 +615,7 @@ def select_records(
         "rank_by": options.rank_by,
         "scale": options.scale,
         "band": band.to_dict(),
+        "substitute": levels.to_dict(),
         "filters": [r.to_dict() for r in reports],
         "filter_summary": summary_line,
         "correlations": correlations,
@@ -639,25 +705,16 @@ def _confirm(
             )
     is_chosen = np.isin(candidates, chosen)
     is_control = np.isin(candidates, controls)
+    overturned = run_equal.table["overturned"].to_numpy(dtype=bool)
+    chosen_peak = run.table["peak_abs_x_m"].to_numpy(dtype=np.float64)
+    in_set = np.arange(len(pair)) < len(chosen)
     medians = {
-        "equal_psa_t1_peak_x_m_selected": float(np.median(peak[is_chosen]))
-        if is_chosen.any()
-        else math.nan,
-        "equal_psa_t1_peak_x_m_control": float(np.median(peak[is_control]))
-        if is_control.any()
-        else math.nan,
-        "equal_psa_t1_overturned_selected": int(
-            run_equal.table["overturned"].to_numpy()[is_chosen].sum()
-        ),
-        "equal_psa_t1_overturned_control": int(
-            run_equal.table["overturned"].to_numpy()[is_control].sum()
-        ),
-        "chosen_scale_peak_x_m_selected": float(
-            np.median(run.table["peak_abs_x_m"][: len(chosen)])
-        ),
-        "chosen_scale_peak_x_m_control": float(np.median(run.table["peak_abs_x_m"][len(chosen) :]))
-        if controls
-        else math.nan,
+        "equal_psa_t1_peak_x_m_selected": _median(peak, is_chosen),
+        "equal_psa_t1_peak_x_m_control": _median(peak, is_control),
+        "equal_psa_t1_overturned_selected": int(overturned[is_chosen].sum()),
+        "equal_psa_t1_overturned_control": int(overturned[is_control].sum()),
+        "chosen_scale_peak_x_m_selected": _median(chosen_peak, in_set),
+        "chosen_scale_peak_x_m_control": _median(chosen_peak, ~in_set),
         "n_selected": len(chosen),
         "n_control": len(controls),
         "n_equal_intensity": len(candidates),
@@ -666,3 +723,8 @@ def _confirm(
 
 
 OVER_RANGE_TOP = confirmation.OVERTURN_RATIO_RANGE[1] * 2.0
+
+
+def _median(values: Floats, mask: NDArray[np.bool_]) -> float:
+    """Median of ``values[mask]``; NaN for an empty selection."""
+    return float(np.median(values[mask])) if mask.any() else math.nan

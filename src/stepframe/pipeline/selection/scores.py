@@ -25,6 +25,9 @@ number: they are ratios of RMS responses under the same input):
   β = ξ_1ω_1 for all, the mean-square module's convention for a moving oscillator): the
   moving-resonance gain of following the backbone over sitting at its best fixed frequency.
   Above 1 only when ω_g(t) falls through the band as the oscillator does.
+
+Record score, from the record's own response spectrum (not the fit):
+:mod:`stepframe.pipeline.selection.substitute` (``substitute_demand_ratio``).
 """
 
 from __future__ import annotations
@@ -58,6 +61,12 @@ SCORES: dict[str, tuple[str, str]] = {
         "",
         "peak RMS response of an oscillator descending the backbone from omega_1 to "
         "omega(A_max) during strong motion, over the best of the same held at a backbone level",
+    ),
+    "substitute_demand_ratio": (
+        "",
+        "min over amplitudes x_c < A <= A_max of the substitute structure's demand "
+        "P(A)*SD(T(A), xi(A))/A of the record at equal PSA(T_1) (max(1, 1/it): predicted "
+        "overturning onset ratio)",
     ),
 }
 assert tuple(SCORES) == RANKABLE

@@ -90,12 +90,16 @@ def misfit_periods_s(options: SelectionOptions, band: FrameBand) -> Floats:
     return np.geomspace(low, high, N_PERIODS)
 
 
-def record_spectrum(item: tuple[Floats, float, Floats, float]) -> Floats:
-    """PSA [m/s²] of one record at the given periods (a :func:`map_items` worker)."""
-    from stepframe.records.spectra import response_spectrum
+SpectraItem = tuple[Floats, float, tuple[tuple[Floats, float], ...]]
 
-    acc, dt, periods, damping = item
-    return np.asarray(response_spectrum(acc, dt, periods, damping).psa_m_s2)
+
+def record_spectra(item: SpectraItem) -> list[Floats]:
+    """Peak oscillator displacements SD [m] of one record for each (periods [s], damping) group
+    of ``item = (acceleration [m/s²], dt [s], groups)`` (a :func:`map_items` worker)."""
+    from stepframe.records.spectra import peak_displacements_m
+
+    acc, dt, groups = item
+    return [peak_displacements_m(acc, dt, periods, damping) for periods, damping in groups]
 
 
 def target_values(target: Any, periods_s: Floats) -> Floats:
