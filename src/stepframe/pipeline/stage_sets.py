@@ -22,7 +22,7 @@ from stepframe.pipeline.store import make_key, write_output_table
 
 SITE_VERSION = 1
 AMPLIFICATION_VERSION = 1
-SELECTION_VERSION = 1
+SELECTION_VERSION = 2  # 2: default rank_by substitute_demand_ratio
 
 SITE_PARAMETERS = ("fp_hz", "fs_hz", "fr_hz", "xi_p", "xi_r", "t_max_s", "t_dur_s")
 SITE_PARAMS: dict[str, Param] = {

@@ -22,17 +22,10 @@ EXAMPLE_METADATA = (
 
 
 def join_metadata(features: Any, metadata: Any, on: str = "file") -> Any:
-    """``features`` with the columns of ``metadata`` it lacks, matched on ``on`` (left join).
-
-    The column dictionaries in ``attrs`` are dropped before joining (pandas compares attrs when
-    it combines frames) and the features table's dictionary is kept.
-    """
-    left = features.copy()
-    left.attrs = {}
-    right = metadata.copy()
-    right.attrs = {}
-    extra = [c for c in right.columns if c not in left.columns or c == on]
-    joined = left.merge(right[extra], on=on, how="left")
+    """``features`` with the columns of ``metadata`` it lacks, matched on ``on`` (left join); the
+    features table's column dictionary is kept."""
+    extra = [c for c in metadata.columns if c not in features.columns or c == on]
+    joined = features.merge(metadata[extra], on=on, how="left")
     joined.attrs = dict(features.attrs)
     return joined
 
@@ -131,12 +124,9 @@ def select_from_catalogue(
     if len(feature_failures):
         # Feature failures already have the one failure layout (item, stage, error type, message).
         earlier = [Failure(**row) for row in feature_failures.astype(str).to_dict("records")]
-        merged = failures_table(earlier)
-        dictionary = merged.attrs
-        later = result.failures.copy()
-        merged.attrs, later.attrs = {}, {}  # pandas compares attrs (DataFrames) in concat
-        result.failures = pd.concat([merged, later], ignore_index=True)
-        result.failures.attrs = dictionary
+        result.failures = pd.concat(
+            [failures_table(earlier), result.failures], ignore_index=True
+        )  # the same layout and column dictionary, which the concatenation keeps
         result.status = "degraded"
         result.message += f"; {len(earlier)} component(s) had no features (failures.csv)"
     return result

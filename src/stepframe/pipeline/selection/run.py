@@ -402,7 +402,6 @@ def select_records(
     _check_table(features)
     target = target_spectrum(options)  # an unreadable target fails before any work
     table = features.reset_index(drop=True).copy()
-    table.attrs = {}  # pandas compares attrs (DataFrames here) when it combines tables
     band = frame_band(
         frame,
         a_max_m=options.a_max_m,
