@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from stepframe.pipeline.runner import RunReport, describe, run_workflow
+from stepframe.pipeline.stage_reports import SELECTION_REPORT_HTML
 
 if TYPE_CHECKING:
     from stepframe.pipeline.selection.result import SelectionResult
@@ -51,10 +52,6 @@ class DemoRun:
     @property
     def report_html(self) -> Path:
         """The selection report."""
-        # imported here: a stage module imported before the registry loads would register its
-        # stages ahead of their upstream ones
-        from stepframe.pipeline.stage_reports import SELECTION_REPORT_HTML
-
         return self.folder / SELECTION_REPORT_HTML
 
     @property
