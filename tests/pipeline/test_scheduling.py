@@ -1,6 +1,6 @@
 """The copy command, the cron line and the systemd service of docs/scheduling.md, run as written.
 
-The root ``/srv/stepframe`` of the page is replaced by a temporary folder, ``stepframe`` and
+The root ``/srv/stepframe`` of the page is replaced by a temporary folder, and
 ``/srv/stepframe/.venv/bin/stepframe`` by this environment's command.
 """
 
@@ -24,7 +24,7 @@ PROJECT = "/srv/stepframe"
 
 def _commands() -> dict[str, str]:
     text = PAGE.read_text(encoding="utf-8")
-    copy = re.search(r"^(stepframe run inbox --copy \S+)", text, re.M)
+    copy = re.search(r"^(\S+/stepframe run inbox --copy \S+)$", text, re.M)
     cron = re.search(r"^\*/15 \* \* \* \* (.+)$", text, re.M)
     service = re.search(r"^ExecStart=(.+)$", text, re.M)
     assert copy and cron and service, "the page lost its copy command, cron line or ExecStart"
@@ -35,8 +35,6 @@ def _commands() -> dict[str, str]:
 def _as_here(command: str, project: Path) -> str:
     executable = shlex.quote(str(Path(sys.executable).parent / "stepframe"))
     command = command.replace(f"{PROJECT}/.venv/bin/stepframe", executable)
-    if command.startswith("stepframe "):
-        command = executable + command.removeprefix("stepframe")
     return command.replace(PROJECT, str(project))
 
 
