@@ -163,3 +163,23 @@ def test_a_shipped_run_writes_in_the_current_folder(
     assert main(["--json", "run", "site-amplification", "--dry-run"]) == 0
     assert '"workspace": "stepframe-work"' in capsys.readouterr().out
     assert sorted(p.relative_to(SHIPPED_DIR) for p in SHIPPED_DIR.rglob("*")) == before
+
+
+def test_every_shipped_file_is_package_data() -> None:
+    """A ``pip install .`` (not editable) carries each file of stepframe/workflows/: the
+    package-data globs of pyproject.toml match every one (bench/bench_demo.py runs the demo from
+    such an install)."""
+    import tomllib
+    from pathlib import PurePosixPath
+
+    root = SHIPPED_DIR.parents[2]
+    config = tomllib.loads((root / "pyproject.toml").read_text())
+    globs = config["tool"]["setuptools"]["package-data"]["stepframe"]
+    files = [p.relative_to(SHIPPED_DIR.parent).as_posix() for p in SHIPPED_DIR.rglob("*")]
+    files = [f for f in files if (SHIPPED_DIR.parent / f).is_file() and "__pycache__" not in f]
+    assert len(files) == 6
+    for file in files:
+        path = PurePosixPath(file)  # a setuptools glob's * does not cross a /
+        assert any(
+            path.match(glob) and len(path.parts) == len(PurePosixPath(glob).parts) for glob in globs
+        ), file
