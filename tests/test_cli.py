@@ -120,7 +120,7 @@ def test_demo_selects_for_example_4(demo_run: tuple[dict[str, object], Path]) ->
 
 
 def test_demo_is_the_shipped_selection_workflow(demo_run: tuple[dict[str, object], Path]) -> None:
-    """The run went through the runner: every stage of workflows/selection.toml, its outputs
+    """The run went through the runner: every stage of the shipped selection.toml, its outputs
     and the report (with the three best records' accelerograms) in the folder."""
     import pandas as pd
 
@@ -166,6 +166,19 @@ def test_demo_summary_text(demo_run: tuple[dict[str, object], Path]) -> None:
     )
     outputs = [line for line in lines if line.startswith(("report: ", "tables: ", "features: "))]
     assert outputs[0] == f"report: {out}/selection_report.html"
+
+
+def test_report_selection_reads_the_demo_folder(
+    demo_run: tuple[dict[str, object], Path], tmp_path: Path
+) -> None:
+    """``stepframe report selection stepframe-demo/``: the folder's selection/ is the one read."""
+    _, out = demo_run
+    html = tmp_path / "again.html"
+    done = run_cli("report", "selection", str(out), "-o", str(html), "--json")
+    assert done.returncode == 0, done.stderr
+    numbers = json.loads((tmp_path / "again_files" / "numbers.json").read_text())
+    shown = json.loads((out / "selection_report_files" / "numbers.json").read_text())
+    assert numbers["selected"] == shown["selected"] and len(numbers["selected"]) == 10
 
 
 def test_help_cold_start_avoids_heavy_imports() -> None:
