@@ -106,6 +106,8 @@ def test_shipped_names_and_an_unknown_one(capsys: pytest.CaptureFixture[str]) ->
 
 def test_a_file_wins_over_a_shipped_name(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.chdir(tmp_path)
+    Path("ida").mkdir()  # a folder is not a workflow file: the shipped one is meant
+    assert resolve_workflow("ida") == SHIPPED_DIR / "ida.toml"
     Path("selection").write_text("")
     assert resolve_workflow("selection") == Path("selection")
 

@@ -31,7 +31,8 @@ def is_shipped(path: Path) -> bool:
 
 
 def resolve_workflow(given: str | Path) -> Path:
-    """The workflow file ``given`` names: an existing path, else a shipped workflow's name.
+    """The workflow file ``given`` names: an existing file, else a shipped workflow's name (a
+    folder named ``selection`` in the current folder does not hide the shipped workflow).
 
     Raises
     ------
@@ -39,7 +40,7 @@ def resolve_workflow(given: str | Path) -> Path:
         Neither a file nor a shipped name (the message lists the shipped names).
     """
     path = Path(given).expanduser()
-    if path.exists():
+    if path.is_file():
         return path
     name = str(given).removesuffix(".toml")
     if name in shipped_names():
