@@ -77,10 +77,9 @@ def main() -> None:
             )
             rows.append(f"| {label} | {wall:.1f} | {cpu:.1f} | {stages} |")
             outputs.append(data)
-        same = all(
-            [s["file"] for s in d["selected"]] == [s["file"] for s in outputs[0]["selected"]]
-            for d in outputs
-        )
+        # the records are files in each demo's folder: compare names, not absolute paths
+        chosen = [[(Path(s["file"]).name, s["component"]) for s in d["selected"]] for d in outputs]
+        same = all(c == chosen[0] for c in chosen)
         print(f"installed (non-editable): {package}")
         print(f"shipped workflow run: {outputs[0]['workflow']}")
         print(f"report: {outputs[0]['report']} (exists: {Path(outputs[0]['report']).is_file()})")

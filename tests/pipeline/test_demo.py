@@ -138,6 +138,14 @@ def test_copy_then_run_the_copy(tmp_path: Path, capsys: pytest.CaptureFixture[st
     assert f'"workspace": "{target / "stepframe-work"}"' in capsys.readouterr().out
 
 
+def test_the_shipped_inbox_is_run_from_a_copy(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["run", "inbox"]) == 2
+    assert _one_line(capsys) == (
+        "stepframe: error: the shipped workflow inbox reads a records folder beside it, expected "
+        "a copy: stepframe run inbox --copy DIR, then stepframe run DIR/inbox.toml"
+    )
+
+
 def test_copy_of_the_inbox_makes_its_folder(tmp_path: Path) -> None:
     copied = copy_workflow("inbox", tmp_path)
     assert copied == [tmp_path / "inbox.toml", tmp_path / "inbox"]

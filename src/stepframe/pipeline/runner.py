@@ -212,6 +212,12 @@ def run_workflow(
     if workspace is None and is_shipped(file):
         workspace = DEFAULT_WORKSPACE
     workflow = load_workflow(file, workspace=workspace, outputs=outputs)
+    if is_shipped(file) and workflow.records is not None and workflow.records.folder is not None:
+        name = file.stem
+        raise InputError(
+            f"the shipped workflow {name} reads a records folder beside it, expected a copy: "
+            f"stepframe run {name} --copy DIR, then stepframe run DIR/{name}.toml"
+        )
     planned = _prepare(workflow, forced)
     store = Store(workflow.workspace / "store")
     if dry_run:
