@@ -34,7 +34,9 @@ def register(subparsers: Any) -> None:
         metavar="DIR",
         help="workspace and outputs; a second run reuses it (default: %(default)s)",
     )
-    parser.add_argument("--jobs", type=int, help="worker processes (default: all CPUs)")
+    parser.add_argument(
+        "--jobs", type=int, metavar="N", help="worker processes (default: all CPUs)"
+    )
 
 
 def run(args: argparse.Namespace) -> CommandResult:
