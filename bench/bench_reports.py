@@ -6,8 +6,8 @@ Run: ``python bench/bench_reports.py [--selection DIR]``. Times, in one process:
   ξ_r = 0.655, t_max = 5 s, t_dur = 20 s, the paper's α reading) with Example 4's frame and
   δ* = 0.25 m, at the command's defaults (50 Monte Carlo motions at 4 frequencies, 2,000 steps);
 - the selection report of a demo-sized selection folder: ``--selection DIR`` (the output of
-  ``stepframe select`` or ``stepframe demo``), else the test fixture's folder built from all 100
-  example-catalogue components with 10 selected (not timed).
+  ``stepframe select``, or ``selection/`` in ``stepframe demo``'s folder), else the test
+  fixture's folder built from all 100 example-catalogue components with 10 selected (not timed).
 
 For each: the first call in the process (imports, numba cache loads, font cache), then the median
 of 3 warm calls, split into the figures (matplotlib to PNG), the rest (computation, template,

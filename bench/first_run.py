@@ -34,11 +34,12 @@ ROOT = Path(__file__).resolve().parents[1]
 RECORD = ROOT / "tests" / "data" / "peer_nga_west2" / "RSN8883_14383980_13849360.AT2"
 
 
-def install(venv: Path) -> Path:
-    """A fresh venv with this checkout installed non-editably; returns the package folder."""
+def install(venv: Path, source: Path = ROOT) -> Path:
+    """A fresh venv with ``source`` (default: this checkout) installed non-editably; returns the
+    package folder."""
     subprocess.run(["python3", "-m", "venv", "--system-site-packages", str(venv)], check=True)
     pip = [str(venv / "bin" / "python"), "-m", "pip", "install", "-q"]
-    subprocess.run([*pip, "--no-deps", str(ROOT)], check=True)
+    subprocess.run([*pip, "--no-deps", str(source)], check=True)
     code = "import stepframe, os; print(os.path.dirname(stepframe.__file__))"
     found = subprocess.run(
         [str(venv / "bin" / "python"), "-c", code], check=True, capture_output=True, text=True

@@ -62,7 +62,8 @@ def test_debug_shows_traceback(tmp_path: Path) -> None:
 
 @pytest.fixture(scope="module")
 def demo_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[dict[str, object], Path]:
-    """One ``stepframe --json demo`` run (features, selection and confirmation of 100 records)."""
+    """One ``stepframe --json demo`` run: the shipped selection workflow (features, selection
+    and confirmation of 100 records, the report) with its workspace in the folder."""
     out = tmp_path_factory.mktemp("demo") / "demo"
     result = subprocess.run(
         [sys.executable, "-m", "stepframe.cli", "--json", "demo", "-o", str(out)],
@@ -89,7 +90,7 @@ def test_demo_selects_for_example_4(demo_run: tuple[dict[str, object], Path]) ->
     low = 2 * math.pi / period_amplitude(frame, 0.8 * 0.1387 / 0.6445**2)
     assert payload["band_rad_s"] == pytest.approx([low, 6.4581], rel=1e-4)
     assert payload["n_candidates"] == 100
-    candidates = pd.read_csv(out / "candidates.csv")
+    candidates = pd.read_csv(out / "selection" / "candidates.csv")
     candidates["dropped_by"] = candidates["dropped_by"].fillna("")
     assert payload["n_filtered"] == int((candidates["dropped_by"] != "").sum())
     passed = candidates[candidates["dropped_by"] == ""]
@@ -107,7 +108,7 @@ def test_demo_selects_for_example_4(demo_run: tuple[dict[str, object], Path]) ->
     )
     assert entry["n"] == len(passed)
     assert entry["low"] <= entry["spearman"] <= entry["high"]
-    confirmation = pd.read_csv(out / "confirmation.csv")
+    confirmation = pd.read_csv(out / "selection" / "confirmation.csv")
     equal = confirmation[confirmation["case"] == "equal-psa-t1"]
     assert len(equal) == len(passed)
     # Recompute the selected-vs-control medians from the table.
@@ -116,32 +117,69 @@ def test_demo_selects_for_example_4(demo_run: tuple[dict[str, object], Path]) ->
     assert payload["medians"]["equal_psa_t1_peak_x_m_selected"] == pytest.approx(
         float(np.median(equal.loc[key.isin(chosen), "peak_abs_x_m"]))
     )
-    figure = Path(str(payload["figure"]))
-    assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    assert not list(out.glob("*.part")) and not list(out.glob(".*"))
+    assert not list(out.rglob("*.part")) and not list(out.rglob(".*.tmp"))
+
+
+def test_demo_is_the_shipped_selection_workflow(demo_run: tuple[dict[str, object], Path]) -> None:
+    """The run went through the runner: every stage of the shipped selection.toml, its outputs
+    and the report (with the three best records' accelerograms) in the folder."""
+    import pandas as pd
+
+    from stepframe.pipeline.shipped import SHIPPED_DIR
+
+    payload, out = demo_run
+    assert payload["workflow"] == str(SHIPPED_DIR / "selection.toml")
+    stages = payload["stages"]
+    assert isinstance(stages, list)
+    assert [(s["name"], s["computed"], s["cached"]) for s in stages] == [
+        ("inventory", 100, 0),
+        ("features", 100, 0),
+        ("selection", 1, 0),
+        ("selection_report", 1, 0),
+    ]
+    assert payload["report"] == str(out / "selection_report.html")
+    assert payload["missing"] == {}
+    outputs = payload["outputs"]
+    assert isinstance(outputs, dict) and outputs["selection_report"][0] == payload["report"]
+    numbers = json.loads((out / "selection_report_files" / "numbers.json").read_text())
+    chosen = pd.read_csv(out / "selection" / "selection.csv")
+    names = zip(chosen["file"], chosen["component"], strict=True)
+    best = [f"{file.rsplit('/', 1)[-1]} [{component}]" for file, component in names]
+    assert numbers["accelerogram_records"] == best[:3]
+    features = pd.read_parquet(out / "features.parquet")
+    assert len(features) == 100
+    assert (out / "store").is_dir() and (out / "lock").is_file()
 
 
 def test_demo_summary_text(demo_run: tuple[dict[str, object], Path]) -> None:
-    from stepframe.commands.select import summary_text
-    from stepframe.pipeline.selection import read_selection
+    from stepframe.pipeline.demo import run_demo
 
     payload, out = demo_run
-    text = summary_text(read_selection(out), out)
-    lines = text.splitlines()
+    again = run_demo(out)  # the store has everything: nothing is computed
+    assert [s.computed for s in again.run.stages] == [0, 0, 0, 0]
+    lines = again.text().splitlines()
     assert lines[0].startswith("band: 0.654 to 6.46 rad/s (T 0.973 to 9.61 s); 100 candidates")
     assert sum(1 for line in lines if line.startswith("  ") and ". RSN" in line) == 10
     assert any(
-        line.startswith(f"confirmation: Spearman({payload['rank_by']}, peak_drift)")
+        line.startswith(f"confirmation: Spearman({payload['rank_by']}, peak_drift) = ")
+        and "], n = " in line
         for line in lines
     )
-    assert lines[-1].startswith(f"outputs: {out}/")
+    outputs = [line for line in lines if line.startswith(("report: ", "tables: ", "features: "))]
+    assert outputs[0] == f"report: {out}/selection_report.html"
 
 
-def test_demo_refuses_file_as_out_dir(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    blocker = tmp_path / "file"
-    blocker.write_text("x")
-    assert main(["demo", "--out-dir", str(blocker)]) == 2
-    assert "expected a directory" in capsys.readouterr().err
+def test_report_selection_reads_the_demo_folder(
+    demo_run: tuple[dict[str, object], Path], tmp_path: Path
+) -> None:
+    """``stepframe report selection stepframe-demo/``: the folder's selection/ is the one read."""
+    _, out = demo_run
+    html = tmp_path / "again.html"
+    done = run_cli("report", "selection", str(out), "-o", str(html), "--json")
+    assert done.returncode == 0, done.stderr
+    numbers = json.loads((tmp_path / "again_files" / "numbers.json").read_text())
+    shown = json.loads((out / "selection_report_files" / "numbers.json").read_text())
+    assert numbers["selected"] == shown["selected"] and len(numbers["selected"]) == 10
 
 
 def test_help_cold_start_avoids_heavy_imports() -> None:

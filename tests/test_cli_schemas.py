@@ -50,7 +50,6 @@ def workspace(tmp_path_factory: pytest.TempPathFactory) -> Path:
     for path in (DATA / "peer_nga_west2").glob("*.AT2"):
         shutil.copy(path, folder)
         shutil.copy(path, folder / "records")
-    shutil.copy(ROOT / "workflows" / "site-amplification.toml", folder)
     # the selection folder `report selection` reads, whichever order the commands run in
     out = io.StringIO()
     with contextlib.redirect_stdout(out):

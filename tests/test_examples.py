@@ -2,12 +2,13 @@
 
 The examples name files that ship with the project (tests/data: the RSN 8883 pair, the format
 files with their .gz names, ``acc.txt``, the CE.68150 MiniSEED and StationXML); the test runs
-them in a folder holding those files under their names, ``records/`` (the RSN 8883 pair), the
-repository's ``workflows/`` folder (without its cache), and what the docs tell a user to make
-first: the parameter files (``stepframe structure frame-template > FRAME.toml``, ``structure
-design --template > pier.toml``), ``meta.csv`` (written as docs/selection.md shows), record files
-in ``workflows/inbox/`` (docs/workflows.md) and ``stepframe-demo/``, the selection output folder
-of ``stepframe demo`` (docs/reports.md). Each must exit 0.
+them in a folder holding those files under their names, ``records/`` (the RSN 8883 pair), a copy
+of the shipped workflows in ``workflows/`` (as ``stepframe run NAME --copy workflows`` makes it),
+and what the docs tell a user to make first: the parameter files (``stepframe structure
+frame-template > FRAME.toml``, ``structure design --template > pier.toml``), ``meta.csv`` (written
+as docs/selection.md shows), the inbox copy ``my-inbox/`` with record files in ``my-inbox/inbox/``
+(docs/workflows.md) and ``stepframe-demo/``, the folder of ``stepframe demo`` (docs/reports.md).
+Each must exit 0.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from pathlib import Path
 import pytest
 
 from stepframe.cli import build_parser, main
+from stepframe.pipeline.shipped import copy_workflow, shipped_names
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT / "tests" / "data"
@@ -86,10 +88,12 @@ def workspace(tmp_path_factory: pytest.TempPathFactory) -> Path:
     (folder / "records").mkdir()
     for path in (DATA / "peer_nga_west2").glob("*.AT2"):
         shutil.copy(path, folder / "records" / path.name)
-    workflows = folder / "workflows"
-    shutil.copytree(ROOT / "workflows", workflows, ignore=shutil.ignore_patterns("stepframe-work"))
-    for path in (folder / "records").glob("*.AT2"):  # record files arrive in the inbox
-        shutil.copy(path, workflows / "inbox" / path.name)
+    for name in shipped_names():
+        copy_workflow(name, folder / "workflows")
+    copy_workflow("inbox", folder / "my-inbox")  # stepframe run inbox --copy my-inbox
+    for path in (folder / "records").glob("*.AT2"):  # record files arrive in the inboxes
+        shutil.copy(path, folder / "workflows" / "inbox" / path.name)
+        shutil.copy(path, folder / "my-inbox" / "inbox" / path.name)
     selection_md = (ROOT / "docs" / "selection.md").read_text()
     meta = re.search(r"cat > meta\.csv <<'EOF'\n(.*?)^EOF$", selection_md, re.S | re.M)
     assert meta, "docs/selection.md writes meta.csv"

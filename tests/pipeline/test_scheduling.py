@@ -1,7 +1,7 @@
-"""The cron line and the systemd service of docs/scheduling.md, run exactly as written.
+"""The copy command, the cron line and the systemd service of docs/scheduling.md, run as written.
 
-The project root ``/srv/stepframe`` of the page is replaced by a copy of workflows/ in a
-temporary folder, and ``/srv/stepframe/.venv/bin/stepframe`` by this environment's command.
+The root ``/srv/stepframe`` of the page is replaced by a temporary folder, and
+``/srv/stepframe/.venv/bin/stepframe`` by this environment's command.
 """
 
 from __future__ import annotations
@@ -9,7 +9,6 @@ from __future__ import annotations
 import json
 import re
 import shlex
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -25,16 +24,17 @@ PROJECT = "/srv/stepframe"
 
 def _commands() -> dict[str, str]:
     text = PAGE.read_text(encoding="utf-8")
+    copy = re.search(r"^(\S+/stepframe run inbox --copy \S+)$", text, re.M)
     cron = re.search(r"^\*/15 \* \* \* \* (.+)$", text, re.M)
     service = re.search(r"^ExecStart=(.+)$", text, re.M)
-    assert cron and service, "the page lost its cron line or ExecStart"
+    assert copy and cron and service, "the page lost its copy command, cron line or ExecStart"
     assert re.search(r"^Persistent=true$", text, re.M)
-    return {"cron": cron.group(1), "systemd": service.group(1)}
+    return {"copy": copy.group(1), "cron": cron.group(1), "systemd": service.group(1)}
 
 
 def _as_here(command: str, project: Path) -> str:
-    executable = Path(sys.executable).parent / "stepframe"
-    command = command.replace(f"{PROJECT}/.venv/bin/stepframe", shlex.quote(str(executable)))
+    executable = shlex.quote(str(Path(sys.executable).parent / "stepframe"))
+    command = command.replace(f"{PROJECT}/.venv/bin/stepframe", executable)
     return command.replace(PROJECT, str(project))
 
 
@@ -43,10 +43,11 @@ def test_the_documented_command_runs_the_inbox(tmp_path: Path, scheduler: str) -
     command = _commands()[scheduler]
     assert "workflows/inbox.toml" in command
     project = tmp_path / "srv"
-    shutil.copytree(
-        ROOT / "workflows", project / "workflows", ignore=shutil.ignore_patterns("stepframe-work")
-    )
+    copied = subprocess.run(_as_here(_commands()["copy"], project), shell=True, text=True,
+                            capture_output=True)  # fmt: skip
+    assert copied.returncode == 0, copied.stderr
     inbox = project / "workflows" / "inbox"
+    assert inbox.is_dir() and not any(inbox.iterdir())
     write_example_files(inbox, count=2)
     first = subprocess.run(_as_here(command, project), shell=True, capture_output=True, text=True)
     assert first.returncode == 0, first.stderr

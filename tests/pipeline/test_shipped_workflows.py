@@ -1,4 +1,4 @@
-"""Every shipped workflow in workflows/ runs and produces its outputs (run from a copy)."""
+"""Every shipped workflow (stepframe/workflows/) runs and produces its outputs (from a copy)."""
 
 from __future__ import annotations
 
@@ -12,14 +12,16 @@ import pandas as pd
 import pytest
 import xarray as xr
 
+from stepframe.pipeline.shipped import SHIPPED_DIR
+
 from .conftest import run_json, stepframe
 
-WORKFLOWS = Path(__file__).resolve().parents[2] / "workflows"
+WORKFLOWS = SHIPPED_DIR
 
 
 @pytest.fixture
 def copy(tmp_path: Path) -> Path:
-    """workflows/ copied (without any workspace), as on a fresh clone."""
+    """The shipped workflows copied (without any workspace), as ``stepframe run NAME --copy``."""
     target = tmp_path / "workflows"
     shutil.copytree(WORKFLOWS, target, ignore=shutil.ignore_patterns("stepframe-work"))
     return target
@@ -30,7 +32,7 @@ def test_every_shipped_workflow_is_tested() -> None:
     assert shipped == [
         "ida.toml",
         "inbox.toml",  # tests/pipeline/test_scheduling.py
-        "selection.toml",
+        "selection.toml",  # stepframe demo: tests/test_cli.py
         "site-amplification-records.toml",
         "site-amplification.toml",
     ]
@@ -110,20 +112,25 @@ def test_site_amplification_from_records(copy: Path) -> None:
     assert (outputs / "amplification.nc").is_file()
 
 
-@pytest.mark.slow
-def test_selection_workflow(copy: Path) -> None:
-    report = run_json(str(copy / "selection.toml"), cwd=copy.parent)
-    names = [s["name"] for s in report["stages"]]
-    assert names == ["inventory", "features", "selection", "selection_report"]
-    selection = copy / "stepframe-work" / "outputs" / "selection"
-    assert any(selection.iterdir())
-    chosen = pd.read_csv(selection / "selection.csv")
-    assert len(chosen) == 10 and chosen["rank"].tolist() == list(range(1, 11))
-    # the report stage shows the run's own selection, row for row
-    outputs = selection.parent
-    assert (outputs / "selection_report.html").stat().st_size > 0
-    shown = pd.read_csv(outputs / "selection_report_files" / "selection.csv")
-    assert shown["file"].tolist() == chosen["file"].tolist()
+def test_selection_workflow_is_the_demo(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """``stepframe run selection`` plans what ``stepframe demo`` runs (tests/test_cli.py runs it):
+    the demo's settings (10 components, confirmation) are the shipped file's."""
+    from stepframe.pipeline.runner import run_workflow
+    from stepframe.pipeline.stage_sets import _selection_options
+    from stepframe.pipeline.workflow import load_workflow
+
+    monkeypatch.chdir(tmp_path)
+    report = run_workflow("selection", dry_run=True)
+    assert [s.name for s in report.stages] == [
+        "inventory",
+        "features",
+        "selection",
+        "selection_report",
+    ]
+    assert report.workspace == "stepframe-work"  # the current folder's, not the package's
+    options = _selection_options(load_workflow(WORKFLOWS / "selection.toml"))
+    assert (options.n, options.confirm) == (10, True)
+    assert list(tmp_path.iterdir()) == []  # a dry run writes nothing
 
 
 @pytest.mark.slow

@@ -19,11 +19,12 @@ EXIT_BUSY = 3
 
 EXAMPLES = """\
   stepframe run --template > my-scene.toml          a commented workflow to edit
-  stepframe run workflows/site-amplification.toml   the paper's site: model and amplification
-  stepframe run workflows/selection.toml --dry-run  what would be computed, and what is cached
-  stepframe run workflows/inbox.toml --wait --json  a scheduled run over the record files put in
-                                                    workflows/inbox/ (waits for a running one)
-  stepframe run workflows/selection.toml --scheduler dask-local --jobs 2
+  stepframe run site-amplification                  a shipped workflow: the paper's site
+  stepframe run selection --dry-run                 what would be computed, and what is cached
+  stepframe run inbox --copy my-inbox               copy a shipped workflow to edit or schedule
+  stepframe run my-inbox/inbox.toml --wait --json   a scheduled run over the record files put in
+                                                    my-inbox/inbox/ (waits for a running one)
+  stepframe run selection --scheduler dask-local --jobs 2
 """
 
 
@@ -42,7 +43,15 @@ def register(subparsers: Any) -> None:
         examples=EXAMPLES,
         run=run,
     )
-    parser.add_argument("workflow", nargs="?", metavar="WORKFLOW.toml", help="the workflow file")
+    parser.add_argument(
+        "workflow",
+        nargs="?",
+        metavar="WORKFLOW",
+        help="a workflow file, or the name of a shipped one (selection, site-amplification, ...)",
+    )
+    parser.add_argument(
+        "--copy", metavar="DIR", help="copy the shipped workflow into DIR (to edit) and exit"
+    )
     parser.add_argument(
         "--template", action="store_true", help="print a commented workflow file and exit"
     )
@@ -89,7 +98,12 @@ def run(args: argparse.Namespace) -> CommandResult:
         text = workflow_template()
         return CommandResult(data={"template": text}, text=text.rstrip("\n"))
     if args.workflow is None:
-        raise InputError("no workflow file given, expected stepframe run WORKFLOW.toml")
+        raise InputError("no workflow given, expected stepframe run WORKFLOW.toml or a name")
+    if args.copy is not None:
+        from stepframe.pipeline.shipped import copy_workflow
+
+        copied = copy_workflow(args.workflow, args.copy)
+        return CommandResult(data={"copied": copied}, text="\n".join(map(str, copied)))
     try:
         report = run_workflow(
             args.workflow,

@@ -16,7 +16,9 @@ checked with file:line errors), :mod:`~stepframe.pipeline.stages` (the stage reg
 stages in :mod:`~stepframe.pipeline.stage_items` and :mod:`~stepframe.pipeline.stage_sets`),
 :mod:`~stepframe.pipeline.plan`, :mod:`~stepframe.pipeline.store` (results keyed by content,
 parameters and version), :mod:`~stepframe.pipeline.lock`, :mod:`~stepframe.pipeline.scheduler`
-(process pool or Dask) and :mod:`~stepframe.pipeline.runner`.
+(process pool or Dask) and :mod:`~stepframe.pipeline.runner`; :mod:`~stepframe.pipeline.shipped`
+(the workflows shipped in the package, run by name) and :mod:`~stepframe.pipeline.demo`
+(``stepframe demo``: the shipped selection workflow run into one folder).
 """
 
 from __future__ import annotations

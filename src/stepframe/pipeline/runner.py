@@ -34,9 +34,10 @@ from stepframe.errors import InputError
 from stepframe.pipeline.lock import workspace_lock
 from stepframe.pipeline.plan import check_forced, plan_stages
 from stepframe.pipeline.scheduler import Execution, check_scheduler, open_execution
+from stepframe.pipeline.shipped import is_shipped, resolve_workflow
 from stepframe.pipeline.stages import Context, Stage, Task, registry
 from stepframe.pipeline.store import KEY_COLUMN, Store, write_output_table
-from stepframe.pipeline.workflow import Workflow, load_workflow
+from stepframe.pipeline.workflow import DEFAULT_WORKSPACE, Workflow, load_workflow
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -164,13 +165,16 @@ def run_workflow(
     wait: bool = False,
     progress: bool = False,
     batch_items: int | None = None,
+    workspace: str | Path | None = None,
+    outputs: str | Path | None = None,
 ) -> RunReport:
     """Run a workflow file (see the module docstring).
 
     Parameters
     ----------
     path
-        The workflow file.
+        The workflow file, or the name of a shipped workflow (``"selection"``,
+        :func:`stepframe.pipeline.shipped.resolve_workflow`).
     jobs
         Worker processes (default: the CPUs available); with ``dask-local``, Dask workers.
     scheduler
@@ -189,6 +193,10 @@ def run_workflow(
         Items per stored segment (default: :data:`DEFAULT_BATCH_ITEMS`, or
         :data:`BATCH_ITEMS_PER_WORKER` per worker when that is more, so that a large cluster
         is not left idle at the end of each batch).
+    workspace, outputs
+        The workspace and the outputs folder instead of the workflow's
+        (:func:`~stepframe.pipeline.workflow.load_workflow`). A shipped workflow's workspace
+        defaults to ``stepframe-work/`` in the current folder: the package is not written.
 
     Raises
     ------
@@ -200,7 +208,16 @@ def run_workflow(
     if batch_items is not None and batch_items < 1:
         raise InputError(f"--batch-items {batch_items}, expected ≥ 1")
     forced = list(force or [])
-    workflow = load_workflow(path)
+    file = resolve_workflow(path)
+    if workspace is None and is_shipped(file):
+        workspace = DEFAULT_WORKSPACE
+    workflow = load_workflow(file, workspace=workspace, outputs=outputs)
+    if is_shipped(file) and workflow.records is not None and workflow.records.folder is not None:
+        name = file.stem
+        raise InputError(
+            f"the shipped workflow {name} reads a records folder beside it, expected a copy: "
+            f"stepframe run {name} --copy DIR, then stepframe run DIR/{name}.toml"
+        )
     planned = _prepare(workflow, forced)
     store = Store(workflow.workspace / "store")
     if dry_run:

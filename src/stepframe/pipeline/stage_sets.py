@@ -17,6 +17,10 @@ from typing import Any
 
 from stepframe.core.io import write_bytes
 from stepframe.errors import InputError
+
+# The per-item stages register first, whichever stage module is imported first: registry order
+# is pipeline order (features before site and selection).
+from stepframe.pipeline import stage_items  # noqa: F401
 from stepframe.pipeline.stages import Context, Param, Stage, register_stage
 from stepframe.pipeline.store import make_key, write_output_table
 

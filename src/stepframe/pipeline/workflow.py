@@ -232,8 +232,21 @@ def _inside(folder: Path, text: str, table: str, key: str, lines: Lines) -> Path
     return folder / path
 
 
-def load_workflow(path: str | Path) -> Workflow:
+def load_workflow(
+    path: str | Path, *, workspace: str | Path | None = None, outputs: str | Path | None = None
+) -> Workflow:
     """Read and check a workflow file (nothing is written).
+
+    Parameters
+    ----------
+    path
+        The workflow file.
+    workspace, outputs
+        The workspace and the outputs folder instead of the file's (``workspace`` key, and
+        ``[outputs] folder`` or ``<workspace>/outputs``); relative to the current folder.
+        Given, they win over the file's: a shipped workflow is run with its workspace outside
+        the package (:mod:`stepframe.pipeline.shipped`), ``stepframe demo`` with both in its
+        output folder.
 
     Raises
     ------
@@ -263,11 +276,14 @@ def load_workflow(path: str | Path) -> Workflow:
                 f"unknown key {key}, {_suggest(key, [*TOP_KEYS, *valid_tables])}", "", key
             )
     folder = file.parent
-    workspace = _inside(folder, top.get("workspace", DEFAULT_WORKSPACE), "", "workspace", lines)
+    if workspace is None:
+        workspace = _inside(folder, top.get("workspace", DEFAULT_WORKSPACE), "", "workspace", lines)
     records = _records(data.get("records"), folder, lines)
     frame, frame_source = _frame(data.get("frame"), folder, file, text, lines)
-    outputs, outputs_folder = _outputs(data.get("outputs"), folder, workspace, lines)
-    for name in outputs:
+    wanted, outputs_folder = _outputs(data.get("outputs"), folder, Path(workspace), lines)
+    if outputs is not None:
+        outputs_folder = Path(outputs)
+    for name in wanted:
         stage = stages[name]
         if stage.needs_frame and frame is None:
             raise lines.error(
@@ -276,12 +292,12 @@ def load_workflow(path: str | Path) -> Workflow:
     return Workflow(
         path=file,
         name=str(top.get("name", "")),
-        workspace=workspace,
+        workspace=Path(workspace),
         records=records,
         frame=frame,
         frame_source=frame_source,
         tables=tables,
-        outputs=outputs,
+        outputs=wanted,
         outputs_folder=outputs_folder,
         lines=lines,
     )

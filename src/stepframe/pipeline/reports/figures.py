@@ -107,6 +107,30 @@ def spectra_figure(
     return fig
 
 
+def accelerograms_figure(
+    records: Sequence[tuple[str, NDArray[np.float64], NDArray[np.float64]]],
+) -> Figure:
+    """Each record's acceleration [g] against time [s], one panel per record.
+
+    ``records``: ``(name, time [s], acceleration [g])`` per record, already scaled.
+    """
+    from matplotlib.figure import Figure
+
+    n = len(records)
+    height = 1.9 * n + 0.7
+    fig = Figure(figsize=(9.0, height))  # fixed margins: see omega_paths_figure
+    fig.subplots_adjust(left=0.09, right=0.98, top=1 - 0.35 / height, bottom=0.5 / height,
+                        hspace=0.6)  # fmt: skip
+    axes = fig.subplots(n, 1, squeeze=False)[:, 0]
+    for ax, (name, time_s, acceleration_g) in zip(axes, records, strict=True):
+        ax.plot(time_s, acceleration_g, color="k", lw=0.5)
+        ax.set_title(name, fontsize=8)
+        ax.set_ylabel("a [g]")
+        ax.grid(True, lw=0.3)
+    axes[-1].set_xlabel("time [s]")
+    return fig
+
+
 def confirmation_figure(
     score: NDArray[np.float64],
     response: NDArray[np.float64],

@@ -1,7 +1,8 @@
 """The selection report: the frame's band, the chosen records' paths, scores, spectra, confirmation.
 
 What it shows (issue 14): the frame's period-amplitude backbone and band; each selected record's
-fitted ω_g(t) against the band over time with its strong-motion window; the score table
+fitted ω_g(t) against the band over time with its strong-motion window; the accelerograms of
+the three best; the score table
 (sortable); the selected set's spectra against the target (median and ±σ) with scale factors; the
 confirmation (score against simulated peak response at equal intensity, the rank correlation,
 selected against controls); what each filter dropped; the failures. It reads the selection
@@ -39,6 +40,9 @@ TWO_PI = 2 * math.pi
 
 #: Periods of the spectra figure [s].
 SPECTRUM_PERIODS_S = np.geomspace(0.05, 10.0, 60)
+
+#: Records whose accelerograms are drawn (the best first).
+N_ACCELEROGRAMS = 3
 
 #: Columns that name the filter that dropped a candidate (first present wins).
 DROPPED_COLUMNS = ("dropped_by", "filter", "dropped_by_filter")
@@ -416,6 +420,12 @@ def selection_report(
     else:
         path_items.append(Note("The selection table carries no fitted parameters to draw."))
     sections.append(Section("Dominant-frequency paths of the selected records", path_items))
+    sections.append(
+        Section(
+            "Accelerograms of the best records",
+            _accelerogram_items(rows[:N_ACCELEROGRAMS], names, folder, record_loader, numbers),
+        )
+    )
     if "selected" not in candidates.columns:
         # mark the chosen rows so the sortable table can bring them together
         chosen = set(zip(selection["file"].astype(str), _components(selection), strict=True))
@@ -518,6 +528,49 @@ def selection_report(
     )
 
 
+def _scale_of(row: dict[str, Any]) -> float:
+    scale = row.get("scale_factor", 1.0)
+    return 1.0 if scale is None or pd.isna(scale) else float(scale)
+
+
+def _accelerogram_items(
+    rows: list[dict[str, Any]],
+    names: list[str],
+    folder: Path,
+    record_loader: RecordLoader,
+    numbers: dict[str, Any],
+) -> list[Figure | Table | Note]:
+    """The best records' time series, as scaled for the selection."""
+    from stepframe.records.units import STANDARD_GRAVITY_M_S2
+
+    drawn, missing = [], []
+    for row, name in zip(rows, names, strict=False):
+        trace = record_loader(row, folder)
+        if trace is None:
+            missing.append(name)
+            continue
+        acceleration_g = trace.data * _scale_of(row) / STANDARD_GRAVITY_M_S2
+        drawn.append((name, trace.times(), acceleration_g))
+    if not drawn:
+        return [Note("None of the best records' files could be found: no accelerogram drawn.")]
+    numbers["accelerogram_records"] = [name for name, _, _ in drawn]
+    items: list[Figure | Table | Note] = [
+        figure_from_matplotlib(
+            figures.accelerograms_figure(drawn),
+            key="accelerograms",
+            title=f"The {len(drawn)} best records' accelerograms",
+            alt=f"{len(drawn)} panels of ground acceleration in g against time in s, best first",
+            how_to_read=(
+                "Ground acceleration of the best-ranked records, in g after their scale factor, "
+                "best first: the motions the frame is driven by in the confirmation."
+            ),
+        )
+    ]
+    if missing:
+        items.append(Note(f"Not found, not drawn: {', '.join(missing)}.", "warning"))
+    return items
+
+
 def _spectra_items(
     rows: list[dict[str, Any]],
     names: list[str],
@@ -539,9 +592,7 @@ def _spectra_items(
         if trace is None:
             missing.append(name)
             continue
-        scale = (
-            float(row.get("scale_factor", 1.0)) if pd.notna(row.get("scale_factor", 1.0)) else 1.0
-        )
+        scale = _scale_of(row)
         result = response_spectrum(trace.data, trace.stats.delta, SPECTRUM_PERIODS_S, damping)
         spectra.append(result.psa_g * scale)
         used.append(name)

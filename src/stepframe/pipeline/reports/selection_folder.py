@@ -4,8 +4,10 @@
 and the frame and target spectrum when known), ``selection.csv`` (the chosen records),
 ``candidates.csv`` (every candidate, its scores and the filter that dropped it),
 ``confirmation.csv`` (simulated response, only with confirmation), ``failures.csv``, and a column
-dictionary beside each table. The report reads them through :func:`read_selection_folder` only,
-so a change of layout is one change here.
+dictionary beside each table. A workflow's selection stage writes the same folder as
+``selection/`` in its outputs (``stepframe demo``'s folder holds one): such a folder is read
+through its ``selection/``. The report reads them through :func:`read_selection_folder` only, so a
+change of layout is one change here.
 """
 
 from __future__ import annotations
@@ -22,6 +24,9 @@ from stepframe.errors import InputError
 
 #: Files without which there is no selection to report.
 REQUIRED = ("selection.json", "selection.csv", "candidates.csv")
+
+#: The selection's folder inside a workflow's outputs folder (the selection stage's).
+WORKFLOW_FOLDER = "selection"
 
 #: Files a run may lack (no confirmation asked, no failures).
 OPTIONAL = ("confirmation.csv", "failures.csv")
@@ -98,7 +103,7 @@ def _read_csv(path: Path) -> pd.DataFrame:
 
 
 def read_selection_folder(folder: str | PathLike[str]) -> SelectionOutputs:
-    """Read a selection output folder.
+    """Read a selection output folder, or the ``selection/`` of a workflow's outputs folder.
 
     Raises
     ------
@@ -109,6 +114,8 @@ def read_selection_folder(folder: str | PathLike[str]) -> SelectionOutputs:
     root = Path(folder)
     if not root.is_dir():
         raise InputError("not a folder, expected the output folder of `stepframe select`", root)
+    if not (root / REQUIRED[0]).exists() and (root / WORKFLOW_FOLDER / REQUIRED[0]).is_file():
+        root = root / WORKFLOW_FOLDER
     missing = [name for name in REQUIRED if not (root / name).is_file()]
     if missing:
         raise InputError(
