@@ -13,8 +13,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
-from stepframe.errors import InputError
+from stepframe.errors import FormatError, InputError
 from stepframe.records import read
 from stepframe.records.formats import FORMATS, SNIFF_BYTES
 from stepframe.records.formats._text import FormatWarning
@@ -299,3 +301,29 @@ def test_fixed_width_fields_that_touch_and_fortran_d_exponents(tmp_path: Path) -
     values, _ = numbers(["1.5D-03 -2.0d+01"], 0, tmp_path)
     np.testing.assert_array_equal(values, [1.5e-3, -20.0])
     assert fortran_width("Format=(1E15.6)") == 15 and fortran_width("(10I8)") == 8
+
+
+@given(
+    st.lists(
+        st.lists(st.floats(-1e6, 1e6, allow_nan=False), min_size=1, max_size=8),
+        min_size=1,
+        max_size=30,
+    ),
+    st.sampled_from(["{:.7E}", "{!r}", "{:.3f}"]),
+)
+@settings(max_examples=60, deadline=None)
+def test_blank_separated_numbers_parse_as_python_floats(
+    rows: list[list[float]], style: str
+) -> None:
+    """The vectorised path of `numbers` gives what float() gives word by word, stops at the
+    line that completes `count`, and hands anything else to the line-by-line path."""
+    from stepframe.records.formats._text import numbers
+
+    lines = ["header", *(" ".join(style.format(v) for v in row) for row in rows), "trailer 1"]
+    expected = [float(style.format(v)) for row in rows for v in row]
+    values, next_line = numbers(lines, 1, Path("f.txt"), count=len(expected))
+    assert values.tolist() == expected
+    assert next_line == len(rows) + 1
+    lines[-2] += " 1.0D-03"  # a Fortran exponent: line by line, and one value too many
+    with pytest.raises(FormatError, match="beyond the"):
+        numbers(lines, 1, Path("f.txt"), count=len(expected))

