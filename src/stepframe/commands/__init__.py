@@ -259,12 +259,102 @@ def non_negative_seconds(text: str) -> float:
     return _finite_float(text, lambda v: v >= 0, "", "seconds ≥ 0")
 
 
+def non_negative_float(text: str) -> float:
+    """argparse type: a finite number ≥ 0."""
+    return _finite_float(text, lambda v: v >= 0, "", "a finite number ≥ 0")
+
+
+def positive_int(text: str) -> int:
+    """argparse type: an integer ≥ 1."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an integer, expected ≥ 1") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{text!r}, expected an integer ≥ 1")
+    return value
+
+
 def float_list(text: str) -> list[float]:
     """argparse type: comma-separated numbers (``0.01,0.2,1.0``)."""
     try:
         return [float(word) for word in text.split(",") if word.strip()]
     except ValueError:
         raise argparse.ArgumentTypeError(f"{text!r}, expected comma-separated numbers") from None
+
+
+def positive_floats(text: str) -> list[float]:
+    """argparse type: comma-separated positive numbers, at least one (``10.6,16``)."""
+    values = float_list(text)
+    if not values or not all(math.isfinite(v) and v > 0 for v in values):
+        raise argparse.ArgumentTypeError(f"{text!r}, expected positive numbers")
+    return values
+
+
+def float_range(text: str) -> tuple[float, float, int]:
+    """argparse type: ``LO,HI,N``, N values from LO to HI with 0 ≤ LO ≤ HI and N ≥ 1."""
+    parts = text.split(",")
+    try:
+        lo, hi, n = float(parts[0]), float(parts[1]), int(parts[2])
+    except (ValueError, IndexError):
+        raise argparse.ArgumentTypeError(
+            f"{text!r}, expected LO,HI,N (e.g. 0.05,0.5,200)"
+        ) from None
+    if len(parts) != 3 or not (0 <= lo <= hi and math.isfinite(hi) and n >= 1):
+        raise argparse.ArgumentTypeError(f"{text!r}, expected 0 ≤ LO ≤ HI and N ≥ 1")
+    return lo, hi, n
+
+
+def check_plot(path: str | None) -> None:
+    """Refuse a ``--plot`` path before any work: a figure suffix, an existing folder."""
+    if path is not None:
+        from stepframe.pipeline.figures import check_figure_path
+
+        check_figure_path(path)
+
+
+#: The default of an option row that is required.
+REQUIRED = object()
+
+#: An option row: (flag, type, metavar, help) or (flag, type, metavar, help, default). The type
+#: is an argparse type function, a tuple of choices, ``bool`` (a flag: store_true) or None
+#: (text); the default :data:`REQUIRED` makes the option required.
+OptionRow = tuple[Any, ...]
+
+
+def add_options(
+    parser: argparse.ArgumentParser | argparse._ArgumentGroup, *rows: OptionRow
+) -> None:
+    """Add one option per row (see :data:`OptionRow`): a compact table of a command's options."""
+    for flag, kind, metavar, help, *rest in rows:
+        default = rest[0] if rest else None
+        options: dict[str, Any] = {"help": help}
+        if default is REQUIRED:
+            options["required"] = True
+        elif default is not None:
+            options["default"] = default
+        if kind is bool:
+            options["action"] = "store_true"
+        elif isinstance(kind, tuple):
+            options["choices"] = kind
+        elif kind is not None:
+            options["type"] = kind
+        if metavar is not None:
+            options["metavar"] = metavar
+        parser.add_argument(flag, **options)
+
+
+def save_plot(
+    result: CommandResult, path: str | None, figure: Callable[[], Any], line: str = "plot"
+) -> CommandResult:
+    """Draw ``figure()`` to ``path`` (when given); the result gains ``plot`` and a text line."""
+    if path is None:
+        return result
+    from stepframe.pipeline.figures import save_figure
+
+    save_figure(figure(), path)
+    data = {**result.data, "plot": path}
+    return CommandResult(data, f"{result.text}\n{line} written to {path}")
 
 
 #: The command groups: name → (help, the modules whose ``register(subparsers)`` add its

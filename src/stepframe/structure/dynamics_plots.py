@@ -8,7 +8,7 @@ module costs nothing.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -135,10 +135,3 @@ def phase_portrait_figure(
     fig.tight_layout()
     return fig
 
-
-def save_figure(fig: Any, path: str) -> None:
-    """Write a figure as PNG atomically (nothing half-written)."""
-    from stepframe.core.io import atomic_write
-
-    with atomic_write(path, "wb") as handle:
-        fig.savefig(handle, format="png", dpi=120)
