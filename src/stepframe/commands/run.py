@@ -11,7 +11,8 @@ import json
 import sys
 from typing import Any
 
-from stepframe.commands import CommandResult, add_command, to_jsonable
+from stepframe.commands import CommandResult, add_command
+from stepframe.core.jsonable import to_jsonable
 from stepframe.errors import InputError
 
 EXIT_OUTPUT_MISSING = 1

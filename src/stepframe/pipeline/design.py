@@ -10,13 +10,13 @@ answer, as a :class:`DesignRun` (``to_dict``; :func:`write_design_result` and
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
+from stepframe.core.jsonable import to_jsonable
 from stepframe.errors import InputError
 
 if TYPE_CHECKING:
@@ -339,17 +339,6 @@ def _describe(run: DesignRun, trace_rows: bool) -> str:
     return "\n".join(lines)
 
 
-def _jsonable(value: Any) -> Any:
-    """Tuples as lists and non-finite floats as None (JSON has neither)."""
-    if isinstance(value, Mapping):
-        return {str(k): _jsonable(v) for k, v in value.items()}
-    if isinstance(value, list | tuple):
-        return [_jsonable(v) for v in value]
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value
-
-
 def write_design_result(run: DesignRun, path: str | PathLike[str]) -> Path:
     """Write ``run.to_dict()`` as JSON (atomically); :func:`read_design_result` reads it back."""
     import json
@@ -357,7 +346,7 @@ def write_design_result(run: DesignRun, path: str | PathLike[str]) -> Path:
     from stepframe.core.io import atomic_write
 
     with atomic_write(path) as out:
-        json.dump(_jsonable(run.to_dict()), out, indent=2, allow_nan=False)
+        json.dump(to_jsonable(run.to_dict()), out, indent=2, allow_nan=False)
         out.write("\n")
     return Path(path)
 

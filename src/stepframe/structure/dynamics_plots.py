@@ -134,4 +134,3 @@ def phase_portrait_figure(
     ax.legend(fontsize="small")
     fig.tight_layout()
     return fig
-
