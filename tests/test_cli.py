@@ -121,7 +121,7 @@ def test_demo_selects_for_example_4(demo_run: tuple[dict[str, object], Path]) ->
 
 
 def test_demo_summary_text(demo_run: tuple[dict[str, object], Path]) -> None:
-    from stepframe.commands.select import summary_text
+    from stepframe.pipeline.selection.summary import summary_text
     from stepframe.pipeline.selection import read_selection
 
     _, out = demo_run

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import argparse
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from types import ModuleType
 from typing import TYPE_CHECKING, Any, NoReturn
@@ -302,8 +302,9 @@ def check_plot(path: str | None) -> None:
 #: The default of an option row that is required.
 REQUIRED = object()
 
-#: An option row: (flag, type, metavar, help) or (flag, type, metavar, help, default). The type
-#: is an argparse type function, a tuple of choices, ``bool`` (a flag: store_true) or None
+#: An option row: (flag, type, metavar, help) or (flag, type, metavar, help, default). The flag
+#: is one string or a tuple (``("-o", "--out")``); the type is an argparse type function, a
+#: tuple of choices, ``bool`` (a flag: store_true), ``list`` (repeatable: append) or None
 #: (text); the default :data:`REQUIRED` makes the option required.
 OptionRow = tuple[Any, ...]
 
@@ -321,13 +322,62 @@ def add_options(
             options["default"] = default
         if kind is bool:
             options["action"] = "store_true"
+        elif kind is list:
+            options.update(action="append", default=[])
         elif isinstance(kind, tuple):
             options["choices"] = kind
         elif kind is not None:
             options["type"] = kind
         if metavar is not None:
             options["metavar"] = metavar
-        parser.add_argument(flag, **options)
+        parser.add_argument(*((flag,) if isinstance(flag, str) else flag), **options)
+
+
+#: A row of :func:`add_fields`: (type, metavar, help), each None to derive or omit. For a
+#: dataclass field the type defaults to the field's (a ``Literal`` gives the choices, ``bool`` a
+#: flag) and a ``%(default)s`` in the help is the field's default; a key that starts with ``-``
+#: is an option of its own (an :data:`OptionRow` without the flag).
+FieldRow = tuple[Any, str | None, str | None]
+
+
+def add_fields(
+    parser: argparse.ArgumentParser | argparse._ArgumentGroup,
+    cls: type,
+    rows: Mapping[str, FieldRow],
+) -> None:
+    """One option ``--field-name`` per field of the dataclass ``cls`` named in ``rows``.
+
+    The options default to None (a flag to False), so that :func:`given_fields` returns only
+    what the command line gave, to lay over a file's values or the dataclass's defaults.
+    """
+    import dataclasses
+    import types
+    import typing
+
+    hints = typing.get_type_hints(cls)
+    defaults = {f.name: f.default for f in dataclasses.fields(cls)}
+    for name, (kind, metavar, help) in rows.items():
+        if name.startswith("-"):
+            add_options(parser, (name, kind, metavar, help))
+            continue
+        hint = hints[name]
+        if isinstance(hint, types.UnionType):  # X | None: the option gives an X
+            hint = next(arg for arg in typing.get_args(hint) if arg is not type(None))
+        if kind is None and typing.get_origin(hint) is typing.Literal:
+            kind = typing.get_args(hint)
+        elif kind is None and hint in (bool, int, float):
+            kind = hint
+        if help is not None:
+            help = help.replace("%(default)s", str(defaults[name]))
+        add_options(parser, ("--" + name.replace("_", "-"), kind, metavar, help))
+
+
+def given_fields(args: argparse.Namespace, rows: Mapping[str, FieldRow]) -> dict[str, Any]:
+    """The fields of :func:`add_fields` options that the command line gave (flags: set)."""
+    values = {name: getattr(args, name) for name in rows if not name.startswith("-")}
+    return {
+        name: value for name, value in values.items() if value is not None and value is not False
+    }
 
 
 def save_plot(

@@ -339,6 +339,26 @@ def _describe(run: DesignRun, trace_rows: bool) -> str:
     return "\n".join(lines)
 
 
+def design_displacement_m(path: str | Path) -> float:
+    """δ* [m] of a quasi-dynamic design input file (closed form for a two-period spectrum,
+    search for a tabulated one); an error when the design gives no positive δ*."""
+    from stepframe.structure.design_spectrum import TwoPeriodSpectrum
+    from stepframe.structure.quasi_dynamic import design_displacement, read_case
+
+    case = read_case(path)
+    closed = isinstance(case.spectrum, TwoPeriodSpectrum)
+    result = design_displacement(
+        case.stepping_map, case.spectrum, "closed-form" if closed else "search"
+    )
+    if result.delta_m is None or not result.delta_m > 0:
+        raise InputError(
+            f"the design gives no positive design displacement (status {result.status}), "
+            "expected one to bound the band (or give --a-max-m)",
+            path,
+        )
+    return float(result.delta_m)
+
+
 def write_design_result(run: DesignRun, path: str | PathLike[str]) -> Path:
     """Write ``run.to_dict()`` as JSON (atomically); :func:`read_design_result` reads it back."""
     import json
@@ -373,6 +393,7 @@ __all__ = [
     "SPECTRUM_KEYS",
     "DesignRun",
     "design_case",
+    "design_displacement_m",
     "merged_design_input",
     "read_design_result",
     "run_design",
