@@ -333,6 +333,16 @@ def add_options(
         parser.add_argument(*((flag,) if isinstance(flag, str) else flag), **options)
 
 
+#: ``--alpha-at-tmax``: where the α_g ramp of eq. 6.11 ends (an :data:`OptionRow`).
+ALPHA_OPTION: OptionRow = (
+    "--alpha-at-tmax",
+    ("eq-6-11", "paper"),
+    None,
+    "α_g ramp ends at t_dur (eq. 6.11 as printed, default) or at t_max (the paper)",
+    "eq-6-11",
+)
+
+
 #: A row of :func:`add_fields`: (type, metavar, help), each None to derive or omit. For a
 #: dataclass field the type defaults to the field's (a ``Literal`` gives the choices, ``bool`` a
 #: flag) and a ``%(default)s`` in the help is the field's default; a key that starts with ``-``
@@ -381,16 +391,18 @@ def given_fields(args: argparse.Namespace, rows: Mapping[str, FieldRow]) -> dict
 
 
 def save_plot(
-    result: CommandResult, path: str | None, figure: Callable[[], Any], line: str = "plot"
+    result: CommandResult, path: str | None, figure: Callable[[], Any], line: str | None = "plot"
 ) -> CommandResult:
-    """Draw ``figure()`` to ``path`` (when given); the result gains ``plot`` and a text line."""
+    """Draw ``figure()`` to ``path`` (when given); the result gains ``plot`` and, unless ``line``
+    is None, the text line ``<line> written to <path>``."""
     if path is None:
         return result
     from stepframe.pipeline.figures import save_figure
 
     save_figure(figure(), path)
     data = {**result.data, "plot": path}
-    return CommandResult(data, f"{result.text}\n{line} written to {path}")
+    text = result.text if line is None else f"{result.text}\n{line} written to {path}"
+    return CommandResult(data, text)
 
 
 #: The command groups: name → (help, the modules whose ``register(subparsers)`` add its
