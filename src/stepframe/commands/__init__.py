@@ -16,7 +16,6 @@ from dataclasses import dataclass
 from types import ModuleType
 from typing import TYPE_CHECKING, Any, NoReturn
 
-from stepframe.core.jsonable import to_jsonable
 from stepframe.errors import InputError
 from stepframe.records.formats import format_names_help
 
@@ -105,55 +104,30 @@ class Once(argparse.Action):
 
 
 def add_record_options(parser: argparse.ArgumentParser) -> None:
-    """The record options every command that reads a record takes (DESIGN.md, Command line)."""
+    """The record options every command that reads a record takes (DESIGN.md, Command line);
+    each refuses to be given twice (:class:`Once`)."""
     group = parser.add_argument_group("record options")
     if "--example" not in parser._option_string_actions:
-        group.add_argument(
-            "--example",
+        add_options(
+            group,
+            ("--example", EXAMPLE_NAMES, None, "read the embedded example catalogue instead of a "
+             "file (100 FEMA P695 components; --component picks one, such as MUL009)"),
             action=Once,
-            choices=EXAMPLE_NAMES,
-            help="read the embedded example catalogue instead of a file (100 FEMA P695 "
-            "components; --component picks one, such as MUL009)",
-        )
-    group.add_argument(
-        "--format",
+        )  # fmt: skip
+    add_options(
+        group,
+        ("--format", None, "NAME", f"file format ({FORMAT_NAMES_HELP}); default: sniffed"),
+        ("--units", None, "UNIT", "units of the values if the file does not say: g, m/s2, "
+         "cm/s2 (= gal), mm/s2"),
+        ("--dt-s", float, "DT", "sampling interval [s] if the file does not say"),
+        ("--inventory", None, "XML", "StationXML file for response removal"),
+        ("--component", None, "NAME", "which channel of a multi-channel file"),
+        ("--max-abs-g", positive_float, "G", "refuse a record whose peak exceeds G [g] "
+         "(default 100: wrong units or damage)"),
+        ("--max-file-mb", positive_float, "MB", "refuse a record file larger than MB [MiB] "
+         "(default 256)"),
         action=Once,
-        metavar="NAME",
-        help=f"file format ({FORMAT_NAMES_HELP}); default: sniffed",
-    )
-    group.add_argument(
-        "--units",
-        action=Once,
-        metavar="UNIT",
-        help="units of the values if the file does not say: g, m/s2, cm/s2 (= gal), mm/s2",
-    )
-    group.add_argument(
-        "--dt-s",
-        action=Once,
-        type=float,
-        metavar="DT",
-        help="sampling interval [s] if the file does not say",
-    )
-    group.add_argument(
-        "--inventory", action=Once, metavar="XML", help="StationXML file for response removal"
-    )
-    group.add_argument(
-        "--component", action=Once, metavar="NAME", help="which channel of a multi-channel file"
-    )
-    group.add_argument(
-        "--max-abs-g",
-        action=Once,
-        type=positive_float,
-        metavar="G",
-        help="refuse a record whose peak exceeds G [g] (default 100: wrong units or damage)",
-    )
-    group.add_argument(
-        "--max-file-mb",
-        action=Once,
-        type=positive_float,
-        metavar="MB",
-        help="refuse a record file larger than MB [MiB] (default 256)",
-    )
+    )  # fmt: skip
 
 
 def add_t0_option(parser: argparse.ArgumentParser | argparse._ArgumentGroup, help: str) -> None:
@@ -174,22 +148,9 @@ def read_record_file(path: str | None, args: argparse.Namespace) -> Stream:
     if example is not None:
         if path is not None:
             raise InputError(f"a record file and --example {example}, expected one of them")
-        from obspy import Stream
+        from stepframe.records.examples import example_stream
 
-        from stepframe.records.examples import fema_p695
-
-        stream, _ = fema_p695()
-        if args.component is None:
-            return stream
-        chosen = [trace for trace in stream if trace.stats.channel == args.component]
-        if not chosen:
-            names = ", ".join(trace.stats.channel for trace in list(stream)[:4])
-            raise InputError(
-                f"--component {args.component} not in --example {example}, expected one of its "
-                f"100 component names ({names}, ...; `stepframe records info --example "
-                f"{example}` lists them)"
-            )
-        return Stream(chosen)
+        return example_stream(example, args.component)
     if path is None:
         raise InputError("no record file, expected a record file or --example fema-p695")
     from stepframe.records import read
@@ -310,12 +271,19 @@ OptionRow = tuple[Any, ...]
 
 
 def add_options(
-    parser: argparse.ArgumentParser | argparse._ArgumentGroup, *rows: OptionRow
+    parser: argparse.ArgumentParser | argparse._ArgumentGroup,
+    *rows: OptionRow,
+    action: type[argparse.Action] | None = None,
 ) -> None:
-    """Add one option per row (see :data:`OptionRow`): a compact table of a command's options."""
+    """Add one option per row (see :data:`OptionRow`): a compact table of a command's options.
+
+    ``action`` (such as :class:`Once`) stores the values of the rows that take one.
+    """
     for flag, kind, metavar, help, *rest in rows:
         default = rest[0] if rest else None
         options: dict[str, Any] = {"help": help}
+        if action is not None and kind not in (bool, list):
+            options["action"] = action
         if default is REQUIRED:
             options["required"] = True
         elif default is not None:
@@ -433,24 +401,3 @@ def group_modules(name: str) -> list[ModuleType]:
     import importlib
 
     return [importlib.import_module(module) for module in GROUPS[name][1]]
-
-
-__all__ = [
-    "GROUPS",
-    "CommandResult",
-    "InputError",
-    "Once",
-    "Parser",
-    "UserError",
-    "add_command",
-    "add_record_options",
-    "add_t0_option",
-    "float_list",
-    "group_modules",
-    "non_negative_seconds",
-    "positive_float",
-    "read_record_file",
-    "record_options",
-    "record_paths",
-    "to_jsonable",
-]
