@@ -20,6 +20,8 @@ from stepframe.core.jsonable import to_jsonable
 from stepframe.errors import InputError
 
 if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
     from stepframe.structure.quasi_dynamic import (
         BranchChoice,
         DesignCase,
@@ -205,6 +207,13 @@ class DesignRun:
         """The run as text: constants, fixed points, iterations (every iterate with
         ``trace_rows``) and the design answer."""
         return _describe(self, trace_rows)
+
+    def figure(self) -> Figure:
+        """The cobweb of the iterations over the map, with the fixed points."""
+        from stepframe.structure.plots import cobweb_figure
+
+        points = [*self.closed, *self.found]
+        return cobweb_figure(self.case.stepping_map, self.case.spectrum, self.traces, points)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready form (what ``stepframe structure design --json`` prints)."""
