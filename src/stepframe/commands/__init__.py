@@ -280,25 +280,40 @@ def add_options(
     ``action`` (such as :class:`Once`) stores the values of the rows that take one.
     """
     for flag, kind, metavar, help, *rest in rows:
-        default = rest[0] if rest else None
-        options: dict[str, Any] = {"help": help}
-        if action is not None and kind not in (bool, list):
-            options["action"] = action
-        if default is REQUIRED:
-            options["required"] = True
-        elif default is not None:
-            options["default"] = default
-        if kind is bool:
-            options["action"] = "store_true"
-        elif kind is list:
-            options.update(action="append", default=[])
-        elif isinstance(kind, tuple):
-            options["choices"] = kind
-        elif kind is not None:
-            options["type"] = kind
-        if metavar is not None:
-            options["metavar"] = metavar
-        parser.add_argument(*((flag,) if isinstance(flag, str) else flag), **options)
+        _add_option(parser, flag, kind, metavar, help, rest[0] if rest else None, action=action)
+
+
+def _add_option(
+    parser: argparse.ArgumentParser | argparse._ArgumentGroup,
+    flag: str | tuple[str, ...],
+    kind: Any,
+    metavar: str | None,
+    help: str | None,
+    default: Any,
+    *,
+    action: type[argparse.Action] | None = None,
+    dest: str | None = None,
+) -> None:
+    options: dict[str, Any] = {"help": help}
+    if action is not None and kind not in (bool, list):
+        options["action"] = action
+    if default is REQUIRED:
+        options["required"] = True
+    elif default is not None:
+        options["default"] = default
+    if kind is bool:
+        options["action"] = "store_true"
+    elif kind is list:
+        options.update(action="append", default=[])
+    elif isinstance(kind, tuple):
+        options["choices"] = kind
+    elif kind is not None:
+        options["type"] = kind
+    if metavar is not None:
+        options["metavar"] = metavar
+    if dest is not None:
+        options["dest"] = dest
+    parser.add_argument(*((flag,) if isinstance(flag, str) else flag), **options)
 
 
 #: ``--alpha-at-tmax``: where the α_g ramp of eq. 6.11 ends (an :data:`OptionRow`).
@@ -310,49 +325,86 @@ ALPHA_OPTION: OptionRow = (
     "eq-6-11",
 )
 
+#: argparse types of the value kinds of :func:`stepframe.core.options.option`.
+KIND_TYPES: dict[str, Any] = {
+    "float": float,
+    "int": int,
+    "text": None,
+    "flag": bool,
+    "positive": positive_float,
+    "non_negative": non_negative_float,
+    "non_negative_seconds": non_negative_seconds,
+    "positive_int": positive_int,
+    "floats": float_list,
+    "positive_floats": positive_floats,
+    "range": float_range,
+}
 
-#: A row of :func:`add_fields`: (type, metavar, help), each None to derive or omit. For a
-#: dataclass field the type defaults to the field's (a ``Literal`` gives the choices, ``bool`` a
-#: flag) and a ``%(default)s`` in the help is the field's default; a key that starts with ``-``
-#: is an option of its own (an :data:`OptionRow` without the flag).
+#: A row of :func:`add_fields`: (type, metavar, help), each None to take the field's
+#: (:func:`stepframe.core.options.option` metadata, else its annotation: a ``Literal`` gives
+#: the choices, ``bool`` a flag). A key that starts with ``-`` is an option that is not a field
+#: (an :data:`OptionRow` without the flag).
 FieldRow = tuple[Any, str | None, str | None]
 
 
 def add_fields(
     parser: argparse.ArgumentParser | argparse._ArgumentGroup,
     cls: type,
-    rows: Mapping[str, FieldRow],
+    rows: Mapping[str, FieldRow] | None = None,
 ) -> None:
-    """One option ``--field-name`` per field of the dataclass ``cls`` named in ``rows``.
+    """One option ``--field-name`` per field of the dataclass ``cls`` (those of ``rows``, in
+    their order, when given).
 
-    The options default to None (a flag to False), so that :func:`given_fields` returns only
-    what the command line gave, to lay over a file's values or the dataclass's defaults.
+    A field without a default is a required option; the others default to None (a flag to
+    False), so that :func:`fields_given` returns only what the command line gave, to lay over
+    a file's values or the dataclass's defaults.
     """
     import dataclasses
+
+    fields = {f.name: f for f in dataclasses.fields(cls)}
+    for name, (kind, metavar, help) in (rows or dict.fromkeys(fields, (None,) * 3)).items():
+        if name.startswith("-"):
+            _add_option(parser, name, kind, metavar, help, None)
+            continue
+        f = fields[name]
+        meta = f.metadata
+        help = help or meta.get("help")
+        required = f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
+        if help is not None and not required:
+            help = help.replace("%(default)s", str(f.default))
+        flag = meta.get("flag") or "--" + name.replace("_", "-")
+        kind = kind or _field_kind(cls, f)
+        metavar = metavar or meta.get("metavar")
+        default = REQUIRED if required else None
+        _add_option(parser, flag, kind, metavar, help, default, dest=name)
+
+
+def _field_kind(cls: type, f: Any) -> Any:
+    """The argparse type (or choices, or bool) of a field: its metadata, else its annotation."""
     import types
     import typing
 
-    hints = typing.get_type_hints(cls)
-    defaults = {f.name: f.default for f in dataclasses.fields(cls)}
-    for name, (kind, metavar, help) in rows.items():
-        if name.startswith("-"):
-            add_options(parser, (name, kind, metavar, help))
-            continue
-        hint = hints[name]
-        if isinstance(hint, types.UnionType):  # X | None: the option gives an X
-            hint = next(arg for arg in typing.get_args(hint) if arg is not type(None))
-        if kind is None and typing.get_origin(hint) is typing.Literal:
-            kind = typing.get_args(hint)
-        elif kind is None and hint in (bool, int, float):
-            kind = hint
-        if help is not None:
-            help = help.replace("%(default)s", str(defaults[name]))
-        add_options(parser, ("--" + name.replace("_", "-"), kind, metavar, help))
+    meta = f.metadata
+    if meta.get("choices") is not None:
+        return tuple(meta["choices"])
+    if meta.get("kind") is not None:
+        return KIND_TYPES[meta["kind"]]
+    hint = typing.get_type_hints(cls)[f.name]
+    if isinstance(hint, types.UnionType):  # X | None: the option gives an X
+        hint = next(arg for arg in typing.get_args(hint) if arg is not type(None))
+    if typing.get_origin(hint) is typing.Literal:
+        return typing.get_args(hint)
+    return hint if hint in (bool, int, float) else None
 
 
-def given_fields(args: argparse.Namespace, rows: Mapping[str, FieldRow]) -> dict[str, Any]:
-    """The fields of :func:`add_fields` options that the command line gave (flags: set)."""
-    values = {name: getattr(args, name) for name in rows if not name.startswith("-")}
+def fields_given(args: argparse.Namespace, names: Any) -> dict[str, Any]:
+    """The values of the :func:`add_fields` options ``names`` (a dataclass, or field names) that
+    the command line gave (a flag: set)."""
+    import dataclasses
+
+    if dataclasses.is_dataclass(names):
+        names = [f.name for f in dataclasses.fields(names)]
+    values = {name: getattr(args, name, None) for name in names if not name.startswith("-")}
     return {
         name: value for name, value in values.items() if value is not None and value is not False
     }

@@ -18,8 +18,8 @@ from stepframe.commands import (
     add_fields,
     add_options,
     add_record_options,
+    fields_given,
     float_list,
-    given_fields,
     positive_float,
     record_options,
 )
@@ -124,7 +124,7 @@ def options_from_args(args: argparse.Namespace) -> SelectionOptions:
 
     values = {"n": args.n}
     for rows in FIELDS.values():
-        values.update(given_fields(args, rows))
+        values.update(fields_given(args, rows))
     if args.keep_implausible:
         values["require_plausible"] = False
     exclude = [word.strip() for item in args.exclude for word in item.split(",") if word.strip()]
