@@ -10,6 +10,9 @@ import pytest
 from stepframe.errors import InputError
 from stepframe.pipeline.dynamics import (
     G_M_S2,
+    BifurcationOptions,
+    HarmonicOptions,
+    IdaOptions,
     bifurcation_sweep,
     frame_or_block,
     harmonic_study,
@@ -23,7 +26,7 @@ BLOCK = (0.25, 1.0)
 
 def test_harmonic_study_orbit_is_a_fixed_point_of_the_period_map() -> None:
     block = frame_or_block(None, BLOCK)
-    study = harmonic_study(block, 0.3, 16.0, periods=60, orbit=1)
+    study = harmonic_study(block, HarmonicOptions(0.3, 16.0, periods=60, orbit=1))
     period = 2 * math.pi / 16.0
     reference = simulate_harmonic(block, 0.3 * G_M_S2, 16.0, 60 * period, samples_per_period=32)
     data = study.to_dict()
@@ -50,9 +53,8 @@ def test_frame_or_block_is_housners_block_and_refuses_three_numbers() -> None:
 
 def test_bifurcation_points_recount_the_dataset() -> None:
     block = frame_or_block(None, BLOCK)
-    sweep = bifurcation_sweep(
-        block, omega_rad_s=16.0, amplitudes_g=(0.1, 0.3, 3), initial=4, periods=30, jobs=1
-    )
+    options = BifurcationOptions(16.0, (0.1, 0.3, 3), initial=4, periods=30, jobs=1)
+    sweep = bifurcation_sweep(block, options)
     assert [round(p["amplitude_g"], 9) for p in sweep.points] == [0.1, 0.2, 0.3]
     outcome = sweep.dataset["outcome"].values
     for a, point in enumerate(sweep.points):
@@ -60,12 +62,13 @@ def test_bifurcation_points_recount_the_dataset() -> None:
         assert point["stopped"] == int(np.sum(outcome[a] == 2))
     assert sweep.describe().startswith("3 values × 4 initial states × 30 periods at ω = 16")
     with pytest.raises(InputError, match="expected exactly one sweep"):
-        bifurcation_sweep(block, amplitude_g=0.1, amplitudes_g=(0.1, 0.3, 3))
+        bifurcation_sweep(block, BifurcationOptions(amplitude_g=0.1, amplitudes_g=(0.1, 0.3, 3)))
 
 
 def test_ida_study_of_a_cosine_pulse_finds_the_resurrection() -> None:
     block = frame_or_block(None, BLOCK)
-    study = ida_study(block, pulse="cosine", omegas_rad_s=[10.8], resolution_g=0.001)
+    options = IdaOptions(pulse="cosine", omegas_rad_s=(10.8,), resolution_g=0.001)
+    study = ida_study(block, options)
     data = study.to_dict()
     assert study.names == ["cosine ω = 10.8 rad/s"]
     assert data["intensity"] == "amplitude / (γ₁/P₂)"
@@ -73,4 +76,4 @@ def test_ida_study_of_a_cosine_pulse_finds_the_resurrection() -> None:
     assert data["simulations"] == sum(item.n_runs for item in study.items)
     assert data["simulations"] < data["fixed_step_simulations"]
     with pytest.raises(InputError, match="no records"):
-        ida_study(block)
+        ida_study(block, IdaOptions())

@@ -9,17 +9,14 @@ import argparse
 from typing import TYPE_CHECKING
 
 from stepframe.commands import (
-    REQUIRED,
     CommandResult,
     add_command,
+    add_fields,
     add_options,
     add_record_options,
     check_plot,
-    float_range,
-    non_negative_float,
-    positive_float,
+    fields_given,
     positive_floats,
-    positive_int,
     read_record_file,
     save_plot,
 )
@@ -48,6 +45,8 @@ IDA_EXAMPLES = """\
 
 def register(subparsers: Subparsers) -> None:
     """Add ``harmonic``, ``bifurcation`` and ``ida`` to ``subparsers``."""
+    from stepframe.pipeline.dynamics import BifurcationOptions, HarmonicOptions, IdaOptions
+
     harmonic = add_command(
         subparsers,
         "harmonic",
@@ -61,17 +60,6 @@ def register(subparsers: Subparsers) -> None:
         examples=HARMONIC_EXAMPLES,
         run=run_harmonic,
     )
-    _frame_options(harmonic)
-    add_options(
-        harmonic,
-        ("--amplitude-g", non_negative_float, "R", "amplitude A/g [-] (g = 9.81 m/s²)", REQUIRED),
-        ("--omega-rad-s", positive_float, "W", "forcing circular frequency [rad/s]", REQUIRED),
-        ("--periods", positive_int, "N", "forcing periods simulated (default 100)", 100),
-        ("--x0-m", float, None, "initial x [m]", 0.0),
-        ("--v0-m-s", float, None, "initial ẋ [m/s]", 0.0),
-        ("--orbit", positive_int, "N", "find the period-N orbit from the final state"),
-        ("--plot", None, "OUT.png", "phase portrait"),
-    )
     bif = add_command(
         subparsers,
         "bifurcation",
@@ -83,34 +71,6 @@ def register(subparsers: Subparsers) -> None:
         ),
         examples=BIFURCATION_EXAMPLES,
         run=run_bifurcation,
-    )
-    _frame_options(bif)
-    add_options(
-        bif,
-        (
-            "--omega-rad-s",
-            positive_float,
-            "W",
-            "forcing circular frequency [rad/s] (sweeping --amplitudes-g)",
-        ),
-        ("--amplitudes-g", float_range, "LO,HI,N", "N amplitudes from LO to HI [g]"),
-        (
-            "--amplitude-g",
-            non_negative_float,
-            "R",
-            "forcing amplitude [g] (sweeping --omegas-rad-s)",
-        ),
-        ("--omegas-rad-s", float_range, "LO,HI,N", "N circular frequencies from LO to HI [rad/s]"),
-        (
-            "--initial",
-            positive_int,
-            "N",
-            "initial states (seeded, spread over |x| < x*; default 50)",
-            50,
-        ),
-        ("--periods", positive_int, "N", "forcing periods per run (default 100)", 100),
-        ("--jobs", positive_int, None, "worker processes (default: all cores)"),
-        ("--plot", None, "OUT.png", "draw the diagram"),
     )
     ida = add_command(
         subparsers,
@@ -126,87 +86,51 @@ def register(subparsers: Subparsers) -> None:
         examples=IDA_EXAMPLES,
         run=run_ida,
     )
-    _frame_options(ida)
-    ida.add_argument("records", nargs="*", metavar="RECORD", help="accelerogram files")
-    add_options(
-        ida,
-        ("--fema-p695", positive_int, "N", "use the first N of the embedded FEMA P695 components"),
-        ("--pulse", ("cosine", "sine"), None, "one-cycle pulse instead"),
-        (
-            "--omega-rad-s",
-            positive_floats,
-            "W1,W2",
-            "pulse circular frequencies [rad/s] (with --pulse)",
-        ),
-        (
-            "--resolution-g",
-            positive_float,
-            "D",
-            "width of each traced outcome change (default 0.01)",
-            0.01,
-        ),
-        ("--max-g", positive_float, "S", "largest intensity hunted (default 5)", 5.0),
-        (
-            "--tail-s",
-            non_negative_float,
-            "T",
-            "free vibration after each record [s] (default 10)",
-            10.0,
-        ),
-        ("--plot", None, "OUT.png", "draw the IDA curves"),
-    )
+    for parser, options, plot in (
+        (harmonic, HarmonicOptions, "phase portrait"),
+        (bif, BifurcationOptions, "draw the diagram"),
+        (ida, IdaOptions, "draw the IDA curves"),
+    ):
+        frame = parser.add_mutually_exclusive_group(required=True)
+        add_options(
+            frame,
+            ("--frame", None, "FRAME.toml", "frame file (see frame-template)"),
+            ("--block", positive_floats, "B,H", "Housner's rigid block of half-width B and "
+             "half-height H [m]"),
+        )  # fmt: skip
+        if parser is ida:
+            parser.add_argument("records", nargs="*", metavar="RECORD", help="accelerogram files")
+        add_fields(parser, options)
+        add_options(parser, ("--plot", None, "OUT.png", plot))
     add_record_options(ida)
-
-
-def _frame_options(parser: argparse.ArgumentParser) -> None:
-    group = parser.add_mutually_exclusive_group(required=True)
-    add_options(
-        group,
-        ("--frame", None, "FRAME.toml", "frame file (see frame-template)"),
-        (
-            "--block",
-            positive_floats,
-            "B,H",
-            "Housner's rigid block of half-width B and half-height H [m]",
-        ),
-    )
 
 
 def run_harmonic(args: argparse.Namespace) -> CommandResult:
     """Simulate, optionally find an orbit, summarise."""
-    from stepframe.pipeline.dynamics import frame_or_block, harmonic_study
+    from stepframe.pipeline.dynamics import HarmonicOptions, frame_or_block, harmonic_study
 
     check_plot(args.plot)
-    study = harmonic_study(
-        frame_or_block(args.frame, args.block), args.amplitude_g, args.omega_rad_s,
-        periods=args.periods, x0_m=args.x0_m, v0_m_s=args.v0_m_s, orbit=args.orbit,
-    )  # fmt: skip
+    options = HarmonicOptions(**fields_given(args, HarmonicOptions))
+    study = harmonic_study(frame_or_block(args.frame, args.block), options)
     return save_plot(CommandResult(study.to_dict(), study.describe()), args.plot, study.figure)
 
 
 def run_bifurcation(args: argparse.Namespace) -> CommandResult:
     """Brute-force diagram over amplitudes or frequencies; summary per value."""
-    from stepframe.pipeline.dynamics import bifurcation_sweep, frame_or_block
+    from stepframe.pipeline.dynamics import BifurcationOptions, bifurcation_sweep, frame_or_block
 
     check_plot(args.plot)
-    sweep = bifurcation_sweep(
-        frame_or_block(args.frame, args.block), omega_rad_s=args.omega_rad_s,
-        amplitudes_g=args.amplitudes_g, amplitude_g=args.amplitude_g,
-        omegas_rad_s=args.omegas_rad_s, initial=args.initial, periods=args.periods,
-        jobs=args.jobs,
-    )  # fmt: skip
+    options = BifurcationOptions(**fields_given(args, BifurcationOptions))
+    sweep = bifurcation_sweep(frame_or_block(args.frame, args.block), options)
     return save_plot(CommandResult(sweep.to_dict(), sweep.describe()), args.plot, sweep.figure)
 
 
 def run_ida(args: argparse.Namespace) -> CommandResult:
     """Hunt-trace-fill over records or pulses."""
-    from stepframe.pipeline.dynamics import frame_or_block, ida_study
+    from stepframe.pipeline.dynamics import IdaOptions, frame_or_block, ida_study
 
     check_plot(args.plot)
     frame = frame_or_block(args.frame, args.block)
-    study = ida_study(
-        frame, records=[(path, read_record_file(path, args)) for path in args.records],
-        fema_p695=args.fema_p695, pulse=args.pulse, omegas_rad_s=args.omega_rad_s,
-        resolution_g=args.resolution_g, max_g=args.max_g, tail_s=args.tail_s,
-    )  # fmt: skip
+    records = [(path, read_record_file(path, args)) for path in args.records]
+    study = ida_study(frame, IdaOptions(**fields_given(args, IdaOptions)), records)
     return save_plot(CommandResult(study.to_dict(), study.describe()), args.plot, study.figure)

@@ -17,6 +17,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
+from stepframe.core.options import option
 from stepframe.errors import InputError
 
 if TYPE_CHECKING:
@@ -57,6 +58,26 @@ def frame_or_block(frame_path: str | None, block_m: Sequence[float] | None) -> P
 
 
 # ------------------------------------------------------------------ harmonic
+@dataclass(frozen=True)
+class HarmonicOptions:
+    """The forcing A cos(ωt), the run's length and initial state, the orbit asked for."""
+
+    amplitude_g: float = option(
+        help="amplitude A/g [-] (g = 9.81 m/s²)", kind="non_negative", metavar="R"
+    )
+    omega_rad_s: float = option(
+        help="forcing circular frequency [rad/s]", kind="positive", metavar="W"
+    )
+    periods: int = option(
+        100, "forcing periods simulated (default 100)", kind="positive_int", metavar="N"
+    )
+    x0_m: float = option(0.0, "initial x [m]")
+    v0_m_s: float = option(0.0, "initial ẋ [m/s]")
+    orbit: int | None = option(
+        None, "find the period-N orbit from the final state", kind="positive_int", metavar="N"
+    )
+
+
 @dataclass(frozen=True)
 class HarmonicStudy:
     """A harmonic run from a given state and, optionally, the period-n orbit it settles on.
@@ -129,57 +150,74 @@ class HarmonicStudy:
         )
 
 
-def harmonic_study(
-    frame: PortalFrame,
-    amplitude_g: float,
-    omega_rad_s: float,
-    *,
-    periods: int = 100,
-    x0_m: float = 0.0,
-    v0_m_s: float = 0.0,
-    orbit: int | None = None,
-) -> HarmonicStudy:
-    """Integrate under A cos(ωt) in closed form; with ``orbit=n``, find the period-n orbit.
+def harmonic_study(frame: PortalFrame, options: HarmonicOptions) -> HarmonicStudy:
+    """Integrate under A cos(ωt) in closed form; with ``options.orbit = n``, find the period-n
+    orbit by Newton on the stroboscopic map from the final state (skipped when the run
+    overturned or did not end ``ok``).
 
     Parameters
     ----------
     frame
         The frame.
-    amplitude_g
-        A/g [-], g = :data:`G_M_S2`.
-    omega_rad_s
-        Forcing circular frequency [rad/s].
-    periods
-        Forcing periods simulated.
-    x0_m, v0_m_s
-        Initial state [m, m/s].
-    orbit
-        Find the period-``orbit`` orbit by Newton on the stroboscopic map from the final state
-        (skipped when the run overturned or did not end ``ok``).
+    options
+        :class:`HarmonicOptions` (A/g with g = :data:`G_M_S2`, ω [rad/s], periods, x0, v0).
     """
     from stepframe.structure.harmonic import simulate_harmonic
 
-    amplitude_m_s2 = amplitude_g * G_M_S2
+    amplitude_m_s2 = options.amplitude_g * G_M_S2
+    omega = float(options.omega_rad_s)
     run = simulate_harmonic(
         frame,
         amplitude_m_s2,
-        omega_rad_s,
-        periods * 2 * math.pi / omega_rad_s,
-        x0_m=x0_m,
-        v0_m_s=v0_m_s,
+        omega,
+        options.periods * 2 * math.pi / omega,
+        x0_m=options.x0_m,
+        v0_m_s=options.v0_m_s,
         samples_per_period=SAMPLES_PER_PERIOD,
     )
     found = None
-    if orbit is not None and not run.overturned and run.status == "ok":
+    if options.orbit is not None and not run.overturned and run.status == "ok":
         from stepframe.structure.periodic import find_periodic_orbit
 
         found = find_periodic_orbit(
-            frame, amplitude_m_s2, omega_rad_s, run.x_m[-1], run.v_m_s[-1], n_periods=orbit
+            frame, amplitude_m_s2, omega, run.x_m[-1], run.v_m_s[-1], n_periods=options.orbit
         )
-    return HarmonicStudy(frame, amplitude_g, float(omega_rad_s), periods, run, found)
+    return HarmonicStudy(frame, options.amplitude_g, omega, options.periods, run, found)
 
 
 # ------------------------------------------------------------------ bifurcation
+@dataclass(frozen=True)
+class BifurcationOptions:
+    """One sweep (the amplitude at a fixed frequency, or the frequency at a fixed amplitude),
+    the initial states and the run length."""
+
+    omega_rad_s: float | None = option(
+        None,
+        "forcing circular frequency [rad/s] (sweeping --amplitudes-g)",
+        kind="positive",
+        metavar="W",
+    )
+    amplitudes_g: tuple[float, float, int] | None = option(
+        None, "N amplitudes from LO to HI [g]", kind="range", metavar="LO,HI,N"
+    )
+    amplitude_g: float | None = option(
+        None, "forcing amplitude [g] (sweeping --omegas-rad-s)", kind="non_negative", metavar="R"
+    )
+    omegas_rad_s: tuple[float, float, int] | None = option(
+        None, "N circular frequencies from LO to HI [rad/s]", kind="range", metavar="LO,HI,N"
+    )
+    initial: int = option(
+        50,
+        "initial states (seeded, spread over |x| < x*; default 50)",
+        kind="positive_int",
+        metavar="N",
+    )
+    periods: int = option(
+        100, "forcing periods per run (default 100)", kind="positive_int", metavar="N"
+    )
+    jobs: int | None = option(None, "worker processes (default: all cores)", kind="positive_int")
+
+
 @dataclass(frozen=True)
 class BifurcationSweep:
     """A brute-force bifurcation diagram and its summary per swept value.
@@ -242,38 +280,26 @@ class BifurcationSweep:
         return bifurcation_figure(self.dataset, g_m_s2=G_M_S2)
 
 
-def bifurcation_sweep(
-    frame: PortalFrame,
-    *,
-    omega_rad_s: float | None = None,
-    amplitudes_g: tuple[float, float, int] | None = None,
-    amplitude_g: float | None = None,
-    omegas_rad_s: tuple[float, float, int] | None = None,
-    initial: int = 50,
-    periods: int = 100,
-    jobs: int | None = None,
-) -> BifurcationSweep:
+def bifurcation_sweep(frame: PortalFrame, options: BifurcationOptions) -> BifurcationSweep:
     """Sweep the amplitude at a fixed frequency, or the frequency at a fixed amplitude.
 
     Parameters
     ----------
     frame
         The frame.
-    omega_rad_s, amplitudes_g
-        Fixed circular frequency [rad/s] and ``(low, high, n)`` amplitudes [g] ...
-    amplitude_g, omegas_rad_s
-        ... or fixed amplitude [g] and ``(low, high, n)`` circular frequencies [rad/s].
-    initial
-        Initial states per value (seeded, spread over |x| < x*).
-    periods
-        Forcing periods per run (the last ``min(20, periods)`` stroboscopic points are kept).
-    jobs
-        Worker processes (None: all cores).
+    options
+        :class:`BifurcationOptions`: ``omega_rad_s`` [rad/s] with ``amplitudes_g`` (low, high,
+        n) [g], or ``amplitude_g`` [g] with ``omegas_rad_s`` (low, high, n) [rad/s]; the
+        initial states per value (seeded, spread over |x| < x*), the forcing periods per run
+        (the last ``min(20, periods)`` stroboscopic points are kept) and the worker processes.
     """
     import numpy as np
 
     from stepframe.structure.bifurcation import bifurcation_diagram, frequency_diagram, orbit_period
 
+    omega_rad_s, amplitudes_g = options.omega_rad_s, options.amplitudes_g
+    amplitude_g, omegas_rad_s = options.amplitude_g, options.omegas_rad_s
+    initial, periods = options.initial, options.periods
     by_amp = amplitudes_g is not None and omega_rad_s is not None
     by_omega = omegas_rad_s is not None and amplitude_g is not None
     if by_amp == by_omega:
@@ -285,7 +311,7 @@ def bifurcation_sweep(
         "n_initial": initial,
         "n_periods": periods,
         "n_keep": min(20, periods),
-        "jobs": jobs,
+        "jobs": options.jobs,
     }
     if amplitudes_g is not None and omega_rad_s is not None:
         lo, hi, n = amplitudes_g
@@ -316,6 +342,33 @@ def bifurcation_sweep(
 
 
 # ------------------------------------------------------------------ ida
+@dataclass(frozen=True)
+class IdaOptions:
+    """What an IDA runs over (records or pulses) and how finely it traces."""
+
+    fema_p695: int | None = option(
+        None,
+        "use the first N of the embedded FEMA P695 components",
+        kind="positive_int",
+        metavar="N",
+    )
+    pulse: str | None = option(None, "one-cycle pulse instead", choices=("cosine", "sine"))
+    omegas_rad_s: tuple[float, ...] | None = option(
+        None,
+        "pulse circular frequencies [rad/s] (with --pulse)",
+        kind="positive_floats",
+        metavar="W1,W2",
+        flag="--omega-rad-s",
+    )
+    resolution_g: float = option(
+        0.01, "width of each traced outcome change (default 0.01)", kind="positive", metavar="D"
+    )
+    max_g: float = option(5.0, "largest intensity hunted (default 5)", kind="positive", metavar="S")
+    tail_s: float = option(
+        10.0, "free vibration after each record [s] (default 10)", kind="non_negative", metavar="T"
+    )
+
+
 @dataclass(frozen=True)
 class IdaStudy:
     """Hunt-trace-fill IDA of a frame under records or one-cycle pulses.
@@ -375,15 +428,7 @@ class IdaStudy:
 
 
 def ida_study(
-    frame: PortalFrame,
-    *,
-    records: Sequence[tuple[str, Stream]] = (),
-    fema_p695: int | None = None,
-    pulse: str | None = None,
-    omegas_rad_s: Sequence[float] | None = None,
-    resolution_g: float = 0.01,
-    max_g: float = 5.0,
-    tail_s: float = 10.0,
+    frame: PortalFrame, options: IdaOptions, records: Sequence[tuple[str, Stream]] = ()
 ) -> IdaStudy:
     """IDA by hunt-trace-fill over records (PGA in g) or over one-cycle pulses.
 
@@ -391,26 +436,22 @@ def ida_study(
     ----------
     frame
         The frame.
+    options
+        :class:`IdaOptions`: also the first ``fema_p695`` components of the embedded FEMA P695
+        catalogue; or, with ``pulse`` (``"cosine"`` or ``"sine"``), one-cycle pulses at
+        ``omegas_rad_s`` [rad/s] instead of records (intensities then in units of the static
+        uplift acceleration γ₁/P₂, the hunt starting at 1 with ten times ``max_g`` as its cap);
+        the width of every traced outcome change, the largest intensity hunted and the free
+        vibration after each record [s].
     records
         ``(file name, stream)`` pairs; every component of each stream is an item.
-    fema_p695
-        Also the first N components of the embedded FEMA P695 catalogue.
-    pulse
-        ``"cosine"`` or ``"sine"``: one-cycle pulses at ``omegas_rad_s`` instead of records;
-        intensities are then in units of the static uplift acceleration γ₁/P₂ and the hunt
-        starts at 1 with ten times ``max_g`` as its cap.
-    omegas_rad_s
-        Pulse circular frequencies [rad/s].
-    resolution_g
-        Width of every traced outcome change.
-    max_g
-        Largest intensity hunted.
-    tail_s
-        Free vibration after each record [s].
     """
     import numpy as np
 
     from stepframe.structure.ida import IdaSettings, ida_pulse, ida_records
+
+    fema_p695, pulse, omegas_rad_s = options.fema_p695, options.pulse, options.omegas_rad_s
+    resolution_g, max_g, tail_s = options.resolution_g, options.max_g, options.tail_s
 
     if pulse is not None:
         if not omegas_rad_s:
@@ -452,8 +493,11 @@ def ida_study(
 
 __all__ = [
     "G_M_S2",
+    "BifurcationOptions",
     "BifurcationSweep",
+    "HarmonicOptions",
     "HarmonicStudy",
+    "IdaOptions",
     "IdaStudy",
     "bifurcation_sweep",
     "frame_or_block",
