@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import argparse
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from types import ModuleType
 from typing import TYPE_CHECKING, Any, NoReturn
@@ -350,10 +350,10 @@ FieldRow = tuple[Any, str | None, str | None]
 def add_fields(
     parser: argparse.ArgumentParser | argparse._ArgumentGroup,
     cls: type,
-    rows: Mapping[str, FieldRow] | None = None,
+    rows: Mapping[str, FieldRow] | Sequence[str] | None = None,
 ) -> None:
     """One option ``--field-name`` per field of the dataclass ``cls`` (those of ``rows``, in
-    their order, when given).
+    their order, when given: field names, or a :data:`FieldRow` per name).
 
     A field without a default is a required option; the others default to None (a flag to
     False), so that :func:`fields_given` returns only what the command line gave, to lay over
@@ -362,16 +362,20 @@ def add_fields(
     import dataclasses
 
     fields = {f.name: f for f in dataclasses.fields(cls)}
-    for name, (kind, metavar, help) in (rows or dict.fromkeys(fields, (None,) * 3)).items():
+    if rows is None or not isinstance(rows, Mapping):
+        rows = dict.fromkeys(rows or fields, (None, None, None))
+    for name, (kind, metavar, help) in rows.items():
         if name.startswith("-"):
             _add_option(parser, name, kind, metavar, help, None)
             continue
         f = fields[name]
         meta = f.metadata
+        plain = help is None  # the metadata's help is plain text: its % are literal
         help = help or meta.get("help")
         required = f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
-        if help is not None and not required:
+        if help is not None:
             help = help.replace("%(default)s", str(f.default))
+            help = help.replace("%", "%%") if plain else help
         flag = meta.get("flag") or "--" + name.replace("_", "-")
         kind = kind or _field_kind(cls, f)
         metavar = metavar or meta.get("metavar")

@@ -17,15 +17,16 @@ from stepframe.commands import (
     REQUIRED,
     CommandResult,
     add_command,
+    add_fields,
     add_options,
     add_record_options,
-    add_t0_option,
     check_plot,
-    positive_float,
+    fields_given,
     read_record_file,
     record_options,
 )
-from stepframe.stochastic.methods import FREQUENCY_METHOD_NAMES, SPECTRUM_METHOD_NAMES
+from stepframe.pipeline.fit_options import FitOptions
+from stepframe.stochastic.methods import SPECTRUM_METHOD_NAMES
 
 if TYPE_CHECKING:
     from stepframe.commands import Subparsers
@@ -46,6 +47,10 @@ FEATURES_EXAMPLES = """\
 """
 
 
+#: The FitOptions fields of ``features``, in the order of its help (``fit`` takes them all).
+ESTIMATION = ("frequency", "t0", "omega_max_rad_s", "window_s")
+
+
 def register(subparsers: Subparsers) -> None:
     """Add ``fit`` and ``features`` to the ``stochastic`` group."""
     fit = add_command(
@@ -60,29 +65,19 @@ def register(subparsers: Subparsers) -> None:
         run=run_fit,
     )
     fit.add_argument("record", nargs="?", metavar="RECORD", help="accelerogram file (or --example)")
-    _add_estimation_options(fit)
+    add_fields(fit, FitOptions, ESTIMATION)
     add_options(
         fit,
-        (
-            "--spectrum",
-            SPECTRUM_METHOD_NAMES,
-            None,
-            "evolutionary PSD drawn and written (default stft)",
-            "stft",
-        ),
-        ("--bootstrap", int, "N", "bootstrap refits", 0),
-        ("--seed", int, None, "seed of the bootstrap"),
-        (
-            "--corner",
-            bool,
-            None,
-            "also estimate the source corner ω_c [rad/s] (indicative: biased 40-50 %% low)",
-        ),
+        ("--spectrum", SPECTRUM_METHOD_NAMES, None, "evolutionary PSD drawn and written "
+         "(default stft)", "stft"),
+    )  # fmt: skip
+    add_fields(fit, FitOptions, ("bootstrap", "seed", "corner"))
+    add_options(
+        fit,
         ("--plot", None, "OUT.png", "draw record, I_g(t) and the PSD"),
         ("--out", None, "OUT.nc", "write the PSD and features (NetCDF)"),
     )
     add_record_options(fit)
-
     features = add_command(
         subparsers,
         "features",
@@ -102,55 +97,15 @@ def register(subparsers: Subparsers) -> None:
         (("-o", "--output"), None, "OUT.csv", "CSV table", REQUIRED),
         ("--jobs", int, "N", "processes"),
     )
-    _add_estimation_options(features)
+    add_fields(features, FitOptions, ESTIMATION)
     add_record_options(features)
-
-
-def _add_estimation_options(parser: argparse.ArgumentParser) -> None:
-    add_options(
-        parser,
-        (
-            "--frequency",
-            FREQUENCY_METHOD_NAMES,
-            None,
-            "ω_g(t) estimator, fast to dear (default zero-crossing)",
-            "zero-crossing",
-        ),
-    )
-    add_t0_option(
-        parser,
-        "time origin of eqs. 6.10-6.11: auto (default: the picked P onset when the pick is "
-        "reliable, else the record start; t0_source says which), start, or p-pick (the pick "
-        "whatever its confidence)",
-    )
-    add_options(
-        parser,
-        (
-            "--omega-max-rad-s",
-            positive_float,
-            "W",
-            "highest frequency of interest [rad/s]: error if above the record's Nyquist",
-        ),
-        (
-            "--window-s",
-            positive_float,
-            "S",
-            "STFT window and smoothing length [s] (default 2)",
-            2.0,
-        ),
-    )
 
 
 def run_fit(args: argparse.Namespace) -> CommandResult:
     """Fit every component of the record file."""
-    from stepframe.pipeline.fitted import FitOptions
     from stepframe.pipeline.fitted_files import check_output_folder, fit_file
 
-    options = FitOptions(
-        frequency=args.frequency, t0=args.t0, window_s=args.window_s,
-        omega_max_rad_s=args.omega_max_rad_s, bootstrap=args.bootstrap, seed=args.seed,
-        corner=args.corner,
-    )  # fmt: skip
+    options = FitOptions(**fields_given(args, FitOptions))
     check_plot(args.plot)
     check_output_folder(args.out)
     fitted = fit_file(
@@ -170,8 +125,7 @@ def run_features(args: argparse.Namespace) -> CommandResult:
     from stepframe.pipeline.fitted_files import features_to_file
 
     written = features_to_file(
-        args.output, folder=args.folder, example=args.example,
-        record_options=record_options(args), jobs=args.jobs, frequency=args.frequency,
-        t0=args.t0, window_s=args.window_s, omega_max_rad_s=args.omega_max_rad_s,
+        args.output, FitOptions(**fields_given(args, ESTIMATION)), folder=args.folder,
+        example=args.example, record_options=record_options(args), jobs=args.jobs,
     )  # fmt: skip
     return CommandResult(data=written.to_dict(), text=written.describe())

@@ -154,13 +154,13 @@ class FeaturesFiles:
 
 def features_to_file(
     output: str,
+    options: FitOptions | None = None,
     *,
     folder: str | None = None,
     example: str | None = None,
     record_options: dict[str, Any] | None = None,
     jobs: int | None = None,
     progress: bool = True,
-    **estimation: Any,
 ) -> FeaturesFiles:
     """Features table of a folder or of the embedded example catalogue, written to ``output``.
 
@@ -169,15 +169,15 @@ def features_to_file(
     output
         The CSV table; its column dictionary goes to ``<output>.columns.csv``, its failures to
         ``<output>.failures.csv``.
+    options
+        The estimation options (``frequency``, ``t0``, ``window_s``, ``omega_max_rad_s``; the
+        fit's bootstrap and corner are not run for a catalogue).
     folder, example
         A folder of record files, or the example catalogue's name (exactly one).
     record_options
         Read options of the folder's files.
     jobs, progress
         Worker processes, and a progress bar on stderr.
-    **estimation
-        ``frequency``, ``t0``, ``window_s``, ``omega_max_rad_s`` of
-        :func:`~stepframe.pipeline.fitted.features_table`.
     """
     from stepframe.pipeline.tables import columns_path
 
@@ -186,7 +186,15 @@ def features_to_file(
     if jobs is not None and jobs < 1:
         raise InputError(f"--jobs {jobs}, expected ≥ 1")
     check_output_folder(output)
-    common = {"jobs": jobs, "progress": progress, **estimation}
+    opts = options or FitOptions()
+    common: dict[str, Any] = {
+        "jobs": jobs,
+        "progress": progress,
+        "frequency": opts.frequency,
+        "t0": opts.t0,
+        "window_s": opts.window_s,
+        "omega_max_rad_s": opts.omega_max_rad_s,
+    }
     if example is not None:
         rows, failures = example_features_table(**common)
     else:
