@@ -351,9 +351,12 @@ def add_fields(
     parser: argparse.ArgumentParser | argparse._ArgumentGroup,
     cls: type,
     rows: Mapping[str, FieldRow] | Sequence[str] | None = None,
+    *,
+    action: type[argparse.Action] | None = None,
 ) -> None:
     """One option ``--field-name`` per field of the dataclass ``cls`` (those of ``rows``, in
-    their order, when given: field names, or a :data:`FieldRow` per name).
+    their order, when given: field names, or a :data:`FieldRow` per name), stored by
+    ``action`` when given (such as :class:`Once`).
 
     A field without a default is a required option; the others default to None (a flag to
     False), so that :func:`fields_given` returns only what the command line gave, to lay over
@@ -380,7 +383,7 @@ def add_fields(
         kind = kind or _field_kind(cls, f)
         metavar = metavar or meta.get("metavar")
         default = REQUIRED if required else None
-        _add_option(parser, flag, kind, metavar, help, default, dest=name)
+        _add_option(parser, flag, kind, metavar, help, default, dest=name, action=action)
 
 
 def _field_kind(cls: type, f: Any) -> Any:
@@ -393,7 +396,11 @@ def _field_kind(cls: type, f: Any) -> Any:
         return tuple(meta["choices"])
     if meta.get("kind") is not None:
         return KIND_TYPES[meta["kind"]]
-    hint = typing.get_type_hints(cls)[f.name]
+    try:
+        hint = typing.get_type_hints(cls)[f.name]
+    except NameError:  # names imported for type checking only: read the annotation's text
+        text = str(f.type).removesuffix(" | None")
+        return {"float": float, "int": int, "bool": bool}.get(text)
     if isinstance(hint, types.UnionType):  # X | None: the option gives an X
         hint = next(arg for arg in typing.get_args(hint) if arg is not type(None))
     if typing.get_origin(hint) is typing.Literal:

@@ -17,32 +17,23 @@ import argparse
 from typing import TYPE_CHECKING
 
 from stepframe.commands import (
-    ALPHA_OPTION,
     CommandResult,
     Once,
     add_command,
+    add_fields,
     add_options,
     add_record_options,
-    add_t0_option,
     check_plot,
-    positive_float,
+    fields_given,
     read_record_file,
     record_options,
     save_plot,
 )
+from stepframe.pipeline.amplify_study import AmplifyOptions
+from stepframe.pipeline.site import SITE_PARAMETERS
 
-#: The site's parameters and their help (``--fp-hz`` ...).
-SITE_OPTIONS = (
-    ("--fp-hz", "F", "P-wave dominant f_p [Hz] (omega_p_rad_s/2π; `stochastic fit` prints both)"),
-    ("--fs-hz", "F", "S-wave dominant f_s [Hz]"),
-    ("--fr-hz", "F", "surface-wave f_r [Hz]"),
-    ("--xi-p", "X", "bandwidth ratio ξ_p"),
-    ("--xi-r", "X", "bandwidth ratio ξ_r"),
-    ("--t-max-s", "T", "time of peak I_g [s] (`stochastic fit` prints t_max_s; the paper's "
-     "site: 5); not needed for eqs. 6.18-6.19 alone with --alpha-at-tmax paper"),
-    ("--t-dur-s", "T", "strong duration [s] (`stochastic fit` prints t_dur_s; the paper's "
-     "site: 20)"),
-)  # fmt: skip
+#: The analysis options, after the site's and the oscillator's.
+ANALYSIS = ("alpha_reading", "peak_intensity_m_s2", "monte_carlo", "seed", "n_steps")
 
 if TYPE_CHECKING:
     from stepframe.commands import Subparsers
@@ -81,61 +72,27 @@ def register(subparsers: Subparsers) -> None:
         run=run_amplify,
     )
     site = parser.add_argument_group("site (either the parameters or --record)")
-    add_options(
-        site, *((flag, positive_float, metavar, help) for flag, metavar, help in SITE_OPTIONS)
-    )
-    site.add_argument(
-        "--record", action=Once, metavar="FILE", help="estimate the site from this record (one)"
-    )
-    add_t0_option(
-        site,
-        "with --record: time origin, auto (default: reliable P pick, else record start), "
-        "start or p-pick",
-    )
-    add_options(
-        parser.add_argument_group("oscillator (either --f0-hz or --frame)"),
-        ("--f0-hz", positive_float, "F", "small-amplitude f0 [Hz]"),
-        ("--frame", None, "FRAME.toml", "frame file: ω(t) = 2π/T(A)"),
-        (
-            "--xi0",
-            float,
-            "X",
-            "damping ratio at f0 (fraction; default 0.05, or the frame's xi_1 with --frame)",
-        ),
-    )
-    add_options(
-        parser,
-        ALPHA_OPTION,
-        (
-            "--peak-intensity-m-s2",
-            positive_float,
-            "I",
-            "max I_g [m/s²] (default 1, or the record's); matters only with --frame",
-        ),
-        ("--monte-carlo", int, "N", "confirm with N synthetic motions", 0),
-        ("--seed", int, None, "seed of the Monte Carlo motions"),
-        ("--n-steps", int, "N", "time steps (default 4000)", 4000),
-        ("--plot", None, "OUT.png", "draw both amplifications, 0.1-10 Hz"),
-    )
+    add_fields(site, AmplifyOptions, SITE_PARAMETERS)
+    add_fields(site, AmplifyOptions, ["record"], action=Once)
+    add_fields(site, AmplifyOptions, ["t0"])
+    oscillator = parser.add_argument_group("oscillator (either --f0-hz or --frame)")
+    add_fields(oscillator, AmplifyOptions, ["f0_hz", "frame", "xi0"])
+    add_fields(parser, AmplifyOptions, ANALYSIS)
+    add_options(parser, ("--plot", None, "OUT.png", "draw both amplifications, 0.1-10 Hz"))
     add_record_options(parser)
 
 
 def run_amplify(args: argparse.Namespace) -> CommandResult:
     """Compute the amplifications and optionally draw them."""
     from stepframe.pipeline.amplify_study import amplify_study
-    from stepframe.pipeline.site import SITE_PARAMETERS
 
     check_plot(args.plot)
     example = None
     if args.example is not None:  # the example catalogue as the site's record: one component
         example = (args.example, args.component, read_record_file(None, args))
     study = amplify_study(
-        {name: getattr(args, name) for name in SITE_PARAMETERS},
-        f0_hz=args.f0_hz, frame=args.frame, xi0=args.xi0, record=args.record,
-        record_options=record_options(args), example=example, t0=args.t0,
-        alpha_reading=args.alpha_at_tmax, peak_intensity_m_s2=args.peak_intensity_m_s2,
-        n_steps=args.n_steps, monte_carlo=args.monte_carlo, seed=args.seed,
-        figure=args.plot is not None,
+        AmplifyOptions(**fields_given(args, AmplifyOptions)), record_options=record_options(args),
+        example=example, figure=args.plot is not None,
     )  # fmt: skip
     result = CommandResult(study.to_dict(), study.describe())
     return save_plot(result, args.plot, study.figure, line=None)

@@ -14,22 +14,18 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
+from stepframe.core.options import option
 from stepframe.errors import InputError
-from stepframe.pipeline.amplification import (
-    AmplificationResult,
-    Oscillator,
-    SpectralRatios,
-    amplification_curve,
-    amplify,
-    frame_oscillator,
-    spectral_ratios,
-    tracking_oscillator,
-)
-from stepframe.pipeline.site import SITE_PARAMETERS, SiteModel, site_from_options, site_from_record
+from stepframe.pipeline.site import SITE_PARAMETERS
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
     from obspy import Stream
+
+    from stepframe.pipeline.amplification import AmplificationResult, Oscillator, SpectralRatios
+    from stepframe.pipeline.site import SiteModel
+    from stepframe.stochastic.features import TimeOrigin
+    from stepframe.stochastic.model import AlphaReading
 
 #: The site parameters that are the envelope's times.
 ENVELOPE_TIMES = ("t_max_s", "t_dur_s")
@@ -39,6 +35,71 @@ _TIMES_HINT = (
     "`stepframe stochastic fit` prints t_max_s and t_dur_s of a record of the site, the paper's "
     "site has 5 and 20 s"
 )
+
+
+@dataclass(frozen=True)
+class AmplifyOptions:
+    """The site (its parameters, or a record), the oscillator (f0, or a frame file) and the
+    analysis of ``stepframe stochastic amplify``."""
+
+    fp_hz: float | None = option(
+        None,
+        "P-wave dominant f_p [Hz] (omega_p_rad_s/2π; `stochastic fit` prints both)",
+        kind="positive",
+        metavar="F",
+    )
+    fs_hz: float | None = option(None, "S-wave dominant f_s [Hz]", kind="positive", metavar="F")
+    fr_hz: float | None = option(None, "surface-wave f_r [Hz]", kind="positive", metavar="F")
+    xi_p: float | None = option(None, "bandwidth ratio ξ_p", kind="positive", metavar="X")
+    xi_r: float | None = option(None, "bandwidth ratio ξ_r", kind="positive", metavar="X")
+    t_max_s: float | None = option(
+        None,
+        "time of peak I_g [s] (`stochastic fit` prints t_max_s; the paper's site: 5); not "
+        "needed for eqs. 6.18-6.19 alone with --alpha-at-tmax paper",
+        kind="positive",
+        metavar="T",
+    )
+    t_dur_s: float | None = option(
+        None,
+        "strong duration [s] (`stochastic fit` prints t_dur_s; the paper's site: 20)",
+        kind="positive",
+        metavar="T",
+    )
+    record: str | None = option(None, "estimate the site from this record (one)", metavar="FILE")
+    t0: TimeOrigin = option(
+        "auto",
+        "with --record: time origin, auto (default: reliable P pick, else record start), "
+        "start or p-pick",
+        choices=("auto", "start", "p-pick"),
+    )
+    f0_hz: float | None = option(None, "small-amplitude f0 [Hz]", kind="positive", metavar="F")
+    frame: str | None = option(None, "frame file: ω(t) = 2π/T(A)", metavar="FRAME.toml")
+    xi0: float | None = option(
+        None,
+        "damping ratio at f0 (fraction; default 0.05, or the frame's xi_1 with --frame)",
+        kind="float",
+        metavar="X",
+    )
+    alpha_reading: AlphaReading = option(
+        "eq-6-11",
+        "α_g ramp ends at t_dur (eq. 6.11 as printed, default) or at t_max (the paper)",
+        choices=("eq-6-11", "paper"),
+        flag="--alpha-at-tmax",
+    )
+    peak_intensity_m_s2: float | None = option(
+        None,
+        "max I_g [m/s²] (default 1, or the record's); matters only with --frame",
+        kind="positive",
+        metavar="I",
+    )
+    monte_carlo: int = option(0, "confirm with N synthetic motions", kind="int", metavar="N")
+    seed: int | None = option(None, "seed of the Monte Carlo motions", kind="int")
+    n_steps: int = option(4000, "time steps (default 4000)", kind="int", metavar="N")
+
+    @property
+    def parameters(self) -> dict[str, float | None]:
+        """:data:`~stepframe.pipeline.site.SITE_PARAMETERS` → value (None: not given)."""
+        return {name: getattr(self, name) for name in SITE_PARAMETERS}
 
 
 @dataclass(frozen=True)
@@ -74,6 +135,7 @@ class AmplifyStudy:
         """Eq. 6.18 and both response amplifications over 0.1-10 Hz, this f0 marked."""
         import numpy as np
 
+        from stepframe.pipeline.amplification import AmplificationResult, amplification_curve
         from stepframe.stochastic.plots import amplification_figure
 
         result = self.result
@@ -92,48 +154,38 @@ class AmplifyStudy:
 
 
 def amplify_study(
-    parameters: Mapping[str, float | None],
+    options: AmplifyOptions,
     *,
-    f0_hz: float | None = None,
-    frame: str | None = None,
-    xi0: float | None = None,
-    record: str | None = None,
     record_options: Mapping[str, Any] | None = None,
     example: tuple[str, str | None, Stream] | None = None,
-    t0: Any = "auto",
-    alpha_reading: Any = "eq-6-11",
-    peak_intensity_m_s2: float | None = None,
-    n_steps: int = 4000,
-    monte_carlo: int = 0,
-    seed: int | None = None,
     figure: bool = False,
 ) -> AmplifyStudy:
     """Pick the site and the oscillator from the inputs given, and compute the amplification.
 
     Parameters
     ----------
-    parameters
-        :data:`~stepframe.pipeline.site.SITE_PARAMETERS` → value, None where not given.
-    f0_hz, frame
-        The oscillator: small-amplitude frequency [Hz], or a frame file (ω(t) = 2π/T(A));
-        exactly one.
-    xi0
-        Damping ratio (fraction; default 0.05, or the frame's ``xi_1``).
-    record, record_options
-        A record file to fit the site to, and its read options.
+    options
+        :class:`AmplifyOptions`: the site's parameters (all seven; or, with
+        ``alpha_reading="paper"``, the five without the envelope times for eqs. 6.18-6.19
+        alone) or a ``record`` to fit, exactly one of ``f0_hz`` [Hz] and ``frame`` (ω(t) =
+        2π/T(A)), the damping and the analysis (as
+        :func:`~stepframe.pipeline.amplification.amplify`).
+    record_options
+        Read options of ``options.record``.
     example
         ``(name, component, stream)``: the site from the one component of an example catalogue
         (``stream``, read with its ``component`` chosen).
-    t0, alpha_reading
-        Time origin of a fitted site, and where the α_g ramp ends.
-    peak_intensity_m_s2, n_steps, monte_carlo, seed
-        As :func:`~stepframe.pipeline.amplification.amplify`.
     figure
         Whether a figure will be asked for (it needs the envelope's times).
     """
-    if (f0_hz is None) == (frame is None):
+    from stepframe.pipeline import amplification as stage
+    from stepframe.pipeline.site import site_from_options, site_from_record
+
+    if (options.f0_hz is None) == (options.frame is None):
         raise InputError("expected exactly one of --f0-hz F and --frame FRAME.toml")
-    given = [name for name in SITE_PARAMETERS if parameters.get(name) is not None]
+    parameters = options.parameters
+    given = [name for name in SITE_PARAMETERS if parameters[name] is not None]
+    record, alpha_reading = options.record, options.alpha_reading
     site: SiteModel | None = None
     if example is not None:
         name, component, stream = example
@@ -148,33 +200,35 @@ def amplify_study(
                 "(pick it with --component, such as MUL009)"
             )
         site = site_from_record(
-            stream[0], t0=t0, alpha_reading=alpha_reading, name=f"example {name} {component}"
-        )
-    elif not _envelope_free(parameters, record, alpha_reading, monte_carlo, figure):
+            stream[0], t0=options.t0, alpha_reading=alpha_reading,
+            name=f"example {name} {component}",
+        )  # fmt: skip
+    elif not _envelope_free(parameters, record, alpha_reading, options.monte_carlo, figure):
         site = site_from_options(
-            parameters, record=record, record_options=record_options, t0=t0,
+            parameters, record=record, record_options=record_options, t0=options.t0,
             alpha_reading=alpha_reading,
         )  # fmt: skip
-    if frame is not None:
+    if options.frame is not None:
         from stepframe.structure.frame_file import read_frame_file
 
-        oscillator = frame_oscillator(read_frame_file(frame), xi0, frame)
+        frame = read_frame_file(options.frame)
+        oscillator = stage.frame_oscillator(frame, options.xi0, options.frame)
     else:
-        assert f0_hz is not None
-        oscillator = tracking_oscillator(f0_hz, xi0)
+        assert options.f0_hz is not None
+        oscillator = stage.tracking_oscillator(options.f0_hz, options.xi0)
     result: AmplificationResult | SpectralRatios
     if site is None:
-        values = {name: float(value) for name, value in parameters.items() if value is not None}
-        result = spectral_ratios(
+        values = {key: float(value) for key, value in parameters.items() if value is not None}
+        result = stage.spectral_ratios(
             values["fp_hz"], values["fs_hz"], values["fr_hz"], values["xi_p"], values["xi_r"],
-            oscillator, peak_intensity_m_s2=peak_intensity_m_s2,
+            oscillator, peak_intensity_m_s2=options.peak_intensity_m_s2,
         )  # fmt: skip
     else:
-        result = amplify(
-            site, oscillator, peak_intensity_m_s2=peak_intensity_m_s2, n_steps=n_steps,
-            monte_carlo=monte_carlo, seed=seed,
+        result = stage.amplify(
+            site, oscillator, peak_intensity_m_s2=options.peak_intensity_m_s2,
+            n_steps=options.n_steps, monte_carlo=options.monte_carlo, seed=options.seed,
         )  # fmt: skip
-    return AmplifyStudy(result, site, oscillator, n_steps)
+    return AmplifyStudy(result, site, oscillator, options.n_steps)
 
 
 def _envelope_free(
@@ -200,13 +254,13 @@ def _envelope_free(
             f"(eq. 6.18's α_g(t_max) then depends on t_max/t_dur; {_TIMES_HINT}), "
             "or --alpha-at-tmax paper for eqs. 6.18-6.19 alone"
         )
-    for option, given in (("--monte-carlo", monte_carlo), ("--plot", figure)):
+    for flag, given in (("--monte-carlo", monte_carlo), ("--plot", figure)):
         if given:
             raise InputError(
-                f"{option} without --t-max-s and --t-dur-s, expected both times (the response "
+                f"{flag} without --t-max-s and --t-dur-s, expected both times (the response "
                 f"amplification needs the envelope; {_TIMES_HINT})"
             )
     return True
 
 
-__all__ = ["ENVELOPE_TIMES", "AmplifyStudy", "amplify_study"]
+__all__ = ["ENVELOPE_TIMES", "AmplifyOptions", "AmplifyStudy", "amplify_study"]
