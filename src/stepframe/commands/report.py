@@ -11,7 +11,14 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from stepframe.commands import ALPHA_OPTION, CommandResult, add_command, add_options, positive_float
+from stepframe.commands import CommandResult, add_command, add_fields, add_options, fields_given
+from stepframe.pipeline.reports.make import AmplificationReportOptions as Options
+from stepframe.pipeline.site import SITE_PARAMETERS
+
+#: The report's options after the site's parameters, per help group.
+RECORDS = ("records", "t0", "record_format", "units", "site_name")
+FRAME = ("frame", "delta_star_m")
+ANALYSIS = ("alpha_reading", "xi0", "monte_carlo", "seed", "n_steps", "peak_intensity_m_s2")
 
 HELP = "self-contained HTML reports: site amplification, record selection"
 
@@ -46,40 +53,14 @@ def register(subparsers: Any) -> None:
         examples=AMPLIFICATION_EXAMPLES,
         run=run_amplification,
     )
-    add_options(
-        amplification.add_argument_group("site (either the parameters or --records)"),
-        ("--fp-hz", positive_float, "F", "P-wave dominant f_p [Hz]"),
-        ("--fs-hz", positive_float, "F", "S-wave dominant f_s [Hz]"),
-        ("--fr-hz", positive_float, "F", "surface-wave f_r [Hz]"),
-        ("--xi-p", positive_float, "X", "bandwidth ratio ξ_p"),
-        ("--xi-r", positive_float, "X", "bandwidth ratio ξ_r"),
-        ("--t-max-s", positive_float, "T", "time of peak I_g [s]"),
-        ("--t-dur-s", positive_float, "T", "strong duration [s]"),
-        ("--records", None, "DIR", "a folder of the site's record files"),
-        ("--t0", ("auto", "start", "p-pick"), None, "with --records: time origin, the picked P "
-         "onset when reliable, else the record start (auto, the default), or one of them", "auto"),
-        ("--format", None, "NAME", "with --records: file format if not sniffed"),
-        ("--units", None, "UNIT", "with --records: units if the files lack them"),
-        ("--site-name", None, "NAME", "named in titles"),
-    )  # fmt: skip
-    add_options(
-        amplification.add_argument_group("frame (optional)"),
-        ("--frame", None, "FRAME.toml", "frame file: band and frame-driven run"),
-        ("--delta-star-m", positive_float, "D", "the frame's design displacement δ* [m] "
-         "(stepframe structure design)"),
-    )  # fmt: skip
+    site = amplification.add_argument_group("site (either the parameters or --records)")
+    add_fields(site, Options, (*SITE_PARAMETERS, *RECORDS))
+    add_fields(amplification.add_argument_group("frame (optional)"), Options, FRAME)
+    add_fields(amplification, Options, ANALYSIS)
     add_options(
         amplification,
-        ALPHA_OPTION,
-        ("--xi0", float, "X", "oscillator damping (default 0.05)", 0.05),
-        ("--monte-carlo", int, "N", "synthetic motions at each of 4 Monte Carlo frequencies "
-         "(default 50; 0: none)", 50),
-        ("--seed", int, None, "Monte Carlo seed (default 1)", 1),
-        ("--n-steps", int, "N", "time steps (default 2000)", 2000),
-        ("--peak-intensity-m-s2", positive_float, "I", "peak I_g [m/s²] of the frame-driven run "
-         "(default: the records' median, else 1)"),
         (("-o", "--out"), None, "OUT.html", "HTML file", "amplification_report.html"),
-    )  # fmt: skip
+    )
     selection = add_command(
         sub,
         "selection",
@@ -97,15 +78,8 @@ def register(subparsers: Any) -> None:
 def run_amplification(args: argparse.Namespace) -> CommandResult:
     """Build the site (parameters or records), compute and write the amplification report."""
     from stepframe.pipeline.reports.make import make_amplification_report, report_summary
-    from stepframe.pipeline.site import SITE_PARAMETERS
 
-    out = make_amplification_report(
-        args.out, parameters={name: getattr(args, name) for name in SITE_PARAMETERS},
-        records=args.records, t0=args.t0, record_format=args.format, units=args.units,
-        site_name=args.site_name, frame=args.frame, delta_star_m=args.delta_star_m,
-        alpha_reading=args.alpha_at_tmax, xi0=args.xi0, monte_carlo=args.monte_carlo,
-        seed=args.seed, n_steps=args.n_steps, peak_intensity_m_s2=args.peak_intensity_m_s2,
-    )  # fmt: skip
+    out = make_amplification_report(args.out, Options(**fields_given(args, Options)))
     return CommandResult(*report_summary(out))
 
 

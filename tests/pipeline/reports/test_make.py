@@ -9,6 +9,7 @@ import pytest
 
 from stepframe.errors import InputError
 from stepframe.pipeline.reports.make import (
+    AmplificationReportOptions,
     command_line,
     make_amplification_report,
     report_summary,
@@ -49,7 +50,9 @@ def test_bad_inputs_fail_before_anything_is_written(
 ) -> None:
     out = tmp_path / "r.html"
     with pytest.raises(InputError, match=message):
-        make_amplification_report(str(out), **kwargs)  # type: ignore[arg-type]
+        parameters = dict(kwargs.pop("parameters"))  # type: ignore[call-overload]
+        options = AmplificationReportOptions(**parameters, **kwargs)  # type: ignore[arg-type]
+        make_amplification_report(str(out), options)
     assert list(tmp_path.iterdir()) == []
 
 

@@ -11,12 +11,17 @@ from __future__ import annotations
 import math
 import shlex
 from collections.abc import Mapping
+from dataclasses import dataclass
 from os import PathLike
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
+from stepframe.core.options import option
 from stepframe.errors import InputError
 from stepframe.pipeline.site import SITE_PARAMETERS
+
+if TYPE_CHECKING:
+    from stepframe.stochastic.model import AlphaReading
 
 
 def command_line(words: list[str], parameters: Mapping[str, Any]) -> str:
@@ -26,42 +31,75 @@ def command_line(words: list[str], parameters: Mapping[str, Any]) -> str:
     return shlex.join(words)
 
 
-def make_amplification_report(
-    out_html: str,
-    *,
-    parameters: Mapping[str, float | None],
-    records: str | None = None,
-    t0: str = "auto",
-    record_format: str | None = None,
-    units: str | None = None,
-    site_name: str | None = None,
-    frame: str | None = None,
-    delta_star_m: float | None = None,
-    alpha_reading: Any = "eq-6-11",
-    xi0: float = 0.05,
-    monte_carlo: int = 50,
-    seed: int | None = 1,
-    n_steps: int = 2000,
-    peak_intensity_m_s2: float | None = None,
-) -> Path:
+@dataclass(frozen=True)
+class AmplificationReportOptions:
+    """The site (its parameters or a folder of its records), the optional frame and the analysis
+    of an amplification report (``stepframe report amplification``)."""
+
+    fp_hz: float | None = option(None, "P-wave dominant f_p [Hz]", kind="positive", metavar="F")
+    fs_hz: float | None = option(None, "S-wave dominant f_s [Hz]", kind="positive", metavar="F")
+    fr_hz: float | None = option(None, "surface-wave f_r [Hz]", kind="positive", metavar="F")
+    xi_p: float | None = option(None, "bandwidth ratio ξ_p", kind="positive", metavar="X")
+    xi_r: float | None = option(None, "bandwidth ratio ξ_r", kind="positive", metavar="X")
+    t_max_s: float | None = option(None, "time of peak I_g [s]", kind="positive", metavar="T")
+    t_dur_s: float | None = option(None, "strong duration [s]", kind="positive", metavar="T")
+    records: str | None = option(None, "a folder of the site's record files", metavar="DIR")
+    t0: str = option(
+        "auto",
+        "with --records: time origin, the picked P onset when reliable, else the record "
+        "start (auto, the default), or one of them",
+        choices=("auto", "start", "p-pick"),
+    )
+    record_format: str | None = option(
+        None, "with --records: file format if not sniffed", metavar="NAME", flag="--format"
+    )
+    units: str | None = option(None, "with --records: units if the files lack them", metavar="UNIT")
+    site_name: str | None = option(None, "named in titles", metavar="NAME")
+    frame: str | None = option(None, "frame file: band and frame-driven run", metavar="FRAME.toml")
+    delta_star_m: float | None = option(
+        None,
+        "the frame's design displacement δ* [m] (stepframe structure design)",
+        kind="positive",
+        metavar="D",
+    )
+    alpha_reading: AlphaReading = option(
+        "eq-6-11",
+        "α_g ramp ends at t_dur (eq. 6.11 as printed, default) or at t_max (the paper)",
+        choices=("eq-6-11", "paper"),
+        flag="--alpha-at-tmax",
+    )
+    xi0: float = option(0.05, "oscillator damping (default 0.05)", kind="float", metavar="X")
+    monte_carlo: int = option(
+        50,
+        "synthetic motions at each of 4 Monte Carlo frequencies (default 50; 0: none)",
+        kind="int",
+        metavar="N",
+    )
+    seed: int | None = option(1, "Monte Carlo seed (default 1)", kind="int")
+    n_steps: int = option(2000, "time steps (default 2000)", kind="int", metavar="N")
+    peak_intensity_m_s2: float | None = option(
+        None,
+        "peak I_g [m/s²] of the frame-driven run (default: the records' median, else 1)",
+        kind="positive",
+        metavar="I",
+    )
+
+
+def make_amplification_report(out_html: str, options: AmplificationReportOptions) -> Path:
     """The amplification report of a site given by its parameters or by a folder of its records.
 
     Parameters
     ----------
     out_html
         The HTML file.
-    parameters
-        :data:`~stepframe.pipeline.site.SITE_PARAMETERS` → value (None: not given); all of
-        them, or none with ``records``.
-    records, t0, record_format, units
-        A folder of the site's record files, the fits' time origin and the read options
-        (:func:`~stepframe.pipeline.reports.site.site_from_records`).
-    site_name
-        Named in titles (default: the records folder's name, else ``site``).
-    frame, delta_star_m
-        Optional frame file, and its design displacement δ* [m] (needs ``frame``).
-    alpha_reading, xi0, monte_carlo, seed, n_steps, peak_intensity_m_s2
-        As :class:`~stepframe.pipeline.reports.amplification.AmplificationOptions`.
+    options
+        :class:`AmplificationReportOptions`: all of
+        :data:`~stepframe.pipeline.site.SITE_PARAMETERS`, or none with ``records`` (fitted
+        with ``t0``, ``record_format`` and ``units``:
+        :func:`~stepframe.pipeline.reports.site.site_from_records`); the name in titles
+        (default: the records folder's name, else ``site``); an optional frame file and its
+        design displacement δ* [m]; the analysis
+        (:class:`~stepframe.pipeline.reports.amplification.AmplificationOptions`).
 
     Returns
     -------
@@ -74,74 +112,77 @@ def make_amplification_report(
     )
     from stepframe.pipeline.reports.provenance import collect_provenance
 
-    given = [name for name in SITE_PARAMETERS if parameters.get(name) is not None]
-    if records is not None and given:
+    o = options
+    parameters = {name: getattr(o, name) for name in SITE_PARAMETERS}
+    given = [name for name in SITE_PARAMETERS if parameters[name] is not None]
+    if o.records is not None and given:
         raise InputError(
             f"--records with --{given[0].replace('_', '-')}, expected either the site "
             "parameters or --records"
         )
-    missing = [name for name in SITE_PARAMETERS if parameters.get(name) is None]
-    if records is None and missing:
+    missing = [name for name in SITE_PARAMETERS if parameters[name] is None]
+    if o.records is None and missing:
         raise InputError(
             f"missing --{missing[0].replace('_', '-')}, expected all of "
             + ", ".join("--" + n.replace("_", "-") for n in SITE_PARAMETERS)
             + " or --records DIR"
         )
-    if not (math.isfinite(xi0) and 0 < xi0 < 1):
-        raise InputError(f"--xi0 {xi0}, expected a damping fraction 0 < ξ0 < 1 (e.g. 0.05)")
-    if monte_carlo < 0 or monte_carlo == 1:
-        raise InputError(f"--monte-carlo {monte_carlo}, expected 0 (none) or N ≥ 2")
-    if n_steps < 100:
-        raise InputError(f"--n-steps {n_steps}, expected at least 100")
-    if frame is None and delta_star_m is not None:
+    if not (math.isfinite(o.xi0) and 0 < o.xi0 < 1):
+        raise InputError(f"--xi0 {o.xi0}, expected a damping fraction 0 < ξ0 < 1 (e.g. 0.05)")
+    if o.monte_carlo < 0 or o.monte_carlo == 1:
+        raise InputError(f"--monte-carlo {o.monte_carlo}, expected 0 (none) or N ≥ 2")
+    if o.n_steps < 100:
+        raise InputError(f"--n-steps {o.n_steps}, expected at least 100")
+    if o.frame is None and o.delta_star_m is not None:
         raise InputError("--delta-star-m without --frame, expected --frame FRAME.toml with it")
     site: Any
     inputs: list[str] = []
-    if records is not None:
+    if o.records is not None:
         from stepframe.pipeline.reports.site import site_from_records
 
         site = site_from_records(
-            records, alpha_reading=alpha_reading, t0=t0, record_format=record_format, units=units
-        )
-        inputs.append(records)
-        name = site_name or Path(records).resolve().name
+            o.records, alpha_reading=o.alpha_reading, t0=o.t0, record_format=o.record_format,
+            units=o.units,
+        )  # fmt: skip
+        inputs.append(o.records)
+        name = o.site_name or Path(o.records).resolve().name
     else:
         from stepframe.stochastic.model import GroundMotionModel
 
         values = {key: float(value) for key, value in parameters.items() if value is not None}
         site = GroundMotionModel.from_hz(
             values["fp_hz"], values["fs_hz"], values["fr_hz"], values["xi_p"], values["xi_r"],
-            t_max_s=values["t_max_s"], t_dur_s=values["t_dur_s"], alpha_reading=alpha_reading,
+            t_max_s=values["t_max_s"], t_dur_s=values["t_dur_s"], alpha_reading=o.alpha_reading,
         )  # fmt: skip
-        name = site_name or "site"
+        name = o.site_name or "site"
     portal = None
-    if frame is not None:
+    if o.frame is not None:
         from stepframe.structure.frame_file import read_frame_file
 
-        portal = read_frame_file(frame)
-        inputs.append(frame)
-    options = AmplificationOptions(
-        site_name=name, xi0=xi0, monte_carlo=monte_carlo, seed=seed, n_steps=n_steps,
-        peak_intensity_m_s2=peak_intensity_m_s2, delta_star_m=delta_star_m, t0=t0,
+        portal = read_frame_file(o.frame)
+        inputs.append(o.frame)
+    analysis = AmplificationOptions(
+        site_name=name, xi0=o.xi0, monte_carlo=o.monte_carlo, seed=o.seed, n_steps=o.n_steps,
+        peak_intensity_m_s2=o.peak_intensity_m_s2, delta_star_m=o.delta_star_m, t0=o.t0,
     )  # fmt: skip
     recorded = {
         **parameters,
-        "records": records,
-        "t0": t0,
-        "frame": frame,
-        "delta_star_m": delta_star_m,
-        "alpha_at_tmax": alpha_reading,
-        "xi0": xi0,
-        "monte_carlo": monte_carlo,
-        "seed": seed,
-        "n_steps": n_steps,
-        "peak_intensity_m_s2": peak_intensity_m_s2,
+        "records": o.records,
+        "t0": o.t0,
+        "frame": o.frame,
+        "delta_star_m": o.delta_star_m,
+        "alpha_at_tmax": o.alpha_reading,
+        "xi0": o.xi0,
+        "monte_carlo": o.monte_carlo,
+        "seed": o.seed,
+        "n_steps": o.n_steps,
+        "peak_intensity_m_s2": o.peak_intensity_m_s2,
     }
     recorded = {key: value for key, value in recorded.items() if value is not None}
     command = command_line(["stepframe", "report", "amplification"], recorded | {"out": out_html})
     provenance = collect_provenance(command, inputs=inputs, parameters=recorded)
     return write_amplification_report(
-        site, out_html, frame=portal, options=options, provenance=provenance
+        site, out_html, frame=portal, options=analysis, provenance=provenance
     )
 
 
@@ -174,4 +215,10 @@ def report_summary(out_html: str | PathLike[str]) -> tuple[dict[str, Any], str]:
     return data, f"report: {out} ({size / 1e3:.0f} kB); its numbers: {folder}/"
 
 
-__all__ = ["command_line", "make_amplification_report", "make_selection_report", "report_summary"]
+__all__ = [
+    "AmplificationReportOptions",
+    "command_line",
+    "make_amplification_report",
+    "make_selection_report",
+    "report_summary",
+]
