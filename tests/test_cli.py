@@ -121,8 +121,8 @@ def test_demo_selects_for_example_4(demo_run: tuple[dict[str, object], Path]) ->
 
 
 def test_demo_summary_text(demo_run: tuple[dict[str, object], Path]) -> None:
+    from stepframe.commands.select import summary_text
     from stepframe.pipeline.selection import read_selection
-    from stepframe.pipeline.selection.summary import summary_text
 
     _, out = demo_run
     text = summary_text(read_selection(out), out)

@@ -16,6 +16,8 @@ from dataclasses import dataclass
 from types import ModuleType
 from typing import TYPE_CHECKING, Any, NoReturn
 
+# Re-exported: commands print results through it (stepframe.core.jsonable is its home).
+from stepframe.core.jsonable import to_jsonable as to_jsonable
 from stepframe.errors import InputError
 from stepframe.records.formats import format_names_help
 
@@ -128,12 +130,6 @@ def add_record_options(parser: argparse.ArgumentParser) -> None:
          "(default 256)"),
         action=Once,
     )  # fmt: skip
-
-
-def add_t0_option(parser: argparse.ArgumentParser | argparse._ArgumentGroup, help: str) -> None:
-    """``--t0 auto|start|p-pick``: the time origin of eqs. 6.10-6.11 (default ``auto``: the picked
-    P onset when the pick is reliable, else the record start; outputs say which)."""
-    parser.add_argument("--t0", choices=("auto", "start", "p-pick"), default="auto", help=help)
 
 
 #: Embedded example catalogues that ``--example`` names.
@@ -315,15 +311,6 @@ def _add_option(
         options["dest"] = dest
     parser.add_argument(*((flag,) if isinstance(flag, str) else flag), **options)
 
-
-#: ``--alpha-at-tmax``: where the α_g ramp of eq. 6.11 ends (an :data:`OptionRow`).
-ALPHA_OPTION: OptionRow = (
-    "--alpha-at-tmax",
-    ("eq-6-11", "paper"),
-    None,
-    "α_g ramp ends at t_dur (eq. 6.11 as printed, default) or at t_max (the paper)",
-    "eq-6-11",
-)
 
 #: argparse types of the value kinds of :func:`stepframe.core.options.option`.
 KIND_TYPES: dict[str, Any] = {
