@@ -8,6 +8,7 @@ The options are the fields of :class:`~stepframe.pipeline.selection.options.Sele
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 from typing import Any
 
 from stepframe.commands import (
@@ -25,7 +26,6 @@ from stepframe.commands import (
 )
 from stepframe.pipeline.selection.names import RANKABLE
 from stepframe.pipeline.selection.options import SelectionOptions
-from stepframe.pipeline.selection.summary import summary_text
 
 EXAMPLES = """\
   stepframe structure frame-template > FRAME.toml
@@ -153,4 +153,10 @@ def run(args: argparse.Namespace) -> CommandResult:
     return CommandResult(data, summary_text(result, paths["selection"].parent))
 
 
-__all__ = ["FIELDS", "options_from_args", "register", "run", "summary_text"]
+def summary_text(result: Any, out_dir: Path) -> str:
+    """The run's summary lines (:meth:`SelectionResult.summary_lines`) and where its outputs are."""
+    return "\n".join([
+        *result.summary_lines(),
+        f"outputs: {out_dir}/ (selection.csv, candidates.csv, confirmation.csv, failures.csv, "
+        "columns.csv, selection.json)",
+    ])  # fmt: skip

@@ -25,7 +25,6 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from stepframe.core.io import atomic_write
-from stepframe.core.jsonable import to_jsonable
 from stepframe.errors import InputError
 from stepframe.pipeline.reports.provenance import Provenance
 
@@ -186,7 +185,7 @@ def render(report: Report, data_folder: str) -> str:
             report=report,
             rows=rows,
             data_folder=data_folder,
-            provenance=to_jsonable(report.provenance.to_dict()),
+            provenance=_jsonable(report.provenance.to_dict()),
         )
     )
 
@@ -207,13 +206,19 @@ def _write_folder(report: Report, folder: Path) -> None:
             json.dumps(dictionary, indent=2, ensure_ascii=False), encoding="utf-8"
         )
     (folder / "numbers.json").write_text(
-        json.dumps(to_jsonable(report.numbers), indent=2, ensure_ascii=False, allow_nan=False),
+        json.dumps(_jsonable(report.numbers), indent=2, ensure_ascii=False, allow_nan=False),
         encoding="utf-8",
     )
     (folder / "provenance.json").write_text(
-        json.dumps(to_jsonable(report.provenance.to_dict()), indent=2, ensure_ascii=False),
+        json.dumps(_jsonable(report.provenance.to_dict()), indent=2, ensure_ascii=False),
         encoding="utf-8",
     )
+
+
+def _jsonable(value: Any) -> Any:
+    from stepframe.core.jsonable import to_jsonable
+
+    return to_jsonable(value)
 
 
 def write_report(report: Report, out_html: str | PathLike[str]) -> Path:

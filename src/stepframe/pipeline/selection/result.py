@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import dataclass, field
 from os import PathLike
 from pathlib import Path
@@ -87,6 +88,37 @@ class SelectionResult:
             }
         )
         return data
+
+    def summary_lines(self) -> list[str]:
+        """For people: the band, the chosen components, the confirmation's rank correlation
+        (Spearman with its bootstrap interval) and the selected-vs-control medians."""
+        low, high = self.band_rad_s
+        lines = [
+            f"band: {low:.3g} to {high:.3g} rad/s (T {math.tau / high:.3g} to "
+            f"{math.tau / low:.3g} s); {self.summary.get('filter_summary', '')}",
+            f"chosen by {self.summary.get('rank_by')} ({self.status}: {self.message}):",
+        ]
+        for row in self.selection.itertuples():
+            name = str(row.file).rsplit("/", 1)[-1]
+            lines.append(
+                f"  {row.rank:2d}. {name} [{row.component}]  score {row.score:.4g}  "
+                f"scale {row.scale_factor:.3g}  P(in set) {row.selection_probability:.2f}"
+            )
+        for entry in self.summary.get("correlations", []):
+            if entry["score"] == self.summary.get("rank_by"):
+                lines.append(
+                    f"confirmation: Spearman({entry['score']}, {entry['response']}) = "
+                    f"{entry['spearman']:.2f} [{entry['low']:.2f}, {entry['high']:.2f}], "
+                    f"n = {entry['n']}"
+                )
+        medians = self.summary.get("medians") or {}
+        if medians:
+            lines.append(
+                "median peak |x| at equal PSA(T_1): selected "
+                f"{medians['equal_psa_t1_peak_x_m_selected']:.3g} m, controls "
+                f"{medians['equal_psa_t1_peak_x_m_control']:.3g} m"
+            )
+        return lines
 
     def tables(self) -> dict[str, Any]:
         """The four tables by name."""
