@@ -11,8 +11,7 @@ import json
 import sys
 from typing import Any
 
-from stepframe.commands import CommandResult, add_command, add_options
-from stepframe.core.jsonable import to_jsonable
+from stepframe.commands import CommandResult, add_command, to_jsonable
 from stepframe.errors import InputError
 
 EXIT_OUTPUT_MISSING = 1
@@ -44,19 +43,39 @@ def register(subparsers: Any) -> None:
         run=run,
     )
     parser.add_argument("workflow", nargs="?", metavar="WORKFLOW.toml", help="the workflow file")
-    add_options(
-        parser,
-        ("--template", bool, None, "print a commented workflow file and exit"),
-        ("--dry-run", bool, None, "print the plan: items to compute and cached"),
-        ("--jobs", int, "N", "worker processes (default: all CPUs)"),
-        ("--scheduler", None, "WHERE", "dask-local (a local Dask cluster) or tcp://HOST:PORT (an "
-         "existing one); needs pip install 'stepframe[dask]'"),
-        ("--force", list, "STAGE", "recompute a stage"),
-        ("--retry-failed", bool, None, "recompute items that failed before"),
-        ("--wait", bool, None, "wait for a run holding the workspace (else exit 3)"),
-        ("--batch-items", int, "N", "items stored per batch (default 1024, or 32 per worker if "
-         "more): a killed run loses at most one batch"),
-    )  # fmt: skip
+    parser.add_argument(
+        "--template", action="store_true", help="print a commented workflow file and exit"
+    )
+    parser.add_argument(
+        "--dry-run", action="store_true", help="print the plan: items to compute and cached"
+    )
+    parser.add_argument(
+        "--jobs", type=int, default=None, metavar="N", help="worker processes (default: all CPUs)"
+    )
+    parser.add_argument(
+        "--scheduler",
+        default=None,
+        metavar="WHERE",
+        help="dask-local (a local Dask cluster) or tcp://HOST:PORT (an existing one); "
+        "needs pip install 'stepframe[dask]'",
+    )
+    parser.add_argument(
+        "--force", action="append", default=[], metavar="STAGE", help="recompute a stage"
+    )
+    parser.add_argument(
+        "--retry-failed", action="store_true", help="recompute items that failed before"
+    )
+    parser.add_argument(
+        "--wait", action="store_true", help="wait for a run holding the workspace (else exit 3)"
+    )
+    parser.add_argument(
+        "--batch-items",
+        type=int,
+        default=None,
+        metavar="N",
+        help="items stored per batch (default 1024, or 32 per worker if more): a killed run "
+        "loses at most one batch",
+    )
 
 
 def run(args: argparse.Namespace) -> CommandResult:
