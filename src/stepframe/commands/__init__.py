@@ -10,6 +10,7 @@ module level: the heavy imports happen inside ``run``.
 from __future__ import annotations
 
 import argparse
+import functools
 import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
@@ -383,9 +384,8 @@ def _field_kind(cls: type, f: Any) -> Any:
         return tuple(meta["choices"])
     if meta.get("kind") is not None:
         return KIND_TYPES[meta["kind"]]
-    try:
-        hint = typing.get_type_hints(cls)[f.name]
-    except NameError:  # names imported for type checking only: read the annotation's text
+    hint = _type_hints(cls).get(f.name)
+    if hint is None:  # names imported for type checking only: read the annotation's text
         text = str(f.type).removesuffix(" | None")
         return {"float": float, "int": int, "bool": bool}.get(text)
     if isinstance(hint, types.UnionType):  # X | None: the option gives an X
@@ -393,6 +393,18 @@ def _field_kind(cls: type, f: Any) -> Any:
     if typing.get_origin(hint) is typing.Literal:
         return typing.get_args(hint)
     return hint if hint in (bool, int, float) else None
+
+
+@functools.cache
+def _type_hints(cls: type) -> dict[str, Any]:
+    """The resolved annotations of ``cls`` (once per class: resolving costs), or {} when one
+    names a type imported for type checking only."""
+    import typing
+
+    try:
+        return typing.get_type_hints(cls)
+    except NameError:
+        return {}
 
 
 def fields_given(args: argparse.Namespace, names: Any) -> dict[str, Any]:

@@ -9,7 +9,6 @@ the input files with their SHA-256, the parameters) and writes the report;
 from __future__ import annotations
 
 import math
-import shlex
 from collections.abc import Mapping
 from dataclasses import dataclass
 from os import PathLike
@@ -26,6 +25,8 @@ if TYPE_CHECKING:
 
 def command_line(words: list[str], parameters: Mapping[str, Any]) -> str:
     """The command line ``words --name value ...`` that reproduces a report (shell-quoted)."""
+    import shlex
+
     for name, value in parameters.items():
         words = [*words, f"--{name.replace('_', '-')}", str(value)]
     return shlex.join(words)
