@@ -24,6 +24,16 @@ from typing import Any
 import numpy as np
 
 
+def _plain_log_ticks(axis: Any) -> None:
+    """Ticks of a log axis at 1, 2 and 5 per decade, written as plain numbers (0.2, 5), with no
+    minor labels: the default labels ranges under a decade as 2×10⁰, 3×10⁰, ... that collide."""
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+    axis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
+    axis.set_major_formatter(FuncFormatter(lambda value, _: f"{value:g}"))
+    axis.set_minor_formatter(NullFormatter())
+
+
 def synthetic_catalogue(n: int, seed: int) -> tuple[Any, dict[tuple[str, str], Any]]:
     """Features table and samples of ``n`` synthetic motions (one component each)."""
     from obspy import Stream
@@ -165,6 +175,7 @@ def main() -> None:
             ax.scatter(x[~over], peak[~over], s=10, c="k", label="stays up")
             ax.scatter(x[over], peak[over], s=14, c="r", marker="^", label="overturns")
             ax.set_yscale("log")
+            _plain_log_ticks(ax.yaxis)
             ax.set_xlabel(name)
             entry = entries[(name, "peak_drift")]
             ax.set_title(
@@ -183,6 +194,8 @@ def main() -> None:
         ax.plot([0.5, top], [0.5, top], "b:", lw=1)
         ax.set_xscale("log")
         ax.set_yscale("log")
+        _plain_log_ticks(ax.xaxis)
+        _plain_log_ticks(ax.yaxis)
         ax.set_xlabel("simulated overturning ratio")
         ax.set_ylabel("substitute-structure ratio")
         rho = spearmanr(predicted[both], simulated[both]).statistic if both.sum() > 3 else math.nan

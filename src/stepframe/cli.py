@@ -25,8 +25,8 @@ from stepframe.commands import (
     Parser,
     UserError,
     group_modules,
-    to_jsonable,
 )
+from stepframe.core.jsonable import to_jsonable
 from stepframe.core.text import terminal_safe
 from stepframe.errors import InputError
 

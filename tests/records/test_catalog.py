@@ -140,3 +140,21 @@ def test_failure_in_measures_is_recorded_and_the_batch_goes_on(
     assert set(measured["error_type"]) == {"RuntimeError"}
     assert set(measured["message"]) == {"simulated failure"}
     assert all(f.endswith(("[H1]", "[H2]", "[Up]")) for f in measured["item"])
+
+
+def test_catalog_to_file_counts_what_it_wrote(data_dir: Path, tmp_path: Path) -> None:
+    from stepframe.records.catalog import catalog_to_file
+
+    folder = tmp_path / "records"
+    folder.mkdir()
+    source = data_dir / "peer_nga_west2" / "RSN8883_14383980_13849360.AT2"
+    shutil.copy(source, folder)
+    (folder / "broken.AT2").write_text("not a record\n")
+    out = folder / "catalog.csv"  # inside the folder: not catalogued itself
+    written = catalog_to_file(folder, out)
+    table, failures = pd.read_csv(written.table), pd.read_csv(written.failures)
+    assert (written.n_components, written.n_failures) == (len(table), len(failures)) == (1, 1)
+    assert written.to_dict()["columns"] == str(folder / "catalog.columns.csv")
+    again = catalog_to_file(read(source), tmp_path / "one.csv")
+    assert again.n_components == 1 and again.n_failures == 0
+    assert pd.read_csv(again.table)["pga_g"].iloc[0] == pytest.approx(table["pga_g"].iloc[0])

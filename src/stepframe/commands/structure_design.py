@@ -14,8 +14,23 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
-from stepframe.commands import CommandResult, add_command, float_list, positive_float
-from stepframe.pipeline.design import PIER_KEYS
+from stepframe.commands import (
+    CommandResult,
+    add_command,
+    add_options,
+    check_plot,
+    float_list,
+    positive_float,
+    save_plot,
+)
+from stepframe.pipeline.design import (
+    DAMPING_KEYS,
+    DESIGN_TEMPLATE,
+    MAP_KEYS,
+    PIER_KEYS,
+    design_case,
+    run_design,
+)
 
 if TYPE_CHECKING:
     from stepframe.commands import Subparsers
@@ -53,9 +68,10 @@ def register(subparsers: Subparsers) -> None:
         examples=EXAMPLES,
         run=run,
     )
-    parser.add_argument("--input", metavar="TOML", help="design input file (see --template)")
-    parser.add_argument(
-        "--template", action="store_true", help="print a commented input file and exit"
+    add_options(
+        parser,
+        ("--input", None, "TOML", "design input file (see --template)"),
+        ("--template", bool, None, "print a commented input file and exit"),
     )
     pier = parser.add_argument_group("pier (override [pier] of --input)")
     for key, text in PIER_KEYS.items():
@@ -63,80 +79,45 @@ def register(subparsers: Subparsers) -> None:
     spectrum = parser.add_argument_group("two-period spectrum (override [spectrum])")
     for key, (flag, text) in _SPECTRUM_OPTIONS.items():
         spectrum.add_argument(flag, dest=key, type=positive_float, help=text)
-    damping = parser.add_argument_group("damping (override [damping]; one of --beta/--xi/--c-r)")
-    damping.add_argument("--beta", type=positive_float, help="spectral reduction factor β")
-    damping.add_argument("--xi", type=float, help="equivalent viscous damping ratio (fraction)")
-    damping.add_argument(
-        "--c-r", dest="c_r", type=float, help="velocity ratio at impact; ξ = 0.48(1 - C_r²)"
+    add_options(
+        parser.add_argument_group("damping (override [damping]; one of --beta/--xi/--c-r)"),
+        ("--beta", positive_float, None, "spectral reduction factor β"),
+        ("--xi", float, None, "equivalent viscous damping ratio (fraction)"),
+        ("--c-r", float, None, "velocity ratio at impact; ξ = 0.48(1 - C_r²)"),
+        ("--damping-method", ("ec8", "ec8-1998", "aashto-isolation"), None,
+         "damping-reduction formula with --xi/--c-r (default ec8)"),
+    )  # fmt: skip
+    add_options(
+        parser.add_argument_group("map constants instead of a pier (override [map])"),
+        ("--w-per-m", positive_float, None, "w of eq. 2.3 [1/m]"),
+        ("--lambda-2-sqrt-m", positive_float, None, "λ_2 of eq. 2.5 [m^½] (needs S_D1)"),
     )
-    damping.add_argument(
-        "--damping-method",
-        choices=("ec8", "ec8-1998", "aashto-isolation"),
-        help="damping-reduction formula with --xi/--c-r (default ec8)",
-    )
-    given_map = parser.add_argument_group("map constants instead of a pier (override [map])")
-    given_map.add_argument("--w-per-m", type=positive_float, help="w of eq. 2.3 [1/m]")
-    given_map.add_argument(
-        "--lambda-2-sqrt-m", type=positive_float, help="λ_2 of eq. 2.5 [m^½] (needs S_D1)"
-    )
-    parser.add_argument(
-        "--branch",
-        choices=("auto", "short", "long", "very-long"),
-        default="auto",
-        help="spectrum branch used by the iteration: auto (S_a at each T_i, the procedure) or "
-        "one branch's formula whatever T_i is (as the paper's Table 1 does)",
-    )
-    parser.add_argument("--trace", action="store_true", help="print every iterate (i, δ, K, T)")
-    parser.add_argument(
-        "--delta0-m", type=float_list, metavar="D,...", help="starts of the iteration [m]"
-    )
-    parser.add_argument(
-        "--method",
-        choices=("closed-form", "search"),
-        default=None,
-        help="how the design answer is chosen (default: closed-form for a two-period "
-        "spectrum, search for a tabulated one)",
-    )
-    parser.add_argument(
-        "--max-iterations", type=int, default=200, help="iteration limit (default 200)"
-    )
-    parser.add_argument("--plot", metavar="OUT.png", help="draw the cobweb of the iteration")
+    add_options(
+        parser,
+        ("--branch", ("auto", "short", "long", "very-long"), None, "spectrum branch used by the "
+         "iteration: auto (S_a at each T_i, the procedure) or one branch's formula whatever T_i "
+         "is (as the paper's Table 1 does)", "auto"),
+        ("--trace", bool, None, "print every iterate (i, δ, K, T)"),
+        ("--delta0-m", float_list, "D,...", "starts of the iteration [m]"),
+        ("--method", ("closed-form", "search"), None, "how the design answer is chosen (default: "
+         "closed-form for a two-period spectrum, search for a tabulated one)"),
+        ("--max-iterations", int, None, "iteration limit (default 200)", 200),
+        ("--plot", None, "OUT.png", "draw the cobweb of the iteration"),
+    )  # fmt: skip
 
 
 def run(args: argparse.Namespace) -> CommandResult:
     """Compute and report the design displacement."""
     if args.template:
-        from stepframe.pipeline.design import DESIGN_TEMPLATE
-
         return CommandResult({"template": DESIGN_TEMPLATE}, DESIGN_TEMPLATE.rstrip("\n"))
-
-    from stepframe.pipeline.design import DAMPING_KEYS, MAP_KEYS, design_case, run_design
-
-    if args.plot:
-        from stepframe.pipeline.figures import check_figure_path
-
-        check_figure_path(args.plot)
+    check_plot(args.plot)
     names = (*PIER_KEYS, *MAP_KEYS, *_SPECTRUM_OPTIONS, *DAMPING_KEYS)
     case = design_case(
-        args.input,
-        {name: getattr(args, name) for name in names},
-        damping_method=args.damping_method,
-        delta0_m=args.delta0_m,
-    )
+        args.input, {name: getattr(args, name) for name in names},
+        damping_method=args.damping_method, delta0_m=args.delta0_m,
+    )  # fmt: skip
     result = run_design(
         case, method=args.method, branch=args.branch, max_iterations=args.max_iterations
     )
-    data = result.to_dict()
-    if args.plot:
-        from stepframe.pipeline.figures import save_figure
-        from stepframe.structure.plots import cobweb_figure
-
-        figure = cobweb_figure(
-            case.stepping_map, case.spectrum, result.traces, [*result.closed, *result.found]
-        )
-        save_figure(figure, args.plot)
-        data["plot"] = args.plot
     text = result.describe(trace_rows=args.trace)
-    if args.plot:
-        text += f"\ncobweb written to {args.plot}"
-    return CommandResult(data, text)
+    return save_plot(CommandResult(result.to_dict(), text), args.plot, result.figure, "cobweb")

@@ -6,18 +6,19 @@ import argparse
 from typing import TYPE_CHECKING
 
 from stepframe.commands import (
+    REQUIRED,
     CommandResult,
-    UserError,
     add_command,
+    add_options,
     add_record_options,
+    check_plot,
     non_negative_seconds,
     positive_float,
     read_record_file,
+    save_plot,
 )
 
 if TYPE_CHECKING:
-    from obspy import Stream, Trace
-
     from stepframe.commands import Subparsers
 
 SIMULATE_EXAMPLES = """\
@@ -50,20 +51,14 @@ def register(subparsers: Subparsers) -> None:
     simulate.add_argument(
         "record", nargs="?", metavar="RECORD", help="accelerogram file, one component, or --example"
     )
-    simulate.add_argument(
-        "--frame", required=True, metavar="FRAME.toml", help="frame file (see frame-template)"
-    )
-    simulate.add_argument(
-        "--scale", type=positive_float, default=1.0, metavar="S", help="record scale factor [-]"
-    )
-    simulate.add_argument(
-        "--tail-s",
-        type=non_negative_seconds,
-        default=None,
-        metavar="T",
-        help="free vibration after the record [s] (default: the simulator's, 10 s)",
-    )
-    simulate.add_argument("--plot", metavar="OUT.png", help="draw x(t) with the phases")
+    add_options(
+        simulate,
+        ("--frame", None, "FRAME.toml", "frame file (see frame-template)", REQUIRED),
+        ("--scale", positive_float, "S", "record scale factor [-]", 1.0),
+        ("--tail-s", non_negative_seconds, "T", "free vibration after the record [s] (default: "
+         "the simulator's, 10 s)"),
+        ("--plot", None, "OUT.png", "draw x(t) with the phases"),
+    )  # fmt: skip
     add_record_options(simulate)
     add_command(
         subparsers,
@@ -82,48 +77,17 @@ def run_frame_template(args: argparse.Namespace) -> CommandResult:
     return CommandResult(data={"frame_toml": text}, text=text.rstrip("\n"))
 
 
-def _one_trace(stream: Stream, path: str) -> Trace:
-    if len(stream) != 1:
-        channels = ", ".join(str(trace.stats.channel) for trace in stream)
-        raise UserError(
-            f"{path}: {len(stream)} components ({channels}), expected one: pick it with "
-            "--component NAME"
-        )
-    return stream[0]
-
-
 def run_simulate(args: argparse.Namespace) -> CommandResult:
     """Read the frame and the record, simulate, summarise (and plot)."""
-    import os
-
-    from stepframe.core.validation import in_range, length
-    from stepframe.pipeline.response import simulate_record
+    from stepframe.pipeline.response import simulate_component
     from stepframe.structure.frame_file import read_frame_file
 
-    if args.plot is not None:
-        from stepframe.pipeline.figures import check_figure_path
-
-        check_figure_path(args.plot)
+    check_plot(args.plot)
     frame = read_frame_file(args.frame)
-    name = args.record or f"example {args.example} {args.component}"
-    trace = _one_trace(read_record_file(args.record, args), name)
-    tail_s = None if args.tail_s is None else length("--tail-s", args.tail_s, high=1e5)
-    scale = in_range("--scale", args.scale, 0.0, 1e3, low_open=True)
-    response = simulate_record(
-        frame, trace, scale=scale, tail_s=tail_s, record_history=args.plot is not None,
-        name=name,
+    simulated = simulate_component(
+        frame, read_record_file(args.record, args), scale=args.scale, tail_s=args.tail_s,
+        name=args.record or f"example {args.example} {args.component}",
+        record_history=args.plot is not None,
     )  # fmt: skip
-    data = response.to_dict()
-    text = response.describe()
-    if args.plot is not None:
-        from stepframe.pipeline.figures import save_figure
-        from stepframe.structure.plots import response_figure
-
-        title = f"{os.path.basename(name)} × {args.scale:g}"
-        figure = response_figure(
-            response.result, frame, title=title, ground_acc_m_s2=trace.data, scale=scale
-        )
-        save_figure(figure, args.plot)
-        data["plot"] = args.plot
-        text += f"\nplot written to {args.plot}"
-    return CommandResult(data=data, text=text)
+    result = CommandResult(simulated.to_dict(), simulated.describe())
+    return save_plot(result, args.plot, simulated.figure)

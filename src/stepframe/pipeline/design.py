@@ -10,16 +10,18 @@ answer, as a :class:`DesignRun` (``to_dict``; :func:`write_design_result` and
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
+from stepframe.core.jsonable import to_jsonable
 from stepframe.errors import InputError
 
 if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
     from stepframe.structure.quasi_dynamic import (
         BranchChoice,
         DesignCase,
@@ -206,6 +208,13 @@ class DesignRun:
         ``trace_rows``) and the design answer."""
         return _describe(self, trace_rows)
 
+    def figure(self) -> Figure:
+        """The cobweb of the iterations over the map, with the fixed points."""
+        from stepframe.structure.plots import cobweb_figure
+
+        points = [*self.closed, *self.found]
+        return cobweb_figure(self.case.stepping_map, self.case.spectrum, self.traces, points)
+
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready form (what ``stepframe structure design --json`` prints)."""
         return {
@@ -339,15 +348,24 @@ def _describe(run: DesignRun, trace_rows: bool) -> str:
     return "\n".join(lines)
 
 
-def _jsonable(value: Any) -> Any:
-    """Tuples as lists and non-finite floats as None (JSON has neither)."""
-    if isinstance(value, Mapping):
-        return {str(k): _jsonable(v) for k, v in value.items()}
-    if isinstance(value, list | tuple):
-        return [_jsonable(v) for v in value]
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value
+def design_displacement_m(path: str | Path) -> float:
+    """δ* [m] of a quasi-dynamic design input file (closed form for a two-period spectrum,
+    search for a tabulated one); an error when the design gives no positive δ*."""
+    from stepframe.structure.design_spectrum import TwoPeriodSpectrum
+    from stepframe.structure.quasi_dynamic import design_displacement, read_case
+
+    case = read_case(path)
+    closed = isinstance(case.spectrum, TwoPeriodSpectrum)
+    result = design_displacement(
+        case.stepping_map, case.spectrum, "closed-form" if closed else "search"
+    )
+    if result.delta_m is None or not result.delta_m > 0:
+        raise InputError(
+            f"the design gives no positive design displacement (status {result.status}), "
+            "expected one to bound the band (or give --a-max-m)",
+            path,
+        )
+    return float(result.delta_m)
 
 
 def write_design_result(run: DesignRun, path: str | PathLike[str]) -> Path:
@@ -357,7 +375,7 @@ def write_design_result(run: DesignRun, path: str | PathLike[str]) -> Path:
     from stepframe.core.io import atomic_write
 
     with atomic_write(path) as out:
-        json.dump(_jsonable(run.to_dict()), out, indent=2, allow_nan=False)
+        json.dump(to_jsonable(run.to_dict()), out, indent=2, allow_nan=False)
         out.write("\n")
     return Path(path)
 
@@ -384,6 +402,7 @@ __all__ = [
     "SPECTRUM_KEYS",
     "DesignRun",
     "design_case",
+    "design_displacement_m",
     "merged_design_input",
     "read_design_result",
     "run_design",

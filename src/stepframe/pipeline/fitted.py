@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any
 from stepframe.core.io import CSV_FLOAT_FORMAT, atomic_write
 from stepframe.core.results import failures_path, set_column_dictionary
 from stepframe.errors import InputError
+from stepframe.pipeline.fit_options import FitOptions
 from stepframe.pipeline.tables import read_dataset, write_dataset, write_table
 from stepframe.stochastic.model import MODEL_FIELDS
 
@@ -61,23 +62,6 @@ FIT_COLUMNS: dict[str, tuple[str, str]] = {
     "frequency_method": ("", "ω_g(t) estimator"),
     "flags": ("", "degraded results, ';'-separated"),
 }
-
-
-@dataclass(frozen=True)
-class FitOptions:
-    """How a record is fitted (the options of ``stepframe stochastic fit``)."""
-
-    frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing"
-    t0: TimeOrigin = "auto"
-    window_s: float = 2.0
-    omega_max_rad_s: float | None = None
-    bootstrap: int = 0
-    seed: int | None = None
-    corner: bool = False
-
-    def __post_init__(self) -> None:
-        if self.bootstrap < 0:
-            raise InputError(f"--bootstrap {self.bootstrap}, expected an integer ≥ 0")
 
 
 @dataclass(frozen=True)

@@ -15,7 +15,8 @@ from typing import TYPE_CHECKING, Any
 from stepframe.errors import InputError
 
 if TYPE_CHECKING:
-    from obspy import Trace
+    from matplotlib.figure import Figure
+    from obspy import Stream, Trace
 
     from stepframe.structure.frame import PortalFrame
     from stepframe.structure.simulator import SimulationResult
@@ -137,4 +138,72 @@ def simulate_record(
     return RecordResponse(summary, result)
 
 
-__all__ = ["RecordResponse", "simulate_record"]
+@dataclass(frozen=True)
+class SimulatedComponent:
+    """A record file's one component simulated, with what its figure needs."""
+
+    response: RecordResponse
+    frame: PortalFrame
+    trace: Trace
+    scale: float
+
+    def to_dict(self) -> dict[str, Any]:
+        """The response's JSON-ready form."""
+        return self.response.to_dict()
+
+    def describe(self) -> str:
+        """The response as text."""
+        return self.response.describe()
+
+    def figure(self) -> Figure:
+        """x(t) with the phases, under the scaled ground acceleration (needs the history)."""
+        import os
+
+        from stepframe.structure.plots import response_figure
+
+        name = self.response.summary["record"]
+        return response_figure(
+            self.response.result, self.frame, title=f"{os.path.basename(name)} × {self.scale:g}",
+            ground_acc_m_s2=self.trace.data, scale=self.scale,
+        )  # fmt: skip
+
+
+def simulate_component(
+    frame: PortalFrame,
+    stream: Stream,
+    *,
+    name: str,
+    scale: float = 1.0,
+    tail_s: float | None = None,
+    record_history: bool = False,
+) -> SimulatedComponent:
+    """:func:`simulate_record` on the one component of a record file, its inputs checked.
+
+    Parameters
+    ----------
+    frame
+        The stepping frame.
+    stream
+        The record file's components; exactly one (else an error naming them).
+    name
+        The record, reported and named in errors.
+    scale, tail_s, record_history
+        As :func:`simulate_record`; ``scale`` in (0, 1000], ``tail_s`` in (0, 10⁵] s.
+    """
+    from stepframe.core.validation import in_range, length
+
+    if len(stream) != 1:
+        channels = ", ".join(str(trace.stats.channel) for trace in stream)
+        raise InputError(
+            f"{name}: {len(stream)} components ({channels}), expected one: pick it with "
+            "--component NAME"
+        )
+    tail = None if tail_s is None else length("--tail-s", tail_s, high=1e5)
+    factor = in_range("--scale", scale, 0.0, 1e3, low_open=True)
+    response = simulate_record(
+        frame, stream[0], scale=factor, tail_s=tail, record_history=record_history, name=name
+    )
+    return SimulatedComponent(response, frame, stream[0], factor)
+
+
+__all__ = ["RecordResponse", "SimulatedComponent", "simulate_component", "simulate_record"]

@@ -15,7 +15,6 @@ from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from stepframe.core.io import atomic_write
 from stepframe.errors import InputError
 
 if TYPE_CHECKING:
@@ -194,6 +193,8 @@ def site_from_options(
 
 def write_site_model(site: SiteModel, path: str | PathLike[str]) -> Path:
     """Write the site model as JSON (atomically); :func:`read_site_model` reads it back."""
+    from stepframe.core.io import atomic_write  # not at import: the CLI reads SITE_PARAMETERS
+
     with atomic_write(path) as out:
         json.dump(site.to_dict(), out, indent=2, allow_nan=False)
         out.write("\n")

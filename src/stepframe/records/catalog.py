@@ -360,3 +360,58 @@ def write_catalog(
             stream = stack.enter_context(atomic_write(target))
             spreadsheet_safe(frame).to_csv(stream, index=False, float_format=CSV_FLOAT_FORMAT)
     return paths
+
+
+@dataclass(frozen=True)
+class CatalogFiles:
+    """What :func:`catalog_to_file` wrote, and the counts."""
+
+    table: Path
+    columns: Path
+    failures: Path
+    n_components: int
+    n_failures: int
+
+    def to_dict(self) -> dict[str, Any]:
+        """Output paths, then counts (docs/cli.md)."""
+        return {
+            "table": str(self.table),
+            "columns": str(self.columns),
+            "failures": str(self.failures),
+            "n_components": self.n_components,
+            "n_failures": self.n_failures,
+        }
+
+    def describe(self) -> str:
+        """One line: counts and where they went."""
+        return (
+            f"{self.n_components} components catalogued in {self.table} (columns: "
+            f"{self.columns}); {self.n_failures} failures in {self.failures}"
+        )
+
+
+def catalog_to_file(
+    source: str | PathLike[str] | Iterable[Trace], out: str | PathLike[str], **options: Any
+) -> CatalogFiles:
+    """Catalogue a folder (:func:`catalog`) or the traces of a stream, and write the outputs.
+
+    The outputs are checked before the work (:func:`check_output`) and, when inside the
+    folder, not catalogued themselves.
+
+    Parameters
+    ----------
+    source
+        A folder of record files, or traces (an ``obspy.Stream``, e.g. the example catalogue).
+    out
+        The CSV table (:func:`write_catalog` writes its column dictionary and failures beside).
+    **options
+        Keyword arguments of :func:`catalog` (read options, ``progress``, ``limits``) for a
+        folder.
+    """
+    outputs = check_output(out)
+    if isinstance(source, str | PathLike):
+        table, failures = catalog(source, exclude=outputs, **options)
+    else:
+        table, failures = intensity_table(source), failures_table([])
+    paths = write_catalog(table, failures, out)
+    return CatalogFiles(*paths, n_components=len(table), n_failures=len(failures))

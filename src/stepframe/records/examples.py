@@ -26,6 +26,7 @@ if TYPE_CHECKING:
 import pandas as pd
 
 from stepframe.core.results import set_column_dictionary
+from stepframe.errors import InputError
 from stepframe.records.units import STANDARD_GRAVITY_M_S2
 
 _ARCHIVE = "fema_p695.npz"
@@ -184,6 +185,34 @@ def fema_p695() -> tuple[Stream, pd.DataFrame]:
             )
         )
     return Stream(traces), table
+
+
+def example_stream(name: str = "fema-p695", component: str | None = None) -> Stream:
+    """The components of the embedded example catalogue ``name``, or its one ``component``.
+
+    Parameters
+    ----------
+    name
+        ``"fema-p695"`` (the only one): the 100 FEMA P695 components of :func:`fema_p695`.
+    component
+        A component name (``MUL009``); None: all of them.
+    """
+    from obspy import Stream
+
+    if name != "fema-p695":
+        raise InputError(f"--example {name}, expected fema-p695")
+    stream, _ = fema_p695()
+    if component is None:
+        return stream
+    chosen = [trace for trace in stream if trace.stats.channel == component]
+    if not chosen:
+        names = ", ".join(trace.stats.channel for trace in list(stream)[:4])
+        raise InputError(
+            f"--component {component} not in --example {name}, expected one of its "
+            f"100 component names ({names}, ...; `stepframe records info --example "
+            f"{name}` lists them)"
+        )
+    return Stream(chosen)
 
 
 def build(source_dir: Path, out_dir: Path) -> None:

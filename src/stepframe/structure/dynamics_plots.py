@@ -134,11 +134,3 @@ def phase_portrait_figure(
     ax.legend(fontsize="small")
     fig.tight_layout()
     return fig
-
-
-def save_figure(fig: Figure, path: str) -> None:
-    """Write a figure as PNG atomically (nothing half-written)."""
-    from stepframe.core.io import atomic_write
-
-    with atomic_write(path, "wb") as handle:
-        fig.savefig(handle, format="png", dpi=120)

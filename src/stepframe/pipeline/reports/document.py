@@ -214,7 +214,7 @@ def _write_folder(report: Report, folder: Path) -> None:
 
 
 def _jsonable(value: Any) -> Any:
-    from stepframe.commands import to_jsonable
+    from stepframe.core.jsonable import to_jsonable
 
     return to_jsonable(value)
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -130,3 +131,59 @@ def select_from_catalogue(
         result.status = "degraded"
         result.message += f"; {len(earlier)} component(s) had no features (failures.csv)"
     return result
+
+
+def select_to_folder(
+    frame_path: str,
+    options: Any,
+    out_dir: str,
+    *,
+    example: bool,
+    catalogue: str | None = None,
+    metadata: str | None = None,
+    record_options: dict[str, Any] | None = None,
+    jobs: int | None = None,
+) -> tuple[Any, dict[str, Path]]:
+    """Read the frame, check the outputs, run :func:`select_from_catalogue`, write the tables.
+
+    Everything a user can get wrong (the frame file, the target spectrum, the output folder,
+    ``jobs``) is checked before the features are computed.
+
+    Parameters
+    ----------
+    frame_path
+        A frame file (``stepframe structure frame-template``).
+    options
+        :class:`~stepframe.pipeline.selection.options.SelectionOptions`.
+    out_dir
+        The output folder (created if missing).
+    example, catalogue, metadata, record_options, jobs
+        As :func:`select_from_catalogue`.
+
+    Returns
+    -------
+    tuple
+        The :class:`~stepframe.pipeline.selection.result.SelectionResult` and its output
+        name → path.
+    """
+    from stepframe.errors import InputError
+    from stepframe.pipeline.selection.spectral import target_spectrum
+    from stepframe.structure.frame_file import read_frame_file
+
+    frame = read_frame_file(frame_path)
+    target_spectrum(options)  # an unreadable target is reported before the features are run
+    folder = Path(out_dir)
+    if folder.exists() and not folder.is_dir():
+        raise InputError("exists and is not a directory, expected an output folder", folder)
+    if jobs is not None and jobs < 1:
+        raise InputError(f"--jobs {jobs}, expected ≥ 1")
+    result = select_from_catalogue(
+        frame,
+        options,
+        example=example,
+        catalogue=catalogue,
+        metadata=metadata,
+        record_options=record_options,
+        jobs=jobs,
+    )
+    return result, result.write(folder)

@@ -206,3 +206,27 @@ class SelectionOptions:
             if "float" in str(f.type) and isinstance(value, int) and not isinstance(value, bool):
                 values[name] = float(value)
         return cls(**values)
+
+
+def selection_options(path: str | None, overrides: dict[str, Any]) -> SelectionOptions:
+    """The ``[selection]`` table of the TOML file ``path`` (if given) with ``overrides`` on top.
+
+    Parameters
+    ----------
+    path
+        A TOML file with a ``[selection]`` table (:meth:`SelectionOptions.from_dict` keys), or
+        None.
+    overrides
+        Values that replace the file's (the command line's options, only those given).
+    """
+    from stepframe.core.io import read_toml
+
+    values: dict[str, Any] = {}
+    if path:
+        data, _ = read_toml(path, "a TOML file with a [selection] table")
+        table = data.get("selection")
+        if not isinstance(table, dict):
+            raise InputError("no [selection] table, expected one", path)
+        values.update(table)
+    values.update(overrides)
+    return SelectionOptions.from_dict(values, where=path or "selection options")

