@@ -58,7 +58,7 @@ def test_select_json_and_outputs(
     payload = json.loads(capsys.readouterr().out)
     assert payload["n_candidates"] == 2 and payload["n_failures"] == 0
     assert payload["band_rad_s"][1] == 6.4581
-    assert payload["rank_by"] == "backbone_amplification"
+    assert payload["rank_by"] == "substitute_demand_ratio"  # the default (docs/selection.md)
     (chosen,) = payload["selected"]
     assert {"file", "component", "rank", "score", "scale_factor"} <= set(chosen)
     assert chosen["rank"] == 1 and chosen["scale_factor"] == 1.0
