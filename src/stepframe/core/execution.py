@@ -72,12 +72,15 @@ def default_chunk_size(n_items: int, workers: int) -> int:
 
 
 def _die_with_parent(parent_pid: int) -> None:
-    """Process-pool initializer: end this worker when the process that started the batch dies.
+    """Process-pool initializer: end this worker when the process that started the batch dies,
+    and leave the compile notice (:mod:`stepframe.core.jit`) to that process.
 
     With a plain fork, Linux's parent-death signal (prctl PR_SET_PDEATHSIG) does it. A worker
     started from a fork server has the server as its parent, which outlives a SIGKILLed batch, so
     a daemon thread also polls the batch's process and ends the worker once it is gone.
     """
+    # The process the user started announces compilations; a worker's notice would interleave.
+    os.environ["STEPFRAME_COMPILE_NOTICE"] = "0"
     if sys.platform.startswith("linux"):
         import ctypes
         import signal

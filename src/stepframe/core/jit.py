@@ -14,8 +14,11 @@ available``. :func:`njit` is the drop-in that decides before decorating:
 
 Compiling the kernels takes seconds to tens of seconds, once. While a stepframe kernel compiles
 (a cache miss, not a cache load) one line goes to stderr, finished with the time it took:
-``stepframe: compiling numba kernels once (cached in DIR for later runs)... 14.2 s``.
-Set :data:`ANNOUNCE` to False, or the environment variable ``STEPFRAME_COMPILE_NOTICE=0``, to
+``stepframe: compiling numba kernels once (cached in DIR for later runs)... 14.2 s``; a later
+compilation in the same run says ``stepframe: compiling more numba kernels... 2.7 s``. Only the
+process the user started speaks: the workers of :func:`stepframe.core.execution.map_items` set
+``STEPFRAME_COMPILE_NOTICE=0`` (their compiles would otherwise interleave on one line). Set
+:data:`ANNOUNCE` to False, or the environment variable ``STEPFRAME_COMPILE_NOTICE=0``, to
 silence it.
 """
 
@@ -104,10 +107,13 @@ class _CompileNotice(event.Listener):
         self.depth = 0
         self.started = 0.0
         self.printed = False
+        self.episodes = 0
 
     def on_start(self, ev: Any) -> None:
         self.depth += 1
-        if self.depth != 1 or not ANNOUNCE:
+        # Read at each compile, not at import: a forked worker inherits this module imported.
+        silenced = os.environ.get("STEPFRAME_COMPILE_NOTICE", "1") == "0"
+        if self.depth != 1 or not ANNOUNCE or silenced:
             return
         function = getattr((ev.data or {}).get("dispatcher"), "py_func", None)
         module = getattr(function, "__module__", "") or ""
@@ -115,8 +121,11 @@ class _CompileNotice(event.Listener):
             return
         self.started = time.perf_counter()
         self.printed = True
+        self.episodes += 1
         where = cache_folder(function.__code__.co_filename)
-        if where is None:
+        if self.episodes > 1:
+            what = "compiling more numba kernels"
+        elif where is None:
             what = "compiling numba kernels in memory (no writable cache folder: again next run)"
         elif where == "numba":
             what = "compiling numba kernels once (cached for later runs)"
