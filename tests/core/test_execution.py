@@ -59,3 +59,19 @@ def test_progress_prints_one_summary_line_when_stderr_is_not_a_terminal(
     map_items(square_or_fail, ITEMS, jobs=1, progress="squares")
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("squares: 23 items, 4 failed, ")
+
+
+def compile_notice_setting(_: int) -> str:
+    import os
+
+    return os.environ.get("STEPFRAME_COMPILE_NOTICE", "unset")
+
+
+def test_pool_workers_leave_the_compile_notice_to_the_parent(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Workers compiling at once printed notices that interleaved on one line."""
+    monkeypatch.setenv("STEPFRAME_COMPILE_NOTICE", "1")
+    results, failures = map_items(compile_notice_setting, range(8), jobs=2, chunk_size=1)
+    assert results == ["0"] * 8 and failures == []
+    assert compile_notice_setting(0) == "1"  # the parent still announces
