@@ -66,3 +66,22 @@ def test_report_summary_names_the_file_its_folder_and_size(tmp_path: Path) -> No
         "size_bytes": 2500,
     }
     assert text == f"report: {out} (2 kB); its numbers: {tmp_path / 'x_files'}/"
+
+
+def test_the_summary_states_the_runs_correlations_with_their_intervals() -> None:
+    from stepframe.pipeline.reports.selection import _stated_correlations
+
+    rows = [
+        {"score": "s", "response": "peak_drift", "spearman": 0.194, "low": -0.083, "high": 0.437,
+         "n": 53},
+        {"score": "s", "response": "overturn_margin", "spearman": 0.314, "low": 0.049,
+         "high": 0.537, "n": 53},
+        {"score": "other", "response": "peak_drift", "spearman": 0.9, "low": 0.8, "high": 1.0},
+        {"score": "s", "response": "constant", "spearman": None, "low": None, "high": None},
+    ]  # fmt: skip
+    line = _stated_correlations({"correlations": rows}, "s")
+    assert line == (
+        "Spearman, s, 95 % bootstrap intervals: ρ = 0.19 [-0.08, 0.44] with peak drift "
+        "(n = 53); ρ = 0.31 [0.05, 0.54] with overturn margin (n = 53)"
+    )
+    assert _stated_correlations({}, "s") == ""
