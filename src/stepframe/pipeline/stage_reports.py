@@ -17,7 +17,7 @@ from stepframe.pipeline import stage_sets
 from stepframe.pipeline.stages import Context, Param, Stage, register_stage
 from stepframe.pipeline.store import make_key
 
-SELECTION_REPORT_VERSION = 2  # 2: the best records' accelerograms
+SELECTION_REPORT_VERSION = 3  # 2: the best records' accelerograms; 3: stated correlations
 AMPLIFICATION_REPORT_VERSION = 1
 SELECTION_REPORT_HTML = "selection_report.html"
 AMPLIFICATION_REPORT_HTML = "amplification_report.html"
