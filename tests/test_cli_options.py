@@ -1,4 +1,4 @@
-"""commands.add_fields: options derived from dataclass fields (core.options.option)."""
+"""core.options.add_fields: options derived from dataclass fields (core.options.option)."""
 
 from __future__ import annotations
 
@@ -7,8 +7,8 @@ from typing import Literal
 
 import pytest
 
-from stepframe.commands import Parser, UserError, add_fields, fields_given
-from stepframe.core.options import option
+from stepframe.commands import Parser, UserError
+from stepframe.core.options import add_fields, fields_given, option
 
 
 @dataclass(frozen=True)

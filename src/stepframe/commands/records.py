@@ -12,18 +12,16 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from stepframe.commands import (
-    REQUIRED,
     CommandResult,
     UserError,
     add_command,
-    add_options,
     add_record_options,
     check_plot,
-    float_list,
     read_record_file,
     record_options,
     record_paths,
 )
+from stepframe.core.options import REQUIRED, add_options, float_list
 from stepframe.errors import InputError
 
 if TYPE_CHECKING:

@@ -14,15 +14,8 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
-from stepframe.commands import (
-    CommandResult,
-    add_command,
-    add_options,
-    check_plot,
-    float_list,
-    positive_float,
-    save_plot,
-)
+from stepframe.commands import CommandResult, add_command, check_plot, save_plot
+from stepframe.core.options import add_options, float_list, positive_float
 from stepframe.pipeline.design import (
     DAMPING_KEYS,
     DESIGN_TEMPLATE,

@@ -11,15 +11,12 @@ from typing import TYPE_CHECKING
 from stepframe.commands import (
     CommandResult,
     add_command,
-    add_fields,
-    add_options,
     add_record_options,
     check_plot,
-    fields_given,
-    positive_floats,
     read_record_file,
     save_plot,
 )
+from stepframe.core.options import add_fields, add_options, fields_given, positive_floats
 
 if TYPE_CHECKING:
     from stepframe.commands import Subparsers

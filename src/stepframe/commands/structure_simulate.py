@@ -6,17 +6,14 @@ import argparse
 from typing import TYPE_CHECKING
 
 from stepframe.commands import (
-    REQUIRED,
     CommandResult,
     add_command,
-    add_options,
     add_record_options,
     check_plot,
-    non_negative_seconds,
-    positive_float,
     read_record_file,
     save_plot,
 )
+from stepframe.core.options import REQUIRED, add_options, non_negative_seconds, positive_float
 
 if TYPE_CHECKING:
     from stepframe.commands import Subparsers
