@@ -17,9 +17,9 @@ from typing import TYPE_CHECKING, Any, NoReturn
 
 # Re-exported: commands print results through it (stepframe.core.jsonable is its home).
 from stepframe.core.jsonable import to_jsonable as to_jsonable
-from stepframe.core.options import add_options, positive_float
+from stepframe.core.options import add_fields, add_options, fields_given
 from stepframe.errors import InputError
-from stepframe.records.formats import format_names_help
+from stepframe.records.read_options import RecordReadOptions
 
 if TYPE_CHECKING:
     from obspy import Stream
@@ -81,9 +81,6 @@ def add_command(
     return parser
 
 
-FORMAT_NAMES_HELP = format_names_help()
-
-
 class Once(argparse.Action):
     """Store an option's value, and refuse it given twice (argparse keeps the last silently:
     ``--record a --record b`` would drop ``a`` without a word)."""
@@ -106,8 +103,9 @@ class Once(argparse.Action):
 
 
 def add_record_options(parser: argparse.ArgumentParser) -> None:
-    """The record options every command that reads a record takes (DESIGN.md, Command line);
-    each refuses to be given twice (:class:`Once`)."""
+    """The record options every command that reads a record takes (DESIGN.md, Command line):
+    ``--example`` and the fields of :class:`RecordReadOptions`; each refuses to be given twice
+    (:class:`Once`)."""
     group = parser.add_argument_group("record options")
     if "--example" not in parser._option_string_actions:
         add_options(
@@ -116,20 +114,7 @@ def add_record_options(parser: argparse.ArgumentParser) -> None:
              "file (100 FEMA P695 components; --component picks one, such as MUL009)"),
             action=Once,
         )  # fmt: skip
-    add_options(
-        group,
-        ("--format", None, "NAME", f"file format ({FORMAT_NAMES_HELP}); default: sniffed"),
-        ("--units", None, "UNIT", "units of the values if the file does not say: g, m/s2, "
-         "cm/s2 (= gal), mm/s2"),
-        ("--dt-s", float, "DT", "sampling interval [s] if the file does not say"),
-        ("--inventory", None, "XML", "StationXML file for response removal"),
-        ("--component", None, "NAME", "which channel of a multi-channel file"),
-        ("--max-abs-g", positive_float, "G", "refuse a record whose peak exceeds G [g] "
-         "(default 100: wrong units or damage)"),
-        ("--max-file-mb", positive_float, "MB", "refuse a record file larger than MB [MiB] "
-         "(default 256)"),
-        action=Once,
-    )  # fmt: skip
+    add_fields(group, RecordReadOptions, action=Once)
 
 
 #: Embedded example catalogues that ``--example`` names.
@@ -165,21 +150,7 @@ def record_paths(paths: list[str], args: argparse.Namespace) -> list[str | None]
 
 def record_options(args: argparse.Namespace) -> dict[str, Any]:
     """The record options in ``args`` as keyword arguments of :func:`stepframe.records.read`."""
-    options: dict[str, Any] = {
-        "format": args.format,
-        "units": args.units,
-        "dt": args.dt_s,
-        "inventory": args.inventory,
-        "component": args.component,
-    }
-    # The read limits only when given: read(max_abs_g=None) would turn the peak check off.
-    max_abs_g = getattr(args, "max_abs_g", None)
-    if max_abs_g is not None:
-        options["max_abs_g"] = float(max_abs_g)
-    max_file_mb = getattr(args, "max_file_mb", None)
-    if max_file_mb is not None:
-        options["max_bytes"] = max(1, int(max_file_mb * 1024**2))
-    return options
+    return RecordReadOptions(**fields_given(args, RecordReadOptions)).read_kwargs()
 
 
 def check_plot(path: str | None) -> None:
