@@ -10,7 +10,8 @@ are not fields of a library input (``-o``, ``--plot``) are rows of :func:`add_op
 Value kinds (``kind``) name how a command-line word becomes the value: ``float``, ``int``,
 ``text``, ``flag`` (a switch), ``positive`` (a number > 0), ``non_negative`` (≥ 0),
 ``non_negative_seconds``, ``positive_int``, ``floats`` (comma-separated numbers),
-``positive_floats``, ``range`` (``LO,HI,N``); ``choices`` lists the accepted names. The argparse
+``positive_floats``, ``range`` (``LO,HI,N``), ``repeated`` (text, the option given once per
+value: a list); ``choices`` lists the accepted names. The argparse
 value types of the kinds (:func:`positive_float`, ...) live here too. Standard library only, so
 ``stepframe --help`` stays fast.
 """
@@ -37,6 +38,7 @@ KINDS = (
     "floats",
     "positive_floats",
     "range",
+    "repeated",
 )
 
 
@@ -209,6 +211,7 @@ KIND_TYPES: dict[str, Any] = {
     "floats": float_list,
     "positive_floats": positive_floats,
     "range": float_range,
+    "repeated": list,
 }
 
 
