@@ -21,8 +21,9 @@ from stepframe.commands import (
     record_options,
     record_paths,
 )
-from stepframe.core.options import REQUIRED, add_options, float_list
+from stepframe.core.options import REQUIRED, add_fields, add_options, fields_given
 from stepframe.errors import InputError
+from stepframe.pipeline.record_spectra import SpectrumOptions
 
 if TYPE_CHECKING:
     from stepframe.commands import Subparsers
@@ -60,12 +61,9 @@ def register(subparsers: Subparsers) -> None:
     spectrum.add_argument(
         "paths", nargs="*", metavar="PATH", help="one or two record files (or --example)"
     )
-    add_options(
-        spectrum,
-        ("--periods-s", float_list, "T1,T2,...", "oscillator periods [s]"),
-        ("--damping", float, "ZETA", "damping ratio as a fraction (default 0.05)", 0.05),
-        ("--plot", None, "OUT.png", "also draw the PSA spectra"),
-    )
+    add_fields(spectrum, SpectrumOptions, [
+        "periods_s", "damping", ("--plot", None, "OUT.png", "also draw the PSA spectra"),
+    ])  # fmt: skip
     add_record_options(spectrum)
 
     catalog = add_command(
@@ -110,7 +108,8 @@ def run_spectrum(args: argparse.Namespace) -> CommandResult:
         for trace in read_record_file(path, args):
             sources.append(path if path is not None else "example")
             traces.append(trace)
-    data = record_spectra(traces, args.periods_s, args.damping)
+    options = SpectrumOptions(**fields_given(args, SpectrumOptions))
+    data = record_spectra(traces, options.periods_s, options.damping)
     if args.plot:
         from stepframe.pipeline.figures import save_figure
 
