@@ -15,6 +15,8 @@ import sys
 from typing import Any
 
 from stepframe.commands import CommandResult, add_command, to_jsonable
+from stepframe.core.options import add_fields, add_options
+from stepframe.pipeline.run_options import RunOptions
 
 
 def register(subparsers: Any) -> None:
@@ -27,16 +29,12 @@ def register(subparsers: Any) -> None:
         examples="  stepframe demo\n  stepframe demo -o results --json\n",
         run=run,
     )
-    parser.add_argument(
-        "-o",
-        "--out-dir",
-        default="stepframe-demo",
-        metavar="DIR",
-        help="workspace and outputs; a second run reuses it (default: %(default)s)",
-    )
-    parser.add_argument(
-        "--jobs", type=int, metavar="N", help="worker processes (default: all CPUs)"
-    )
+    add_options(
+        parser,
+        (("-o", "--out-dir"), None, "DIR", "workspace and outputs; a second run reuses it "
+         "(default: %(default)s)", "stepframe-demo"),
+    )  # fmt: skip
+    add_fields(parser, RunOptions, ["jobs"])
 
 
 def run(args: argparse.Namespace) -> CommandResult:
