@@ -10,13 +10,14 @@ module level: the heavy imports happen inside ``run``.
 from __future__ import annotations
 
 import argparse
+import json
+import sys
 from collections.abc import Callable
 from dataclasses import dataclass
 from types import ModuleType
 from typing import TYPE_CHECKING, Any, NoReturn
 
-# Re-exported: commands print results through it (stepframe.core.jsonable is its home).
-from stepframe.core.jsonable import to_jsonable as to_jsonable
+from stepframe.core.jsonable import to_jsonable
 from stepframe.core.options import add_fields, add_options, fields_given
 from stepframe.errors import InputError
 from stepframe.records.read_options import RecordReadOptions
@@ -174,6 +175,27 @@ def save_plot(
     data = {**result.data, "plot": path}
     text = result.text if line is None else f"{result.text}\n{line} written to {path}"
     return CommandResult(data, text)
+
+
+def workflow_result(
+    run: Callable[[], Any], text: Callable[[Any], str], as_json: bool
+) -> CommandResult:
+    """The result of a workflow run, ``run()`` (with ``exit_code`` and ``to_dict()``), and its
+    ``text``; exit 3 after one error line when another run holds the workspace, and when an
+    output could not be produced print the result and exit with the run's code (1)."""
+    from stepframe.pipeline.lock import WorkspaceBusy
+
+    try:
+        done = run()
+    except WorkspaceBusy as busy:
+        print(f"stepframe: error: {busy}", file=sys.stderr)
+        raise SystemExit(3) from None
+    result = CommandResult(done.to_dict(), text(done))
+    if done.exit_code != 0:
+        data = json.dumps(to_jsonable(result.data), indent=2, allow_nan=False)
+        print(data if as_json else result.text)
+        raise SystemExit(done.exit_code)
+    return result
 
 
 #: The command groups: name → (help, the modules whose ``register(subparsers)`` add its

@@ -7,17 +7,13 @@ produced, 2 a user error (nothing written), 3 another run holds the workspace.
 from __future__ import annotations
 
 import argparse
-import json
-import sys
+import functools
 from typing import Any
 
-from stepframe.commands import CommandResult, add_command, to_jsonable
+from stepframe.commands import CommandResult, add_command, workflow_result
 from stepframe.core.options import add_fields, add_options, fields_given
 from stepframe.errors import InputError
 from stepframe.pipeline.run_options import RunOptions
-
-EXIT_OUTPUT_MISSING = 1
-EXIT_BUSY = 3
 
 EXAMPLES = """\
   stepframe run --template > my-scene.toml          a commented workflow to edit
@@ -61,7 +57,6 @@ def register(subparsers: Any) -> None:
 
 def run(args: argparse.Namespace) -> CommandResult:
     """Run the workflow; exits 1 or 3 itself (after printing) when the run says so."""
-    from stepframe.pipeline.lock import WorkspaceBusy
     from stepframe.pipeline.run_options import run_with_options
     from stepframe.pipeline.runner import describe
     from stepframe.pipeline.workflow import workflow_template
@@ -78,16 +73,5 @@ def run(args: argparse.Namespace) -> CommandResult:
         copied = copy_workflow(args.workflow, args.copy)
         return CommandResult(data={"copied": copied}, text="\n".join(map(str, copied)))
     options = RunOptions(**fields_given(args, RunOptions))
-    try:
-        report = run_with_options(args.workflow, options, progress=not as_json)
-    except WorkspaceBusy as busy:
-        print(f"stepframe: error: {busy}", file=sys.stderr)
-        raise SystemExit(EXIT_BUSY) from None
-    data = report.to_dict()
-    if report.exit_code != 0:
-        if as_json:
-            print(json.dumps(to_jsonable(data), indent=2, allow_nan=False))
-        else:
-            print(describe(report))
-        raise SystemExit(EXIT_OUTPUT_MISSING)
-    return CommandResult(data=data, text=describe(report))
+    call = functools.partial(run_with_options, args.workflow, options, progress=not as_json)
+    return workflow_result(call, describe, as_json)
