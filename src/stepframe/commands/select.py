@@ -36,8 +36,8 @@ FIELDS: dict[str | None, tuple[str | OptionRow, ...]] = {
     ),
     "the frame's band": (
         "a_max_m",
-        ("--design", None, "CASE.toml", "quasi-dynamic design input: A_max = design displacement "
-         "δ*"),
+        ("--design", None, "CASE.toml",
+         "quasi-dynamic design input: A_max = design displacement δ*"),
         "x_star_fraction", "strong_motion_fraction",
     ),
     "filters and caps": (
