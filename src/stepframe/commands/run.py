@@ -7,15 +7,13 @@ produced, 2 a user error (nothing written), 3 another run holds the workspace.
 from __future__ import annotations
 
 import argparse
-import json
-import sys
+import functools
 from typing import Any
 
-from stepframe.commands import CommandResult, add_command, to_jsonable
+from stepframe.commands import CommandResult, add_command, workflow_result
+from stepframe.core.options import add_fields, add_options, fields_given
 from stepframe.errors import InputError
-
-EXIT_OUTPUT_MISSING = 1
-EXIT_BUSY = 3
+from stepframe.pipeline.run_options import RunOptions
 
 EXAMPLES = """\
   stepframe run --template > my-scene.toml          a commented workflow to edit
@@ -49,48 +47,18 @@ def register(subparsers: Any) -> None:
         metavar="WORKFLOW",
         help="a workflow file, or the name of a shipped one (selection, site-amplification, ...)",
     )
-    parser.add_argument(
-        "--copy", metavar="DIR", help="copy the shipped workflow into DIR (to edit) and exit"
+    add_options(
+        parser,
+        ("--copy", None, "DIR", "copy the shipped workflow into DIR (to edit) and exit"),
+        ("--template", bool, None, "print a commented workflow file and exit"),
     )
-    parser.add_argument(
-        "--template", action="store_true", help="print a commented workflow file and exit"
-    )
-    parser.add_argument(
-        "--dry-run", action="store_true", help="print the plan: items to compute and cached"
-    )
-    parser.add_argument(
-        "--jobs", type=int, default=None, metavar="N", help="worker processes (default: all CPUs)"
-    )
-    parser.add_argument(
-        "--scheduler",
-        default=None,
-        metavar="WHERE",
-        help="dask-local (a local Dask cluster) or tcp://HOST:PORT (an existing one); "
-        "needs pip install 'stepframe[dask]'",
-    )
-    parser.add_argument(
-        "--force", action="append", default=[], metavar="STAGE", help="recompute a stage"
-    )
-    parser.add_argument(
-        "--retry-failed", action="store_true", help="recompute items that failed before"
-    )
-    parser.add_argument(
-        "--wait", action="store_true", help="wait for a run holding the workspace (else exit 3)"
-    )
-    parser.add_argument(
-        "--batch-items",
-        type=int,
-        default=None,
-        metavar="N",
-        help="items stored per batch (default 1024, or 32 per worker if more): a killed run "
-        "loses at most one batch",
-    )
+    add_fields(parser, RunOptions)
 
 
 def run(args: argparse.Namespace) -> CommandResult:
     """Run the workflow; exits 1 or 3 itself (after printing) when the run says so."""
-    from stepframe.pipeline.lock import WorkspaceBusy
-    from stepframe.pipeline.runner import describe, run_workflow
+    from stepframe.pipeline.run_options import run_with_options
+    from stepframe.pipeline.runner import describe
     from stepframe.pipeline.workflow import workflow_template
 
     as_json = bool(getattr(args, "json", False))
@@ -104,26 +72,6 @@ def run(args: argparse.Namespace) -> CommandResult:
 
         copied = copy_workflow(args.workflow, args.copy)
         return CommandResult(data={"copied": copied}, text="\n".join(map(str, copied)))
-    try:
-        report = run_workflow(
-            args.workflow,
-            jobs=args.jobs,
-            scheduler=args.scheduler,
-            force=args.force,
-            retry_failed=args.retry_failed,
-            dry_run=args.dry_run,
-            wait=args.wait,
-            progress=not as_json,
-            batch_items=args.batch_items,
-        )
-    except WorkspaceBusy as busy:
-        print(f"stepframe: error: {busy}", file=sys.stderr)
-        raise SystemExit(EXIT_BUSY) from None
-    data = report.to_dict()
-    if report.exit_code != 0:
-        if as_json:
-            print(json.dumps(to_jsonable(data), indent=2, allow_nan=False))
-        else:
-            print(describe(report))
-        raise SystemExit(EXIT_OUTPUT_MISSING)
-    return CommandResult(data=data, text=describe(report))
+    options = RunOptions(**fields_given(args, RunOptions))
+    call = functools.partial(run_with_options, args.workflow, options, progress=not as_json)
+    return workflow_result(call, describe, as_json)

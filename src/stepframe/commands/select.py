@@ -11,20 +11,8 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from stepframe.commands import (
-    REQUIRED,
-    CommandResult,
-    FieldRow,
-    add_command,
-    add_fields,
-    add_options,
-    add_record_options,
-    fields_given,
-    float_list,
-    positive_float,
-    record_options,
-)
-from stepframe.pipeline.selection.names import RANKABLE
+from stepframe.commands import CommandResult, add_command, add_record_options, record_options
+from stepframe.core.options import REQUIRED, OptionRow, add_fields, add_options, fields_given
 from stepframe.pipeline.selection.options import SelectionOptions
 
 EXAMPLES = """\
@@ -37,59 +25,35 @@ EXAMPLES = """\
   # from a folder of record files: DIR instead of --example, with --metadata CSV for the filters
 """
 
-#: The options per help group: a SelectionOptions field → (type, metavar, help), derived from the
-#: field where None; keys that start with ``-`` are the options that are not fields.
-FIELDS: dict[str | None, dict[str, FieldRow]] = {
-    None: {
-        "rank_by": (RANKABLE, None, "ranking score (default: %(default)s)"),
-        "scale": (None, None, "scaling policy (default: %(default)s)"),
-        "unit": (None, None, "select components, or records with both components"),
-        "confirm": (None, None, "confirm by simulation"),
-        "--options": (None, "TOML", "a file with a [selection] table"),
-        "--metadata": (None, "CSV", "catalogue metadata joined on column 'file' (for the filters)"),
-        "--jobs": (int, None, "worker processes (default: all CPUs)"),
-    },
-    "the frame's band": {
-        "a_max_m": (positive_float, None, "amplitude limit A_max [m]"),
-        "--design": (
-            None, "CASE.toml", "quasi-dynamic design input: A_max = design displacement δ*"
-        ),
-        "x_star_fraction": (
-            positive_float, None, "A_max = fraction·x* otherwise (default: %(default)s)"
-        ),
-        "strong_motion_fraction": (
-            positive_float, None, "strong motion: I_g ≥ fraction of its peak (default: %(default)s)"
-        ),
-    },
-    "filters and caps": {
-        **{f"{name}_{end}{unit}": (None, None, None) for name, unit in (
+#: The options per help group: SelectionOptions fields, and (as option rows) the options that are
+#: not fields.
+FIELDS: dict[str | None, tuple[str | OptionRow, ...]] = {
+    None: (
+        "rank_by", "scale", "unit", "confirm",
+        ("--options", None, "TOML", "a file with a [selection] table"),
+        ("--metadata", None, "CSV", "catalogue metadata joined on column 'file' (for the filters)"),
+        ("--jobs", int, None, "worker processes (default: all CPUs)"),
+    ),
+    "the frame's band": (
+        "a_max_m",
+        ("--design", None, "CASE.toml",
+         "quasi-dynamic design input: A_max = design displacement δ*"),
+        "x_star_fraction", "strong_motion_fraction",
+    ),
+    "filters and caps": (
+        *(f"{name}_{end}{unit}" for name, unit in (
             ("magnitude", ""), ("distance", "_km"), ("vs30", "_m_s"), ("d5_95", "_s"), ("pga", "_g")
-        ) for end in ("min", "max")},
-        "distance_metric": (None, None, None),
-        "lowest_usable_below_band": (
-            None, None, "drop records whose lowest usable frequency is above the band"
-        ),
-        "--keep-implausible": (bool, None, "rank fits that fail the plausibility checks too"),
-        "--exclude": (list, "FILE_OR_RSN", "leave out (repeat, or comma-separated)"),
-        "max_per_event": (None, None, None),
-        "max_per_station": (None, None, None),
-    },
-    "target spectrum and scaling": {
-        "target_s_ds_g": (positive_float, None, "two-period S_DS [g]"),
-        "target_s_d1_g": (positive_float, None, "two-period S_D1 [g]"),
-        "target_csv": (None, "CSV", "tabulated target: period_s,sa_g"),
-        "target_periods_s": (float_list, "LOW,HIGH", None),
-        "spectral_weight": (None, None, None),
-        "scale_min": (positive_float, None, None),
-        "scale_max": (positive_float, None, None),
-    },
-    "uncertainty and confirmation": {
-        "n_bootstrap": (None, None, None),
-        "seed": (None, None, None),
-        "confirm_onset_ratio": (
-            positive_float, None, "equal intensity: P_1·SD(T_1)/x_c of every record (default 1)"
-        ),
-    },
+        ) for end in ("min", "max")),
+        "distance_metric", "lowest_usable_below_band",
+        ("--keep-implausible", bool, None, "rank fits that fail the plausibility checks too"),
+        ("--exclude", list, "FILE_OR_RSN", "leave out (repeat, or comma-separated)"),
+        "max_per_event", "max_per_station",
+    ),
+    "target spectrum and scaling": (
+        "target_s_ds_g", "target_s_d1_g", "target_csv", "target_periods_s", "spectral_weight",
+        "scale_min", "scale_max",
+    ),
+    "uncertainty and confirmation": ("n_bootstrap", "seed", "confirm_onset_ratio"),
 }  # fmt: skip
 
 

@@ -20,15 +20,13 @@ from stepframe.commands import (
     CommandResult,
     Once,
     add_command,
-    add_fields,
-    add_options,
     add_record_options,
     check_plot,
-    fields_given,
     read_record_file,
     record_options,
     save_plot,
 )
+from stepframe.core.options import add_fields, add_options, fields_given
 from stepframe.pipeline.amplify_study import AmplifyOptions
 from stepframe.pipeline.site import SITE_PARAMETERS
 

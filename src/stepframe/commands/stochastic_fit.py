@@ -14,17 +14,14 @@ import argparse
 from typing import TYPE_CHECKING
 
 from stepframe.commands import (
-    REQUIRED,
     CommandResult,
     add_command,
-    add_fields,
-    add_options,
     add_record_options,
     check_plot,
-    fields_given,
     read_record_file,
     record_options,
 )
+from stepframe.core.options import REQUIRED, add_fields, add_options, fields_given
 from stepframe.pipeline.fit_options import FitOptions
 from stepframe.stochastic.methods import SPECTRUM_METHOD_NAMES
 

@@ -14,22 +14,16 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
-from stepframe.commands import (
-    CommandResult,
-    add_command,
-    add_options,
-    check_plot,
-    float_list,
-    positive_float,
-    save_plot,
-)
+from stepframe.commands import CommandResult, add_command, check_plot, save_plot
+from stepframe.core.options import add_fields, fields_given
 from stepframe.pipeline.design import (
     DAMPING_KEYS,
     DESIGN_TEMPLATE,
     MAP_KEYS,
     PIER_KEYS,
-    design_case,
-    run_design,
+    SPECTRUM_KEYS,
+    DesignOptions,
+    design_run,
 )
 
 if TYPE_CHECKING:
@@ -49,12 +43,12 @@ EXAMPLES = """\
 """
 
 
-_SPECTRUM_OPTIONS = {
-    "s_ds_g": ("--sds-g", "S_DS [g]"),
-    "s_ds_m_s2": ("--sds-m-s2", "S_DS [m/s²]"),
-    "s_d1_g": ("--sd1-g", "S_D1 [g]"),
-    "s_d1_m_s": ("--sd1-m-s", "S_D1 [m/s]"),
-    "t_l_s": ("--tl-s", "long-period transition T_L [s]"),
+#: The DesignOptions fields per help group (after --input and --template).
+GROUPS = {
+    "pier (override [pier] of --input)": PIER_KEYS,
+    "two-period spectrum (override [spectrum])": SPECTRUM_KEYS,
+    "damping (override [damping]; one of --beta/--xi/--c-r)": (*DAMPING_KEYS, "damping_method"),
+    "map constants instead of a pier (override [map])": MAP_KEYS,
 }
 
 
@@ -68,42 +62,16 @@ def register(subparsers: Subparsers) -> None:
         examples=EXAMPLES,
         run=run,
     )
-    add_options(
-        parser,
-        ("--input", None, "TOML", "design input file (see --template)"),
-        ("--template", bool, None, "print a commented input file and exit"),
-    )
-    pier = parser.add_argument_group("pier (override [pier] of --input)")
-    for key, text in PIER_KEYS.items():
-        pier.add_argument("--" + key.replace("_", "-"), dest=key, type=float, help=text)
-    spectrum = parser.add_argument_group("two-period spectrum (override [spectrum])")
-    for key, (flag, text) in _SPECTRUM_OPTIONS.items():
-        spectrum.add_argument(flag, dest=key, type=positive_float, help=text)
-    add_options(
-        parser.add_argument_group("damping (override [damping]; one of --beta/--xi/--c-r)"),
-        ("--beta", positive_float, None, "spectral reduction factor β"),
-        ("--xi", float, None, "equivalent viscous damping ratio (fraction)"),
-        ("--c-r", float, None, "velocity ratio at impact; ξ = 0.48(1 - C_r²)"),
-        ("--damping-method", ("ec8", "ec8-1998", "aashto-isolation"), None,
-         "damping-reduction formula with --xi/--c-r (default ec8)"),
-    )  # fmt: skip
-    add_options(
-        parser.add_argument_group("map constants instead of a pier (override [map])"),
-        ("--w-per-m", positive_float, None, "w of eq. 2.3 [1/m]"),
-        ("--lambda-2-sqrt-m", positive_float, None, "λ_2 of eq. 2.5 [m^½] (needs S_D1)"),
-    )
-    add_options(
-        parser,
-        ("--branch", ("auto", "short", "long", "very-long"), None, "spectrum branch used by the "
-         "iteration: auto (S_a at each T_i, the procedure) or one branch's formula whatever T_i "
-         "is (as the paper's Table 1 does)", "auto"),
-        ("--trace", bool, None, "print every iterate (i, δ, K, T)"),
-        ("--delta0-m", float_list, "D,...", "starts of the iteration [m]"),
-        ("--method", ("closed-form", "search"), None, "how the design answer is chosen (default: "
-         "closed-form for a two-period spectrum, search for a tabulated one)"),
-        ("--max-iterations", int, None, "iteration limit (default 200)", 200),
+    add_fields(parser, DesignOptions, [
+        "input", ("--template", bool, None, "print a commented input file and exit"),
+    ])  # fmt: skip
+    for title, names in GROUPS.items():
+        add_fields(parser.add_argument_group(title), DesignOptions, names)
+    add_fields(parser, DesignOptions, [
+        "branch", ("--trace", bool, None, "print every iterate (i, δ, K, T)"),
+        "delta0_m", "method", "max_iterations",
         ("--plot", None, "OUT.png", "draw the cobweb of the iteration"),
-    )  # fmt: skip
+    ])  # fmt: skip
 
 
 def run(args: argparse.Namespace) -> CommandResult:
@@ -111,13 +79,6 @@ def run(args: argparse.Namespace) -> CommandResult:
     if args.template:
         return CommandResult({"template": DESIGN_TEMPLATE}, DESIGN_TEMPLATE.rstrip("\n"))
     check_plot(args.plot)
-    names = (*PIER_KEYS, *MAP_KEYS, *_SPECTRUM_OPTIONS, *DAMPING_KEYS)
-    case = design_case(
-        args.input, {name: getattr(args, name) for name in names},
-        damping_method=args.damping_method, delta0_m=args.delta0_m,
-    )  # fmt: skip
-    result = run_design(
-        case, method=args.method, branch=args.branch, max_iterations=args.max_iterations
-    )
+    result = design_run(DesignOptions(**fields_given(args, DesignOptions)))
     text = result.describe(trace_rows=args.trace)
     return save_plot(CommandResult(result.to_dict(), text), args.plot, result.figure, "cobweb")

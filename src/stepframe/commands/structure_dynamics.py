@@ -11,18 +11,16 @@ from typing import TYPE_CHECKING
 from stepframe.commands import (
     CommandResult,
     add_command,
-    add_fields,
-    add_options,
     add_record_options,
     check_plot,
-    fields_given,
-    positive_floats,
     read_record_file,
     save_plot,
 )
+from stepframe.core.options import add_fields, add_options, fields_given
 
 if TYPE_CHECKING:
     from stepframe.commands import Subparsers
+    from stepframe.structure.frame import PortalFrame
 
 HARMONIC_EXAMPLES = """\
   stepframe structure harmonic --frame FRAME.toml --amplitude-g 0.25 --omega-rad-s 7.854
@@ -45,7 +43,12 @@ IDA_EXAMPLES = """\
 
 def register(subparsers: Subparsers) -> None:
     """Add ``harmonic``, ``bifurcation`` and ``ida`` to ``subparsers``."""
-    from stepframe.pipeline.dynamics import BifurcationOptions, HarmonicOptions, IdaOptions
+    from stepframe.pipeline.dynamics import (
+        BifurcationOptions,
+        FrameSource,
+        HarmonicOptions,
+        IdaOptions,
+    )
 
     harmonic = add_command(
         subparsers,
@@ -92,12 +95,7 @@ def register(subparsers: Subparsers) -> None:
         (ida, IdaOptions, "draw the IDA curves"),
     ):
         frame = parser.add_mutually_exclusive_group(required=True)
-        add_options(
-            frame,
-            ("--frame", None, "FRAME.toml", "frame file (see frame-template)"),
-            ("--block", positive_floats, "B,H", "Housner's rigid block of half-width B and "
-             "half-height H [m]"),
-        )  # fmt: skip
+        add_fields(frame, FrameSource)
         if parser is ida:
             parser.add_argument("records", nargs="*", metavar="RECORD", help="accelerogram files")
         add_fields(parser, options)
@@ -107,30 +105,36 @@ def register(subparsers: Subparsers) -> None:
 
 def run_harmonic(args: argparse.Namespace) -> CommandResult:
     """Simulate, optionally find an orbit, summarise."""
-    from stepframe.pipeline.dynamics import HarmonicOptions, frame_or_block, harmonic_study
+    from stepframe.pipeline.dynamics import HarmonicOptions, harmonic_study
 
     check_plot(args.plot)
-    options = HarmonicOptions(**fields_given(args, HarmonicOptions))
-    study = harmonic_study(frame_or_block(args.frame, args.block), options)
+    study = harmonic_study(_frame(args), HarmonicOptions(**fields_given(args, HarmonicOptions)))
     return save_plot(CommandResult(study.to_dict(), study.describe()), args.plot, study.figure)
 
 
 def run_bifurcation(args: argparse.Namespace) -> CommandResult:
     """Brute-force diagram over amplitudes or frequencies; summary per value."""
-    from stepframe.pipeline.dynamics import BifurcationOptions, bifurcation_sweep, frame_or_block
+    from stepframe.pipeline.dynamics import BifurcationOptions, bifurcation_sweep
 
     check_plot(args.plot)
     options = BifurcationOptions(**fields_given(args, BifurcationOptions))
-    sweep = bifurcation_sweep(frame_or_block(args.frame, args.block), options)
+    sweep = bifurcation_sweep(_frame(args), options)
     return save_plot(CommandResult(sweep.to_dict(), sweep.describe()), args.plot, sweep.figure)
 
 
 def run_ida(args: argparse.Namespace) -> CommandResult:
     """Hunt-trace-fill over records or pulses."""
-    from stepframe.pipeline.dynamics import IdaOptions, frame_or_block, ida_study
+    from stepframe.pipeline.dynamics import IdaOptions, ida_study
 
     check_plot(args.plot)
-    frame = frame_or_block(args.frame, args.block)
+    frame = _frame(args)
     records = [(path, read_record_file(path, args)) for path in args.records]
     study = ida_study(frame, IdaOptions(**fields_given(args, IdaOptions)), records)
     return save_plot(CommandResult(study.to_dict(), study.describe()), args.plot, study.figure)
+
+
+def _frame(args: argparse.Namespace) -> PortalFrame:
+    """The frame of --frame or --block (:class:`~stepframe.pipeline.dynamics.FrameSource`)."""
+    from stepframe.pipeline.dynamics import FrameSource
+
+    return FrameSource(**fields_given(args, FrameSource)).portal_frame()

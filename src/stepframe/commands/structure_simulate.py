@@ -6,17 +6,15 @@ import argparse
 from typing import TYPE_CHECKING
 
 from stepframe.commands import (
-    REQUIRED,
     CommandResult,
     add_command,
-    add_options,
     add_record_options,
     check_plot,
-    non_negative_seconds,
-    positive_float,
     read_record_file,
     save_plot,
 )
+from stepframe.core.options import add_fields, fields_given
+from stepframe.pipeline.response import SimulateOptions
 
 if TYPE_CHECKING:
     from stepframe.commands import Subparsers
@@ -51,14 +49,9 @@ def register(subparsers: Subparsers) -> None:
     simulate.add_argument(
         "record", nargs="?", metavar="RECORD", help="accelerogram file, one component, or --example"
     )
-    add_options(
-        simulate,
-        ("--frame", None, "FRAME.toml", "frame file (see frame-template)", REQUIRED),
-        ("--scale", positive_float, "S", "record scale factor [-]", 1.0),
-        ("--tail-s", non_negative_seconds, "T", "free vibration after the record [s] (default: "
-         "the simulator's, 10 s)"),
-        ("--plot", None, "OUT.png", "draw x(t) with the phases"),
-    )  # fmt: skip
+    add_fields(simulate, SimulateOptions, [
+        "frame", "scale", "tail_s", ("--plot", None, "OUT.png", "draw x(t) with the phases"),
+    ])  # fmt: skip
     add_record_options(simulate)
     add_command(
         subparsers,
@@ -79,15 +72,14 @@ def run_frame_template(args: argparse.Namespace) -> CommandResult:
 
 def run_simulate(args: argparse.Namespace) -> CommandResult:
     """Read the frame and the record, simulate, summarise (and plot)."""
-    from stepframe.pipeline.response import simulate_component
-    from stepframe.structure.frame_file import read_frame_file
+    from stepframe.pipeline.response import simulate_file
 
     check_plot(args.plot)
-    frame = read_frame_file(args.frame)
-    simulated = simulate_component(
-        frame, read_record_file(args.record, args), scale=args.scale, tail_s=args.tail_s,
+    simulated = simulate_file(
+        SimulateOptions(**fields_given(args, SimulateOptions)),
+        lambda: read_record_file(args.record, args),
         name=args.record or f"example {args.example} {args.component}",
         record_history=args.plot is not None,
-    )  # fmt: skip
+    )
     result = CommandResult(simulated.to_dict(), simulated.describe())
     return save_plot(result, args.plot, simulated.figure)

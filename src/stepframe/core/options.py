@@ -1,19 +1,27 @@
-"""Options as dataclass fields that carry their own help: one declaration of each option.
+"""Options, declared once: dataclass fields that carry their help, and their argparse rendering.
 
 A library function that takes many choices takes a frozen dataclass of them; each field is
 declared with :func:`option`, which puts its help (with units), metavar and value kind in the
 field's metadata. The command line derives its ``--field-name`` options from those fields
-(:func:`stepframe.commands.add_fields`), so the name, default, help and validation of an option
-are written once, next to the code that uses it.
+(:func:`add_fields`) and reads back what was given (:func:`fields_given`), so the name, default,
+help and validation of an option are written once, next to the code that uses it. Options that
+are not fields of a library input (``-o``, ``--plot``) are rows of :func:`add_options`.
 
 Value kinds (``kind``) name how a command-line word becomes the value: ``float``, ``int``,
 ``text``, ``flag`` (a switch), ``positive`` (a number > 0), ``non_negative`` (≥ 0),
 ``non_negative_seconds``, ``positive_int``, ``floats`` (comma-separated numbers),
-``positive_floats``, ``range`` (``LO,HI,N``); ``choices`` lists the accepted names.
+``positive_floats``, ``range`` (``LO,HI,N``), ``repeated`` (text, the option given once per
+value: a list); ``choices`` lists the accepted names. The argparse
+value types of the kinds (:func:`positive_float`, ...) live here too. Standard library only, so
+``stepframe --help`` stays fast.
 """
 
 from __future__ import annotations
 
+import argparse
+import functools
+import math
+from collections.abc import Callable, Sequence
 from dataclasses import MISSING, field
 from typing import Any
 
@@ -30,6 +38,7 @@ KINDS = (
     "floats",
     "positive_floats",
     "range",
+    "repeated",
 )
 
 
@@ -67,4 +76,245 @@ def option(
     return field(default=default, metadata=metadata)
 
 
-__all__ = ["KINDS", "option"]
+def _finite_float(text: str, accept: Callable[[float], bool], refused: str, expected: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number, expected {expected}") from None
+    if not (math.isfinite(value) and accept(value)):
+        raise argparse.ArgumentTypeError(f"{text!r}{refused}, expected {expected}")
+    return value
+
+
+def positive_float(text: str) -> float:
+    """argparse type: a finite number > 0."""
+    return _finite_float(text, lambda v: v > 0, " is not positive", "a positive number")
+
+
+def non_negative_seconds(text: str) -> float:
+    """argparse type: a finite duration ≥ 0 [s]."""
+    return _finite_float(text, lambda v: v >= 0, "", "seconds ≥ 0")
+
+
+def non_negative_float(text: str) -> float:
+    """argparse type: a finite number ≥ 0."""
+    return _finite_float(text, lambda v: v >= 0, "", "a finite number ≥ 0")
+
+
+def positive_int(text: str) -> int:
+    """argparse type: an integer ≥ 1."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an integer, expected ≥ 1") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{text!r}, expected an integer ≥ 1")
+    return value
+
+
+def float_list(text: str) -> list[float]:
+    """argparse type: comma-separated numbers (``0.01,0.2,1.0``)."""
+    try:
+        return [float(word) for word in text.split(",") if word.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}, expected comma-separated numbers") from None
+
+
+def positive_floats(text: str) -> list[float]:
+    """argparse type: comma-separated positive numbers, at least one (``10.6,16``)."""
+    values = float_list(text)
+    if not values or not all(math.isfinite(v) and v > 0 for v in values):
+        raise argparse.ArgumentTypeError(f"{text!r}, expected positive numbers")
+    return values
+
+
+def float_range(text: str) -> tuple[float, float, int]:
+    """argparse type: ``LO,HI,N``, N values from LO to HI with 0 ≤ LO ≤ HI and N ≥ 1."""
+    parts = text.split(",")
+    try:
+        lo, hi, n = float(parts[0]), float(parts[1]), int(parts[2])
+    except (ValueError, IndexError):
+        raise argparse.ArgumentTypeError(
+            f"{text!r}, expected LO,HI,N (e.g. 0.05,0.5,200)"
+        ) from None
+    if len(parts) != 3 or not (0 <= lo <= hi and math.isfinite(hi) and n >= 1):
+        raise argparse.ArgumentTypeError(f"{text!r}, expected 0 ≤ LO ≤ HI and N ≥ 1")
+    return lo, hi, n
+
+
+#: The default of an option row that is required.
+REQUIRED = object()
+
+#: An option row: (flag, type, metavar, help) or (flag, type, metavar, help, default). The flag
+#: is one string or a tuple (``("-o", "--out")``); the type is an argparse type function, a
+#: tuple of choices, ``bool`` (a flag: store_true), ``list`` (repeatable: append) or None
+#: (text); the default :data:`REQUIRED` makes the option required.
+OptionRow = tuple[Any, ...]
+
+
+def add_options(
+    parser: argparse.ArgumentParser | argparse._ArgumentGroup,
+    *rows: OptionRow,
+    action: type[argparse.Action] | None = None,
+) -> None:
+    """Add one option per row (see :data:`OptionRow`): a compact table of a command's options.
+
+    ``action`` (such as :class:`Once`) stores the values of the rows that take one.
+    """
+    for flag, kind, metavar, help, *rest in rows:
+        _add_option(parser, flag, kind, metavar, help, rest[0] if rest else None, action=action)
+
+
+def _add_option(
+    parser: argparse.ArgumentParser | argparse._ArgumentGroup,
+    flag: str | tuple[str, ...],
+    kind: Any,
+    metavar: str | None,
+    help: str | None,
+    default: Any,
+    *,
+    action: type[argparse.Action] | None = None,
+    dest: str | None = None,
+) -> None:
+    options: dict[str, Any] = {"help": help}
+    if action is not None and kind not in (bool, list):
+        options["action"] = action
+    if default is REQUIRED:
+        options["required"] = True
+    elif default is not None:
+        options["default"] = default
+    if kind is bool:
+        options["action"] = "store_true"
+    elif kind is list:
+        options.update(action="append", default=[])
+    elif isinstance(kind, tuple):
+        options["choices"] = kind
+    elif kind is not None:
+        options["type"] = kind
+    if metavar is not None:
+        options["metavar"] = metavar
+    if dest is not None:
+        options["dest"] = dest
+    parser.add_argument(*((flag,) if isinstance(flag, str) else flag), **options)
+
+
+#: argparse types of the value kinds of :func:`stepframe.core.options.option`.
+KIND_TYPES: dict[str, Any] = {
+    "float": float,
+    "int": int,
+    "text": None,
+    "flag": bool,
+    "positive": positive_float,
+    "non_negative": non_negative_float,
+    "non_negative_seconds": non_negative_seconds,
+    "positive_int": positive_int,
+    "floats": float_list,
+    "positive_floats": positive_floats,
+    "range": float_range,
+    "repeated": list,
+}
+
+
+def add_fields(
+    parser: argparse.ArgumentParser | argparse._ArgumentGroup,
+    cls: type,
+    names: Sequence[str | OptionRow] | None = None,
+    *,
+    action: type[argparse.Action] | None = None,
+) -> None:
+    """One option ``--field-name`` per field of the dataclass ``cls`` (those of ``names``, in
+    their order, when given), stored by ``action`` when given (such as
+    :class:`stepframe.commands.Once`); an :data:`OptionRow` among the names adds an option
+    that is not a field at its place in the help.
+
+    The help, metavar, flag and value kind come from the field's :func:`option` metadata (the
+    kind, when not given, from its annotation: a ``Literal`` gives the choices, ``bool`` a
+    flag); ``%(default)s`` in the help is the field's default. A field without a default is a
+    required option; the others default to None (a flag to False), so that
+    :func:`fields_given` returns only what the command line gave, to lay over a file's values
+    or the dataclass's defaults.
+    """
+    import dataclasses
+
+    fields = {f.name: f for f in dataclasses.fields(cls)}
+    for name in fields if names is None else names:
+        if not isinstance(name, str):
+            add_options(parser, name)
+            continue
+        f = fields[name]
+        meta = f.metadata
+        help = meta.get("help")
+        if help is not None:  # plain text: its % are literal
+            help = help.replace("%(default)s", str(f.default)).replace("%", "%%")
+        required = f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
+        flag = meta.get("flag") or "--" + name.replace("_", "-")
+        default = REQUIRED if required else None
+        kind = _field_kind(cls, f)
+        metavar = meta.get("metavar")
+        _add_option(parser, flag, kind, metavar, help, default, dest=name, action=action)
+
+
+def _field_kind(cls: type, f: Any) -> Any:
+    """The argparse type (or choices, or bool) of a field: its metadata, else its annotation."""
+    import types
+    import typing
+
+    meta = f.metadata
+    if meta.get("choices") is not None:
+        return tuple(meta["choices"])
+    if meta.get("kind") is not None:
+        return KIND_TYPES[meta["kind"]]
+    hint = _type_hints(cls).get(f.name)
+    if hint is None:  # names imported for type checking only: read the annotation's text
+        text = str(f.type).removesuffix(" | None")
+        return {"float": float, "int": int, "bool": bool}.get(text)
+    if isinstance(hint, types.UnionType):  # X | None: the option gives an X
+        hint = next(arg for arg in typing.get_args(hint) if arg is not type(None))
+    if typing.get_origin(hint) is typing.Literal:
+        return typing.get_args(hint)
+    return hint if hint in (bool, int, float) else None
+
+
+@functools.cache
+def _type_hints(cls: type) -> dict[str, Any]:
+    """The resolved annotations of ``cls`` (once per class: resolving costs), or {} when one
+    names a type imported for type checking only."""
+    import typing
+
+    try:
+        return typing.get_type_hints(cls)
+    except NameError:
+        return {}
+
+
+def fields_given(args: argparse.Namespace, names: Any) -> dict[str, Any]:
+    """The values of the :func:`add_fields` options ``names`` (a dataclass, or the ``names`` of
+    :func:`add_fields`, whose option rows are skipped) that the command line gave (a flag:
+    set)."""
+    import dataclasses
+
+    if dataclasses.is_dataclass(names):
+        names = [f.name for f in dataclasses.fields(names)]
+    values = {name: getattr(args, name, None) for name in names if isinstance(name, str)}
+    return {
+        name: value for name, value in values.items() if value is not None and value is not False
+    }
+
+
+__all__ = [
+    "KINDS",
+    "KIND_TYPES",
+    "REQUIRED",
+    "OptionRow",
+    "add_fields",
+    "add_options",
+    "fields_given",
+    "float_list",
+    "float_range",
+    "non_negative_float",
+    "non_negative_seconds",
+    "option",
+    "positive_float",
+    "positive_floats",
+    "positive_int",
+]

@@ -16,7 +16,8 @@ checked with file:line errors), :mod:`~stepframe.pipeline.stages` (the stage reg
 stages in :mod:`~stepframe.pipeline.stage_items` and :mod:`~stepframe.pipeline.stage_sets`),
 :mod:`~stepframe.pipeline.plan`, :mod:`~stepframe.pipeline.store` (results keyed by content,
 parameters and version), :mod:`~stepframe.pipeline.lock`, :mod:`~stepframe.pipeline.scheduler`
-(process pool or Dask) and :mod:`~stepframe.pipeline.runner`; :mod:`~stepframe.pipeline.shipped`
+(process pool or Dask) and :mod:`~stepframe.pipeline.runner` (its options:
+:mod:`~stepframe.pipeline.run_options`); :mod:`~stepframe.pipeline.shipped`
 (the workflows shipped in the package, run by name) and :mod:`~stepframe.pipeline.demo`
 (``stepframe demo``: the shipped selection workflow run into one folder).
 """
@@ -39,8 +40,10 @@ if TYPE_CHECKING:
         write_curve,
     )
     from stepframe.pipeline.design import (
+        DesignOptions,
         DesignRun,
         design_case,
+        design_run,
         merged_design_input,
         read_design_result,
         run_design,
@@ -58,8 +61,14 @@ if TYPE_CHECKING:
         write_features,
         write_fitted,
     )
-    from stepframe.pipeline.record_spectra import record_spectra
-    from stepframe.pipeline.response import RecordResponse, simulate_record
+    from stepframe.pipeline.record_spectra import SpectrumOptions, record_spectra
+    from stepframe.pipeline.response import (
+        RecordResponse,
+        SimulateOptions,
+        simulate_file,
+        simulate_record,
+    )
+    from stepframe.pipeline.run_options import RunOptions, run_with_options
     from stepframe.pipeline.site import (
         SiteModel,
         read_site_model,
@@ -86,13 +95,18 @@ _EXPORTS = {
         "stepframe.pipeline.fitted",
     ),
     **dict.fromkeys(
-        ("DesignRun", "design_case", "merged_design_input", "run_design",
-         "write_design_result", "read_design_result"),
+        ("DesignOptions", "DesignRun", "design_case", "design_run", "merged_design_input",
+         "run_design", "write_design_result", "read_design_result"),
         "stepframe.pipeline.design",
     ),
     "record_spectra": "stepframe.pipeline.record_spectra",
-    "RecordResponse": "stepframe.pipeline.response",
-    "simulate_record": "stepframe.pipeline.response",
+    "SpectrumOptions": "stepframe.pipeline.record_spectra",
+    **dict.fromkeys(
+        ("RecordResponse", "SimulateOptions", "simulate_file", "simulate_record"),
+        "stepframe.pipeline.response",
+    ),
+    "RunOptions": "stepframe.pipeline.run_options",
+    "run_with_options": "stepframe.pipeline.run_options",
     "read_table": "stepframe.pipeline.tables",
     "write_table": "stepframe.pipeline.tables",
     "save_figure": "stepframe.pipeline.figures",
@@ -104,15 +118,20 @@ __getattr__ = lazy_exports(__name__, _EXPORTS)
 
 __all__ = [
     "AmplificationResult",
+    "DesignOptions",
     "DesignRun",
     "FitOptions",
     "FittedRecord",
     "Oscillator",
     "RecordResponse",
+    "RunOptions",
+    "SimulateOptions",
     "SiteModel",
+    "SpectrumOptions",
     "amplification_curve",
     "amplify",
     "design_case",
+    "design_run",
     "features_table",
     "fit_record",
     "fit_table",
@@ -126,7 +145,9 @@ __all__ = [
     "read_table",
     "record_spectra",
     "run_design",
+    "run_with_options",
     "save_figure",
+    "simulate_file",
     "simulate_record",
     "site_from_parameters",
     "site_from_record",

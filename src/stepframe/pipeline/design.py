@@ -1,7 +1,8 @@
 """Stage: the quasi-dynamic design of a stepping pier (Part 1 of the paper).
 
-:func:`merged_design_input` lays overrides (the ``stepframe structure design`` options) over the
-tables of a design TOML file; :func:`design_case` turns them into a
+:class:`DesignOptions` holds the inputs of a run (the ``stepframe structure design`` options, each
+declared once on its field) and :func:`design_run` runs it. :func:`merged_design_input` lays
+overrides over the tables of a design TOML file; :func:`design_case` turns them into a
 :class:`~stepframe.structure.quasi_dynamic.DesignCase`; :func:`run_design` computes the map
 constants, the closed-form and searched fixed points, the traced iterations and the design
 answer, as a :class:`DesignRun` (``to_dict``; :func:`write_design_result` and
@@ -17,6 +18,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
 from stepframe.core.jsonable import to_jsonable
+from stepframe.core.options import option
 from stepframe.errors import InputError
 
 if TYPE_CHECKING:
@@ -62,19 +64,19 @@ beta = 1.0                   # factor on the 5 %-damped spectrum [-]
 delta0_m = [0.05, 2.0]       # starts of the AASHTO/Priestley iteration [m]
 """
 
-#: Keys of ``[pier]`` an override may set, with their meaning.
-PIER_KEYS = {
-    "weight_super_n": "W_s, seismic weight of the superstructure [N]",
-    "weight_col_n": "W_col, weight of the column(s) [N]",
-    "weight_total_n": "W_T, gross weight on the footing [N]",
-    "footing_length_m": "L_F, footing length in the rocking direction [m]",
-    "height_m": "H_r, height of the centroid of the rocking mass [m]",
-    "block_width_m": "a, width of the compression block under the footing [m]",
-    "footing_width_m": "B_F, footing width [m] (a = W_T/(B_F q_n))",
-    "bearing_capacity_pa": "q_n, soil bearing capacity [Pa]",
-    "col_weight_factor": "share of W_col in the effective mass (default 0.5)",
-    "g_m_s2": "gravity [m/s²] (default 9.81, as in the paper)",
-}
+#: Keys of ``[pier]`` an override may set (their meaning: the fields of :class:`DesignOptions`).
+PIER_KEYS = (
+    "weight_super_n",
+    "weight_col_n",
+    "weight_total_n",
+    "footing_length_m",
+    "height_m",
+    "block_width_m",
+    "footing_width_m",
+    "bearing_capacity_pa",
+    "col_weight_factor",
+    "g_m_s2",
+)
 #: Keys of ``[spectrum]`` an override may set (a two-period spectrum).
 SPECTRUM_KEYS = ("s_ds_g", "s_ds_m_s2", "s_d1_g", "s_d1_m_s", "t_l_s")
 #: Keys of ``[map]`` an override may set.
@@ -88,6 +90,88 @@ _TWINS = {
     "s_d1_g": ("s_d1_m_s",),
     "s_d1_m_s": ("s_d1_g",),
 }
+
+
+@dataclass(frozen=True)
+class DesignOptions:
+    """The inputs of one design run (:func:`design_run`): a design file, values laid over its
+    tables (None: not given), and how the iteration and the answer are computed.
+
+    The fields carry the ``stepframe structure design`` options
+    (:func:`stepframe.core.options.option`); their meaning and units are in their help. The
+    choices are spelled out: ``BranchChoice`` is imported for type checking only.
+    """
+
+    input: str | None = option(None, "design input file (see --template)", metavar="TOML")
+    weight_super_n: float | None = option(None, "W_s, seismic weight of the superstructure [N]")
+    weight_col_n: float | None = option(None, "W_col, weight of the column(s) [N]")
+    weight_total_n: float | None = option(None, "W_T, gross weight on the footing [N]")
+    footing_length_m: float | None = option(
+        None, "L_F, footing length in the rocking direction [m]"
+    )
+    height_m: float | None = option(None, "H_r, height of the centroid of the rocking mass [m]")
+    block_width_m: float | None = option(
+        None, "a, width of the compression block under the footing [m]"
+    )
+    footing_width_m: float | None = option(None, "B_F, footing width [m] (a = W_T/(B_F q_n))")
+    bearing_capacity_pa: float | None = option(None, "q_n, soil bearing capacity [Pa]")
+    col_weight_factor: float | None = option(
+        None, "share of W_col in the effective mass (default 0.5)"
+    )
+    g_m_s2: float | None = option(None, "gravity [m/s²] (default 9.81, as in the paper)")
+    s_ds_g: float | None = option(None, "S_DS [g]", kind="positive", flag="--sds-g")
+    s_ds_m_s2: float | None = option(None, "S_DS [m/s²]", kind="positive", flag="--sds-m-s2")
+    s_d1_g: float | None = option(None, "S_D1 [g]", kind="positive", flag="--sd1-g")
+    s_d1_m_s: float | None = option(None, "S_D1 [m/s]", kind="positive", flag="--sd1-m-s")
+    t_l_s: float | None = option(
+        None, "long-period transition T_L [s]", kind="positive", flag="--tl-s"
+    )
+    beta: float | None = option(None, "spectral reduction factor β", kind="positive")
+    xi: float | None = option(None, "equivalent viscous damping ratio (fraction)")
+    c_r: float | None = option(None, "velocity ratio at impact; ξ = 0.48(1 - C_r²)")
+    damping_method: Literal["ec8", "ec8-1998", "aashto-isolation"] | None = option(
+        None,
+        "damping-reduction formula with --xi/--c-r (default ec8)",
+        choices=("ec8", "ec8-1998", "aashto-isolation"),
+    )
+    w_per_m: float | None = option(None, "w of eq. 2.3 [1/m]", kind="positive")
+    lambda_2_sqrt_m: float | None = option(
+        None, "λ_2 of eq. 2.5 [m^½] (needs S_D1)", kind="positive"
+    )
+    branch: BranchChoice = option(
+        "auto",
+        "spectrum branch used by the iteration: auto (S_a at each T_i, the procedure) or one "
+        "branch's formula whatever T_i is (as the paper's Table 1 does)",
+        choices=("auto", "short", "long", "very-long"),
+    )
+    delta0_m: list[float] | None = option(
+        None, "starts of the iteration [m]", kind="floats", metavar="D,..."
+    )
+    method: Literal["closed-form", "search"] | None = option(
+        None,
+        "how the design answer is chosen (default: closed-form for a two-period spectrum, "
+        "search for a tabulated one)",
+        choices=("closed-form", "search"),
+    )
+    max_iterations: int = option(200, "iteration limit (default 200)", kind="int")
+
+
+def design_run(options: DesignOptions) -> DesignRun:
+    """The design run of :class:`DesignOptions`: :func:`design_case` of the file and the values
+    given, then :func:`run_design`."""
+    overrides = {
+        name: getattr(options, name)
+        for name in (*PIER_KEYS, *MAP_KEYS, *SPECTRUM_KEYS, *DAMPING_KEYS)
+    }
+    case = design_case(
+        options.input,
+        overrides,
+        damping_method=options.damping_method,
+        delta0_m=options.delta0_m,
+    )
+    return run_design(
+        case, method=options.method, branch=options.branch, max_iterations=options.max_iterations
+    )
 
 
 def merged_design_input(
@@ -400,9 +484,11 @@ __all__ = [
     "MAP_KEYS",
     "PIER_KEYS",
     "SPECTRUM_KEYS",
+    "DesignOptions",
     "DesignRun",
     "design_case",
     "design_displacement_m",
+    "design_run",
     "merged_design_input",
     "read_design_result",
     "run_design",

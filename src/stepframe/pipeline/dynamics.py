@@ -57,6 +57,24 @@ def frame_or_block(frame_path: str | None, block_m: Sequence[float] | None) -> P
     return PortalFrame.housner_block(half_width_m=block_m[0], half_height_m=block_m[1])
 
 
+@dataclass(frozen=True)
+class FrameSource:
+    """The frame of a study: a frame file, or Housner's rigid block (one of them)."""
+
+    frame: str | None = option(None, "frame file (see frame-template)", metavar="FRAME.toml")
+    block_m: Sequence[float] | None = option(
+        None,
+        "Housner's rigid block of half-width B and half-height H [m]",
+        kind="positive_floats",
+        metavar="B,H",
+        flag="--block",
+    )
+
+    def portal_frame(self) -> PortalFrame:
+        """The frame (:func:`frame_or_block`)."""
+        return frame_or_block(self.frame, self.block_m)
+
+
 # ------------------------------------------------------------------ harmonic
 @dataclass(frozen=True)
 class HarmonicOptions:
@@ -495,6 +513,7 @@ __all__ = [
     "G_M_S2",
     "BifurcationOptions",
     "BifurcationSweep",
+    "FrameSource",
     "HarmonicOptions",
     "HarmonicStudy",
     "IdaOptions",

@@ -4,21 +4,23 @@ What ``stepframe records info`` prints (:func:`record_info`: sampling, units and
 measures of each component), and what ``stepframe records spectrum`` prints and draws: PSA [g],
 PSV [m/s] and SD [m] of each component (:func:`stepframe.records.spectra.response_spectrum`)
 and, with exactly two horizontal components, their geometric mean, RotD50 and RotD100
-(:mod:`stepframe.records.rotd`).
+(:mod:`stepframe.records.rotd`). Light at import (the command line reads
+:class:`SpectrumOptions` for its help).
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from os import PathLike
 from typing import TYPE_CHECKING, Any
 
-from numpy.typing import ArrayLike
-
+from stepframe.core.options import option
 from stepframe.errors import InputError
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
+    from numpy.typing import ArrayLike
     from obspy import Trace
 
 #: Channel names of vertical components (SEED codes ending in Z are vertical too).
@@ -64,6 +66,18 @@ def info_text(rows: Sequence[Mapping[str, Any]]) -> str:
         f"units {r['units_in']}, PGA {r['pga_g']:.4g} g, PGV {r['pgv_m_s']:.4g} m/s, "
         f"PGD {r['pgd_m']:.4g} m, Arias {r['arias_m_s']:.4g} m/s, D5-95 {r['d5_95_s']:.4g} s"
         for r in rows
+    )
+
+
+@dataclass(frozen=True)
+class SpectrumOptions:
+    """The oscillators of :func:`record_spectra` (its ``periods_s`` and ``damping``)."""
+
+    periods_s: Sequence[float] | None = option(
+        None, "oscillator periods [s]", kind="floats", metavar="T1,T2,..."
+    )
+    damping: float = option(
+        0.05, "damping ratio as a fraction (default 0.05)", kind="float", metavar="ZETA"
     )
 
 

@@ -8,10 +8,12 @@ episodes, as a :class:`RecordResponse` (``to_dict``, ``describe``).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from os import PathLike
 from typing import TYPE_CHECKING, Any
 
+from stepframe.core.options import option
 from stepframe.errors import InputError
 
 if TYPE_CHECKING:
@@ -206,4 +208,48 @@ def simulate_component(
     return SimulatedComponent(response, frame, stream[0], factor)
 
 
-__all__ = ["RecordResponse", "SimulatedComponent", "simulate_component", "simulate_record"]
+@dataclass(frozen=True)
+class SimulateOptions:
+    """The frame file and the record's scaling of one simulation (:func:`simulate_file`)."""
+
+    frame: str = option(help="frame file (see frame-template)", metavar="FRAME.toml")
+    scale: float = option(1.0, "record scale factor [-]", kind="positive", metavar="S")
+    tail_s: float | None = option(
+        None,
+        "free vibration after the record [s] (default: the simulator's, 10 s)",
+        kind="non_negative_seconds",
+        metavar="T",
+    )
+
+
+def simulate_file(
+    options: SimulateOptions,
+    record: Callable[[], Stream],
+    *,
+    name: str,
+    record_history: bool = False,
+) -> SimulatedComponent:
+    """:func:`simulate_component` of the frame file of ``options`` under the record that
+    ``record()`` reads (called after the frame file is read: a bad frame file is reported
+    before a long read)."""
+    from stepframe.structure.frame_file import read_frame_file
+
+    frame = read_frame_file(options.frame)
+    return simulate_component(
+        frame,
+        record(),
+        name=name,
+        scale=options.scale,
+        tail_s=options.tail_s,
+        record_history=record_history,
+    )
+
+
+__all__ = [
+    "RecordResponse",
+    "SimulateOptions",
+    "SimulatedComponent",
+    "simulate_component",
+    "simulate_file",
+    "simulate_record",
+]

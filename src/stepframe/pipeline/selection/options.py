@@ -1,4 +1,9 @@
-"""Options of a selection run (a frozen dataclass, readable from a TOML table)."""
+"""Options of a selection run (a frozen dataclass, readable from a TOML table).
+
+The fields carry their command-line help (:func:`stepframe.core.options.option`): ``stepframe
+select`` derives its options from them, so a ``[selection]`` table and the command line name the
+same fields.
+"""
 
 from __future__ import annotations
 
@@ -6,6 +11,7 @@ import math
 from dataclasses import asdict, dataclass, fields
 from typing import Any
 
+from stepframe.core.options import option
 from stepframe.errors import InputError
 from stepframe.pipeline.selection.names import (
     DISTANCE_METRICS,
@@ -74,14 +80,20 @@ class SelectionOptions:
     """
 
     n: int = 10
-    unit: Unit = "component"
-    rank_by: str = "substitute_demand_ratio"
+    unit: Unit = option("component", "select components, or records with both components")
+    rank_by: str = option(
+        "substitute_demand_ratio", "ranking score (default: %(default)s)", choices=RANKABLE
+    )
     spectral_weight: float = 0.0
-    a_max_m: float | None = None
+    a_max_m: float | None = option(None, "amplitude limit A_max [m]", kind="positive")
     design_displacement_m: float | None = None
-    x_star_fraction: float = 0.8
+    x_star_fraction: float = option(
+        0.8, "A_max = fraction·x* otherwise (default: %(default)s)", kind="positive"
+    )
     n_levels: int = 6
-    strong_motion_fraction: float = 0.3
+    strong_motion_fraction: float = option(
+        0.3, "strong motion: I_g ≥ fraction of its peak (default: %(default)s)", kind="positive"
+    )
     n_bootstrap: int = 10
     seed: int = 0
     magnitude_min: float | None = None
@@ -95,20 +107,24 @@ class SelectionOptions:
     d5_95_max_s: float | None = None
     pga_min_g: float | None = None
     pga_max_g: float | None = None
-    lowest_usable_below_band: bool = False
+    lowest_usable_below_band: bool = option(
+        False, "drop records whose lowest usable frequency is above the band"
+    )
     require_plausible: bool = True
     exclude: tuple[str, ...] = ()
     max_per_event: int | None = None
     max_per_station: int | None = None
-    target_s_ds_g: float | None = None
-    target_s_d1_g: float | None = None
-    target_csv: str | None = None
-    target_periods_s: tuple[float, float] | None = None
-    scale: ScalePolicy = "none"
-    scale_min: float = 0.25
-    scale_max: float = 4.0
-    confirm: bool = False
-    confirm_onset_ratio: float = 1.0
+    target_s_ds_g: float | None = option(None, "two-period S_DS [g]", kind="positive")
+    target_s_d1_g: float | None = option(None, "two-period S_D1 [g]", kind="positive")
+    target_csv: str | None = option(None, "tabulated target: period_s,sa_g", metavar="CSV")
+    target_periods_s: tuple[float, float] | None = option(None, kind="floats", metavar="LOW,HIGH")
+    scale: ScalePolicy = option("none", "scaling policy (default: %(default)s)")
+    scale_min: float = option(0.25, kind="positive")
+    scale_max: float = option(4.0, kind="positive")
+    confirm: bool = option(False, "confirm by simulation")
+    confirm_onset_ratio: float = option(
+        1.0, "equal intensity: P_1·SD(T_1)/x_c of every record (default 1)", kind="positive"
+    )
 
     def __post_init__(self) -> None:
         def bad(name: str, expected: str) -> InputError:

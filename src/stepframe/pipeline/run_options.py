@@ -1,0 +1,46 @@
+"""How a workflow is run: the options of :func:`~stepframe.pipeline.runner.run_workflow` as one
+frozen dataclass (light: ``stepframe run --help`` derives its options from the fields)."""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from stepframe.core.options import option
+
+if TYPE_CHECKING:
+    from stepframe.pipeline.runner import RunReport
+
+
+@dataclass(frozen=True)
+class RunOptions:
+    """The choices of one run of a workflow (see :func:`~stepframe.pipeline.runner.run_workflow`,
+    whose keyword arguments they are)."""
+
+    dry_run: bool = option(False, "print the plan: items to compute and cached")
+    jobs: int | None = option(None, "worker processes (default: all CPUs)", kind="int", metavar="N")
+    scheduler: str | None = option(
+        None,
+        "dask-local (a local Dask cluster) or tcp://HOST:PORT (an existing one); needs pip "
+        "install 'stepframe[dask]'",
+        metavar="WHERE",
+    )
+    force: list[str] | None = option(None, "recompute a stage", kind="repeated", metavar="STAGE")
+    retry_failed: bool = option(False, "recompute items that failed before")
+    wait: bool = option(False, "wait for a run holding the workspace (else exit 3)")
+    batch_items: int | None = option(
+        None,
+        "items stored per batch (default 1024, or 32 per worker if more): a killed run loses "
+        "at most one batch",
+        kind="int",
+        metavar="N",
+    )
+
+
+def run_with_options(path: str | Path, options: RunOptions, *, progress: bool) -> RunReport:
+    """:func:`~stepframe.pipeline.runner.run_workflow` of ``path`` with ``options``; progress
+    lines on stderr when ``progress``."""
+    from stepframe.pipeline.runner import run_workflow
+
+    return run_workflow(path, progress=progress, **asdict(options))
