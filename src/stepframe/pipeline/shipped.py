@@ -10,10 +10,9 @@ workflow file whose paths are relative to itself.
 
 from __future__ import annotations
 
-import tomllib
 from pathlib import Path
 
-from stepframe.core.io import write_bytes
+from stepframe.core.io import read_toml, write_bytes
 from stepframe.errors import InputError
 
 #: The folder of the shipped workflow files (package data).
@@ -54,7 +53,7 @@ def resolve_workflow(given: str | Path) -> Path:
 
 def _named_paths(workflow: Path) -> tuple[list[Path], list[Path]]:
     """The frame file and records folder a shipped workflow names (relative paths only)."""
-    data = tomllib.loads(workflow.read_text(encoding="utf-8"))
+    data, _ = read_toml(workflow, "a workflow file")
     files, folders = [], []
     frame_file = data.get("frame", {}).get("file")
     if isinstance(frame_file, str) and not Path(frame_file).is_absolute():
