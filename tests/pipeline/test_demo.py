@@ -182,11 +182,14 @@ def test_every_shipped_file_is_package_data() -> None:
     import tomllib
     from pathlib import PurePosixPath
 
-    root = SHIPPED_DIR.parents[2]
+    # The source tree beside these tests, not SHIPPED_DIR: CI installs the package
+    # non-editably, and the installed copy holds only what the globs already matched.
+    root = Path(__file__).resolve().parents[2]
+    source = root / "src" / "stepframe" / "workflows"
     config = tomllib.loads((root / "pyproject.toml").read_text())
     globs = config["tool"]["setuptools"]["package-data"]["stepframe"]
-    files = [p.relative_to(SHIPPED_DIR.parent).as_posix() for p in SHIPPED_DIR.rglob("*")]
-    files = [f for f in files if (SHIPPED_DIR.parent / f).is_file() and "__pycache__" not in f]
+    files = [p.relative_to(source.parent).as_posix() for p in source.rglob("*")]
+    files = [f for f in files if (source.parent / f).is_file() and "__pycache__" not in f]
     assert len(files) == 6
     for file in files:
         path = PurePosixPath(file)  # a setuptools glob's * does not cross a /
