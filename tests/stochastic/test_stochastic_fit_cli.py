@@ -11,21 +11,11 @@ import pytest
 
 from stepframe.cli import main
 from stepframe.records.units import STANDARD_GRAVITY_M_S2
-from stepframe.stochastic.model import GroundMotionModel
+from stepframe.stochastic.model import MODEL_FIELDS, GroundMotionModel
 from stepframe.stochastic.synthetic import synthetic_motions
 
 TRUE = GroundMotionModel.from_hz(7.43, 3.12, 1.11, 0.096, 0.655, t_max_s=5.0, t_dur_s=20.0)
-KEYS = (
-    "omega_p_rad_s",
-    "omega_s_rad_s",
-    "omega_r_rad_s",
-    "xi_p",
-    "xi_r",
-    "t_max_s",
-    "t_dur_s",
-    "t0_s",
-    "fit_quality",
-)
+KEYS = (*MODEL_FIELDS, "fit_quality")
 
 
 def _write_fema(path: Path, acc_m_s2: np.ndarray, dt: float) -> None:

@@ -9,11 +9,12 @@ outputs before the work.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from stepframe.core.jsonable import to_jsonable
 from stepframe.errors import InputError
 from stepframe.pipeline.fitted import (
     FitOptions,
@@ -135,14 +136,8 @@ class FeaturesFiles:
 
     def to_dict(self) -> dict[str, Any]:
         """Output paths, then counts (the keys of ``records catalog --json``, docs/cli.md)."""
-        return {
-            "table": str(self.table),
-            "columns": str(self.columns),
-            "failures": str(self.failures),
-            "n_components": self.n_components,
-            "n_plausible": self.n_plausible,
-            "n_failures": self.n_failures,
-        }
+        data: dict[str, Any] = to_jsonable(asdict(self))  # the fields in order, paths as text
+        return data
 
     def describe(self) -> str:
         """One line: counts and where they went."""

@@ -14,7 +14,7 @@ import os
 import warnings
 from collections.abc import Iterable, Mapping
 from concurrent.futures import Executor
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from functools import partial
 from os import PathLike
 from pathlib import Path
@@ -24,6 +24,7 @@ import numpy as np
 
 from stepframe.core.execution import map_items
 from stepframe.core.io import CSV_FLOAT_FORMAT, atomic_write
+from stepframe.core.jsonable import to_jsonable
 from stepframe.core.results import (
     Failure,
     failures_path,
@@ -374,13 +375,8 @@ class CatalogFiles:
 
     def to_dict(self) -> dict[str, Any]:
         """Output paths, then counts (docs/cli.md)."""
-        return {
-            "table": str(self.table),
-            "columns": str(self.columns),
-            "failures": str(self.failures),
-            "n_components": self.n_components,
-            "n_failures": self.n_failures,
-        }
+        data: dict[str, Any] = to_jsonable(asdict(self))  # the fields in order, paths as text
+        return data
 
     def describe(self) -> str:
         """One line: counts and where they went."""

@@ -19,6 +19,7 @@ import pandas as pd
 from stepframe.records.examples import fema_p695
 from stepframe.stochastic.features import record_features
 from stepframe.stochastic.fit import fit_model
+from stepframe.stochastic.model import MODEL_FIELDS
 from stepframe.structure.frame_file import frame_template, read_frame_file
 from stepframe.structure.period_amplitude import period_amplitude
 
@@ -59,19 +60,7 @@ def make_selection_folder(
             "magnitude": table.loc[index, "magnitude"],
             "end_closeness": _closeness(model, frame.omega_1_rad_s),
             "spectral_ratio_eq_6_18": math.nan,
-            **{
-                k: getattr(model, k)
-                for k in (
-                    "omega_p_rad_s",
-                    "omega_s_rad_s",
-                    "omega_r_rad_s",
-                    "xi_p",
-                    "xi_r",
-                    "t_max_s",
-                    "t_dur_s",
-                    "t0_s",
-                )
-            },
+            **{k: getattr(model, k) for k in MODEL_FIELDS},
             "strong_motion_start_s": start,
             "strong_motion_end_s": end,
             "fit_quality": fit.fit_quality,
