@@ -23,6 +23,20 @@ def setup(tmp_path: Path, data_dir: Path) -> tuple[Path, Path]:
     return frame, records
 
 
+def _select(frame: Path, records: Path, *options: str, json_first: bool = False) -> int:
+    """``stepframe [--json] select --frame FRAME RECORDS OPTIONS...``: the exit status."""
+    return main(
+        [
+            *(["--json"] if json_first else []),
+            "select",
+            "--frame",
+            str(frame),
+            str(records),
+            *options,
+        ]
+    )
+
+
 def _error(capsys: pytest.CaptureFixture[str]) -> str:
     captured = capsys.readouterr()
     assert captured.out == ""
@@ -37,22 +51,18 @@ def test_select_json_and_outputs(
 ) -> None:
     frame, records = setup
     out = tmp_path / "picks"
-    code = main(
-        [
-            "--json",
-            "select",
-            "--frame",
-            str(frame),
-            str(records),
-            "-n",
-            "1",
-            "-o",
-            str(out),
-            "--n-bootstrap",
-            "4",
-            "--jobs",
-            "1",
-        ]
+    code = _select(
+        frame,
+        records,
+        "-n",
+        "1",
+        "-o",
+        str(out),
+        "--n-bootstrap",
+        "4",
+        "--jobs",
+        "1",
+        json_first=True,
     )
     assert code == 0
     payload = json.loads(capsys.readouterr().out)
@@ -81,10 +91,7 @@ def test_bad_frame_file(
 ) -> None:
     frame, records = setup
     frame.write_text(FRAME_TEMPLATE.replace("xi_1 = 0.05", "xi_1 = 'high'"))
-    assert (
-        main(["select", "--frame", str(frame), str(records), "-n", "1", "-o", str(tmp_path / "o")])
-        == 2
-    )
+    assert _select(frame, records, "-n", "1", "-o", str(tmp_path / "o")) == 2
     line = _error(capsys)
     assert f"{frame}:15: [frame] xi_1 = 'high', expected a number" in line
 
@@ -94,20 +101,7 @@ def test_too_many_asked(
 ) -> None:
     frame, records = setup
     assert (
-        main(
-            [
-                "select",
-                "--frame",
-                str(frame),
-                str(records),
-                "-n",
-                "3",
-                "-o",
-                str(tmp_path / "o"),
-                "--rank-by",
-                "band_coverage",
-            ]
-        )
+        _select(frame, records, "-n", "3", "-o", str(tmp_path / "o"), "--rank-by", "band_coverage")
         == 2
     )
     assert _error(capsys) == (
@@ -124,23 +118,19 @@ def test_filter_removing_everything_with_metadata(
     rows = [f"{p},4.4" for p in sorted(records.iterdir())]
     metadata.write_text("file,magnitude\n" + "\n".join(rows) + "\n")
     assert (
-        main(
-            [
-                "select",
-                "--frame",
-                str(frame),
-                str(records),
-                "-n",
-                "1",
-                "-o",
-                str(tmp_path / "o"),
-                "--metadata",
-                str(metadata),
-                "--magnitude-min",
-                "6",
-                "--rank-by",
-                "band_coverage",
-            ]
+        _select(
+            frame,
+            records,
+            "-n",
+            "1",
+            "-o",
+            str(tmp_path / "o"),
+            "--metadata",
+            str(metadata),
+            "--magnitude-min",
+            "6",
+            "--rank-by",
+            "band_coverage",
         )
         == 2
     )
@@ -157,20 +147,7 @@ def test_unreadable_target(
     target = tmp_path / "target.csv"
     target.write_text("period_s,sa_g\n0.2,1.0\n1.0,x\n")
     assert (
-        main(
-            [
-                "select",
-                "--frame",
-                str(frame),
-                str(records),
-                "-n",
-                "1",
-                "-o",
-                str(tmp_path / "o"),
-                "--target-csv",
-                str(target),
-            ]
-        )
+        _select(frame, records, "-n", "1", "-o", str(tmp_path / "o"), "--target-csv", str(target))
         == 2
     )
     assert _error(capsys) == (
@@ -185,22 +162,18 @@ def test_unreadable_record_lands_in_failures(
     (records / "broken.AT2").write_text("not a record\n")
     out = tmp_path / "o"
     assert (
-        main(
-            [
-                "--json",
-                "select",
-                "--frame",
-                str(frame),
-                str(records),
-                "-n",
-                "1",
-                "-o",
-                str(out),
-                "--rank-by",
-                "band_coverage",
-                "--n-bootstrap",
-                "0",
-            ]
+        _select(
+            frame,
+            records,
+            "-n",
+            "1",
+            "-o",
+            str(out),
+            "--rank-by",
+            "band_coverage",
+            "--n-bootstrap",
+            "0",
+            json_first=True,
         )
         == 0
     )
