@@ -117,6 +117,14 @@ def test_unknown_force_stage(folder: Path, capsys: pytest.CaptureFixture[str]) -
     assert "did you mean 'features'?" in line
 
 
+def test_dry_run_refuses_bad_jobs(
+    folder: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    write_workflow(folder, FEATURES_WORKFLOW)
+    line = _fails(folder, capsys, "--dry-run", "--jobs", "0")
+    assert line.endswith("--jobs 0, expected ≥ 1")
+
+
 @pytest.mark.skipif(os.geteuid() == 0, reason="root writes anywhere")
 def test_unwritable_workspace(folder: Path, capsys: pytest.CaptureFixture[str]) -> None:
     locked = folder / "locked"

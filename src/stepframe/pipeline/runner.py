@@ -207,6 +207,7 @@ def run_workflow(
     """
     if batch_items is not None and batch_items < 1:
         raise InputError(f"--batch-items {batch_items}, expected ≥ 1")
+    check_scheduler(scheduler, jobs)  # before anything, a dry run too: a user error writes nothing
     forced = list(force or [])
     file = resolve_workflow(path)
     if workspace is None and is_shipped(file):
@@ -222,7 +223,6 @@ def run_workflow(
     store = Store(workflow.workspace / "store")
     if dry_run:
         return _dry_run(workflow, planned, store, forced, retry_failed)
-    check_scheduler(scheduler, jobs)  # before the lock: a user error writes nothing
     # the lock before the executor: a busy workspace is reported before a cluster starts
     with (
         workspace_lock(workflow.workspace, wait=wait),
