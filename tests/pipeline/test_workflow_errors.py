@@ -117,9 +117,7 @@ def test_unknown_force_stage(folder: Path, capsys: pytest.CaptureFixture[str]) -
     assert "did you mean 'features'?" in line
 
 
-def test_dry_run_refuses_bad_jobs(
-    folder: Path, capsys: pytest.CaptureFixture[str]
-) -> None:
+def test_dry_run_refuses_bad_jobs(folder: Path, capsys: pytest.CaptureFixture[str]) -> None:
     write_workflow(folder, FEATURES_WORKFLOW)
     line = _fails(folder, capsys, "--dry-run", "--jobs", "0")
     assert line.endswith("--jobs 0, expected ≥ 1")
