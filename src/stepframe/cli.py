@@ -19,16 +19,11 @@ from collections.abc import Sequence
 from typing import TextIO
 
 from stepframe import __version__
-from stepframe.commands import (
-    GROUPS,
-    CommandResult,
-    Parser,
-    UserError,
-    group_modules,
-)
+from stepframe.commands import GROUPS, CommandResult, Parser, UserError, execute, group_module
 from stepframe.core.jsonable import to_jsonable
 from stepframe.core.text import terminal_safe
 from stepframe.errors import InputError
+from stepframe.pipeline.lock import WorkspaceBusy
 
 EXAMPLES = """\
 examples:
@@ -52,13 +47,11 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--json", action="store_true", help="print only JSON on stdout")
     parser.add_argument("--debug", action="store_true", help="show the traceback of an error")
     groups = parser.add_subparsers(dest="command", metavar="COMMAND")
-    from stepframe.commands import demo, report, run, select
+    from stepframe.commands import run, select
 
-    demo.register(groups)
     run.register(groups)
     select.register(groups)
-    report.register(groups)
-    for name, (helptext, _module) in GROUPS.items():
+    for name, helptext in GROUPS.items():
         group = groups.add_parser(
             name,
             help=helptext,
@@ -66,8 +59,7 @@ def build_parser() -> argparse.ArgumentParser:
             formatter_class=argparse.RawDescriptionHelpFormatter,
         )
         sub = group.add_subparsers(dest="subcommand", metavar="SUBCOMMAND")
-        for module in group_modules(name):
-            module.register(sub)
+        group_module(name).register(sub)
         group.set_defaults(_group_parser=group)
     return parser
 
@@ -93,7 +85,8 @@ def _one_line_warning(
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit status (0 success, 2 user error, 1 internal error)."""
+    """Run the command line; returns the exit status (0 done, 1 an output could not be produced,
+    2 user error, 3 another run holds the workspace, 130 interrupted)."""
     args_list = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in args_list
     with warnings.catch_warnings():
@@ -110,9 +103,12 @@ def _run(args_list: list[str], debug: bool) -> int:
             target = getattr(args, "_group_parser", None) or build_parser()
             target.print_help()
             return 0 if not args_list else 2
-        result = args.run(args)
+        result = execute(args)
         _print_result(result, bool(args.json))
-        return 0
+        return result.exit_code
+    except WorkspaceBusy as busy:
+        print(f"stepframe: error: {terminal_safe(str(busy))}", file=sys.stderr)
+        return 3
     except (UserError, InputError) as error:
         if debug:
             traceback.print_exc()

@@ -132,7 +132,7 @@ def test_help_shows_an_example_and_the_module_imports_nothing_heavy() -> None:
     )
     assert "stepframe stochastic amplify --fp-hz 7.43" in done.stdout
     probe = (
-        "import sys, stepframe.commands.stochastic_amplify; "
+        "import sys, stepframe.commands.stochastic; "
         "print([m for m in ('numpy', 'scipy', 'numba', 'matplotlib', 'xarray') "
         "if m in sys.modules])"
     )

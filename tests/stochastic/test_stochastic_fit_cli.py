@@ -120,7 +120,9 @@ def test_features_folder_writes_table_and_failures(
     assert len(table) == 2 and "omega_s_rad_s_stderr" in table.columns
     failures = pd.read_csv(tmp_path / "features.failures.csv")
     assert list(failures["stage"]) == ["read"] and "broken.txt" in failures["item"].iloc[0]
-    assert "features:" in captured.err  # progress on stderr, stdout is only JSON
+    assert captured.err == ""  # --json: no progress (issue 11, item 5)
+    assert main(["stochastic", "features", str(record.parent), "-o", str(out)]) == 0
+    assert "features:" in capsys.readouterr().err  # without --json: progress on stderr
 
 
 @pytest.mark.parametrize(

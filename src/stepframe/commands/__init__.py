@@ -1,32 +1,29 @@
-"""Shared machinery of the command groups: parser class, results, JSON, the record options.
+"""Shared machinery of the command groups: parser class, results, the leaf runner.
 
 Each command module (listed per group in :data:`GROUPS`) has ``register(subparsers)``, which adds
 its commands with :func:`add_command`. A command parses its options, calls one library function
-(mostly a :mod:`stepframe.pipeline` stage) and returns a :class:`CommandResult`;
-:mod:`stepframe.cli` prints it. Command modules import only argparse and light name modules at
-module level: the heavy imports happen inside ``run``.
+(mostly a :mod:`stepframe.pipeline` stage) and returns what it got, a result with ``to_dict()``
+and ``describe()`` (or a :class:`CommandResult`); :func:`execute` checks and draws ``--plot`` and
+:mod:`stepframe.cli` prints. Command modules import only argparse and light name modules at
+module level: the heavy imports happen inside their ``run`` functions.
 """
 
 from __future__ import annotations
 
 import argparse
-import json
-import sys
 from collections.abc import Callable
 from dataclasses import dataclass
 from types import ModuleType
-from typing import TYPE_CHECKING, Any, NoReturn
+from typing import TYPE_CHECKING, Any, NoReturn, Protocol
 
-from stepframe.core.jsonable import to_jsonable
-from stepframe.core.options import add_fields, add_options, fields_given
-from stepframe.errors import InputError
-from stepframe.records.read_options import RecordReadOptions
+from stepframe.core.options import Once, add_fields, add_options
 
 if TYPE_CHECKING:
-    from obspy import Stream
+    from matplotlib.figure import Figure
 
-    #: What ``ArgumentParser.add_subparsers()`` returns (argparse names the class privately).
-    Subparsers = argparse._SubParsersAction[argparse.ArgumentParser]
+    #: What ``ArgumentParser.add_subparsers()`` returns (argparse names the class privately; its
+    #: parser type is :class:`Parser` or argparse's).
+    Subparsers = argparse._SubParsersAction[Any]
 
 
 class UserError(Exception):
@@ -45,184 +42,122 @@ class Parser(argparse.ArgumentParser):
 
 @dataclass(frozen=True)
 class CommandResult:
-    """What a command produced: JSON-ready data for ``--json`` and text for people."""
+    """What a command produced: JSON-ready data for ``--json``, text for people, the figure that
+    ``--plot`` draws, and the exit status (1: printed, but an output could not be produced)."""
 
     data: Any
     text: str = ""
+    figure: Callable[[], Figure] | None = None
+    exit_code: int = 0
+
+
+class Reported(Protocol):
+    """A library result a command can return as it is (its ``figure`` drawn by ``--plot``, its
+    ``exit_code`` the command's)."""
+
+    def to_dict(self) -> Any: ...
+
+    def describe(self) -> str: ...
+
+
+Run = Callable[[argparse.Namespace], CommandResult | Reported]
 
 
 def add_command(
-    subparsers: Subparsers,
-    name: str,
-    *,
-    help: str,
-    examples: str,
-    run: Callable[[argparse.Namespace], CommandResult],
-    description: str | None = None,
+    subparsers: Subparsers, name: str, run: Run, *, plot: str | None = None
 ) -> argparse.ArgumentParser:
-    """Add a leaf command with ``--json``, ``--debug`` and a worked example in its ``--help``."""
+    """Add the leaf command ``name``, run by ``run``, with ``--json``, ``--debug`` and, when
+    ``plot`` (its help) is given, ``--plot OUT.png``.
+
+    ``run``'s docstring is the command's help: its summary is the line in the group's command
+    list (with a lowercase first letter and no full stop, as argparse writes its own), its
+    other paragraphs the description, and its ``Examples`` section the worked examples (command
+    lines, kept as written).
+    """
+    summary, description, examples = _help_text(run)
     parser: argparse.ArgumentParser = subparsers.add_parser(
         name,
-        help=help,
-        description=description or help,
+        help=summary,
+        description=description or summary,
         epilog="examples:\n" + examples,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     # SUPPRESS keeps a leaf's default from overwriting a --json given before the command name.
-    parser.add_argument(
-        "--json", action="store_true", default=argparse.SUPPRESS, help="print only JSON on stdout"
+    add_options(
+        parser,
+        ("--json", bool, None, "print only JSON on stdout", argparse.SUPPRESS),
+        ("--debug", bool, None, "show the traceback of an error", argparse.SUPPRESS),
     )
-    parser.add_argument(
-        "--debug",
-        action="store_true",
-        default=argparse.SUPPRESS,
-        help="show the traceback of an error",
-    )
+    if plot is not None:
+        add_options(parser, ("--plot", None, "OUT.png", plot))
     parser.set_defaults(run=run)
     return parser
 
 
-class Once(argparse.Action):
-    """Store an option's value, and refuse it given twice (argparse keeps the last silently:
-    ``--record a --record b`` would drop ``a`` without a word)."""
+def _help_text(run: Run) -> tuple[str, str, str]:
+    """The summary, the description and the examples of ``run``'s docstring (see
+    :func:`add_command`); each paragraph becomes one line, for the terminal to wrap."""
+    import textwrap
 
-    def __call__(
-        self,
-        parser: argparse.ArgumentParser,
-        namespace: argparse.Namespace,
-        values: Any,
-        option_string: str | None = None,
-    ) -> None:
-        given: set[str] = namespace.__dict__.setdefault("_given_once", set())
-        if self.dest in given:
-            raise UserError(
-                f"{parser.prog}: {option_string} given twice, expected it once "
-                "(one value per option)"
-            )
-        given.add(self.dest)
-        setattr(namespace, self.dest, values)
+    first, _, rest = (run.__doc__ or "").partition("\n")
+    text, found, examples = f"{first}\n{textwrap.dedent(rest)}".partition("Examples\n--------\n")
+    if not found:
+        raise ValueError(f"{run.__qualname__}: no Examples section, expected worked examples")
+    summary, *paragraphs = [" ".join(p.split()) for p in text.split("\n\n") if p.strip()]
+    summary = summary[0].lower() + summary[1:].removesuffix(".")
+    examples = textwrap.indent(examples.strip("\n"), "  ") + "\n"
+    return summary, "\n\n".join(paragraphs), examples
+
+
+def execute(args: argparse.Namespace) -> CommandResult:
+    """Run the leaf command of ``args``: refuse a bad ``--plot`` path before any work, and draw
+    the result's figure to it after (the result gains ``plot`` and the line ``plot written to``).
+    """
+    plot = getattr(args, "plot", None)
+    if plot is not None:
+        from stepframe.pipeline.figures import check_figure_path
+
+        check_figure_path(plot)
+    done = args.run(args)
+    if isinstance(done, CommandResult):
+        result = done
+    else:
+        figure, exit_code = getattr(done, "figure", None), getattr(done, "exit_code", 0)
+        result = CommandResult(done.to_dict(), done.describe(), figure, exit_code)
+    if plot is None or result.figure is None:
+        return result
+    from stepframe.pipeline.figures import save_figure
+
+    save_figure(result.figure(), plot)
+    data = {**result.data, "plot": plot} if isinstance(result.data, dict) else result.data
+    return CommandResult(data, f"{result.text}\nplot written to {plot}", exit_code=result.exit_code)
 
 
 def add_record_options(parser: argparse.ArgumentParser) -> None:
     """The record options every command that reads a record takes (DESIGN.md, Command line):
-    ``--example`` and the fields of :class:`RecordReadOptions`; each refuses to be given twice
-    (:class:`Once`)."""
+    the fields of :class:`~stepframe.records.read_options.RecordSource`, each refusing to be
+    given twice (``--example`` only where the command has not declared its own)."""
+    from stepframe.records.read_options import RecordReadOptions, RecordSource
+
     group = parser.add_argument_group("record options")
     if "--example" not in parser._option_string_actions:
-        add_options(
-            group,
-            ("--example", EXAMPLE_NAMES, None, "read the embedded example catalogue instead of a "
-             "file (100 FEMA P695 components; --component picks one, such as MUL009)"),
-            action=Once,
-        )  # fmt: skip
+        add_fields(group, RecordSource, ["example"], action=Once)
     add_fields(group, RecordReadOptions, action=Once)
 
 
-#: Embedded example catalogues that ``--example`` names.
-EXAMPLE_NAMES = ("fema-p695",)
-
-
-def read_record_file(path: str | None, args: argparse.Namespace) -> Stream:
-    """Read ``path`` with the record options in ``args``, or the embedded example catalogue
-    (``--example fema-p695``; ``--component`` picks one of its components, such as MUL009);
-    an ``obspy.Stream`` in m/s²."""
-    example = getattr(args, "example", None)
-    if example is not None:
-        if path is not None:
-            raise InputError(f"a record file and --example {example}, expected one of them")
-        from stepframe.records.examples import example_stream
-
-        return example_stream(example, args.component)
-    if path is None:
-        raise InputError("no record file, expected a record file or --example fema-p695")
-    from stepframe.records import read
-
-    return read(path, **record_options(args))
-
-
-def record_paths(paths: list[str], args: argparse.Namespace) -> list[str | None]:
-    """The files of a command that takes several, or ``[None]`` (the example) with --example."""
-    if getattr(args, "example", None) is not None and not paths:
-        return [None]
-    if not paths:
-        raise InputError("no record file, expected record files or --example fema-p695")
-    return list(paths)
-
-
-def record_options(args: argparse.Namespace) -> dict[str, Any]:
-    """The record options in ``args`` as keyword arguments of :func:`stepframe.records.read`."""
-    return RecordReadOptions(**fields_given(args, RecordReadOptions)).read_kwargs()
-
-
-def check_plot(path: str | None) -> None:
-    """Refuse a ``--plot`` path before any work: a figure suffix, an existing folder."""
-    if path is not None:
-        from stepframe.pipeline.figures import check_figure_path
-
-        check_figure_path(path)
-
-
-def save_plot(
-    result: CommandResult, path: str | None, figure: Callable[[], Any], line: str | None = "plot"
-) -> CommandResult:
-    """Draw ``figure()`` to ``path`` (when given); the result gains ``plot`` and, unless ``line``
-    is None, the text line ``<line> written to <path>``."""
-    if path is None:
-        return result
-    from stepframe.pipeline.figures import save_figure
-
-    save_figure(figure(), path)
-    data = {**result.data, "plot": path}
-    text = result.text if line is None else f"{result.text}\n{line} written to {path}"
-    return CommandResult(data, text)
-
-
-def workflow_result(
-    run: Callable[[], Any], text: Callable[[Any], str], as_json: bool
-) -> CommandResult:
-    """The result of a workflow run, ``run()`` (with ``exit_code`` and ``to_dict()``), and its
-    ``text``; exit 3 after one error line when another run holds the workspace, and when an
-    output could not be produced print the result and exit with the run's code (1)."""
-    from stepframe.pipeline.lock import WorkspaceBusy
-
-    try:
-        done = run()
-    except WorkspaceBusy as busy:
-        print(f"stepframe: error: {busy}", file=sys.stderr)
-        raise SystemExit(3) from None
-    result = CommandResult(done.to_dict(), text(done))
-    if done.exit_code != 0:
-        data = json.dumps(to_jsonable(result.data), indent=2, allow_nan=False)
-        print(data if as_json else result.text)
-        raise SystemExit(done.exit_code)
-    return result
-
-
-#: The command groups: name → (help, the modules whose ``register(subparsers)`` add its
-#: commands). Modules are named, not imported, so building the table needs none of them (they
-#: import this package for :func:`add_command`); :func:`group_modules` imports them.
-GROUPS: dict[str, tuple[str, tuple[str, ...]]] = {
-    "records": (
-        "read accelerograms, intensity measures, spectra, catalogues",
-        ("stepframe.commands.records",),
-    ),
-    "stochastic": (
-        "evolutionary spectra, ground-motion model, mean square, amplification",
-        ("stepframe.commands.stochastic_fit", "stepframe.commands.stochastic_amplify"),
-    ),
-    "structure": (
-        "frame parameters, quasi-dynamic design, stepping simulation",
-        (
-            "stepframe.commands.structure_design",
-            "stepframe.commands.structure_simulate",
-            "stepframe.commands.structure_dynamics",
-        ),
-    ),
+#: The command groups: name → help. The commands of group ``name`` are added by
+#: ``register(subparsers)`` of the module ``stepframe.commands.<name>``; modules are named, not
+#: imported, so building the table needs none of them (they import this package).
+GROUPS = {
+    "report": "self-contained HTML reports: site amplification, record selection",
+    "records": "read accelerograms, intensity measures, spectra, catalogues",
+    "stochastic": "evolutionary spectra, ground-motion model, mean square, amplification",
+    "structure": "frame parameters, quasi-dynamic design, stepping simulation",
 }
 
 
-def group_modules(name: str) -> list[ModuleType]:
-    """The modules of group ``name``, each with ``register(subparsers)``."""
+def group_module(name: str) -> ModuleType:
+    """The module of group ``name``, with ``register(subparsers)``."""
     import importlib
 
-    return [importlib.import_module(module) for module in GROUPS[name][1]]
+    return importlib.import_module(f"stepframe.commands.{name}")

@@ -8,22 +8,17 @@ The options are the fields of :class:`~stepframe.pipeline.selection.options.Sele
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
-from stepframe.commands import CommandResult, add_command, add_record_options, record_options
-from stepframe.core.options import REQUIRED, OptionRow, add_fields, add_options, fields_given
+from stepframe.commands import add_command, add_record_options
+from stepframe.core.options import REQUIRED, add_fields, add_options, fields_given, options_from
 from stepframe.pipeline.selection.options import SelectionOptions
+from stepframe.records.read_options import RecordSource
 
-EXAMPLES = """\
-  stepframe structure frame-template > FRAME.toml
-  stepframe select --frame FRAME.toml --example fema-p695 -n 10 --confirm -o picks
-  stepframe select --frame FRAME.toml --example fema-p695 -n 7 --magnitude-min 6.5 \\
-      --scale psa-at-t1 -o picks
-  stepframe select --frame FRAME.toml --example fema-p695 -n 7 --target-s-ds-g 1.0 \\
-      --target-s-d1-g 0.6 --scale target-mse --spectral-weight 0.5 -o picks --json
-  # from a folder of record files: DIR instead of --example, with --metadata CSV for the filters
-"""
+if TYPE_CHECKING:
+    from stepframe.commands import Subparsers
+    from stepframe.core.options import OptionRow
+    from stepframe.pipeline.selection.inputs import SelectionFolder
 
 #: The options per help group: SelectionOptions fields, and (as option rows) the options that are
 #: not fields.
@@ -57,15 +52,9 @@ FIELDS: dict[str | None, tuple[str | OptionRow, ...]] = {
 }  # fmt: skip
 
 
-def register(subparsers: Any) -> None:
+def register(subparsers: Subparsers) -> None:
     """Add ``select`` to the top-level commands."""
-    parser = add_command(
-        subparsers,
-        "select",
-        help="select records by moving resonance for a stepping frame, confirm by simulation",
-        examples=EXAMPLES,
-        run=run,
-    )
+    parser = add_command(subparsers, "select", run_select)
     parser.add_argument("--frame", required=True, metavar="FRAME.toml", help="frame file")
     source = parser.add_mutually_exclusive_group(required=True)
     source.add_argument("catalogue", nargs="?", metavar="DIR", help="folder of record files")
@@ -99,28 +88,22 @@ def options_from_args(args: argparse.Namespace) -> SelectionOptions:
     return selection_options(args.options, values)
 
 
-def run(args: argparse.Namespace) -> CommandResult:
-    """Features of the catalogue, selection, optional confirmation; tables in OUTDIR."""
+def run_select(args: argparse.Namespace) -> SelectionFolder:
+    """Select records by moving resonance for a stepping frame, confirm by simulation.
+
+    Examples
+    --------
+    stepframe structure frame-template > FRAME.toml
+    stepframe select --frame FRAME.toml --example fema-p695 -n 10 --confirm -o picks
+    stepframe select --frame FRAME.toml --example fema-p695 -n 7 --magnitude-min 6.5 \\
+        --scale psa-at-t1 -o picks
+    stepframe select --frame FRAME.toml --example fema-p695 -n 7 --target-s-ds-g 1.0 \\
+        --target-s-d1-g 0.6 --scale target-mse --spectral-weight 0.5 -o picks --json
+    # from a folder of record files: DIR instead of --example, with --metadata CSV for the filters
+    """
     from stepframe.pipeline.selection.inputs import select_to_folder
 
-    result, paths = select_to_folder(
-        args.frame,
-        options_from_args(args),
-        args.out_dir,
-        example=args.example is not None,
-        catalogue=args.catalogue,
-        metadata=args.metadata,
-        record_options={k: v for k, v in record_options(args).items() if v is not None},
-        jobs=args.jobs,
-    )
-    data = {**result.to_dict(), "outputs": {name: str(path) for name, path in paths.items()}}
-    return CommandResult(data, summary_text(result, paths["selection"].parent))
-
-
-def summary_text(result: Any, out_dir: Path) -> str:
-    """The run's summary lines (:meth:`SelectionResult.summary_lines`) and where its outputs are."""
-    return "\n".join([
-        *result.summary_lines(),
-        f"outputs: {out_dir}/ (selection.csv, candidates.csv, confirmation.csv, failures.csv, "
-        "columns.csv, selection.json)",
-    ])  # fmt: skip
+    return select_to_folder(
+        args.frame, options_from_args(args), args.out_dir, source=options_from(args, RecordSource),
+        catalogue=args.catalogue, metadata=args.metadata, jobs=args.jobs,
+    )  # fmt: skip

@@ -23,7 +23,9 @@ import functools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import MISSING, field
-from typing import Any
+from typing import Any, TypeVar
+
+T = TypeVar("T")
 
 #: The value kinds :func:`option` accepts.
 KINDS = (
@@ -142,6 +144,26 @@ def float_range(text: str) -> tuple[float, float, int]:
     return lo, hi, n
 
 
+class Once(argparse.Action):
+    """Store an option's value, and refuse it given twice (argparse keeps the last silently:
+    ``--record a --record b`` would drop ``a`` without a word)."""
+
+    def __call__(
+        self,
+        parser: argparse.ArgumentParser,
+        namespace: argparse.Namespace,
+        values: Any,
+        option_string: str | None = None,
+    ) -> None:
+        given: set[str] = namespace.__dict__.setdefault("_given_once", set())
+        if self.dest in given:
+            # argparse turns this into parser.error(message): one line, exit 2 on the CLI.
+            message = f"{option_string} given twice, expected it once (one value per option)"
+            raise argparse.ArgumentError(None, message)
+        given.add(self.dest)
+        setattr(namespace, self.dest, values)
+
+
 #: The default of an option row that is required.
 REQUIRED = object()
 
@@ -224,7 +246,7 @@ def add_fields(
 ) -> None:
     """One option ``--field-name`` per field of the dataclass ``cls`` (those of ``names``, in
     their order, when given), stored by ``action`` when given (such as
-    :class:`stepframe.commands.Once`); an :data:`OptionRow` among the names adds an option
+    :class:`Once`); an :data:`OptionRow` among the names adds an option
     that is not a field at its place in the help.
 
     The help, metavar, flag and value kind come from the field's :func:`option` metadata (the
@@ -301,10 +323,17 @@ def fields_given(args: argparse.Namespace, names: Any) -> dict[str, Any]:
     }
 
 
+def options_from(args: argparse.Namespace, cls: type[T]) -> T:
+    """The dataclass ``cls`` built from the :func:`add_fields` options the command line gave
+    (its defaults for the others)."""
+    return cls(**fields_given(args, cls))
+
+
 __all__ = [
     "KINDS",
     "KIND_TYPES",
     "REQUIRED",
+    "Once",
     "OptionRow",
     "add_fields",
     "add_options",
@@ -314,6 +343,7 @@ __all__ = [
     "non_negative_float",
     "non_negative_seconds",
     "option",
+    "options_from",
     "positive_float",
     "positive_floats",
     "positive_int",

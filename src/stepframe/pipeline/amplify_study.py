@@ -17,10 +17,10 @@ from typing import TYPE_CHECKING, Any
 from stepframe.core.options import option
 from stepframe.errors import InputError
 from stepframe.pipeline.site import SITE_PARAMETERS
+from stepframe.records.read_options import RecordSource
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
-    from obspy import Stream
 
     from stepframe.pipeline.amplification import AmplificationResult, Oscillator, SpectralRatios
     from stepframe.pipeline.site import SiteModel
@@ -156,8 +156,7 @@ class AmplifyStudy:
 def amplify_study(
     options: AmplifyOptions,
     *,
-    record_options: Mapping[str, Any] | None = None,
-    example: tuple[str, str | None, Stream] | None = None,
+    source: RecordSource | None = None,
     figure: bool = False,
 ) -> AmplifyStudy:
     """Pick the site and the oscillator from the inputs given, and compute the amplification.
@@ -170,11 +169,9 @@ def amplify_study(
         alone) or a ``record`` to fit, exactly one of ``f0_hz`` [Hz] and ``frame`` (ω(t) =
         2π/T(A)), the damping and the analysis (as
         :func:`~stepframe.pipeline.amplification.amplify`).
-    record_options
-        Read options of ``options.record``.
-    example
-        ``(name, component, stream)``: the site from the one component of an example catalogue
-        (``stream``, read with its ``component`` chosen).
+    source
+        The read options of ``options.record``; or, when it names an example catalogue, the
+        site from that catalogue's one component (chosen by its ``component``).
     figure
         Whether a figure will be asked for (it needs the envelope's times).
     """
@@ -187,25 +184,25 @@ def amplify_study(
     given = [name for name in SITE_PARAMETERS if parameters[name] is not None]
     record, alpha_reading = options.record, options.alpha_reading
     site: SiteModel | None = None
-    if example is not None:
-        name, component, stream = example
+    source = source or RecordSource()
+    if source.example is not None:
         if given or record is not None:
             raise InputError(
                 f"--example with {'--record' if record else '--' + given[0].replace('_', '-')}"
                 ", expected the site from one of the parameters, --record or --example"
             )
+        stream = source.read(None)
         if len(stream) != 1:
             raise InputError(
-                f"--example {name}: {len(stream)} components, expected one "
+                f"--example {source.example}: {len(stream)} components, expected one "
                 "(pick it with --component, such as MUL009)"
             )
         site = site_from_record(
-            stream[0], t0=options.t0, alpha_reading=alpha_reading,
-            name=f"example {name} {component}",
-        )  # fmt: skip
+            stream[0], t0=options.t0, alpha_reading=alpha_reading, name=source.name(None)
+        )
     elif not _envelope_free(parameters, record, alpha_reading, options.monte_carlo, figure):
         site = site_from_options(
-            parameters, record=record, record_options=record_options, t0=options.t0,
+            parameters, record=record, record_options=source.read_kwargs(), t0=options.t0,
             alpha_reading=alpha_reading,
         )  # fmt: skip
     if options.frame is not None:

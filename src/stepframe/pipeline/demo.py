@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from stepframe.pipeline.runner import RunReport, describe, run_workflow
+from stepframe.pipeline.runner import RunReport, run_workflow
 from stepframe.pipeline.stage_reports import SELECTION_REPORT_HTML
 
 if TYPE_CHECKING:
@@ -70,10 +70,10 @@ class DemoRun:
         data["missing"] = self.run.missing
         return data
 
-    def text(self) -> str:
+    def describe(self) -> str:
         """The summary for people: band, chosen records, confirmation, where the outputs are."""
         if self.selection is None:
-            return describe(self.run)
+            return self.run.describe()
         stages = ", ".join(f"{s.name} {s.computed}/{s.cached}" for s in self.run.stages)
         return "\n".join(
             [

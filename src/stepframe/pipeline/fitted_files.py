@@ -27,6 +27,7 @@ from stepframe.pipeline.fitted import (
     write_features,
     write_fitted,
 )
+from stepframe.records.read_options import RecordSource
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -152,8 +153,7 @@ def features_to_file(
     options: FitOptions | None = None,
     *,
     folder: str | None = None,
-    example: str | None = None,
-    record_options: dict[str, Any] | None = None,
+    source: RecordSource | None = None,
     jobs: int | None = None,
     progress: bool = True,
 ) -> FeaturesFiles:
@@ -167,16 +167,16 @@ def features_to_file(
     options
         The estimation options (``frequency``, ``t0``, ``window_s``, ``omega_max_rad_s``; the
         fit's bootstrap and corner are not run for a catalogue).
-    folder, example
-        A folder of record files, or the example catalogue's name (exactly one).
-    record_options
-        Read options of the folder's files.
+    folder, source
+        A folder of record files, or a source naming the example catalogue (exactly one); the
+        source's read options are those of the folder's files.
     jobs, progress
         Worker processes, and a progress bar on stderr.
     """
     from stepframe.pipeline.tables import columns_path
 
-    if (folder is None) == (example is None):
+    source = source or RecordSource()
+    if (folder is None) == (source.example is None):
         raise InputError("give a folder DIR or --example fema-p695, expected exactly one")
     if jobs is not None and jobs < 1:
         raise InputError(f"--jobs {jobs}, expected ≥ 1")
@@ -190,16 +190,16 @@ def features_to_file(
         "window_s": opts.window_s,
         "omega_max_rad_s": opts.omega_max_rad_s,
     }
-    if example is not None:
+    if source.example is not None:
         rows, failures = example_features_table(**common)
     else:
         assert folder is not None
-        rows, failures = features_table(folder, record_options=record_options, **common)
+        rows, failures = features_table(folder, record_options=source.read_kwargs(), **common)
     if len(rows) == 0:
         raise InputError(
             f"0 components read ({len(failures)} failures: see the messages above or run "
             "`stepframe records catalog` on it), expected at least one record",
-            folder or example,
+            folder or source.example,
         )
     table, failures_file = write_features(rows, failures, output)
     return FeaturesFiles(

@@ -100,6 +100,10 @@ class RunReport:
         """0 when every requested output was produced, else 1."""
         return 1 if self.missing else 0
 
+    def describe(self) -> str:
+        """The end-of-run summary for people (:func:`describe`)."""
+        return describe(self)
+
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready form."""
         return {

@@ -4,16 +4,24 @@ Every command that reads a record takes these options (DESIGN.md, Command line);
 carry their help (:func:`stepframe.core.options.option`), so ``--format``, ``--units``, ...
 are declared once. :meth:`RecordReadOptions.read_kwargs` gives the keyword arguments of
 :func:`stepframe.records.read`, :meth:`~RecordReadOptions.catalog_kwargs` those of
-:func:`stepframe.records.catalog.catalog`.
+:func:`stepframe.records.catalog.catalog`. :class:`RecordSource` adds the embedded example
+catalogue (``--example``) as the alternative to a file, and reads either.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from stepframe.core.options import option
+from stepframe.errors import InputError
 from stepframe.records.formats import format_names_help
+
+if TYPE_CHECKING:
+    from obspy import Stream
+
+#: Embedded example catalogues that ``--example`` names.
+EXAMPLE_NAMES = ("fema-p695",)
 
 
 @dataclass(frozen=True)
@@ -88,3 +96,60 @@ class RecordReadOptions:
         kwargs["dt_s"] = kwargs.pop("dt")
         kwargs["limits"] = {k: kwargs.pop(k) for k in ("max_abs_g", "max_bytes") if k in kwargs}
         return kwargs
+
+
+@dataclass(frozen=True)
+class RecordSource(RecordReadOptions):
+    """Record files read with the options, or the embedded example catalogue instead.
+
+    Attributes
+    ----------
+    example
+        The embedded example catalogue (:data:`EXAMPLE_NAMES`); ``component`` picks one of its
+        components, such as ``MUL009``.
+    """
+
+    example: str | None = option(
+        None,
+        "read the embedded example catalogue instead of a file (100 FEMA P695 components; "
+        "--component picks one, such as MUL009)",
+        choices=EXAMPLE_NAMES,
+    )
+
+    def read(self, path: str | None) -> Stream:
+        """The record file ``path`` (or, with ``path`` None, the example) as an
+        ``obspy.Stream`` in m/s²."""
+        if self.example is not None:
+            if path is not None:
+                message = f"a record file and --example {self.example}, expected one of them"
+                raise InputError(message)
+            from stepframe.records.examples import example_stream
+
+            return example_stream(self.example, self.component)
+        if path is None:
+            raise InputError("no record file, expected a record file or --example fema-p695")
+        from stepframe.records import read
+
+        return read(path, **self.read_kwargs())
+
+    def paths(self, paths: list[str]) -> list[str | None]:
+        """The files to read, or ``[None]`` (the example, for :meth:`read`) with no file and an
+        example."""
+        if self.example is not None and not paths:
+            return [None]
+        if not paths:
+            raise InputError("no record file, expected record files or --example fema-p695")
+        return list(paths)
+
+    def folder_or_example(self, folder: str | None) -> str | Stream:
+        """The folder of record files to walk, or the example catalogue read (exactly one of
+        them given)."""
+        if (folder is None) == (self.example is None):
+            raise InputError("give a folder DIR or --example fema-p695, expected exactly one")
+        return folder if folder is not None else self.read(None)
+
+    def name(self, path: str | None) -> str:
+        """How a record read from ``path`` is named in results: the path, or the example."""
+        if path is not None:
+            return path
+        return " ".join(["example", str(self.example), *filter(None, [self.component])])

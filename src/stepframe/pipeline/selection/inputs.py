@@ -2,10 +2,16 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from stepframe.pipeline.selection.options import SelectionOptions
+    from stepframe.pipeline.selection.result import SelectionResult
+    from stepframe.records.read_options import RecordSource
 
 #: Metadata columns of the embedded example catalogue that the filters and caps use.
 EXAMPLE_METADATA = (
@@ -133,17 +139,39 @@ def select_from_catalogue(
     return result
 
 
+@dataclass(frozen=True)
+class SelectionFolder:
+    """A selection run written to its output folder (:func:`select_to_folder`)."""
+
+    result: SelectionResult
+    paths: dict[str, Path]
+
+    def to_dict(self) -> dict[str, Any]:
+        """The result's (:meth:`SelectionResult.to_dict`), then ``outputs``: name → path."""
+        return {
+            **self.result.to_dict(),
+            "outputs": {name: str(path) for name, path in self.paths.items()},
+        }
+
+    def describe(self) -> str:
+        """The run's summary lines and where its outputs are."""
+        return "\n".join([
+            *self.result.summary_lines(),
+            f"outputs: {self.paths['selection'].parent}/ (selection.csv, candidates.csv, "
+            "confirmation.csv, failures.csv, columns.csv, selection.json)",
+        ])  # fmt: skip
+
+
 def select_to_folder(
     frame_path: str,
-    options: Any,
+    options: SelectionOptions,
     out_dir: str,
     *,
-    example: bool,
+    source: RecordSource,
     catalogue: str | None = None,
     metadata: str | None = None,
-    record_options: dict[str, Any] | None = None,
     jobs: int | None = None,
-) -> tuple[Any, dict[str, Path]]:
+) -> SelectionFolder:
     """Read the frame, check the outputs, run :func:`select_from_catalogue`, write the tables.
 
     Everything a user can get wrong (the frame file, the target spectrum, the output folder,
@@ -157,14 +185,10 @@ def select_to_folder(
         :class:`~stepframe.pipeline.selection.options.SelectionOptions`.
     out_dir
         The output folder (created if missing).
-    example, catalogue, metadata, record_options, jobs
+    source
+        The example catalogue (when it names it) or the read options of ``catalogue``'s files.
+    catalogue, metadata, jobs
         As :func:`select_from_catalogue`.
-
-    Returns
-    -------
-    tuple
-        The :class:`~stepframe.pipeline.selection.result.SelectionResult` and its output
-        name → path.
     """
     from stepframe.errors import InputError
     from stepframe.pipeline.selection.spectral import target_spectrum
@@ -180,10 +204,10 @@ def select_to_folder(
     result = select_from_catalogue(
         frame,
         options,
-        example=example,
+        example=source.example is not None,
         catalogue=catalogue,
         metadata=metadata,
-        record_options=record_options,
+        record_options={k: v for k, v in source.read_kwargs().items() if v is not None},
         jobs=jobs,
     )
-    return result, result.write(folder)
+    return SelectionFolder(result, result.write(folder))
