@@ -10,7 +10,6 @@ from stepframe.commands import CommandResult, add_command
 from stepframe.core.options import add_fields, add_options, options_from
 from stepframe.errors import InputError
 from stepframe.pipeline.run_options import RunOptions, run_with_options
-from stepframe.pipeline.workflow import workflow_template
 
 if TYPE_CHECKING:
     from stepframe.commands import Subparsers
@@ -81,6 +80,7 @@ def run_workflow(args: argparse.Namespace) -> CommandResult | RunReport:
     stepframe run selection --scheduler dask-local --jobs 2
     """
     from stepframe.pipeline.shipped import copy_workflow
+    from stepframe.pipeline.workflow import workflow_template
 
     if args.template:
         text = workflow_template()
