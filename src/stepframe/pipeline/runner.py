@@ -101,8 +101,39 @@ class RunReport:
         return 1 if self.missing else 0
 
     def describe(self) -> str:
-        """The end-of-run summary for people (:func:`describe`)."""
-        return describe(self)
+        """The end-of-run summary for people: a line per stage, then the outputs."""
+        lines = [f"workflow {self.workflow} ({self.execution}; workspace {self.workspace})"]
+        header = (
+            f"  {'stage':<22}{'items':>7}{'computed':>10}{'cached':>8}{'failed':>8}{'time s':>9}"
+        )
+        if self.dry_run:
+            header = f"  {'stage':<22}{'items':>7}{'to compute':>12}{'cached':>8}"
+        lines.append(header)
+        for s in self.stages:
+            if self.dry_run:
+                line = f"  {s.name:<22}{s.items:>7}{s.computed:>12}{s.cached:>8}"
+            else:
+                line = (
+                    f"  {s.name:<22}{s.items:>7}{s.computed:>10}{s.cached:>8}{s.failed:>8}"
+                    f"{s.seconds:>9.2f}"
+                )
+            if s.status not in ("ok",):
+                line += f"   {s.status}: {s.message}"
+            lines.append(line)
+        if self.dry_run:
+            lines.append("dry run: nothing computed or written")
+            return "\n".join(lines)
+        if self.failures:
+            lines.append(f"failed items ({len(self.failures)}):")
+            lines += [f"  {f.stage}: {f.item}: {f.message}" for f in self.failures[:20]]
+            if len(self.failures) > 20:
+                lines.append(f"  ... and {len(self.failures) - 20} more (see the failures tables)")
+        for name, paths in self.outputs.items():
+            more = f" (+{len(paths) - 1} files)" if len(paths) > 1 else ""
+            lines.append(f"output {name}: {paths[0]}{more}")
+        for name, reason in self.missing.items():
+            lines.append(f"output {name} NOT produced: {reason}")
+        return "\n".join(lines)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready form."""
@@ -495,37 +526,3 @@ def _dry_tasks(stage: Stage, context: Context) -> list[Task]:
             tasks.append(Task(key, name, None, {"file": name, "content_sha256": sha}))
         return tasks
     return stage.tasks(context)
-
-
-def describe(report: RunReport) -> str:
-    """The end-of-run summary for people: a line per stage, then the outputs."""
-    lines = [f"workflow {report.workflow} ({report.execution}; workspace {report.workspace})"]
-    header = f"  {'stage':<22}{'items':>7}{'computed':>10}{'cached':>8}{'failed':>8}{'time s':>9}"
-    if report.dry_run:
-        header = f"  {'stage':<22}{'items':>7}{'to compute':>12}{'cached':>8}"
-    lines.append(header)
-    for s in report.stages:
-        if report.dry_run:
-            line = f"  {s.name:<22}{s.items:>7}{s.computed:>12}{s.cached:>8}"
-        else:
-            line = (
-                f"  {s.name:<22}{s.items:>7}{s.computed:>10}{s.cached:>8}{s.failed:>8}"
-                f"{s.seconds:>9.2f}"
-            )
-        if s.status not in ("ok",):
-            line += f"   {s.status}: {s.message}"
-        lines.append(line)
-    if report.dry_run:
-        lines.append("dry run: nothing computed or written")
-        return "\n".join(lines)
-    if report.failures:
-        lines.append(f"failed items ({len(report.failures)}):")
-        lines += [f"  {f.stage}: {f.item}: {f.message}" for f in report.failures[:20]]
-        if len(report.failures) > 20:
-            lines.append(f"  ... and {len(report.failures) - 20} more (see the failures tables)")
-    for name, paths in report.outputs.items():
-        more = f" (+{len(paths) - 1} files)" if len(paths) > 1 else ""
-        lines.append(f"output {name}: {paths[0]}{more}")
-    for name, reason in report.missing.items():
-        lines.append(f"output {name} NOT produced: {reason}")
-    return "\n".join(lines)
