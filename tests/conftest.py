@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import os
+import shutil
+import subprocess
 from pathlib import Path
 
 import pytest
@@ -30,3 +32,19 @@ def shared_data() -> Path:
     if not SHARED_DATA.is_dir():
         pytest.skip("../shared/data is not beside this clone")
     return SHARED_DATA
+
+
+@pytest.fixture
+def read_only_bind(tmp_path: Path) -> None:
+    """Skip the test unless ``unshare -m`` with a read-only bind mount works here (the tests
+    that need an unwritable folder as root, who ignores permission bits)."""
+    if shutil.which("unshare") is None or shutil.which("mount") is None:
+        pytest.skip("unshare/mount not installed")
+    probe = tmp_path / "probe"
+    probe.mkdir()
+    script = f"mount --bind -o ro {probe} {probe} && touch {probe}/x"
+    run = subprocess.run(["unshare", "-m", "sh", "-c", script], capture_output=True, text=True)
+    probe.rmdir()
+    if "Read-only file system" not in run.stderr:
+        why = run.stderr.strip() or run.returncode
+        pytest.skip(f"no private read-only bind mounts here ({why})")

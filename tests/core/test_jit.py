@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import json
 import os
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -22,19 +21,6 @@ from stepframe.core import jit
 
 RECORD = Path(__file__).parents[1] / "data" / "peer_nga_west2" / "RSN8883_14383980_13849360.AT2"
 PACKAGE = Path(stepframe.__file__).resolve().parent
-
-
-def _can_bind_read_only(tmp_path: Path) -> str | None:
-    """None if ``unshare -m`` + a read-only bind mount works here, else why not."""
-    if shutil.which("unshare") is None or shutil.which("mount") is None:
-        return "unshare/mount not installed"
-    probe = tmp_path / "probe"
-    probe.mkdir()
-    script = f"mount --bind -o ro {probe} {probe} && touch {probe}/x"
-    run = subprocess.run(["unshare", "-m", "sh", "-c", script], capture_output=True, text=True)
-    if "Read-only file system" not in run.stderr:
-        return f"no private read-only bind mounts here ({run.stderr.strip() or run.returncode})"
-    return None
 
 
 def _spectrum_read_only(home: Path, env: dict[str, str]) -> subprocess.CompletedProcess[str]:
@@ -54,14 +40,7 @@ def _spectrum_read_only(home: Path, env: dict[str, str]) -> subprocess.Completed
     )
 
 
-@pytest.fixture
-def read_only_ok(tmp_path: Path) -> None:
-    reason = _can_bind_read_only(tmp_path)
-    if reason:
-        pytest.skip(reason)
-
-
-def test_nothing_writable_compiles_in_memory(tmp_path: Path, read_only_ok: None) -> None:
+def test_nothing_writable_compiles_in_memory(tmp_path: Path, read_only_bind: None) -> None:
     home = tmp_path / "home"
     home.mkdir()
     run = _spectrum_read_only(home, {})
@@ -73,7 +52,7 @@ def test_nothing_writable_compiles_in_memory(tmp_path: Path, read_only_ok: None)
     assert list(home.iterdir()) == []
 
 
-def test_user_cache_folder_is_used_and_reused(tmp_path: Path, read_only_ok: None) -> None:
+def test_user_cache_folder_is_used_and_reused(tmp_path: Path, read_only_bind: None) -> None:
     home = tmp_path / "home"
     home.mkdir()
     cache = tmp_path / "cache"

@@ -7,7 +7,6 @@ line with exit 2 (3 for a held lock), no traceback, and nothing written.
 from __future__ import annotations
 
 import os
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -58,24 +57,8 @@ def test_demo_in_a_held_folder_exits_3_writing_nothing(
     assert [p.name for p in folder.iterdir()] == ["lock"]
 
 
-def _read_only_bind_works(tmp_path: Path) -> str | None:
-    if shutil.which("unshare") is None or shutil.which("mount") is None:
-        return "unshare/mount not installed"
-    probe = tmp_path / "probe"
-    probe.mkdir()
-    script = f"mount --bind -o ro {probe} {probe} && touch {probe}/x"
-    run = subprocess.run(["unshare", "-m", "sh", "-c", script], capture_output=True, text=True)
-    probe.rmdir()
-    if "Read-only file system" not in run.stderr:
-        return f"no private read-only bind mounts here ({run.stderr.strip() or run.returncode})"
-    return None
-
-
-def test_demo_in_an_unwritable_folder(tmp_path: Path) -> None:
+def test_demo_in_an_unwritable_folder(tmp_path: Path, read_only_bind: None) -> None:
     """Root ignores permission bits: the folder is a read-only bind mount (``unshare -m``)."""
-    reason = _read_only_bind_works(tmp_path)
-    if reason:
-        pytest.skip(reason)
     locked = tmp_path / "locked"
     locked.mkdir()
     command = f"{sys.executable} -m stepframe.cli demo -o {locked}/demo"
