@@ -32,7 +32,7 @@ import time
 from pathlib import Path
 from typing import Any
 
-from stepframe.pipeline.example_files import write_example_files
+from stepframe.pipeline.catalogue.example_files import write_example_files
 
 OUT = Path(__file__).parent / "out" / "pipeline"
 

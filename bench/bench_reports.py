@@ -29,13 +29,13 @@ from pathlib import Path
 from typing import Any
 
 import stepframe.pipeline.reports.document as document
-from stepframe.pipeline.reports import (
+from stepframe.pipeline.amplification.report import (
     AmplificationOptions,
-    collect_provenance,
     write_amplification_report,
 )
+from stepframe.pipeline.reports import collect_provenance
 from stepframe.pipeline.reports.document import data_folder_of
-from stepframe.pipeline.reports.selection import write_selection_report
+from stepframe.pipeline.selection.report import write_selection_report
 from stepframe.stochastic.model import GroundMotionModel
 from stepframe.structure.frame_file import frame_template, read_frame_file
 
@@ -90,8 +90,8 @@ def main() -> None:
     args = parser.parse_args()
     clock = FigureClock()
     # the report modules call figure_from_matplotlib through their own imported name
-    import stepframe.pipeline.reports.amplification as amplification
-    import stepframe.pipeline.reports.selection as selection
+    import stepframe.pipeline.amplification.report as amplification
+    import stepframe.pipeline.selection.report as selection
 
     amplification.figure_from_matplotlib = clock  # type: ignore[assignment]
     selection.figure_from_matplotlib = clock  # type: ignore[assignment]

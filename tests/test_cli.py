@@ -125,7 +125,7 @@ def test_demo_is_the_shipped_selection_workflow(demo_run: tuple[dict[str, object
     and the report (with the three best records' accelerograms) in the folder."""
     import pandas as pd
 
-    from stepframe.pipeline.shipped import SHIPPED_DIR
+    from stepframe.pipeline.engine.shipped import SHIPPED_DIR
 
     payload, out = demo_run
     assert payload["workflow"] == str(SHIPPED_DIR / "selection.toml")

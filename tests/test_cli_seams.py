@@ -74,7 +74,7 @@ def test_an_option_given_twice_is_an_error(capsys: pytest.CaptureFixture[str]) -
 def test_csv_floats_are_printed_cleanly(tmp_path: Path) -> None:
     import pandas as pd
 
-    from stepframe.pipeline.tables import write_table
+    from stepframe.core.tables import write_table
 
     target = tmp_path / "t.csv"
     write_table(pd.DataFrame({"x": [0.1 + 0.2, 81.97500000000001, 1e-20 / 3]}), target)

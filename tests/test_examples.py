@@ -24,7 +24,7 @@ from pathlib import Path
 import pytest
 
 from stepframe.cli import build_parser, main
-from stepframe.pipeline.shipped import copy_workflow, shipped_names
+from stepframe.pipeline.engine.shipped import copy_workflow, shipped_names
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT / "tests" / "data"

@@ -23,7 +23,7 @@ from stepframe.commands import GROUPS, CommandResult, Parser, UserError, execute
 from stepframe.core.jsonable import to_jsonable
 from stepframe.core.text import terminal_safe
 from stepframe.errors import InputError
-from stepframe.pipeline.lock import WorkspaceBusy
+from stepframe.pipeline.engine.lock import WorkspaceBusy
 
 EXAMPLES = """\
 examples:

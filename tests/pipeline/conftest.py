@@ -12,7 +12,7 @@ from typing import Any
 import pandas as pd
 import pytest
 
-from stepframe.pipeline.example_files import write_example_files
+from stepframe.pipeline.catalogue.example_files import write_example_files
 
 #: The first four example components: two records of two components each, 2,000-3,000 samples.
 SMALL = 4

@@ -5,8 +5,8 @@ from __future__ import annotations
 import pytest
 
 from stepframe.errors import InputError
-from stepframe.pipeline.amplification import AmplificationResult, SpectralRatios
-from stepframe.pipeline.amplify_study import AmplifyOptions, amplify_study
+from stepframe.pipeline.amplification.amplify import AmplificationResult, SpectralRatios
+from stepframe.pipeline.amplification.study import AmplifyOptions, amplify_study
 
 PAPER_SITE = {"fp_hz": 7.43, "fs_hz": 3.12, "fr_hz": 1.11, "xi_p": 0.096, "xi_r": 0.655}
 TIMES = {"t_max_s": 5.0, "t_dur_s": 20.0}

@@ -9,7 +9,8 @@ import pandas as pd
 import pytest
 
 from stepframe.cli import main
-from stepframe.pipeline.runner import run_workflow
+from stepframe.pipeline.engine.runner import run_workflow
+from stepframe.pipeline.stages import shipped_stages
 
 from .conftest import FEATURES_WORKFLOW, write_workflow
 
@@ -21,14 +22,16 @@ def test_local_cluster_tables_equal_the_serial_run(
     distributed = pytest.importorskip("dask.distributed")
     serial = write_workflow(scene, 'workspace = "serial"\n' + FEATURES_WORKFLOW, "serial.toml")
     remote = write_workflow(scene, 'workspace = "dask"\n' + FEATURES_WORKFLOW, "dask.toml")
-    serial_report = run_workflow(serial, jobs=1)
+    serial_report = run_workflow(serial, shipped_stages(), jobs=1)
     with distributed.LocalCluster(
         n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None
     ) as cluster:
         assert cluster.scheduler_address.startswith("tcp://127.0.0.1:")
         # the workflow named relative to a folder the workers are not in: they get absolute paths
         monkeypatch.chdir(scene)
-        dask_report = run_workflow(remote.name, scheduler=cluster.scheduler_address)
+        dask_report = run_workflow(
+            remote.name, shipped_stages(), scheduler=cluster.scheduler_address
+        )
     assert dask_report.execution.startswith(cluster.scheduler_address)
     assert [s.computed for s in dask_report.stages] == [s.computed for s in serial_report.stages]
     for name in ("features.parquet", "features.csv", "features.failures.csv"):
@@ -42,7 +45,7 @@ def test_local_cluster_tables_equal_the_serial_run(
 @pytest.mark.slow
 def test_dask_local_scheduler(scene: Path) -> None:
     pytest.importorskip("dask.distributed")
-    report = run_workflow(scene / "wf.toml", scheduler="dask-local", jobs=2)
+    report = run_workflow(scene / "wf.toml", shipped_stages(), scheduler="dask-local", jobs=2)
     assert report.exit_code == 0
     assert report.execution == "dask-local, 2 worker(s)"
     assert [s.computed for s in report.stages] == [4, 4]

@@ -14,8 +14,13 @@ from pathlib import Path
 import pytest
 
 from stepframe.cli import main
-from stepframe.pipeline.lock import workspace_lock
-from stepframe.pipeline.shipped import SHIPPED_DIR, copy_workflow, resolve_workflow, shipped_names
+from stepframe.pipeline.engine.lock import workspace_lock
+from stepframe.pipeline.engine.shipped import (
+    SHIPPED_DIR,
+    copy_workflow,
+    resolve_workflow,
+    shipped_names,
+)
 
 SHIPPED = ["ida", "inbox", "selection", "site-amplification", "site-amplification-records"]
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from stepframe.errors import InputError
-from stepframe.pipeline.dynamics import (
+from stepframe.pipeline.dynamics.studies import (
     G_M_S2,
     BifurcationOptions,
     HarmonicOptions,

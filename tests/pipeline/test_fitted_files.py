@@ -9,10 +9,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from stepframe.core.tables import read_table
 from stepframe.errors import InputError
-from stepframe.pipeline.fitted import FitOptions, fit_records, read_fitted
-from stepframe.pipeline.fitted_files import features_to_file, fit_file
-from stepframe.pipeline.tables import read_table
+from stepframe.pipeline.catalogue.fitted import FitOptions, fit_records, read_fitted
+from stepframe.pipeline.catalogue.fitted_files import features_to_file, fit_file
 from stepframe.records import read
 
 RECORD = "peer_nga_west2/RSN8883_14383980_13849360.AT2"

@@ -9,15 +9,16 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from stepframe.pipeline.example_files import example_files, write_example_files
-from stepframe.pipeline.runner import RunReport, run_workflow
-from stepframe.pipeline.store import Store
+from stepframe.pipeline.catalogue.example_files import example_files, write_example_files
+from stepframe.pipeline.engine.runner import RunReport, run_workflow
+from stepframe.pipeline.engine.store import Store
+from stepframe.pipeline.stages import shipped_stages
 
 from .conftest import FEATURES_WORKFLOW, SMALL, tree, write_workflow
 
 
 def _run(workflow: Path, **options: object) -> RunReport:
-    report = run_workflow(workflow, jobs=1, **options)  # type: ignore[arg-type]
+    report = run_workflow(workflow, shipped_stages(), jobs=1, **options)  # type: ignore[arg-type]
     assert report.exit_code == 0, report.missing
     return report
 
@@ -56,7 +57,7 @@ def test_no_op_rerun_computes_nothing_and_gives_the_same_bytes(scene: Path) -> N
 def test_two_new_files_compute_exactly_two_items_per_stage(scene: Path) -> None:
     _run(scene / "wf.toml")
     write_example_files(scene / "records", count=SMALL + 2)
-    dry = run_workflow(scene / "wf.toml", dry_run=True)
+    dry = run_workflow(scene / "wf.toml", shipped_stages(), dry_run=True)
     inventory, features = dry.stages
     assert (inventory.name, inventory.computed, inventory.cached) == ("inventory", 2, SMALL)
     assert features.status == "pending"  # its items are known once the new files are read

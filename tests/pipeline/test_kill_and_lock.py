@@ -20,7 +20,7 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from stepframe.pipeline.example_files import write_example_files
+from stepframe.pipeline.catalogue.example_files import write_example_files
 
 from .conftest import FEATURES_WORKFLOW, stepframe, tree, write_workflow
 

@@ -12,14 +12,16 @@ import pytest
 import xarray as xr
 
 from stepframe.core.results import get_column_dictionary
-from stepframe.pipeline.amplification import amplification_curve, read_curve, write_curve
-from stepframe.pipeline.design import (
-    design_case,
-    read_design_result,
-    run_design,
-    write_design_result,
+from stepframe.core.tables import read_table, write_table
+from stepframe.pipeline.amplification.amplify import amplification_curve, read_curve, write_curve
+from stepframe.pipeline.amplification.site import (
+    SiteModel,
+    read_site_model,
+    site_from_parameters,
+    site_from_record,
+    write_site_model,
 )
-from stepframe.pipeline.fitted import (
+from stepframe.pipeline.catalogue.fitted import (
     FitOptions,
     features_table,
     fit_records,
@@ -30,14 +32,12 @@ from stepframe.pipeline.fitted import (
     write_features,
     write_fitted,
 )
-from stepframe.pipeline.site import (
-    SiteModel,
-    read_site_model,
-    site_from_parameters,
-    site_from_record,
-    write_site_model,
+from stepframe.pipeline.dynamics.design import (
+    design_case,
+    read_design_result,
+    run_design,
+    write_design_result,
 )
-from stepframe.pipeline.tables import read_table, write_table
 from stepframe.records.trace import make_trace
 from stepframe.stochastic.model import GroundMotionModel
 from stepframe.stochastic.synthetic import synthetic_motions

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from stepframe.pipeline.example_files import write_example_files
+from stepframe.pipeline.catalogue.example_files import write_example_files
 
 ROOT = Path(__file__).resolve().parents[2]
 PAGE = ROOT / "docs" / "scheduling.md"

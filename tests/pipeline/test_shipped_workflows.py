@@ -12,7 +12,8 @@ import pandas as pd
 import pytest
 import xarray as xr
 
-from stepframe.pipeline.shipped import SHIPPED_DIR
+from stepframe.pipeline.engine.shipped import SHIPPED_DIR
+from stepframe.pipeline.stages import shipped_stages
 
 from .conftest import run_json, stepframe
 
@@ -115,12 +116,12 @@ def test_site_amplification_from_records(copy: Path) -> None:
 def test_selection_workflow_is_the_demo(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     """``stepframe run selection`` plans what ``stepframe demo`` runs (tests/test_cli.py runs it):
     the demo's settings (10 components, confirmation) are the shipped file's."""
-    from stepframe.pipeline.runner import run_workflow
-    from stepframe.pipeline.stage_sets import _selection_options
-    from stepframe.pipeline.workflow import load_workflow
+    from stepframe.pipeline.engine.runner import run_workflow
+    from stepframe.pipeline.engine.workflow import load_workflow
+    from stepframe.pipeline.selection.stage import _selection_options
 
     monkeypatch.chdir(tmp_path)
-    report = run_workflow("selection", dry_run=True)
+    report = run_workflow("selection", shipped_stages(), dry_run=True)
     assert [s.name for s in report.stages] == [
         "inventory",
         "features",
@@ -128,7 +129,7 @@ def test_selection_workflow_is_the_demo(tmp_path: Path, monkeypatch: pytest.Monk
         "selection_report",
     ]
     assert report.workspace == "stepframe-work"  # the current folder's, not the package's
-    options = _selection_options(load_workflow(WORKFLOWS / "selection.toml"))
+    options = _selection_options(load_workflow(WORKFLOWS / "selection.toml", shipped_stages()))
     assert (options.n, options.confirm) == (10, True)
     assert list(tmp_path.iterdir()) == []  # a dry run writes nothing
 

@@ -8,7 +8,7 @@ import pytest
 from obspy import Stream
 
 from stepframe.errors import InputError
-from stepframe.pipeline.response import simulate_component, simulate_record
+from stepframe.pipeline.dynamics.response import simulate_component, simulate_record
 from stepframe.records import read
 from stepframe.structure.frame_file import FRAME_TEMPLATE, frame_from_mapping
 

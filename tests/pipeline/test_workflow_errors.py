@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from stepframe.cli import main
-from stepframe.pipeline.example_files import write_example_files
+from stepframe.pipeline.catalogue.example_files import write_example_files
 
 from .conftest import FEATURES_WORKFLOW, tree, write_workflow
 

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from stepframe.pipeline.record_spectra import record_spectra
+from stepframe.pipeline.catalogue.record_spectra import record_spectra
 from stepframe.records import read
 from stepframe.records.plots import response_spectra_figure, spectra_title
 

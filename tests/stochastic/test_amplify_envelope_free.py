@@ -10,7 +10,11 @@ from pathlib import Path
 import pytest
 
 from stepframe.cli import main
-from stepframe.pipeline.amplification import ENVELOPE_KEYS, spectral_ratios, tracking_oscillator
+from stepframe.pipeline.amplification.amplify import (
+    ENVELOPE_KEYS,
+    spectral_ratios,
+    tracking_oscillator,
+)
 from stepframe.structure.frame_file import frame_template
 
 FREQUENCIES = [

@@ -10,7 +10,7 @@ import xarray as xr
 from matplotlib.collections import QuadMesh
 from matplotlib.figure import Figure
 
-from stepframe.pipeline import fitted as stage
+from stepframe.pipeline.catalogue import fitted as stage
 from stepframe.records import read
 from stepframe.stochastic.plots import TWO_PI, energy_band_hz, fit_figure
 

@@ -9,7 +9,7 @@ import pytest
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
-from stepframe.pipeline.response import simulate_record
+from stepframe.pipeline.dynamics.response import simulate_record
 from stepframe.records import read
 from stepframe.records.units import STANDARD_GRAVITY_M_S2
 from stepframe.structure.frame import PortalFrame

@@ -115,7 +115,7 @@ def execute(args: argparse.Namespace) -> CommandResult:
     """
     plot = getattr(args, "plot", None)
     if plot is not None:
-        from stepframe.pipeline.figures import check_figure_path
+        from stepframe.core.figures import check_figure_path
 
         check_figure_path(plot)
     done = args.run(args)
@@ -126,7 +126,7 @@ def execute(args: argparse.Namespace) -> CommandResult:
         result = CommandResult(done.to_dict(), done.describe(), figure, exit_code)
     if plot is None or result.figure is None:
         return result
-    from stepframe.pipeline.figures import save_figure
+    from stepframe.core.figures import save_figure
 
     save_figure(result.figure(), plot)
     data = {**result.data, "plot": plot} if isinstance(result.data, dict) else result.data

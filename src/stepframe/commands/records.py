@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 
 from stepframe.commands import CommandResult, UserError, add_command, add_record_options
 from stepframe.core.options import REQUIRED, add_fields, add_options, options_from
-from stepframe.pipeline.record_spectra import (
+from stepframe.pipeline.catalogue.record_spectra import (
     SpectrumOptions,
     info_text,
     record_info,

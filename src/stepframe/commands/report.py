@@ -1,6 +1,7 @@
 """``stepframe report amplification`` and ``selection``: self-contained HTML reports, each one
 file that opens offline with the CSV/JSON of its numbers and its provenance beside it
-(:mod:`stepframe.pipeline.reports.make`)."""
+(:func:`stepframe.pipeline.amplification.report.make_amplification_report`,
+:func:`stepframe.pipeline.selection.report.make_selection_report`)."""
 
 from __future__ import annotations
 
@@ -9,9 +10,8 @@ from typing import TYPE_CHECKING
 
 from stepframe.commands import CommandResult, add_command
 from stepframe.core.options import add_fields, add_options, options_from
-from stepframe.pipeline.reports import make
-from stepframe.pipeline.reports.make import AmplificationReportOptions as Options
-from stepframe.pipeline.site import SITE_PARAMETERS
+from stepframe.pipeline.amplification.report_options import AmplificationReportOptions as Options
+from stepframe.pipeline.amplification.site import SITE_PARAMETERS
 
 if TYPE_CHECKING:
     from stepframe.commands import Subparsers
@@ -52,8 +52,11 @@ def run_amplification(args: argparse.Namespace) -> CommandResult:
     # a site from a folder of its records (every component fitted, usable fits combined)
     stepframe report amplification --records records/ --site-name "RSN 8883" -o x.html
     """
-    out = make.make_amplification_report(args.out, options_from(args, Options))
-    return CommandResult(*make.report_summary(out))
+    from stepframe.pipeline.amplification.report import make_amplification_report
+    from stepframe.pipeline.reports.document import report_summary
+
+    out = make_amplification_report(args.out, options_from(args, Options))
+    return CommandResult(*report_summary(out))
 
 
 def run_selection(args: argparse.Namespace) -> CommandResult:
@@ -65,5 +68,8 @@ def run_selection(args: argparse.Namespace) -> CommandResult:
     stepframe report selection stepframe-demo/           writes stepframe-demo/selection_report.html
     stepframe report selection stepframe-demo/ -o sel.html --json
     """
-    out = make.make_selection_report(args.outdir, args.out)
-    return CommandResult(*make.report_summary(out))
+    from stepframe.pipeline.reports.document import report_summary
+    from stepframe.pipeline.selection.report import make_selection_report
+
+    out = make_selection_report(args.outdir, args.out)
+    return CommandResult(*report_summary(out))

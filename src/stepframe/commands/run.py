@@ -9,12 +9,12 @@ from typing import TYPE_CHECKING
 from stepframe.commands import CommandResult, add_command
 from stepframe.core.options import add_fields, add_options, options_from
 from stepframe.errors import InputError
-from stepframe.pipeline.run_options import RunOptions, run_with_options
+from stepframe.pipeline.engine.run_options import RunOptions, run_with_options
 
 if TYPE_CHECKING:
     from stepframe.commands import Subparsers
     from stepframe.pipeline.demo import DemoRun
-    from stepframe.pipeline.runner import RunReport
+    from stepframe.pipeline.engine.runner import RunReport
 
 
 def register(subparsers: Subparsers) -> None:
@@ -79,11 +79,12 @@ def run_workflow(args: argparse.Namespace) -> CommandResult | RunReport:
                                                       my-inbox/inbox/ (waits for a running one)
     stepframe run selection --scheduler dask-local --jobs 2
     """
-    from stepframe.pipeline.shipped import copy_workflow
-    from stepframe.pipeline.workflow import workflow_template
+    from stepframe.pipeline.engine.shipped import copy_workflow
+    from stepframe.pipeline.engine.workflow import workflow_template
+    from stepframe.pipeline.stages import shipped_stages
 
     if args.template:
-        text = workflow_template()
+        text = workflow_template(shipped_stages())
         return CommandResult(data={"template": text}, text=text.rstrip("\n"))
     if args.workflow is None:
         raise InputError("no workflow given, expected stepframe run WORKFLOW.toml or a name")
@@ -91,4 +92,5 @@ def run_workflow(args: argparse.Namespace) -> CommandResult | RunReport:
         copied = copy_workflow(args.workflow, args.copy)
         return CommandResult(data={"copied": copied}, text="\n".join(map(str, copied)))
     progress = not getattr(args, "json", False)
-    return run_with_options(args.workflow, options_from(args, RunOptions), progress=progress)
+    options = options_from(args, RunOptions)
+    return run_with_options(args.workflow, shipped_stages(), options, progress=progress)

@@ -72,7 +72,7 @@ def register(subparsers: Subparsers) -> None:
 
 def options_from_args(args: argparse.Namespace) -> SelectionOptions:
     """The :class:`SelectionOptions` of the command line (over an optional [selection] file)."""
-    from stepframe.pipeline.design import design_displacement_m
+    from stepframe.pipeline.dynamics.design import design_displacement_m
     from stepframe.pipeline.selection.options import selection_options
 
     values = {"n": args.n}

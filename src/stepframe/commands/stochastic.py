@@ -1,6 +1,6 @@
 """``stepframe stochastic``: ``fit`` (one record), ``features`` (a folder, one CSV row per
-component; :mod:`stepframe.pipeline.fitted_files`) and ``amplify``
-(:mod:`stepframe.pipeline.amplify_study`)."""
+component; :mod:`stepframe.pipeline.catalogue.fitted_files`) and ``amplify``
+(:mod:`stepframe.pipeline.amplification.study`)."""
 
 from __future__ import annotations
 
@@ -16,15 +16,15 @@ from stepframe.core.options import (
     fields_given,
     options_from,
 )
-from stepframe.pipeline.amplify_study import AmplifyOptions, AmplifyStudy, amplify_study
-from stepframe.pipeline.fit_options import FitOptions
-from stepframe.pipeline.site import SITE_PARAMETERS
+from stepframe.pipeline.amplification.site import SITE_PARAMETERS
+from stepframe.pipeline.amplification.study import AmplifyOptions, AmplifyStudy, amplify_study
+from stepframe.pipeline.catalogue.fit_options import FitOptions
 from stepframe.records.read_options import RecordSource
 from stepframe.stochastic.methods import SPECTRUM_METHOD_NAMES
 
 if TYPE_CHECKING:
     from stepframe.commands import Subparsers
-    from stepframe.pipeline.fitted_files import FeaturesFiles, FittedFile
+    from stepframe.pipeline.catalogue.fitted_files import FeaturesFiles, FittedFile
 
 #: The FitOptions fields of ``features``, in the order of its help (``fit`` takes them all).
 ESTIMATION = ("frequency", "t0", "omega_max_rad_s", "window_s")
@@ -85,7 +85,7 @@ def run_fit(args: argparse.Namespace) -> FittedFile:
     stepframe stochastic fit RSN8883_14383980_13849360.AT2 --corner --json
     stepframe stochastic fit --example fema-p695 --component MUL009 --json
     """
-    from stepframe.pipeline.fitted_files import check_output_folder, fit_file
+    from stepframe.pipeline.catalogue.fitted_files import check_output_folder, fit_file
 
     options, source = options_from(args, FitOptions), options_from(args, RecordSource)
     check_output_folder(args.out)
@@ -108,7 +108,7 @@ def run_features(args: argparse.Namespace) -> FeaturesFiles:
     stepframe stochastic features --example fema-p695 -o fema_features.csv --jobs 2
     stepframe stochastic features records/ -o f.csv --format at2 --t0 p-pick --json
     """
-    from stepframe.pipeline.fitted_files import features_to_file
+    from stepframe.pipeline.catalogue.fitted_files import features_to_file
 
     return features_to_file(
         args.output, FitOptions(**fields_given(args, ESTIMATION)), folder=args.folder,

@@ -1,6 +1,6 @@
-"""``stepframe structure``: ``design`` (:mod:`stepframe.pipeline.design`), ``simulate`` one
-record (:mod:`stepframe.pipeline.response`), ``frame-template``, and the dynamics studies
-``harmonic``, ``bifurcation``, ``ida`` (:mod:`stepframe.pipeline.dynamics`)."""
+"""``stepframe structure``: ``design`` (:mod:`stepframe.pipeline.dynamics.design`), ``simulate`` one
+record (:mod:`stepframe.pipeline.dynamics.response`), ``frame-template``, and the dynamics studies
+``harmonic``, ``bifurcation``, ``ida`` (:mod:`stepframe.pipeline.dynamics.studies`)."""
 
 from __future__ import annotations
 
@@ -9,9 +9,14 @@ from typing import TYPE_CHECKING
 
 from stepframe.commands import CommandResult, add_command, add_record_options
 from stepframe.core.options import add_fields, options_from
-from stepframe.pipeline import design, dynamics
-from stepframe.pipeline.dynamics import BifurcationOptions, FrameSource, HarmonicOptions, IdaOptions
-from stepframe.pipeline.response import SimulatedComponent, SimulateOptions, simulate_file
+from stepframe.pipeline.dynamics import design, studies
+from stepframe.pipeline.dynamics.response import SimulatedComponent, SimulateOptions, simulate_file
+from stepframe.pipeline.dynamics.studies import (
+    BifurcationOptions,
+    FrameSource,
+    HarmonicOptions,
+    IdaOptions,
+)
 from stepframe.records.read_options import RecordSource
 
 if TYPE_CHECKING:
@@ -130,7 +135,7 @@ def run_simulate(args: argparse.Namespace) -> SimulatedComponent:
     )  # fmt: skip
 
 
-def run_harmonic(args: argparse.Namespace) -> dynamics.HarmonicStudy:
+def run_harmonic(args: argparse.Namespace) -> studies.HarmonicStudy:
     """Response to harmonic ground acceleration (closed form), periodic orbits.
 
     Integrate the frame under ground acceleration A cos(ωt) in closed form (no sampling error)
@@ -144,10 +149,10 @@ def run_harmonic(args: argparse.Namespace) -> dynamics.HarmonicStudy:
         --periods 200 --orbit 1 --json --plot portrait.png
     """
     frame = options_from(args, FrameSource).portal_frame()
-    return dynamics.harmonic_study(frame, options_from(args, HarmonicOptions))
+    return studies.harmonic_study(frame, options_from(args, HarmonicOptions))
 
 
-def run_bifurcation(args: argparse.Namespace) -> dynamics.BifurcationSweep:
+def run_bifurcation(args: argparse.Namespace) -> studies.BifurcationSweep:
     """Brute-force bifurcation diagram over the forcing amplitude (all cores).
 
     For every amplitude and every initial state, iterate the stroboscopic map for --periods
@@ -161,10 +166,10 @@ def run_bifurcation(args: argparse.Namespace) -> dynamics.BifurcationSweep:
     stepframe structure bifurcation --block 0.25,1.0 --amplitude-g 0.3 --omegas-rad-s 5,40,100
     """
     frame = options_from(args, FrameSource).portal_frame()
-    return dynamics.bifurcation_sweep(frame, options_from(args, BifurcationOptions))
+    return studies.bifurcation_sweep(frame, options_from(args, BifurcationOptions))
 
 
-def run_ida(args: argparse.Namespace) -> dynamics.IdaStudy:
+def run_ida(args: argparse.Namespace) -> studies.IdaStudy:
     """Incremental dynamic analysis by hunt-trace-fill, with resurrection detection.
 
     Raise each record's PGA until the frame overturns, trace every change of outcome to
@@ -180,4 +185,4 @@ def run_ida(args: argparse.Namespace) -> dynamics.IdaStudy:
     """
     frame, source = options_from(args, FrameSource).portal_frame(), options_from(args, RecordSource)
     records = [(path, source.read(path)) for path in args.records]
-    return dynamics.ida_study(frame, options_from(args, IdaOptions), records)
+    return studies.ida_study(frame, options_from(args, IdaOptions), records)

@@ -181,6 +181,19 @@ def write_bytes(path: str | PathLike[str], data: bytes) -> Path:
     return Path(path)
 
 
+def copy_files(source: str | PathLike[str], target: str | PathLike[str]) -> list[Path]:
+    """Copy every file under ``source`` to ``target`` (each atomically); the written paths."""
+    origin, destination_root = Path(source), Path(target)
+    destination_root.mkdir(parents=True, exist_ok=True)
+    written = []
+    for file in sorted(origin.rglob("*")):
+        if file.is_file():
+            destination = destination_root / file.relative_to(origin)
+            destination.parent.mkdir(parents=True, exist_ok=True)
+            written.append(write_bytes(destination, file.read_bytes()))
+    return written
+
+
 def read_toml(path: str | PathLike[str], what: str) -> tuple[dict[str, Any], str]:
     """Read a TOML file as UTF-8; errors are one line with the file and line.
 

@@ -1,25 +1,24 @@
-"""Pipeline: the stages that compose the areas, for the command line and for ``stepframe run``.
+"""Pipeline: the jobs that compose the areas, for the command line and for ``stepframe run``.
 
-The one package allowed to import every area (records, stochastic, structure). Stage modules:
-:mod:`~stepframe.pipeline.site` (the site model from records or parameters),
-:mod:`~stepframe.pipeline.amplification` (frame-driven and fixed-oscillator amplification),
-:mod:`~stepframe.pipeline.fitted` (fitted records: tables and NetCDF),
-:mod:`~stepframe.pipeline.design` (the design case from TOML plus overrides),
-:mod:`~stepframe.pipeline.record_spectra` and :mod:`~stepframe.pipeline.response` (what
-``records spectrum`` and ``structure simulate`` report), with :mod:`~stepframe.pipeline.tables`
-(tables with their column dictionary, read back equal) and :mod:`~stepframe.pipeline.figures`
-(saving figures atomically). The names below are imported when first used (module
-``__getattr__``), so ``stepframe --help`` stays fast.
+The one package allowed to import every area (records, stochastic, structure). It is cut by job;
+each job keeps its computation, its report and its workflow stages together:
 
-``stepframe run`` (docs/workflows.md): :mod:`~stepframe.pipeline.workflow` (workflow files,
-checked with file:line errors), :mod:`~stepframe.pipeline.stages` (the stage registry, with the
-stages in :mod:`~stepframe.pipeline.stage_items` and :mod:`~stepframe.pipeline.stage_sets`),
-:mod:`~stepframe.pipeline.plan`, :mod:`~stepframe.pipeline.store` (results keyed by content,
-parameters and version), :mod:`~stepframe.pipeline.lock`, :mod:`~stepframe.pipeline.scheduler`
-(process pool or Dask) and :mod:`~stepframe.pipeline.runner` (its options:
-:mod:`~stepframe.pipeline.run_options`); :mod:`~stepframe.pipeline.shipped`
-(the workflows shipped in the package, run by name) and :mod:`~stepframe.pipeline.demo`
-(``stepframe demo``: the shipped selection workflow run into one folder).
+- :mod:`~stepframe.pipeline.catalogue`: a folder of records → features and fitted parameters
+  (``records info | spectrum``, ``stochastic fit | features``; the ``inventory`` and
+  ``features`` stages);
+- :mod:`~stepframe.pipeline.amplification`: a site's model and its moving-resonance
+  amplification (``stochastic amplify``, ``report amplification``; the ``site``,
+  ``amplification`` and ``amplification_report`` stages);
+- :mod:`~stepframe.pipeline.selection`: record selection by moving resonance (``select``,
+  ``report selection``; the ``selection`` and ``selection_report`` stages);
+- :mod:`~stepframe.pipeline.dynamics`: design, simulation, harmonic, bifurcation and IDA
+  studies (``structure ...``; the ``ida`` stage);
+
+with :mod:`~stepframe.pipeline.reports` (the HTML machinery the reports share),
+:mod:`~stepframe.pipeline.engine` (the workflow engine: it imports no job and is handed the
+stages), :mod:`~stepframe.pipeline.stages` (the composition root: the shipped stages' table)
+and :mod:`~stepframe.pipeline.demo` (``stepframe demo``). The names below are imported when
+first used (module ``__getattr__``), so ``stepframe --help`` stays fast.
 """
 
 from __future__ import annotations
@@ -29,7 +28,9 @@ from typing import TYPE_CHECKING
 from stepframe._lazy import lazy_exports
 
 if TYPE_CHECKING:
-    from stepframe.pipeline.amplification import (
+    from stepframe.core.figures import save_figure
+    from stepframe.core.tables import read_table, write_table
+    from stepframe.pipeline.amplification.amplify import (
         AmplificationResult,
         Oscillator,
         amplification_curve,
@@ -39,18 +40,14 @@ if TYPE_CHECKING:
         tracking_oscillator,
         write_curve,
     )
-    from stepframe.pipeline.design import (
-        DesignOptions,
-        DesignRun,
-        design_case,
-        design_run,
-        merged_design_input,
-        read_design_result,
-        run_design,
-        write_design_result,
+    from stepframe.pipeline.amplification.site import (
+        SiteModel,
+        read_site_model,
+        site_from_parameters,
+        site_from_record,
+        write_site_model,
     )
-    from stepframe.pipeline.figures import save_figure
-    from stepframe.pipeline.fitted import (
+    from stepframe.pipeline.catalogue.fitted import (
         FitOptions,
         FittedRecord,
         features_table,
@@ -61,55 +58,57 @@ if TYPE_CHECKING:
         write_features,
         write_fitted,
     )
-    from stepframe.pipeline.record_spectra import SpectrumOptions, record_spectra
-    from stepframe.pipeline.response import (
+    from stepframe.pipeline.catalogue.record_spectra import SpectrumOptions, record_spectra
+    from stepframe.pipeline.dynamics.design import (
+        DesignOptions,
+        DesignRun,
+        design_case,
+        design_run,
+        merged_design_input,
+        read_design_result,
+        run_design,
+        write_design_result,
+    )
+    from stepframe.pipeline.dynamics.response import (
         RecordResponse,
         SimulateOptions,
         simulate_file,
         simulate_record,
     )
-    from stepframe.pipeline.run_options import RunOptions, run_with_options
-    from stepframe.pipeline.site import (
-        SiteModel,
-        read_site_model,
-        site_from_parameters,
-        site_from_record,
-        write_site_model,
-    )
-    from stepframe.pipeline.tables import read_table, write_table
+    from stepframe.pipeline.engine.run_options import RunOptions, run_with_options
 
 _EXPORTS = {
     **dict.fromkeys(
         ("SiteModel", "site_from_parameters", "site_from_record", "write_site_model",
          "read_site_model"),
-        "stepframe.pipeline.site",
+        "stepframe.pipeline.amplification.site",
     ),
     **dict.fromkeys(
         ("AmplificationResult", "Oscillator", "amplify", "amplification_curve",
          "frame_oscillator", "tracking_oscillator", "write_curve", "read_curve"),
-        "stepframe.pipeline.amplification",
+        "stepframe.pipeline.amplification.amplify",
     ),
     **dict.fromkeys(
         ("FitOptions", "FittedRecord", "fit_record", "fit_table", "fitted_dataset",
          "write_fitted", "read_fitted", "features_table", "write_features"),
-        "stepframe.pipeline.fitted",
+        "stepframe.pipeline.catalogue.fitted",
     ),
     **dict.fromkeys(
         ("DesignOptions", "DesignRun", "design_case", "design_run", "merged_design_input",
          "run_design", "write_design_result", "read_design_result"),
-        "stepframe.pipeline.design",
+        "stepframe.pipeline.dynamics.design",
     ),
-    "record_spectra": "stepframe.pipeline.record_spectra",
-    "SpectrumOptions": "stepframe.pipeline.record_spectra",
+    "record_spectra": "stepframe.pipeline.catalogue.record_spectra",
+    "SpectrumOptions": "stepframe.pipeline.catalogue.record_spectra",
     **dict.fromkeys(
         ("RecordResponse", "SimulateOptions", "simulate_file", "simulate_record"),
-        "stepframe.pipeline.response",
+        "stepframe.pipeline.dynamics.response",
     ),
-    "RunOptions": "stepframe.pipeline.run_options",
-    "run_with_options": "stepframe.pipeline.run_options",
-    "read_table": "stepframe.pipeline.tables",
-    "write_table": "stepframe.pipeline.tables",
-    "save_figure": "stepframe.pipeline.figures",
+    "RunOptions": "stepframe.pipeline.engine.run_options",
+    "run_with_options": "stepframe.pipeline.engine.run_options",
+    "read_table": "stepframe.core.tables",
+    "write_table": "stepframe.core.tables",
+    "save_figure": "stepframe.core.figures",
 }  # fmt: skip
 
 

@@ -19,8 +19,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from stepframe.pipeline.runner import RunReport, run_workflow
-from stepframe.pipeline.stage_reports import SELECTION_REPORT_HTML
+from stepframe.pipeline.engine.runner import RunReport, run_workflow
+from stepframe.pipeline.selection.stage import SELECTION_REPORT_HTML
+from stepframe.pipeline.stages import shipped_stages
 
 if TYPE_CHECKING:
     from stepframe.pipeline.selection.result import SelectionResult
@@ -111,6 +112,8 @@ def run_demo(
     from stepframe.pipeline.selection.result import read_selection
 
     path = Path(folder)
-    report = run_workflow(DEMO_WORKFLOW, jobs=jobs, progress=progress, workspace=path, outputs=path)
+    report = run_workflow(
+        DEMO_WORKFLOW, shipped_stages(), jobs=jobs, progress=progress, workspace=path, outputs=path
+    )
     selection = read_selection(path / "selection") if "selection" in report.outputs else None
     return DemoRun(path, report, selection)

@@ -2,7 +2,7 @@
 
 Each function returns a :class:`matplotlib.figure.Figure` built without pyplot (no global state,
 no backend chosen, nothing shown or saved); the caller saves it, e.g. through
-:func:`stepframe.pipeline.figures.save_figure`. matplotlib is imported when a function is called.
+:func:`stepframe.core.figures.save_figure`. matplotlib is imported when a function is called.
 """
 
 from __future__ import annotations

@@ -24,7 +24,7 @@ from stepframe.errors import InputError
 
 if TYPE_CHECKING:
     from obspy import Trace
-from stepframe.records.intensity import displacement_m
+from stepframe.records.integration import displacement_m
 
 StepName = Literal["demean", "detrend", "baseline", "bandpass", "taper", "resample", "trim"]
 

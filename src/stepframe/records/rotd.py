@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from stepframe.errors import InputError
-from stepframe.records.intensity import check_record
+from stepframe.records.integration import check_record
 from stepframe.records.spectra import (
     DEFAULT_PERIODS_S,
     check_damping,

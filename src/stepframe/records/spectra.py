@@ -28,7 +28,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from stepframe.core.validation import damping_fraction, finite_array, in_range
 from stepframe.errors import InputError
-from stepframe.records.intensity import check_record
+from stepframe.records.integration import check_record
 from stepframe.records.units import STANDARD_GRAVITY_M_S2
 
 SpectrumMethod = Literal["nigam_jennings", "frequency_domain"]

@@ -2,7 +2,7 @@
 
 Each function returns a :class:`matplotlib.figure.Figure` built without pyplot (no global state,
 nothing shown or saved); the caller saves it, e.g. through
-:func:`stepframe.pipeline.figures.save_figure`. matplotlib is imported when a function is called.
+:func:`stepframe.core.figures.save_figure`. matplotlib is imported when a function is called.
 """
 
 from __future__ import annotations
@@ -144,7 +144,8 @@ def amplification_figure(
     Parameters
     ----------
     curve
-        An amplification curve (:func:`stepframe.pipeline.amplification.amplification_curve`):
+        An amplification curve
+        (:func:`stepframe.pipeline.amplification.amplify.amplification_curve`):
         ``spectral_ratio_eq_6_18``, ``response_amplification_vs_fixed`` and
         ``response_amplification_vs_stationary`` on ``frequency`` [Hz], with attributes
         ``xi0``, ``alpha_reading``, ``approx_eq_6_19_last`` and ``omega_path``.

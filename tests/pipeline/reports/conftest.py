@@ -79,11 +79,11 @@ def amplification_html(
     tmp_path_factory: pytest.TempPathFactory, paper_model: Any, frame_file: Path
 ) -> Path:
     """The paper's site's amplification report with Example 4's frame and δ* = 0.25 m."""
-    from stepframe.pipeline.reports import (
+    from stepframe.pipeline.amplification.report import (
         AmplificationOptions,
-        collect_provenance,
         write_amplification_report,
     )
+    from stepframe.pipeline.reports import collect_provenance
     from stepframe.structure.frame_file import read_frame_file
 
     out = tmp_path_factory.mktemp("amplification") / "paper_site.html"
@@ -137,12 +137,12 @@ def records_amplification_html(
     tmp_path_factory: pytest.TempPathFactory, site_records: Path, frame_file: Path
 ) -> Path:
     """The amplification report of a site from its records, with Example 4's frame."""
-    from stepframe.pipeline.reports import (
+    from stepframe.pipeline.amplification.report import (
         AmplificationOptions,
-        collect_provenance,
         write_amplification_report,
     )
-    from stepframe.pipeline.reports.site import site_from_records
+    from stepframe.pipeline.amplification.site_records import site_from_records
+    from stepframe.pipeline.reports import collect_provenance
     from stepframe.structure.frame_file import read_frame_file
 
     out = tmp_path_factory.mktemp("amplification_records") / "beverly_hills.html"
@@ -169,7 +169,7 @@ def selection_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
 def selection_html(selection_dir: Path) -> Path:
     """The selection report of :func:`selection_dir`."""
     from stepframe.pipeline.reports import collect_provenance
-    from stepframe.pipeline.reports.selection import write_selection_report
+    from stepframe.pipeline.selection.report import write_selection_report
 
     provenance = collect_provenance("pytest selection", inputs=[selection_dir / "selection.json"])
     return write_selection_report(selection_dir, provenance=provenance)

@@ -12,8 +12,8 @@ import pandas as pd
 import pytest
 
 from stepframe.cli import main
+from stepframe.pipeline.amplification.site_records import COMBINED, site_from_records
 from stepframe.pipeline.reports.document import data_folder_of
-from stepframe.pipeline.reports.site import COMBINED, site_from_records
 from stepframe.stochastic.amplification import response_amplification, spectral_ratio_eq_6_18
 from stepframe.stochastic.mean_square import analysis_grid
 

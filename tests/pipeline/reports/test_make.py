@@ -1,4 +1,4 @@
-"""pipeline.reports.make: the reproducing command line and the checks before any work."""
+"""make_amplification_report: the reproducing command line and the checks before any work."""
 
 from __future__ import annotations
 
@@ -8,12 +8,10 @@ from pathlib import Path
 import pytest
 
 from stepframe.errors import InputError
-from stepframe.pipeline.reports.make import (
-    AmplificationReportOptions,
-    command_line,
-    make_amplification_report,
-    report_summary,
-)
+from stepframe.pipeline.amplification.report import make_amplification_report
+from stepframe.pipeline.amplification.report_options import AmplificationReportOptions
+from stepframe.pipeline.reports.document import report_summary
+from stepframe.pipeline.reports.provenance import command_line
 
 SITE = {"fp_hz": 7.43, "fs_hz": 3.12, "fr_hz": 1.11, "xi_p": 0.096, "xi_r": 0.655}
 
@@ -69,7 +67,7 @@ def test_report_summary_names_the_file_its_folder_and_size(tmp_path: Path) -> No
 
 
 def test_the_summary_states_the_runs_correlations_with_their_intervals() -> None:
-    from stepframe.pipeline.reports.selection import _stated_correlations
+    from stepframe.pipeline.selection.report import _stated_correlations
 
     rows = [
         {"score": "s", "response": "peak_drift", "spearman": 0.194, "low": -0.083, "high": 0.437,

@@ -14,7 +14,7 @@ from scipy.stats import spearmanr
 from stepframe.cli import main
 from stepframe.errors import InputError
 from stepframe.pipeline.reports.document import data_folder_of
-from stepframe.pipeline.reports.selection_folder import read_selection_folder
+from stepframe.pipeline.selection.report_folder import read_selection_folder
 
 
 def test_confirmation_rank_correlation(selection_dir: Path, selection_html: Path) -> None:

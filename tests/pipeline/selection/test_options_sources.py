@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from stepframe.errors import InputError
-from stepframe.pipeline.design import DESIGN_TEMPLATE, design_displacement_m
+from stepframe.pipeline.dynamics.design import DESIGN_TEMPLATE, design_displacement_m
 from stepframe.pipeline.selection.options import SelectionOptions, selection_options
 
 

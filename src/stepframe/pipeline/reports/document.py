@@ -252,3 +252,12 @@ def write_report(report: Report, out_html: str | PathLike[str]) -> Path:
         _write_folder(report, staging)
         out.write(html)
     return target
+
+
+def report_summary(out_html: str | PathLike[str]) -> tuple[dict[str, Any], str]:
+    """What was written: ``{"report", "data_folder", "size_bytes"}`` and a line of text."""
+    out = Path(out_html)
+    folder = data_folder_of(out)
+    size = out.stat().st_size
+    data = {"report": str(out), "data_folder": str(folder), "size_bytes": size}
+    return data, f"report: {out} ({size / 1e3:.0f} kB); its numbers: {folder}/"

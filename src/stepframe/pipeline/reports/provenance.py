@@ -133,3 +133,20 @@ def collect_provenance(
         cpu_count=os.cpu_count() or 0,
         platform=platform.platform(),
     )
+
+
+def workflow_provenance(workflow: str | PathLike[str], parameters: Mapping[str, Any]) -> Provenance:
+    """Provenance of a report made by a workflow's stage: ``stepframe run WORKFLOW``, the
+    workflow's text and the stage's parameters."""
+    return collect_provenance(
+        ["stepframe", "run", str(workflow)], parameters=parameters, workflow=workflow
+    )
+
+
+def command_line(words: list[str], parameters: Mapping[str, Any]) -> str:
+    """The command line ``words --name value ...`` that reproduces a report (shell-quoted)."""
+    import shlex
+
+    for name, value in parameters.items():
+        words = [*words, f"--{name.replace('_', '-')}", str(value)]
+    return shlex.join(words)

@@ -23,6 +23,8 @@ from __future__ import annotations
 import operator
 import shutil
 import time
+from collections.abc import Callable
+from concurrent.futures import Executor
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -31,13 +33,13 @@ from stepframe.core.execution import map_items
 from stepframe.core.io import TEMPORARY_SUFFIX
 from stepframe.core.results import Failure, failures_path, failures_table, set_column_dictionary
 from stepframe.errors import InputError
-from stepframe.pipeline.lock import workspace_lock
-from stepframe.pipeline.plan import check_forced, plan_stages
-from stepframe.pipeline.scheduler import Execution, check_scheduler, open_execution
-from stepframe.pipeline.shipped import is_shipped, resolve_workflow
-from stepframe.pipeline.stages import Context, Stage, Task, registry
-from stepframe.pipeline.store import KEY_COLUMN, Store, write_output_table
-from stepframe.pipeline.workflow import DEFAULT_WORKSPACE, Workflow, load_workflow
+from stepframe.pipeline.engine.lock import workspace_lock
+from stepframe.pipeline.engine.plan import check_forced, plan_stages
+from stepframe.pipeline.engine.scheduler import Execution, check_scheduler, open_execution
+from stepframe.pipeline.engine.shipped import is_shipped, resolve_workflow
+from stepframe.pipeline.engine.stage import Context, Stage, StageTable, Task
+from stepframe.pipeline.engine.store import KEY_COLUMN, Store, write_output_table
+from stepframe.pipeline.engine.workflow import DEFAULT_WORKSPACE, Workflow, load_workflow
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -150,16 +152,15 @@ class RunReport:
         }
 
 
-def _prepare(workflow: Workflow, forced: list[str]) -> list[str]:
+def _prepare(workflow: Workflow, forced: list[str], stages: StageTable) -> list[str]:
     """Plan and check everything that can be checked before writing anything."""
-    planned = plan_stages(workflow)
-    check_forced(forced, planned)
-    stages = registry()
+    planned = plan_stages(workflow, stages)
+    check_forced(forced, planned, stages)
     for name in planned:
         check = stages[name].check
         if check is not None:
             check(workflow)
-    if "inventory" in planned:
+    if any(stages[name].needs_records for name in planned):
         records = workflow.records
         if records is None:
             raise InputError(
@@ -191,9 +192,11 @@ def _check_writable(folder: Path) -> None:
 
 def run_workflow(
     path: str | Path,
+    stages: StageTable,
     *,
     jobs: int | None = None,
     scheduler: str | None = None,
+    executor: Executor | None = None,
     force: list[str] | None = None,
     retry_failed: bool = False,
     dry_run: bool = False,
@@ -209,11 +212,18 @@ def run_workflow(
     ----------
     path
         The workflow file, or the name of a shipped workflow (``"selection"``,
-        :func:`stepframe.pipeline.shipped.resolve_workflow`).
+        :func:`stepframe.pipeline.engine.shipped.resolve_workflow`).
+    stages
+        The stages the workflow may use and how its scene is read
+        (:func:`stepframe.pipeline.engine.stage.shipped_stages`).
     jobs
         Worker processes (default: the CPUs available); with ``dask-local``, Dask workers.
     scheduler
         None (process pool), ``"dask-local"`` or ``"tcp://HOST:PORT"``.
+    executor
+        Any ``concurrent.futures.Executor`` to run the items on instead (a spawn-started
+        process pool, a Dask client's executor); the caller owns it and shuts it down.
+        Exclusive with ``scheduler``.
     force
         Stages whose items are all recomputed.
     retry_failed
@@ -230,7 +240,7 @@ def run_workflow(
         is not left idle at the end of each batch).
     workspace, outputs
         The workspace and the outputs folder instead of the workflow's
-        (:func:`~stepframe.pipeline.workflow.load_workflow`). A shipped workflow's workspace
+        (:func:`~stepframe.pipeline.engine.workflow.load_workflow`). A shipped workflow's workspace
         defaults to ``stepframe-work/`` in the current folder: the package is not written.
 
     Raises
@@ -243,25 +253,27 @@ def run_workflow(
     if batch_items is not None and batch_items < 1:
         raise InputError(f"--batch-items {batch_items}, expected ≥ 1")
     check_scheduler(scheduler, jobs)  # before anything, a dry run too: a user error writes nothing
+    if executor is not None and scheduler is not None:
+        raise InputError(f"an executor and --scheduler {scheduler}, expected one of them")
     forced = list(force or [])
     file = resolve_workflow(path)
     if workspace is None and is_shipped(file):
         workspace = DEFAULT_WORKSPACE
-    workflow = load_workflow(file, workspace=workspace, outputs=outputs)
+    workflow = load_workflow(file, stages, workspace=workspace, outputs=outputs)
     if is_shipped(file) and workflow.records is not None and workflow.records.folder is not None:
         name = file.stem
         raise InputError(
             f"the shipped workflow {name} reads a records folder beside it, expected a copy: "
             f"stepframe run {name} --copy DIR, then stepframe run DIR/{name}.toml"
         )
-    planned = _prepare(workflow, forced)
+    planned = _prepare(workflow, forced, stages)
     store = Store(workflow.workspace / "store")
     if dry_run:
-        return _dry_run(workflow, planned, store, forced, retry_failed)
+        return _dry_run(workflow, stages, planned, store, forced, retry_failed)
     # the lock before the executor: a busy workspace is reported before a cluster starts
     with (
         workspace_lock(workflow.workspace, wait=wait),
-        open_execution(scheduler, jobs) as execution,
+        open_execution(scheduler, jobs, executor) as execution,
     ):
         report = RunReport(
             str(workflow.path), str(workflow.workspace), execution.description, False
@@ -271,7 +283,7 @@ def run_workflow(
         context = Context(workflow, {}, {}, {}, {}, execution.jobs, execution.executor, progress)
         batch = batch_items or max(DEFAULT_BATCH_ITEMS, BATCH_ITEMS_PER_WORKER * execution.jobs)
         for name in planned:
-            stage = registry()[name]
+            stage = stages[name]
             summary = StageSummary(name, stage.kind)
             start = time.perf_counter()
             blocked = [u for u in stage.upstream(workflow) if not _available(context, u)]
@@ -285,7 +297,7 @@ def run_workflow(
                 _run_set(stage, context, store, summary, name in forced)
             summary.seconds = round(time.perf_counter() - start, 3)
             report.stages.append(summary)
-        _publish(workflow, context, report)
+        _publish(workflow, stages, context, report)
     return report
 
 
@@ -303,11 +315,10 @@ def _remove_temporaries(folder: Path) -> None:
                 temporary.unlink(missing_ok=True)
 
 
-def _compute(item: tuple[str, Any, str]) -> list[dict[str, Any]]:
-    """Worker entry: run stage ``item[0]``'s compute on payload ``item[1]``."""
-    compute = registry()[item[0]].compute
-    assert compute is not None
-    return compute(item[1])
+def _compute(item: tuple[Callable[[Any], list[dict[str, Any]]], Any, str]) -> list[dict[str, Any]]:
+    """Worker entry: the stage's compute function (carried with the task) on its payload."""
+    compute, payload, _name = item
+    return compute(payload)
 
 
 def _run_items(
@@ -323,7 +334,9 @@ def _run_items(
 ) -> None:
     import pandas as pd
 
-    assert stage.tasks is not None
+    assert stage.tasks is not None and stage.compute is not None
+    if stage.prepare is not None:
+        stage.prepare(context)
     tasks = stage.tasks(context)
     index = store.index(stage.name)
     force = stage.name in forced
@@ -346,7 +359,7 @@ def _run_items(
         jobs = execution.jobs if len(batch) > SMALL_BATCH_PER_WORKER * execution.jobs else 1
         outcome = map_items(
             _compute,
-            [(stage.name, task.payload, task.name) for task in batch],
+            [(stage.compute, task.payload, task.name) for task in batch],
             jobs=jobs if execution.executor is None else None,
             executor=execution.executor,
             stage=stage.name,
@@ -422,8 +435,7 @@ def _run_set(
     context.set_dirs[stage.name] = target
 
 
-def _publish(workflow: Workflow, context: Context, report: RunReport) -> None:
-    stages = registry()
+def _publish(workflow: Workflow, stages: StageTable, context: Context, report: RunReport) -> None:
     folder = workflow.outputs_folder
     for name in workflow.outputs:
         stage = stages[name]
@@ -454,11 +466,15 @@ def _write_csv(table: pd.DataFrame, path: Path) -> None:
 
 
 def _dry_run(
-    workflow: Workflow, planned: list[str], store: Store, forced: list[str], retry_failed: bool
+    workflow: Workflow,
+    stages: StageTable,
+    planned: list[str],
+    store: Store,
+    forced: list[str],
+    retry_failed: bool,
 ) -> RunReport:
     """What a run would do: per stage, items to compute and cached (nothing written)."""
     report = RunReport(str(workflow.path), str(workflow.workspace), "dry run", True)
-    stages = registry()
     context = Context(workflow, {}, {}, {}, {}, None, None, False)
     import pandas as pd
 
@@ -471,7 +487,7 @@ def _dry_run(
             summary.message = f"depends on {blocked[0]}, not yet complete"
         elif stage.kind == "item":
             assert stage.tasks is not None
-            tasks = _dry_tasks(stage, context)
+            tasks = stage.tasks(context)
             index = store.index(name)
             todo = [
                 t
@@ -505,24 +521,3 @@ def _dry_run(
                 summary.computed = 1
         report.stages.append(summary)
     return report
-
-
-def _dry_tasks(stage: Stage, context: Context) -> list[Task]:
-    """The stage's tasks without writing (the example catalogue is hashed in memory)."""
-    assert stage.tasks is not None
-    records = context.workflow.records
-    if stage.name == "inventory" and records is not None and records.example is not None:
-        import hashlib
-
-        from stepframe.pipeline.example_files import example_files
-        from stepframe.pipeline.stage_items import INVENTORY_VERSION
-        from stepframe.pipeline.store import make_key
-
-        options = dict(records.options)
-        tasks = []
-        for name, data in example_files():
-            sha = hashlib.sha256(data).hexdigest()
-            key = make_key("inventory", INVENTORY_VERSION, options, sha)
-            tasks.append(Task(key, name, None, {"file": name, "content_sha256": sha}))
-        return tasks
-    return stage.tasks(context)

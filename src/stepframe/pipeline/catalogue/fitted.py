@@ -21,9 +21,9 @@ from typing import TYPE_CHECKING, Any
 
 from stepframe.core.io import CSV_FLOAT_FORMAT, atomic_write
 from stepframe.core.results import failures_path, set_column_dictionary
+from stepframe.core.tables import read_dataset, write_dataset, write_table
 from stepframe.errors import InputError
-from stepframe.pipeline.fit_options import FitOptions
-from stepframe.pipeline.tables import read_dataset, write_dataset, write_table
+from stepframe.pipeline.catalogue.fit_options import FitOptions
 from stepframe.stochastic.model import MODEL_FIELDS
 
 if TYPE_CHECKING:
@@ -319,7 +319,7 @@ def write_features(
 ) -> tuple[Path, Path]:
     """Write the features table (with ``X.columns.csv``) and its failures (``X.failures.csv``).
 
-    Read the table back with :func:`stepframe.pipeline.tables.read_table`.
+    Read the table back with :func:`stepframe.core.tables.read_table`.
     """
     target = Path(output)
     write_table(table, target)

@@ -16,7 +16,7 @@ from stepframe.core.io import read_toml, write_bytes
 from stepframe.errors import InputError
 
 #: The folder of the shipped workflow files (package data).
-SHIPPED_DIR = Path(__file__).resolve().parents[1] / "workflows"
+SHIPPED_DIR = Path(__file__).resolve().parents[2] / "workflows"
 
 
 def shipped_names() -> list[str]:

@@ -1,4 +1,4 @@
-"""Per-item stages: ``inventory`` (one item per file) and ``features`` (one per component).
+"""The catalogue's stages: ``inventory`` (one item per file) and ``features`` (one per component).
 
 ``inventory`` hashes each record file (sha256 of its bytes: the key every later result hangs
 from), reads it and lists its components with their metadata. ``features`` runs the catalogue
@@ -13,8 +13,8 @@ import math
 from pathlib import Path
 from typing import Any
 
-from stepframe.pipeline.stages import Context, Param, Stage, Task, register_stage
-from stepframe.pipeline.store import file_sha256, make_key
+from stepframe.pipeline.engine.stage import Context, Param, Stage, Task
+from stepframe.pipeline.engine.store import file_sha256, make_key
 
 INVENTORY_VERSION = 1
 FEATURES_VERSION = 1
@@ -53,20 +53,34 @@ def record_folder(context: Context) -> Path:
     return workflow.records.folder
 
 
-def _inventory_tasks(context: Context) -> list[Task]:
+def _write_example(context: Context) -> None:
+    """The embedded example's files, written into the workspace before the inventory reads them."""
+    records = context.workflow.records
+    if records is not None and records.example is not None:
+        from stepframe.pipeline.catalogue.example_files import write_example_files
+
+        write_example_files(record_folder(context))
+
+
+def _record_contents(context: Context) -> list[tuple[Path, str]]:
+    """Each record file with the sha256 of its bytes (the example's hashed in memory)."""
     workflow = context.workflow
-    folder = record_folder(context)
     assert workflow.records is not None
     if workflow.records.example is not None:
-        from stepframe.pipeline.example_files import write_example_files
+        import hashlib
 
-        files = write_example_files(folder)
-    else:
-        files = workflow.record_files()
+        from stepframe.pipeline.catalogue.example_files import example_files
+
+        folder = record_folder(context)
+        return [(folder / name, hashlib.sha256(data).hexdigest()) for name, data in example_files()]
+    return [(path, file_sha256(path)) for path in workflow.record_files()]
+
+
+def _inventory_tasks(context: Context) -> list[Task]:
+    folder = record_folder(context)
     options = _record_options(context)
     tasks = []
-    for path in files:
-        sha = file_sha256(path)
+    for path, sha in _record_contents(context):
         key = make_key("inventory", INVENTORY_VERSION, options, sha)
         relative = path.relative_to(folder).as_posix()
         tasks.append(
@@ -144,7 +158,7 @@ FEATURE_PARAMS: dict[str, Param] = {
 
 def _features_tasks(context: Context) -> list[Task]:
     inventory = context.tables["inventory"]
-    params = STAGES_FEATURES.parameters(context.workflow)
+    params = FEATURES_STAGE.parameters(context.workflow)
     options = _record_options(context)
     folder = record_folder(context)
     tasks = []
@@ -209,32 +223,29 @@ def _features_columns() -> dict[str, tuple[str, str]]:
     return dict(COLUMNS)
 
 
-register_stage(
-    Stage(
-        name="inventory",
-        version=INVENTORY_VERSION,
-        description="record files: content hashes and components (no science)",
-        kind="item",
-        params={},
-        upstream=lambda workflow: (),
-        columns=lambda: INVENTORY_COLUMNS,
-        tasks=_inventory_tasks,
-        compute=read_components,
-        needs_records=True,
-    )
+INVENTORY_STAGE = Stage(
+    name="inventory",
+    version=INVENTORY_VERSION,
+    description="record files: content hashes and components (no science)",
+    kind="item",
+    params={},
+    upstream=lambda workflow: (),
+    columns=lambda: INVENTORY_COLUMNS,
+    tasks=_inventory_tasks,
+    compute=read_components,
+    needs_records=True,
+    prepare=_write_example,
 )
 
-STAGES_FEATURES = register_stage(
-    Stage(
-        name="features",
-        version=FEATURES_VERSION,
-        description="per component: ω_g(t), α_g(t), I_g(t) and the fitted B-P parameters",
-        kind="item",
-        params=FEATURE_PARAMS,
-        upstream=lambda workflow: ("inventory",),
-        columns=_features_columns,
-        tasks=_features_tasks,
-        compute=component_features,
-        needs_records=True,
-    )
+FEATURES_STAGE = Stage(
+    name="features",
+    version=FEATURES_VERSION,
+    description="per component: ω_g(t), α_g(t), I_g(t) and the fitted B-P parameters",
+    kind="item",
+    params=FEATURE_PARAMS,
+    upstream=lambda workflow: ("inventory",),
+    columns=_features_columns,
+    tasks=_features_tasks,
+    compute=component_features,
+    needs_records=True,
 )

@@ -20,6 +20,9 @@ import numpy as np
 import pandas as pd
 
 from stepframe.errors import InputError
+from stepframe.pipeline.amplification.report_options import AmplificationReportOptions
+from stepframe.pipeline.amplification.site import SITE_PARAMETERS
+from stepframe.pipeline.amplification.site_records import SiteFromRecords
 from stepframe.pipeline.reports.document import (
     Figure,
     Note,
@@ -29,8 +32,7 @@ from stepframe.pipeline.reports.document import (
     figure_from_matplotlib,
     write_report,
 )
-from stepframe.pipeline.reports.provenance import Provenance
-from stepframe.pipeline.reports.site import SiteFromRecords
+from stepframe.pipeline.reports.provenance import Provenance, collect_provenance, command_line
 from stepframe.stochastic.model import GroundMotionModel
 
 TWO_PI = 2 * math.pi
@@ -177,8 +179,8 @@ def amplification_report(
     provenance
         How the report was made.
     """
-    from stepframe.pipeline.amplification import amplification_curve
-    from stepframe.pipeline.site import SiteModel
+    from stepframe.pipeline.amplification.amplify import amplification_curve
+    from stepframe.pipeline.amplification.site import SiteModel
     from stepframe.stochastic import plots
     from stepframe.stochastic.amplification import (
         adjusted_fixed_point,
@@ -609,7 +611,8 @@ def write_amplification_report(
     Parameters
     ----------
     site
-        A ground-motion model, or :func:`stepframe.pipeline.reports.site.site_from_records`.
+        A ground-motion model, or
+        :func:`stepframe.pipeline.amplification.site_records.site_from_records`.
     out_html
         The HTML file.
     frame
@@ -626,3 +629,98 @@ def write_amplification_report(
     """
     report = amplification_report(site, frame=frame, options=options, provenance=provenance)
     return write_report(report, out_html)
+
+
+def make_amplification_report(out_html: str, options: AmplificationReportOptions) -> Path:
+    """The amplification report of a site given by its parameters or by a folder of its records.
+
+    Parameters
+    ----------
+    out_html
+        The HTML file.
+    options
+        :class:`AmplificationReportOptions`: all of
+        :data:`~stepframe.pipeline.amplification.site.SITE_PARAMETERS`, or none with
+        ``records`` (fitted with ``t0``, ``record_format`` and ``units``:
+        :func:`~stepframe.pipeline.amplification.site_records.site_from_records`); the name in
+        titles (default: the records folder's name, else ``site``); an optional frame file and its
+        design displacement δ* [m]; the analysis
+        (:class:`~stepframe.pipeline.amplification.report.AmplificationOptions`).
+
+    Returns
+    -------
+    pathlib.Path
+        The HTML file.
+    """
+    o = options
+    parameters = {name: getattr(o, name) for name in SITE_PARAMETERS}
+    given = [name for name in SITE_PARAMETERS if parameters[name] is not None]
+    if o.records is not None and given:
+        raise InputError(
+            f"--records with --{given[0].replace('_', '-')}, expected either the site "
+            "parameters or --records"
+        )
+    missing = [name for name in SITE_PARAMETERS if parameters[name] is None]
+    if o.records is None and missing:
+        raise InputError(
+            f"missing --{missing[0].replace('_', '-')}, expected all of "
+            + ", ".join("--" + n.replace("_", "-") for n in SITE_PARAMETERS)
+            + " or --records DIR"
+        )
+    if not (math.isfinite(o.xi0) and 0 < o.xi0 < 1):
+        raise InputError(f"--xi0 {o.xi0}, expected a damping fraction 0 < ξ0 < 1 (e.g. 0.05)")
+    if o.monte_carlo < 0 or o.monte_carlo == 1:
+        raise InputError(f"--monte-carlo {o.monte_carlo}, expected 0 (none) or N ≥ 2")
+    if o.n_steps < 100:
+        raise InputError(f"--n-steps {o.n_steps}, expected at least 100")
+    if o.frame is None and o.delta_star_m is not None:
+        raise InputError("--delta-star-m without --frame, expected --frame FRAME.toml with it")
+    site: Any
+    inputs: list[str] = []
+    if o.records is not None:
+        from stepframe.pipeline.amplification.site_records import site_from_records
+
+        site = site_from_records(
+            o.records, alpha_reading=o.alpha_reading, t0=o.t0, record_format=o.record_format,
+            units=o.units,
+        )  # fmt: skip
+        inputs.append(o.records)
+        name = o.site_name or Path(o.records).resolve().name
+    else:
+        from stepframe.stochastic.model import GroundMotionModel
+
+        values = {key: float(value) for key, value in parameters.items() if value is not None}
+        site = GroundMotionModel.from_hz(
+            values["fp_hz"], values["fs_hz"], values["fr_hz"], values["xi_p"], values["xi_r"],
+            t_max_s=values["t_max_s"], t_dur_s=values["t_dur_s"], alpha_reading=o.alpha_reading,
+        )  # fmt: skip
+        name = o.site_name or "site"
+    portal = None
+    if o.frame is not None:
+        from stepframe.structure.frame_file import read_frame_file
+
+        portal = read_frame_file(o.frame)
+        inputs.append(o.frame)
+    analysis = AmplificationOptions(
+        site_name=name, xi0=o.xi0, monte_carlo=o.monte_carlo, seed=o.seed, n_steps=o.n_steps,
+        peak_intensity_m_s2=o.peak_intensity_m_s2, delta_star_m=o.delta_star_m, t0=o.t0,
+    )  # fmt: skip
+    recorded = {
+        **parameters,
+        "records": o.records,
+        "t0": o.t0,
+        "frame": o.frame,
+        "delta_star_m": o.delta_star_m,
+        "alpha_at_tmax": o.alpha_reading,
+        "xi0": o.xi0,
+        "monte_carlo": o.monte_carlo,
+        "seed": o.seed,
+        "n_steps": o.n_steps,
+        "peak_intensity_m_s2": o.peak_intensity_m_s2,
+    }
+    recorded = {key: value for key, value in recorded.items() if value is not None}
+    command = command_line(["stepframe", "report", "amplification"], recorded | {"out": out_html})
+    provenance = collect_provenance(command, inputs=inputs, parameters=recorded)
+    return write_amplification_report(
+        site, out_html, frame=portal, options=analysis, provenance=provenance
+    )

@@ -4,8 +4,8 @@ The site is given by its parameters (all seven, or under the paper's reading the
 the envelope times, for eqs. 6.18-6.19 alone), by a record file, or by a component of the
 embedded example catalogue; the oscillator by its small-amplitude frequency or by a frame file.
 :func:`amplify_study` picks the route, refuses mixed or incomplete inputs with one line saying
-what to give, and runs :func:`stepframe.pipeline.amplification.amplify` or
-:func:`~stepframe.pipeline.amplification.spectral_ratios`.
+what to give, and runs :func:`stepframe.pipeline.amplification.amplify.amplify` or
+:func:`~stepframe.pipeline.amplification.amplify.spectral_ratios`.
 """
 
 from __future__ import annotations
@@ -16,14 +16,18 @@ from typing import TYPE_CHECKING, Any
 
 from stepframe.core.options import option
 from stepframe.errors import InputError
-from stepframe.pipeline.site import SITE_PARAMETERS
+from stepframe.pipeline.amplification.site import SITE_PARAMETERS
 from stepframe.records.read_options import RecordSource
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from stepframe.pipeline.amplification import AmplificationResult, Oscillator, SpectralRatios
-    from stepframe.pipeline.site import SiteModel
+    from stepframe.pipeline.amplification.amplify import (
+        AmplificationResult,
+        Oscillator,
+        SpectralRatios,
+    )
+    from stepframe.pipeline.amplification.site import SiteModel
     from stepframe.stochastic.features import TimeOrigin
     from stepframe.stochastic.model import AlphaReading
 
@@ -98,7 +102,7 @@ class AmplifyOptions:
 
     @property
     def parameters(self) -> dict[str, float | None]:
-        """:data:`~stepframe.pipeline.site.SITE_PARAMETERS` → value (None: not given)."""
+        """:data:`~stepframe.pipeline.amplification.site.SITE_PARAMETERS` → value (None: none)."""
         return {name: getattr(self, name) for name in SITE_PARAMETERS}
 
 
@@ -135,7 +139,10 @@ class AmplifyStudy:
         """Eq. 6.18 and both response amplifications over 0.1-10 Hz, this f0 marked."""
         import numpy as np
 
-        from stepframe.pipeline.amplification import AmplificationResult, amplification_curve
+        from stepframe.pipeline.amplification.amplify import (
+            AmplificationResult,
+            amplification_curve,
+        )
         from stepframe.stochastic.plots import amplification_figure
 
         result = self.result
@@ -168,15 +175,15 @@ def amplify_study(
         ``alpha_reading="paper"``, the five without the envelope times for eqs. 6.18-6.19
         alone) or a ``record`` to fit, exactly one of ``f0_hz`` [Hz] and ``frame`` (ω(t) =
         2π/T(A)), the damping and the analysis (as
-        :func:`~stepframe.pipeline.amplification.amplify`).
+        :func:`~stepframe.pipeline.amplification.amplify.amplify`).
     source
         The read options of ``options.record``; or, when it names an example catalogue, the
         site from that catalogue's one component (chosen by its ``component``).
     figure
         Whether a figure will be asked for (it needs the envelope's times).
     """
-    from stepframe.pipeline import amplification as stage
-    from stepframe.pipeline.site import site_from_options, site_from_record
+    from stepframe.pipeline.amplification import amplify as stage
+    from stepframe.pipeline.amplification.site import site_from_options, site_from_record
 
     if (options.f0_hz is None) == (options.frame is None):
         raise InputError("expected exactly one of --f0-hz F and --frame FRAME.toml")

@@ -6,7 +6,7 @@ the three best; the score table
 (sortable); the selected set's spectra against the target (median and ±σ) with scale factors; the
 confirmation (score against simulated peak response at equal intensity, the rank correlation,
 selected against controls); what each filter dropped; the failures. It reads the selection
-folder through :func:`~stepframe.pipeline.reports.selection_folder.read_selection_folder` and
+folder through :func:`~stepframe.pipeline.selection.report_folder.read_selection_folder` and
 draws only what the folder holds, saying what is missing.
 """
 
@@ -32,8 +32,8 @@ from stepframe.pipeline.reports.document import (
     figure_from_matplotlib,
     write_report,
 )
-from stepframe.pipeline.reports.provenance import Provenance
-from stepframe.pipeline.reports.selection_folder import SelectionOutputs, read_selection_folder
+from stepframe.pipeline.reports.provenance import Provenance, collect_provenance, command_line
+from stepframe.pipeline.selection.report_folder import SelectionOutputs, read_selection_folder
 from stepframe.stochastic.model import MODEL_FIELDS, GroundMotionModel
 
 TWO_PI = 2 * math.pi
@@ -745,3 +745,17 @@ def write_selection_report(
     target = Path(selection_dir) / "selection_report.html" if out_html is None else Path(out_html)
     report = selection_report(outputs, provenance=provenance, record_loader=record_loader)
     return write_report(report, target)
+
+
+def make_selection_report(selection_dir: str, out_html: str | None = None) -> Path:
+    """The selection report of a selection output folder (default file: its
+    ``selection_report.html``); the folder is checked before anything is hashed."""
+    outputs = read_selection_folder(selection_dir)
+    command = command_line(
+        ["stepframe", "report", "selection", selection_dir],
+        {} if out_html is None else {"out": out_html},
+    )
+    provenance = collect_provenance(
+        command, inputs=outputs.files, parameters={"outdir": selection_dir}
+    )
+    return write_selection_report(selection_dir, out_html, provenance=provenance)

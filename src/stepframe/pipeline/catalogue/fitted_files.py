@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 
 from stepframe.core.jsonable import to_jsonable
 from stepframe.errors import InputError
-from stepframe.pipeline.fitted import (
+from stepframe.pipeline.catalogue.fitted import (
     FitOptions,
     FittedRecord,
     example_features_table,
@@ -50,7 +50,7 @@ class FittedFile:
     Attributes
     ----------
     records
-        One :class:`~stepframe.pipeline.fitted.FittedRecord` per component.
+        One :class:`~stepframe.pipeline.catalogue.fitted.FittedRecord` per component.
     trace, spectrum
         The one component and its evolutionary PSD (None unless asked for).
     """
@@ -94,7 +94,7 @@ def fit_file(
     stream
         The record file's components (m/s²).
     options
-        How to fit (:class:`~stepframe.pipeline.fitted.FitOptions`).
+        How to fit (:class:`~stepframe.pipeline.catalogue.fitted.FitOptions`).
     file
         The record's name in the results (its file, or ``example fema-p695``).
     path
@@ -173,7 +173,7 @@ def features_to_file(
     jobs, progress
         Worker processes, and a progress bar on stderr.
     """
-    from stepframe.pipeline.tables import columns_path
+    from stepframe.core.tables import columns_path
 
     source = source or RecordSource()
     if (folder is None) == (source.example is None):

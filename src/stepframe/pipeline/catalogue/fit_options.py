@@ -1,6 +1,6 @@
 """How a record is fitted: :class:`FitOptions` (light: the command line builds its options here).
 
-Kept apart from :mod:`stepframe.pipeline.fitted` (which imports numpy) so that ``stepframe
+Kept apart from :mod:`stepframe.pipeline.catalogue.fitted` (which imports numpy) so that ``stepframe
 --help`` can derive ``stochastic fit`` and ``features`` options from the fields without loading
 the numerical stack.
 """

@@ -1,4 +1,4 @@
-"""The IDA stage: incremental dynamic analysis of the workflow's frame under its records.
+"""The dynamics job's ``ida`` stage: incremental dynamic analysis of a frame under its records.
 
 Named in ``[outputs]`` as ``ida = true`` (with an optional ``[ida]`` table). Every component of
 the inventory is run by hunt-trace-fill (:func:`stepframe.structure.ida.ida_records`:
@@ -18,12 +18,10 @@ from typing import Any
 
 from stepframe.core.io import write_bytes, write_text
 from stepframe.core.results import set_column_dictionary
-
-# The other stages register first: registry order is pipeline order.
-from stepframe.pipeline import stage_items, stage_reports  # noqa: F401
-from stepframe.pipeline.stages import Context, Param, Stage, register_stage
-from stepframe.pipeline.store import make_key, write_output_table
-from stepframe.pipeline.tables import read_table, write_table
+from stepframe.core.tables import read_table, write_table
+from stepframe.pipeline.catalogue.stage import record_folder
+from stepframe.pipeline.engine.stage import Context, Param, Stage
+from stepframe.pipeline.engine.store import make_key, write_output_table
 
 IDA_VERSION = 1
 IDA_TABLE = "ida.csv"
@@ -76,7 +74,7 @@ def _run(context: Context, folder: Path) -> None:
     params = IDA_STAGE.parameters(context.workflow)
     records = context.workflow.records
     options = dict(records.options) if records is not None else {}
-    base = stage_items.record_folder(context)
+    base = record_folder(context)
     inventory = context.tables["inventory"]
     names, motions = [], []
     for file, group in inventory.groupby("file", sort=True):
@@ -115,19 +113,17 @@ def _publish(folder: Path, outputs: Path) -> list[Path]:
     return [summary, *write_output_table(table, outputs / "ida.parquet")]
 
 
-IDA_STAGE = register_stage(
-    Stage(
-        name="ida",
-        version=IDA_VERSION,
-        description="incremental dynamic analysis (hunt-trace-fill, resurrections) per record",
-        kind="set",
-        params=IDA_PARAMS,
-        upstream=lambda workflow: ("inventory",),
-        set_key=_key,
-        run_set=_run,
-        publish=_publish,
-        needs_records=True,
-        needs_frame=True,
-        check=_check,
-    )
+IDA_STAGE = Stage(
+    name="ida",
+    version=IDA_VERSION,
+    description="incremental dynamic analysis (hunt-trace-fill, resurrections) per record",
+    kind="set",
+    params=IDA_PARAMS,
+    upstream=lambda workflow: ("inventory",),
+    set_key=_key,
+    run_set=_run,
+    publish=_publish,
+    needs_records=True,
+    needs_frame=True,
+    check=_check,
 )

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import contextlib
 from collections.abc import Iterator
+from concurrent.futures import Executor
 from dataclasses import dataclass
 from typing import Any
 
@@ -57,8 +58,13 @@ def check_scheduler(scheduler: str | None, jobs: int | None) -> None:
 
 
 @contextlib.contextmanager
-def open_execution(scheduler: str | None, jobs: int | None) -> Iterator[Execution]:
+def open_execution(
+    scheduler: str | None, jobs: int | None, executor: Executor | None = None
+) -> Iterator[Execution]:
     """The executor for a run, closed (cluster stopped) when the ``with`` block ends.
+
+    A given ``executor`` (any ``concurrent.futures.Executor``) is used as it is and left open:
+    its owner shuts it down.
 
     Raises
     ------
@@ -70,6 +76,10 @@ def open_execution(scheduler: str | None, jobs: int | None) -> Iterator[Executio
 
     if jobs is not None and jobs < 1:
         raise InputError(f"--jobs {jobs}, expected ≥ 1")
+    if executor is not None:
+        workers = jobs or default_jobs()
+        yield Execution(executor, workers, f"{type(executor).__name__}, {workers} worker(s)")
+        return
     if scheduler is None:
         workers = default_jobs() if jobs is None else jobs
         yield Execution(None, workers, f"process pool, {workers} worker(s)")

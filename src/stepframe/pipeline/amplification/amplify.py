@@ -21,9 +21,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from stepframe.core.results import Status
+from stepframe.core.tables import read_dataset, write_dataset
 from stepframe.errors import InputError
-from stepframe.pipeline.site import SiteModel
-from stepframe.pipeline.tables import read_dataset, write_dataset
+from stepframe.pipeline.amplification.site import SiteModel
 
 if TYPE_CHECKING:
     import xarray as xr

@@ -244,11 +244,11 @@ def _write_parquet(table: pd.DataFrame, path: Path) -> None:
 
 def write_output_table(table: pd.DataFrame, path: Path) -> list[Path]:
     """Write a final table as Parquet, with a CSV copy for people and its column dictionary
-    (:func:`stepframe.pipeline.tables.write_table`: ``X.csv`` and ``X.columns.csv``), atomically.
+    (:func:`stepframe.core.tables.write_table`: ``X.csv`` and ``X.columns.csv``), atomically.
 
     Returns the paths written (Parquet first).
     """
-    from stepframe.pipeline.tables import write_table
+    from stepframe.core.tables import write_table
 
     _write_parquet(table, path)
     return [path, *write_table(table, path.with_suffix(".csv"))]

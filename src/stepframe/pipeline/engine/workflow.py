@@ -27,7 +27,7 @@ from typing import Any
 
 from stepframe.core.io import read_toml
 from stepframe.errors import InputError
-from stepframe.pipeline.stages import Param, registry
+from stepframe.pipeline.engine.stage import Param, Scene, StageTable
 
 WHAT = "a workflow file"
 DEFAULT_WORKSPACE = "stepframe-work"
@@ -116,7 +116,7 @@ class Workflow:
     tables
         The stage tables as given (stage name → key → value).
     outputs
-        The stages whose outputs are wanted, in registry order.
+        The stages whose outputs are wanted, in the stage table's order.
     outputs_folder
         Where the outputs are written.
     lines
@@ -233,7 +233,11 @@ def _inside(folder: Path, text: str, table: str, key: str, lines: Lines) -> Path
 
 
 def load_workflow(
-    path: str | Path, *, workspace: str | Path | None = None, outputs: str | Path | None = None
+    path: str | Path,
+    stages: StageTable,
+    *,
+    workspace: str | Path | None = None,
+    outputs: str | Path | None = None,
 ) -> Workflow:
     """Read and check a workflow file (nothing is written).
 
@@ -241,11 +245,14 @@ def load_workflow(
     ----------
     path
         The workflow file.
+    stages
+        The stages its tables and ``[outputs]`` may name, and how its scene is read
+        (:func:`stepframe.pipeline.engine.stage.shipped_stages` for the shipped ones).
     workspace, outputs
         The workspace and the outputs folder instead of the file's (``workspace`` key, and
         ``[outputs] folder`` or ``<workspace>/outputs``); relative to the current folder.
         Given, they win over the file's: a shipped workflow is run with its workspace outside
-        the package (:mod:`stepframe.pipeline.shipped`), ``stepframe demo`` with both in its
+        the package (:mod:`stepframe.pipeline.engine.shipped`), ``stepframe demo`` with both in its
         output folder.
 
     Raises
@@ -256,7 +263,6 @@ def load_workflow(
     file = Path(path)
     data, text = read_toml(file, WHAT)
     lines = Lines(file, text)
-    stages = registry()
     scene = ("records", "frame", "outputs")
     valid_tables = [*scene, *stages]
     top: dict[str, Any] = {}
@@ -278,9 +284,9 @@ def load_workflow(
     folder = file.parent
     if workspace is None:
         workspace = _inside(folder, top.get("workspace", DEFAULT_WORKSPACE), "", "workspace", lines)
-    records = _records(data.get("records"), folder, lines)
-    frame, frame_source = _frame(data.get("frame"), folder, file, text, lines)
-    wanted, outputs_folder = _outputs(data.get("outputs"), folder, Path(workspace), lines)
+    records = _records(data.get("records"), folder, lines, stages.scene)
+    frame, frame_source = _frame(data.get("frame"), folder, file, lines, stages.scene)
+    wanted, outputs_folder = _outputs(data.get("outputs"), folder, Path(workspace), lines, stages)
     if outputs is not None:
         outputs_folder = Path(outputs)
     for name in wanted:
@@ -303,7 +309,7 @@ def load_workflow(
     )
 
 
-def _records(table: Any, folder: Path, lines: Lines) -> Records | None:
+def _records(table: Any, folder: Path, lines: Lines, scene: Scene) -> Records | None:
     if table is None:
         return None
     given = _check_table(table, RECORDS_KEYS, "records", lines)
@@ -313,10 +319,8 @@ def _records(table: Any, folder: Path, lines: Lines) -> Records | None:
             "records",
         )
     if "units" in given:
-        from stepframe.records.units import normalize_units
-
         try:
-            normalize_units(given["units"])
+            scene.check_units(given["units"])
         except InputError as error:
             raise lines.error(f"[records] units: {error.what}", "records", "units") from None
     return Records(
@@ -331,12 +335,10 @@ def _records(table: Any, folder: Path, lines: Lines) -> Records | None:
 
 
 def _frame(
-    table: Any, folder: Path, file: Path, text: str, lines: Lines
+    table: Any, folder: Path, file: Path, lines: Lines, scene: Scene
 ) -> tuple[Any, dict[str, Any] | None]:
     if table is None:
         return None, None
-    from stepframe.structure.frame_file import frame_from_mapping, read_frame_file
-
     if "file" in table:
         extra = sorted(set(table) - {"file"})
         if extra:
@@ -356,7 +358,7 @@ def _frame(
                 "frame",
                 "file",
             )
-        frame = read_frame_file(frame_path)
+        frame = scene.read_frame_file(frame_path)
     else:
         # Inline: the frame's scalar keys ([frame] of a FRAME.toml) at this level, its other
         # tables as [frame.physical], [frame.constants], [frame.conventions].
@@ -366,7 +368,7 @@ def _frame(
                 mapping[key] = value
             else:
                 mapping["frame"][key] = value
-        frame = frame_from_mapping(mapping, path=file, text=None)
+        frame = scene.frame_from_mapping(mapping, file)
     return frame, _frame_data(frame)
 
 
@@ -380,9 +382,8 @@ def _frame_data(frame: Any) -> dict[str, Any]:
 
 
 def _outputs(
-    table: Any, folder: Path, workspace: Path, lines: Lines
+    table: Any, folder: Path, workspace: Path, lines: Lines, stages: StageTable
 ) -> tuple[tuple[str, ...], Path]:
-    stages = registry()
     if table is None:
         raise InputError("no [outputs] table, expected the outputs wanted", lines.path)
     params = dict(OUTPUT_KEYS_FIXED)
@@ -410,9 +411,8 @@ def _toml_value(value: Any) -> str:
     return repr(value)
 
 
-def workflow_template() -> str:
-    """A commented workflow file listing every table and key, with defaults."""
-    stages = registry()
+def workflow_template(stages: StageTable) -> str:
+    """A commented workflow file listing every table and key of ``stages``, with defaults."""
     out = [
         "# A stepframe workflow (scene): what it is about and what it wants.",
         "# Run it with: stepframe run THIS.toml   (--dry-run shows the plan first)",

@@ -1,5 +1,5 @@
-"""How a workflow is run: the options of :func:`~stepframe.pipeline.runner.run_workflow` as one
-frozen dataclass (light: ``stepframe run --help`` derives its options from the fields)."""
+"""How a workflow is run: the options of :func:`~stepframe.pipeline.engine.runner.run_workflow`
+as one frozen dataclass (light: ``stepframe run --help`` derives its options from the fields)."""
 
 from __future__ import annotations
 
@@ -10,13 +10,14 @@ from typing import TYPE_CHECKING
 from stepframe.core.options import option
 
 if TYPE_CHECKING:
-    from stepframe.pipeline.runner import RunReport
+    from stepframe.pipeline.engine.runner import RunReport
+    from stepframe.pipeline.engine.stage import StageTable
 
 
 @dataclass(frozen=True)
 class RunOptions:
-    """The choices of one run of a workflow (see :func:`~stepframe.pipeline.runner.run_workflow`,
-    whose keyword arguments they are)."""
+    """The choices of one run of a workflow (the keyword arguments of
+    :func:`~stepframe.pipeline.engine.runner.run_workflow`)."""
 
     dry_run: bool = option(False, "print the plan: items to compute and cached")
     jobs: int | None = option(None, "worker processes (default: all CPUs)", kind="int", metavar="N")
@@ -38,9 +39,11 @@ class RunOptions:
     )
 
 
-def run_with_options(path: str | Path, options: RunOptions, *, progress: bool) -> RunReport:
-    """:func:`~stepframe.pipeline.runner.run_workflow` of ``path`` with ``options``; progress
-    lines on stderr when ``progress``."""
-    from stepframe.pipeline.runner import run_workflow
+def run_with_options(
+    path: str | Path, stages: StageTable, options: RunOptions, *, progress: bool
+) -> RunReport:
+    """:func:`~stepframe.pipeline.engine.runner.run_workflow` of ``path`` with ``stages`` and
+    ``options``; progress lines on stderr when ``progress``."""
+    from stepframe.pipeline.engine.runner import run_workflow
 
-    return run_workflow(path, progress=progress, **asdict(options))
+    return run_workflow(path, stages, progress=progress, **asdict(options))

@@ -1,12 +1,13 @@
-"""Whole-set stages: ``site`` (ground-motion model), ``amplification`` (curve), ``selection``.
+"""The site amplification job's stages: ``site``, ``amplification`` and ``amplification_report``.
 
 ``site`` is the Beck-Papadimitriou model of the site: from the parameters in the workflow (the
-paper's P-, S- and surface-wave frequencies) or from the records (the median, or mean, of each
-fitted parameter over the plausible components; the order ω_p ≥ ω_s ≥ ω_r and t_max ≤ t_dur of
-every component carries over to these statistics, which are monotone). ``amplification`` is the
+paper's P-, S- and surface-wave frequencies) or from the records
+(:func:`stepframe.pipeline.amplification.site.site_from_features` over the ``features`` table,
+the same function ``stepframe report amplification --records`` uses). ``amplification`` is the
 moving-resonance amplification over 0.1-10 Hz: the paper's spectral ratio (eq. 6.18), its two
 approximations (eq. 6.19) and the response amplification by the exact covariance method, each
-named for what it is. ``selection`` calls :func:`stepframe.pipeline.selection.select_records`.
+named for what it is. ``amplification_report`` writes the site's report (docs/reports.md) into
+the stage's folder; its key is the site's, so it is rebuilt only when what it shows changes.
 """
 
 from __future__ import annotations
@@ -15,18 +16,14 @@ import math
 from pathlib import Path
 from typing import Any
 
-from stepframe.core.io import write_bytes
+from stepframe.core.io import copy_files, write_bytes
 from stepframe.errors import InputError
-
-# The per-item stages register first, whichever stage module is imported first: registry order
-# is pipeline order (features before site and selection).
-from stepframe.pipeline import stage_items  # noqa: F401
-from stepframe.pipeline.stages import Context, Param, Stage, register_stage
-from stepframe.pipeline.store import make_key, write_output_table
+from stepframe.pipeline.engine.stage import Context, Param, Stage
+from stepframe.pipeline.engine.store import make_key, write_output_table
+from stepframe.pipeline.reports.provenance import workflow_provenance
 
 SITE_VERSION = 1
 AMPLIFICATION_VERSION = 1
-SELECTION_VERSION = 2  # 2: default rank_by substitute_demand_ratio
 
 SITE_PARAMETERS = ("fp_hz", "fs_hz", "fr_hz", "xi_p", "xi_r", "t_max_s", "t_dur_s")
 SITE_PARAMS: dict[str, Param] = {
@@ -90,10 +87,10 @@ def _site_check(workflow: Any) -> None:
 
 
 def _model_from_parameters(params: dict[str, Any]) -> Any:
-    """The :class:`~stepframe.pipeline.site.SiteModel` of the ``[site]`` parameters."""
+    """The :class:`~stepframe.pipeline.amplification.site.SiteModel` of ``[site]``'s parameters."""
     from dataclasses import replace
 
-    from stepframe.pipeline.site import site_from_parameters
+    from stepframe.pipeline.amplification.site import site_from_parameters
 
     site = site_from_parameters(
         params["fp_hz"],
@@ -125,7 +122,7 @@ def _site_key(context: Context) -> str:
 
 def _site_from_records(context: Context, params: dict[str, Any]) -> Any:
     """The site of the records: each fitted parameter's statistic over the components used."""
-    from stepframe.pipeline.site import SiteModel
+    from stepframe.pipeline.amplification.site import SiteModel
     from stepframe.stochastic.model import GroundMotionModel
 
     used = _ok_features(context, params["plausible_only"])
@@ -152,7 +149,7 @@ def _site_from_records(context: Context, params: dict[str, Any]) -> Any:
 
 
 def _site_run(context: Context, folder: Path) -> None:
-    from stepframe.pipeline.site import write_site_model
+    from stepframe.pipeline.amplification.site import write_site_model
 
     params = SITE_STAGE.parameters(context.workflow)
     if params["from"] == "parameters":
@@ -181,39 +178,25 @@ def site_table(site: Any) -> Any:
     return pd.DataFrame([row])
 
 
-def copy_files(source: Path, target: Path) -> list[Path]:
-    """Copy every file under ``source`` to ``target`` (atomically each); the written paths."""
-    target.mkdir(parents=True, exist_ok=True)
-    written = []
-    for file in sorted(source.rglob("*")):
-        if file.is_file():
-            destination = target / file.relative_to(source)
-            destination.parent.mkdir(parents=True, exist_ok=True)
-            written.append(write_bytes(destination, file.read_bytes()))
-    return written
-
-
 def _site_publish(folder: Path, outputs: Path) -> list[Path]:
-    from stepframe.pipeline.site import read_site_model
+    from stepframe.pipeline.amplification.site import read_site_model
 
     site = read_site_model(folder / SITE_JSON)
     json_copy = write_bytes(outputs / SITE_JSON, (folder / SITE_JSON).read_bytes())
     return [json_copy, *write_output_table(site_table(site), outputs / "site_model.parquet")]
 
 
-SITE_STAGE = register_stage(
-    Stage(
-        name="site",
-        version=SITE_VERSION,
-        description="site ground-motion model (B-P parameters) from parameters or records",
-        kind="set",
-        params=SITE_PARAMS,
-        upstream=_site_upstream,
-        set_key=_site_key,
-        run_set=_site_run,
-        publish=_site_publish,
-        check=_site_check,
-    )
+SITE_STAGE = Stage(
+    name="site",
+    version=SITE_VERSION,
+    description="site ground-motion model (B-P parameters) from parameters or records",
+    kind="set",
+    params=SITE_PARAMS,
+    upstream=_site_upstream,
+    set_key=_site_key,
+    run_set=_site_run,
+    publish=_site_publish,
+    check=_site_check,
 )
 
 AMPLIFICATION_PARAMS: dict[str, Param] = {
@@ -254,8 +237,8 @@ def _amplification_key(context: Context) -> str:
 def _amplification_run(context: Context, folder: Path) -> None:
     import numpy as np
 
-    from stepframe.pipeline.amplification import amplification_curve, write_curve
-    from stepframe.pipeline.site import read_site_model
+    from stepframe.pipeline.amplification.amplify import amplification_curve, write_curve
+    from stepframe.pipeline.amplification.site import read_site_model
     from stepframe.stochastic.amplification import approx_eq_6_19_first
 
     params = AMPLIFICATION_STAGE.parameters(context.workflow)
@@ -276,108 +259,75 @@ def curve_table(curve: Any) -> Any:
 
 
 def _amplification_publish(folder: Path, outputs: Path) -> list[Path]:
-    from stepframe.pipeline.amplification import read_curve
+    from stepframe.pipeline.amplification.amplify import read_curve
 
     netcdf = write_bytes(outputs / CURVE_NETCDF, (folder / CURVE_NETCDF).read_bytes())
     table = curve_table(read_curve(folder / CURVE_NETCDF))
     return [netcdf, *write_output_table(table, outputs / "amplification.parquet")]
 
 
-AMPLIFICATION_STAGE = register_stage(
-    Stage(
-        name="amplification",
-        version=AMPLIFICATION_VERSION,
-        description="amplification curve 0.1-10 Hz: eq. 6.18, eq. 6.19, response amplification",
-        kind="set",
-        params=AMPLIFICATION_PARAMS,
-        upstream=lambda workflow: ("site",),
-        set_key=_amplification_key,
-        run_set=_amplification_run,
-        publish=_amplification_publish,
-        check=_amplification_check,
-    )
+AMPLIFICATION_STAGE = Stage(
+    name="amplification",
+    version=AMPLIFICATION_VERSION,
+    description="amplification curve 0.1-10 Hz: eq. 6.18, eq. 6.19, response amplification",
+    kind="set",
+    params=AMPLIFICATION_PARAMS,
+    upstream=lambda workflow: ("site",),
+    set_key=_amplification_key,
+    run_set=_amplification_run,
+    publish=_amplification_publish,
+    check=_amplification_check,
 )
 
 
-def _selection_options(workflow: Any) -> Any:
-    from stepframe.pipeline.selection import SelectionOptions
+AMPLIFICATION_REPORT_VERSION = 1
+AMPLIFICATION_REPORT_HTML = "amplification_report.html"
 
-    given = workflow.tables.get("selection", {})
-    try:
-        return SelectionOptions.from_dict(given)
-    except InputError as error:
-        raise workflow.lines.error(f"[selection] {error.what}", "selection") from None
+AMPLIFICATION_REPORT_PARAMS: dict[str, Param] = {
+    "monte_carlo": Param("int", 50, "Monte Carlo motions per checked frequency (0: none)"),
+}
 
 
-def _selection_check(workflow: Any) -> None:
-    if workflow.records is None:
-        raise workflow.lines.error("selection without a [records] table, expected one", "outputs")
-    _selection_options(workflow)
+def _publish_report(folder: Path, outputs: Path) -> list[Path]:
+    return copy_files(folder, outputs)
 
 
-def _selection_key(context: Context) -> str:
-    table = context.tables["features"]
+def _amplification_report_key(context: Context) -> str:
+    params = AMPLIFICATION_REPORT_STAGE.parameters(context.workflow)
+    params["frame"] = context.workflow.frame_source
     return make_key(
-        "selection",
-        SELECTION_VERSION,
-        {
-            "options": context.workflow.tables.get("selection", {}),
-            "frame": context.workflow.frame_source,
-        },
-        *map(str, table["_key"]),
+        "amplification_report", AMPLIFICATION_REPORT_VERSION, params, context.set_keys["site"]
     )
 
 
-def _selection_run(context: Context, folder: Path) -> None:
-    from stepframe.pipeline.selection import select_records
-    from stepframe.pipeline.stage_items import record_folder
-
-    features = context.tables["features"].drop(columns=["_key"])
-    # select_records re-reads records by path (spectra, confirmation): give it absolute paths
-    folder_of_records = record_folder(context).absolute()
-    features["file"] = [str(folder_of_records / name) for name in features["file"]]
-    inventory = context.tables["inventory"]
-    extra = inventory[["file", "component", "event", "magnitude"]].copy()
-    extra["file"] = [str(folder_of_records / name) for name in extra["file"]]
-    features = features.merge(extra, on=["file", "component"], how="left")
-    records = context.workflow.records
-    if records is not None and records.example is not None:
-        from stepframe.pipeline.example_files import example_metadata
-
-        features = _join_new_columns(features, example_metadata(folder_of_records))
-    kwargs: dict[str, Any] = {"jobs": context.jobs, "executor": context.executor}
-    if records is not None and records.options:
-        kwargs["record_options"] = dict(records.options)
-    result = select_records(
-        features, context.workflow.frame, _selection_options(context.workflow), **kwargs
+def _amplification_report_run(context: Context, folder: Path) -> None:
+    from stepframe.pipeline.amplification.report import (
+        AmplificationOptions,
+        write_amplification_report,
     )
-    result.write(folder)
+    from stepframe.pipeline.amplification.site import read_site_model
 
-
-def _join_new_columns(table: Any, extra: Any) -> Any:
-    """``table`` with the columns of ``extra`` it lacks, matched on ``file``."""
-    new = [c for c in extra.columns if c not in table.columns]
-    return table.merge(extra[["file", *new]], on="file", how="left")
-
-
-def _selection_publish(folder: Path, outputs: Path) -> list[Path]:
-    return copy_files(folder, outputs / "selection")
-
-
-register_stage(
-    Stage(
-        name="selection",
-        version=SELECTION_VERSION,
-        description="records ranked by their moving-resonance match to the frame",
-        kind="set",
-        params={},
-        upstream=lambda workflow: ("features",),
-        set_key=_selection_key,
-        run_set=_selection_run,
-        publish=_selection_publish,
-        needs_records=True,
-        needs_frame=True,
-        check=_selection_check,
-        free_params=True,
+    params = AMPLIFICATION_REPORT_STAGE.parameters(context.workflow)
+    site = read_site_model(context.set_dirs["site"] / SITE_JSON)
+    write_amplification_report(
+        site.model,
+        folder / AMPLIFICATION_REPORT_HTML,
+        frame=context.workflow.frame,
+        options=AmplificationOptions(
+            site_name=context.workflow.name or "site", monte_carlo=params["monte_carlo"]
+        ),
+        provenance=workflow_provenance(context.workflow.path, {"site": site.to_dict(), **params}),
     )
+
+
+AMPLIFICATION_REPORT_STAGE = Stage(
+    name="amplification_report",
+    version=AMPLIFICATION_REPORT_VERSION,
+    description="the site amplification report: self-contained HTML with its numbers",
+    kind="set",
+    params=AMPLIFICATION_REPORT_PARAMS,
+    upstream=lambda workflow: ("site",),
+    set_key=_amplification_report_key,
+    run_set=_amplification_report_run,
+    publish=_publish_report,
 )
