@@ -148,7 +148,8 @@ def fema_p695() -> tuple[Stream, pd.DataFrame]:
     -------
     stream : obspy.Stream
         100 traces in m/s² (values in g times standard gravity 9.80665 m/s²), with event, RSN,
-        magnitude, distances [km] and Vs30 [m/s] in ``stats.stepframe``.
+        magnitude, distances [km], Vs30 [m/s] and the lowest usable frequency of the processed
+        record (``lowest_usable_hz`` [Hz]) in ``stats.stepframe``.
     table : pandas.DataFrame
         The metadata table, row i describing trace i; unit-named columns (:data:`COLUMNS`); the
         column dictionary is in ``stepframe.core.results.get_column_dictionary(table)``.
@@ -182,6 +183,7 @@ def fema_p695() -> tuple[Stream, pd.DataFrame]:
                 rrup_km=float(row["rrup_km"]),
                 rjb_km=float(row["rjb_km"]),
                 vs30_m_s=float(row["vs30_m_s"]),
+                lowest_usable_hz=float(row["lowest_usable_frequency_hz"]),
             )
         )
     return Stream(traces), table

@@ -35,6 +35,7 @@ from stepframe.stochastic.features import FrequencyEstimator, TimeOrigin, record
 from stepframe.stochastic.fit import PARAMETERS, fit_model
 from stepframe.stochastic.flags import implausible, meaning
 from stepframe.stochastic.methods import FrequencyMethod
+from stepframe.stochastic.model import AlphaReading
 from stepframe.stochastic.transforms import DEFAULT_WINDOW_S, FftBackend
 
 #: Column dictionary of the features table: name → (unit, meaning).
@@ -85,6 +86,7 @@ class Options:
     fft: FftBackend = "scipy"
     record_options: tuple[tuple[str, Any], ...] = ()
     omega_max_rad_s: float | None = None
+    alpha_reading: AlphaReading = "eq-6-11"
 
 
 @dataclass(frozen=True)
@@ -145,7 +147,7 @@ def component_row(
     except Exception as error:  # a batch never stops for one item: record the unexpected too
         raise _StageError("features", error) from error
     try:
-        result = fit_model(features)
+        result = fit_model(features, alpha_reading=options.alpha_reading)
     except Exception as error:  # numerical failure inside scipy: recorded, not fatal
         raise _StageError("fit", error) from error
     row: dict[str, Any] = {"dt_s": dt_s, "duration_s": dt_s * (data.size - 1)}
@@ -215,6 +217,7 @@ def catalog_features(
     lowest_usable_hz: Iterable[float | None] | None = None,
     chunk_size: int = 4,
     omega_max_rad_s: float | None = None,
+    alpha_reading: AlphaReading = "eq-6-11",
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
     """Features table of a catalogue: a folder of record files or an ``obspy.Stream``.
 
@@ -234,12 +237,16 @@ def catalog_features(
     record_options
         Keyword arguments of :func:`stepframe.records.read` (``format``, ``units``, ...).
     lowest_usable_hz
-        For a Stream: each trace's lowest usable frequency [Hz] (or None), for the band check.
+        For a Stream: each trace's lowest usable frequency [Hz] (or None), for the band check
+        (default: each trace's ``stats.stepframe.lowest_usable_hz`` when it has one, as the
+        embedded example's traces do).
     chunk_size
         Items per task.
     omega_max_rad_s
         Highest frequency of interest [rad/s]: a component whose Nyquist frequency is below it
         fails at stage ``features`` (dt too coarse for the band).
+    alpha_reading
+        Where the fitted α_g ramp ends (:func:`stepframe.stochastic.fit.fit_model`).
 
     Returns
     -------
@@ -260,6 +267,7 @@ def catalog_features(
         fft,
         tuple(sorted((record_options or {}).items())),
         omega_max_rad_s,
+        alpha_reading,
     )
     if n_jobs is not None and n_jobs < 1:
         raise InputError(f"n_jobs = {n_jobs}, expected ≥ 1")
@@ -303,7 +311,11 @@ def _items(source: str | Path | Any, lowest: Iterable[float | None] | None) -> l
     if isinstance(source, list | tuple):
         return [Item(str(p)) for p in source]
     traces = list(source)
-    usable = list(lowest) if lowest is not None else [None] * len(traces)
+    usable = (
+        list(lowest)
+        if lowest is not None
+        else [trace.stats.get("stepframe", {}).get("lowest_usable_hz") for trace in traces]
+    )
     if len(usable) != len(traces):
         raise InputError(
             f"{len(usable)} lowest usable frequencies for {len(traces)} traces, expected one each"

@@ -1,6 +1,6 @@
 """Fit of the Beck-Papadimitriou parameters (ω_p, ω_s, ω_r, ξ_p, ξ_r) to a record's features.
 
-Method (weighted least squares, two stages):
+Method (weighted least squares, two steps):
 
 1. ω_p, ω_s, ω_r: eq. 6.10 with the record's t_max and t0 is evaluated on the frame grid and
    smoothed by the same kernel as the ω_g(t) estimate (so the fit compares like with like: a

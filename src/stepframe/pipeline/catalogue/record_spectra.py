@@ -1,4 +1,4 @@
-"""Stage: a record's components described, and their response spectra with RotD.
+"""A record's components described, and their response spectra with RotD.
 
 What ``stepframe records info`` prints (:func:`record_info`: sampling, units and intensity
 measures of each component), and what ``stepframe records spectrum`` prints and draws: PSA [g],

@@ -13,11 +13,14 @@ import math
 from pathlib import Path
 from typing import Any
 
-from stepframe.pipeline.engine.stage import Context, Param, Stage, Task
+from stepframe.errors import InputError
+from stepframe.pipeline.catalogue.fit_options import ESTIMATION_FIELDS, FitOptions
+from stepframe.pipeline.engine.stage import Context, Param, Stage, Task, params_from_options
 from stepframe.pipeline.engine.store import file_sha256, make_key
 
 INVENTORY_VERSION = 1
-FEATURES_VERSION = 1
+# 2: the fit's α_g reading and the example's lowest usable frequency enter the features
+FEATURES_VERSION = 2
 
 #: Column dictionary of the inventory table: name → (unit, meaning).
 INVENTORY_COLUMNS: dict[str, tuple[str, str]] = {
@@ -135,25 +138,29 @@ def _one_line(error: BaseException) -> str:
     return f"{type(error).__name__}: {error}".replace("\n", " ")
 
 
-FEATURE_PARAMS: dict[str, Param] = {
-    "frequency": Param(
-        "str",
-        "zero-crossing",
-        "how ω_g(t) is measured",
-        ("zero-crossing", "ridge", "moment", "wavelet-ridge"),
-    ),
-    "t0": Param(
-        "str",
-        "auto",
-        "time origin: picked P onset when reliable, else record start (auto), or one of them",
-        ("auto", "start", "p-pick"),
-    ),
-    "window_s": Param("float", 2.0, "analysis window of the spectra [s]"),
-    "fft": Param("str", "scipy", "FFT backend", ("scipy", "pyfftw")),
-    "omega_max_rad_s": Param(
-        "float", None, "highest frequency of interest [rad/s]: coarser records fail"
-    ),
-}
+#: The ``[features]`` table: the estimation options of ``stepframe stochastic features``, with
+#: their defaults, help and checks (:class:`~stepframe.pipeline.catalogue.fit_options.FitOptions`).
+FEATURE_PARAMS: dict[str, Param] = params_from_options(FitOptions, ESTIMATION_FIELDS)
+
+
+def _features_check(workflow: Any) -> None:
+    """The ``[features]`` values, checked by building their options (file:line on error)."""
+    try:
+        FitOptions(**workflow.tables.get("features", {}))
+    except InputError as error:
+        raise workflow.lines.error(f"[features] {error.what}", "features", error.key) from None
+
+
+def _lowest_usable_hz(context: Context) -> dict[str, float]:
+    """File → the lowest usable frequency [Hz] its metadata states (the embedded example's)."""
+    records = context.workflow.records
+    if records is None or records.example is None:
+        return {}
+    from stepframe.pipeline.catalogue.example_files import example_name
+    from stepframe.records.examples import metadata
+
+    rows: list[dict[str, Any]] = metadata().to_dict(orient="records")  # type: ignore[assignment]
+    return {example_name(row): float(row["lowest_usable_frequency_hz"]) for row in rows}
 
 
 def _features_tasks(context: Context) -> list[Task]:
@@ -161,15 +168,18 @@ def _features_tasks(context: Context) -> list[Task]:
     params = FEATURES_STAGE.parameters(context.workflow)
     options = _record_options(context)
     folder = record_folder(context)
+    lowest = _lowest_usable_hz(context)
     tasks = []
     for row in inventory.to_dict(orient="records"):
         index = int(row["channel_index"])
-        key = make_key("features", FEATURES_VERSION, params, str(row["_key"]), str(index))
+        low = lowest.get(str(row["file"]))
+        key = make_key("features", FEATURES_VERSION, params, str(row["_key"]), str(index), str(low))
+        path = str((folder / str(row["file"])).absolute())
         tasks.append(
             Task(
                 key=key,
                 name=f"{row['file']} [{row['component']}]",
-                payload=(str((folder / str(row["file"])).absolute()), options, index, params),
+                payload=(path, options, index, params, low),
                 context={
                     "file": row["file"],
                     "station": row["station"],
@@ -181,7 +191,7 @@ def _features_tasks(context: Context) -> list[Task]:
 
 
 def component_features(
-    payload: tuple[str, dict[str, Any], int, dict[str, Any]],
+    payload: tuple[str, dict[str, Any], int, dict[str, Any], float | None],
 ) -> list[dict[str, Any]]:
     """Features and fitted parameters of one component (worker side): one row.
 
@@ -193,22 +203,18 @@ def component_features(
     from stepframe.records import read
     from stepframe.stochastic.catalog_features import Options, component_row
 
-    path, record_options, index, params = payload
+    path, record_options, index, params, lowest_usable_hz = payload
     try:
         trace = read(path, **record_options)[index]
     except Exception as error:  # recorded as this item's failure
         raise ItemFailure(f"read: {_one_line(error)}") from None
-    options = Options(
-        frequency=params["frequency"],
-        t0=params["t0"],
-        window_s=params["window_s"],
-        fft=params["fft"],
-        record_options=tuple(sorted(record_options.items())),
-        omega_max_rad_s=params["omega_max_rad_s"],
-    )
+    options = Options(**params, record_options=tuple(sorted(record_options.items())))
     try:
         row = component_row(
-            np.asarray(trace.data, dtype=np.float64), float(trace.stats.delta), options
+            np.asarray(trace.data, dtype=np.float64),
+            float(trace.stats.delta),
+            options,
+            lowest_usable_hz,
         )
     except Exception as error:
         # component_row names the step that failed (features or fit) and keeps its error
@@ -248,4 +254,5 @@ FEATURES_STAGE = Stage(
     tasks=_features_tasks,
     compute=component_features,
     needs_records=True,
+    check=_features_check,
 )

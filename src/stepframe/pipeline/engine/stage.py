@@ -55,6 +55,24 @@ class Param:
     choices: tuple[str, ...] = ()
 
 
+def params_from_options(cls: type, names: Sequence[str]) -> dict[str, Param]:
+    """The :class:`Param` of each field ``names`` of an options dataclass (declared with
+    :func:`stepframe.core.options.option`): a workflow table with the same keys, types, defaults
+    and help as the command line's options. The values are checked by building the dataclass."""
+    import dataclasses
+
+    from stepframe.core.options import value_type
+
+    fields = {f.name: f for f in dataclasses.fields(cls)}
+    params = {}
+    for name in names:
+        f = fields[name]
+        help = str(f.metadata.get("help") or "").replace("%(default)s", str(f.default))
+        choices = tuple(f.metadata.get("choices") or ())
+        params[name] = Param(value_type(cls, name), f.default, help, choices)  # type: ignore[arg-type]
+    return params
+
+
 @dataclass(frozen=True)
 class Task:
     """One item of a per-item stage.

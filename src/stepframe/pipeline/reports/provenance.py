@@ -144,9 +144,11 @@ def workflow_provenance(workflow: str | PathLike[str], parameters: Mapping[str, 
 
 
 def command_line(words: list[str], parameters: Mapping[str, Any]) -> str:
-    """The command line ``words --name value ...`` that reproduces a report (shell-quoted)."""
+    """The command line ``words --name value ...`` that reproduces a report (shell-quoted; a
+    value True is a switch, ``--name`` alone)."""
     import shlex
 
     for name, value in parameters.items():
-        words = [*words, f"--{name.replace('_', '-')}", str(value)]
+        flag = f"--{name.replace('_', '-')}"
+        words = [*words, flag] if value is True else [*words, flag, str(value)]
     return shlex.join(words)

@@ -318,19 +318,240 @@ def _confirmation(
     return items, numbers
 
 
+Items = list[Figure | Table | Note]
+
+
+def band_section(summary: dict[str, Any], frame: Any, band: tuple[float, float]) -> Section:
+    """The frame's period-amplitude backbone with its band, and the band's numbers."""
+    from stepframe.structure.plots import backbone_figure
+
+    items: Items = []
+    given = summary.get("band")
+    details: dict[str, Any] = given if isinstance(given, dict) else {}
+    a_max = summary.get("a_max_m", details.get("a_max_m"))
+    hz = f"{band[0] / TWO_PI:.3g}-{band[1] / TWO_PI:.3g} Hz"
+    if frame is None and details.get("level_amplitudes_m") and details.get("level_omegas_rad_s"):
+        items.append(
+            figure_from_matplotlib(
+                figures.backbone_points_figure(details, band),
+                key="backbone",
+                title="Period-amplitude backbone and band",
+                alt=(
+                    "The frame's frequency at the amplitude levels of the selection, falling from "
+                    f"f_1 towards the band's lower edge, band {hz} shaded"
+                ),
+                how_to_read=(
+                    "Once the frame steps (A > x_c) its period lengthens with amplitude. The "
+                    "points are the amplitude levels the selection evaluated; the shaded band "
+                    "is the range of frequencies the frame passes through up to A_max."
+                ),
+            )
+        )
+    elif frame is not None:
+        items.append(
+            figure_from_matplotlib(
+                backbone_figure(
+                    frame,
+                    band,
+                    a_max_m=None if a_max is None else float(a_max),
+                    frame_name=str(summary.get("frame_name", "frame")),
+                ),
+                key="backbone",
+                title="Period-amplitude backbone and band",
+                alt=(
+                    "Frequency 1/T(A) of the frame against amplitude A, falling from f_1 at "
+                    f"uplift towards zero at x*, band {hz} shaded"
+                ),
+                how_to_read=(
+                    "Once the frame steps (A > x_c) its period lengthens with amplitude and its "
+                    "frequency falls towards zero at overturning (x*). The shaded band is the "
+                    "range of frequencies the frame passes through up to A_max: a record whose "
+                    "dominant frequency sweeps down through it can keep it in moving resonance."
+                ),
+            )
+        )
+    else:
+        items.append(Note("The selection summary names no frame: only the band is shown."))
+    if details:
+        scalars = {k: v for k, v in details.items() if isinstance(v, int | float | str)}
+        items.append(
+            Table(
+                "band",
+                "The band",
+                pd.DataFrame({"quantity": list(scalars), "value": list(scalars.values())}),
+                "As the selection run computed it (selection.json)",
+                {"quantity": "name (unit in the name)", "value": "its value"},
+            )
+        )
+    return Section("The frame's band", items)
+
+
+def paths_section(
+    rows: list[dict[str, Any]], names: list[str], band: tuple[float, float]
+) -> Section:
+    """Each selected record's fitted ω_g(t) against the band and its strong-motion window."""
+    paths = []
+    for row, name in zip(rows, names, strict=True):
+        model = _model(row)
+        if model is not None:
+            paths.append((name, model, _strong_window(row, model)))
+    if not paths:
+        return Section(
+            "Dominant-frequency paths of the selected records",
+            [Note("The selection table carries no fitted parameters to draw.")],
+        )
+    figure = figure_from_matplotlib(
+        figures.omega_paths_figure(paths, band),
+        key="omega_paths",
+        title="Selected records' ω_g(t) against the band",
+        alt=(
+            f"{len(paths)} small plots of fitted dominant frequency against time, each "
+            "with the band and the strong-motion window shaded"
+        ),
+        how_to_read=(
+            "Each panel is one selected record: its fitted dominant frequency ω_g(t)/2π "
+            "(eq. 6.10) on a log scale, the frame's band in light blue and the "
+            "strong-motion window in yellow. A candidate that sweeps down through the "
+            "band while the motion is strong matches the frame's softening; recorded "
+            "motions' fitted paths rarely reach a flexible frame's band, which is why the "
+            "default score (substitute_demand_ratio) reads each record's own spectrum "
+            "along the backbone instead (docs/selection.md)."
+        ),
+    )
+    return Section("Dominant-frequency paths of the selected records", [figure])
+
+
+def _marked_candidates(outputs: SelectionOutputs) -> pd.DataFrame:
+    """candidates.csv with a ``selected`` column (the chosen rows marked) when it has none."""
+    selection = outputs.tables["selection"]
+    candidates = outputs.tables["candidates"]
+    if "selected" in candidates.columns:
+        return candidates
+    chosen = set(zip(selection["file"].astype(str), _components(selection), strict=True))
+    keys = zip(candidates["file"].astype(str), _components(candidates), strict=True)
+    candidates = candidates.copy()
+    candidates.insert(1, "selected", [key in chosen for key in keys])
+    return candidates
+
+
+def scores_section(outputs: SelectionOutputs, candidates: pd.DataFrame, rank_by: str) -> Section:
+    """The chosen set and every candidate with its scores, as sortable tables."""
+    return Section(
+        "Scores",
+        [
+            Table(
+                "selection",
+                "Selected records",
+                outputs.tables["selection"],
+                f"The chosen set, ranked by {rank_by}",
+                outputs.columns.get("selection", {}),
+                sortable=True,
+            ),
+            Table(
+                "candidates",
+                "Every candidate and its scores",
+                candidates,
+                "All candidates with every score and the filter that dropped them",
+                outputs.columns.get("candidates", {}),
+                sortable=True,
+            ),
+        ],
+    )
+
+
+def confirmation_section(
+    outputs: SelectionOutputs,
+    candidates: pd.DataFrame,
+    rank_by: str,
+    numbers: dict[str, Any],
+    summary_lines: list[tuple[str, str]],
+) -> Section:
+    """The simulated response of the selected records against the controls and the candidates
+    at equal intensity, and the stated correlations (or a note that it was not run)."""
+    if "confirmation" not in outputs.tables:
+        return Section(
+            "Confirmation by simulation",
+            [Note("This run was not confirmed by simulation (no confirmation.csv).")],
+        )
+    summary = outputs.summary
+    files = {str(f) for f in outputs.tables["selection"]["file"]}
+    equal = _equal_intensity(outputs.tables["confirmation"], candidates, rank_by)
+    items, confirmation_numbers = _confirmation(equal, summary, files)
+    items.append(
+        Table(
+            "confirmation",
+            "Confirmation table",
+            outputs.tables["confirmation"],
+            "Simulated response of the selected records and the controls",
+            outputs.columns.get("confirmation", {}),
+            sortable=True,
+        )
+    )
+    numbers["confirmation"] = confirmation_numbers
+    stated = _stated_correlations(summary, rank_by)
+    if stated:
+        summary_lines.append(("Confirmation", stated))
+    elif confirmation_numbers:
+        summary_lines.append(
+            (
+                "Confirmation",
+                f"Spearman ρ = {confirmation_numbers['spearman_rho']:.2f} "
+                f"({confirmation_numbers['score']} vs {confirmation_numbers['response']}, "
+                f"n = {confirmation_numbers['n']})",
+            )
+        )
+    return Section("Confirmation by simulation", items)
+
+
+def filters_section(
+    outputs: SelectionOutputs, candidates: pd.DataFrame, numbers: dict[str, Any]
+) -> Section:
+    """What each filter dropped, and the records the run could not process."""
+    dropped, column = _dropped(candidates)
+    items: Items = [
+        Table(
+            "filters",
+            "What each filter dropped",
+            dropped,
+            f"Counted from candidates.csv column '{column}'" if column else "No filter column",
+            {
+                "filter": "the filter",
+                "dropped": "candidates it dropped",
+                "examples": "the first few",
+            },
+        )
+    ]
+    failures = outputs.tables.get("failures")
+    if failures is not None:
+        items.append(
+            Table(
+                "failures",
+                "Failures",
+                failures,
+                "Records the run could not process (each recorded, none stopped the run)",
+                outputs.columns.get("failures", {}),
+            )
+        )
+        numbers["n_failures"] = len(failures)
+    return Section("Filters and failures", items)
+
+
 def selection_report(
     outputs: SelectionOutputs,
     *,
     provenance: Provenance,
     record_loader: RecordLoader = load_record,
 ) -> Report:
-    """Assemble the selection report from a read selection folder (no file written)."""
-    from stepframe.structure.plots import backbone_figure
+    """Assemble the selection report from a read selection folder (no file written).
 
+    Its sections in order (docs/reports.md): the frame's band, the selected records'
+    ω_g(t) paths, the best records' accelerograms, the scores, the spectra of the set, the
+    confirmation by simulation, the filters and failures.
+    """
     summary = outputs.summary
     folder = outputs.folder
     selection = outputs.tables["selection"]
-    candidates = outputs.tables["candidates"]
+    candidates = _marked_candidates(outputs)
     frame = _frame(summary, folder)
     band = _band(summary, frame, folder)
     rows: list[dict[str, Any]] = selection.to_dict(orient="records")  # type: ignore[assignment]
@@ -353,196 +574,22 @@ def selection_report(
         ("Selected", f"{len(rows)} of {len(candidates)} candidates"),
         ("Scaling", str(summary.get("scale", summary.get("scaling", "none")))),
     ]
-    sections: list[Section] = []
-    band_items: list[Figure | Table | Note] = []
-    given = summary.get("band")
-    details: dict[str, Any] = given if isinstance(given, dict) else {}
-    a_max = summary.get("a_max_m", details.get("a_max_m"))
-    if frame is None and details.get("level_amplitudes_m") and details.get("level_omegas_rad_s"):
-        band_items.append(
-            figure_from_matplotlib(
-                figures.backbone_points_figure(details, band),
-                key="backbone",
-                title="Period-amplitude backbone and band",
-                alt=(
-                    "The frame's frequency at the amplitude levels of the selection, falling from "
-                    f"f_1 towards the band's lower edge, band {band[0] / TWO_PI:.3g}-"
-                    f"{band[1] / TWO_PI:.3g} Hz shaded"
-                ),
-                how_to_read=(
-                    "Once the frame steps (A > x_c) its period lengthens with amplitude. The "
-                    "points are the amplitude levels the selection evaluated; the shaded band "
-                    "is the range of frequencies the frame passes through up to A_max."
-                ),
-            )
-        )
-    elif frame is not None:
-        band_items.append(
-            figure_from_matplotlib(
-                backbone_figure(
-                    frame,
-                    band,
-                    a_max_m=None if a_max is None else float(a_max),
-                    frame_name=str(summary.get("frame_name", "frame")),
-                ),
-                key="backbone",
-                title="Period-amplitude backbone and band",
-                alt=(
-                    "Frequency 1/T(A) of the frame against amplitude A, falling from f_1 at "
-                    f"uplift towards zero at x*, band {band[0] / TWO_PI:.3g}-"
-                    f"{band[1] / TWO_PI:.3g} Hz shaded"
-                ),
-                how_to_read=(
-                    "Once the frame steps (A > x_c) its period lengthens with amplitude and its "
-                    "frequency falls towards zero at overturning (x*). The shaded band is the "
-                    "range of frequencies the frame passes through up to A_max: a record whose "
-                    "dominant frequency sweeps down through it can keep it in moving resonance."
-                ),
-            )
-        )
-    else:
-        band_items.append(Note("The selection summary names no frame: only the band is shown."))
-    if details:
-        scalars = {k: v for k, v in details.items() if isinstance(v, int | float | str)}
-        band_items.append(
-            Table(
-                "band",
-                "The band",
-                pd.DataFrame({"quantity": list(scalars), "value": list(scalars.values())}),
-                "As the selection run computed it (selection.json)",
-                {"quantity": "name (unit in the name)", "value": "its value"},
-            )
-        )
-    sections.append(Section("The frame's band", band_items))
-    paths = []
-    for row, name in zip(rows, names, strict=True):
-        model = _model(row)
-        if model is not None:
-            paths.append((name, model, _strong_window(row, model)))
-    path_items: list[Figure | Table | Note] = []
-    if paths:
-        path_items.append(
-            figure_from_matplotlib(
-                figures.omega_paths_figure(paths, band),
-                key="omega_paths",
-                title="Selected records' ω_g(t) against the band",
-                alt=(
-                    f"{len(paths)} small plots of fitted dominant frequency against time, each "
-                    "with the band and the strong-motion window shaded"
-                ),
-                how_to_read=(
-                    "Each panel is one selected record: its fitted dominant frequency ω_g(t)/2π "
-                    "(eq. 6.10) on a log scale, the frame's band in light blue and the "
-                    "strong-motion window in yellow. A candidate that sweeps down through the "
-                    "band while the motion is strong matches the frame's softening; recorded "
-                    "motions' fitted paths rarely reach a flexible frame's band, which is why the "
-                    "default score (substitute_demand_ratio) reads each record's own spectrum "
-                    "along the backbone instead (docs/selection.md)."
-                ),
-            )
-        )
-    else:
-        path_items.append(Note("The selection table carries no fitted parameters to draw."))
-    sections.append(Section("Dominant-frequency paths of the selected records", path_items))
-    sections.append(
+    best = rows[:N_ACCELEROGRAMS]
+    sections = [
+        band_section(summary, frame, band),
+        paths_section(rows, names, band),
         Section(
             "Accelerograms of the best records",
-            _accelerogram_items(rows[:N_ACCELEROGRAMS], names, folder, record_loader, numbers),
-        )
-    )
-    if "selected" not in candidates.columns:
-        # mark the chosen rows so the sortable table can bring them together
-        chosen = set(zip(selection["file"].astype(str), _components(selection), strict=True))
-        keys = zip(candidates["file"].astype(str), _components(candidates), strict=True)
-        candidates = candidates.copy()
-        candidates.insert(1, "selected", [key in chosen for key in keys])
-    score_items: list[Figure | Table | Note] = [
-        Table(
-            "selection",
-            "Selected records",
-            selection,
-            f"The chosen set, ranked by {rank_by}",
-            outputs.columns.get("selection", {}),
-            sortable=True,
+            _accelerogram_items(best, names, folder, record_loader, numbers),
         ),
-        Table(
-            "candidates",
-            "Every candidate and its scores",
-            candidates,
-            "All candidates with every score and the filter that dropped them",
-            outputs.columns.get("candidates", {}),
-            sortable=True,
-        ),
-    ]
-    sections.append(Section("Scores", score_items))
-    sections.append(
+        scores_section(outputs, candidates, rank_by),
         Section(
             "Spectra of the selected set",
             _spectra_items(rows, names, folder, summary, band, record_loader, numbers),
-        )
-    )
-    if "confirmation" in outputs.tables:
-        files = {str(f) for f in selection["file"]}
-        equal = _equal_intensity(outputs.tables["confirmation"], candidates, rank_by)
-        items, confirmation_numbers = _confirmation(equal, summary, files)
-        items.append(
-            Table(
-                "confirmation",
-                "Confirmation table",
-                outputs.tables["confirmation"],
-                "Simulated response of the selected records and the controls",
-                outputs.columns.get("confirmation", {}),
-                sortable=True,
-            )
-        )
-        numbers["confirmation"] = confirmation_numbers
-        stated = _stated_correlations(summary, rank_by)
-        if stated:
-            summary_lines.append(("Confirmation", stated))
-        elif confirmation_numbers:
-            summary_lines.append(
-                (
-                    "Confirmation",
-                    f"Spearman ρ = {confirmation_numbers['spearman_rho']:.2f} "
-                    f"({confirmation_numbers['score']} vs {confirmation_numbers['response']}, "
-                    f"n = {confirmation_numbers['n']})",
-                )
-            )
-        sections.append(Section("Confirmation by simulation", items))
-    else:
-        sections.append(
-            Section(
-                "Confirmation by simulation",
-                [Note("This run was not confirmed by simulation (no confirmation.csv).")],
-            )
-        )
-    dropped, column = _dropped(candidates)
-    drop_items: list[Figure | Table | Note] = [
-        Table(
-            "filters",
-            "What each filter dropped",
-            dropped,
-            f"Counted from candidates.csv column '{column}'" if column else "No filter column",
-            {
-                "filter": "the filter",
-                "dropped": "candidates it dropped",
-                "examples": "the first few",
-            },
-        )
+        ),
+        confirmation_section(outputs, candidates, rank_by, numbers, summary_lines),
+        filters_section(outputs, candidates, numbers),
     ]
-    failures = outputs.tables.get("failures")
-    if failures is not None:
-        drop_items.append(
-            Table(
-                "failures",
-                "Failures",
-                failures,
-                "Records the run could not process (each recorded, none stopped the run)",
-                outputs.columns.get("failures", {}),
-            )
-        )
-        numbers["n_failures"] = len(failures)
-    sections.append(Section("Filters and failures", drop_items))
     return Report(
         title="Record selection report",
         subtitle=(

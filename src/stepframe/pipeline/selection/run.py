@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from concurrent.futures import Executor
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -357,6 +358,314 @@ def _spectra(
     return samples, failures + outcome.failures
 
 
+@dataclass
+class Candidates:
+    """The candidates of a run as the steps of :func:`select_records` fill them in.
+
+    Attributes
+    ----------
+    table
+        One row per component: the features, then each step's columns (CANDIDATE_COLUMNS).
+    band
+        The frame's band.
+    paths
+        Each row's fitted ω_g(t) in strong motion.
+    dropped_by
+        Per row, the filter (or failed computation) that dropped it; empty while it is in.
+    reports
+        What each filter dropped, in order.
+    failures
+        Rows that could not be computed (item, stage, error).
+    """
+
+    table: Any
+    band: FrameBand
+    paths: Any
+    dropped_by: NDArray[np.object_]
+    reports: list[FilterReport]
+    failures: list[Failure] = field(default_factory=list)
+
+    @property
+    def passing(self) -> NDArray[np.int64]:
+        """Rows still in."""
+        return np.flatnonzero(self.dropped_by == "")
+
+    @property
+    def summary_line(self) -> str:
+        """What each filter dropped, in one line."""
+        return filter_summary(self.reports, len(self.table))
+
+
+@dataclass(frozen=True)
+class Spectra:
+    """The record spectra of the passing candidates: PSA at the misfit periods, SD at the
+    substitute structure's levels, and the samples they came from."""
+
+    periods_s: Floats
+    psa: Floats
+    sd_levels: Floats
+    levels: SubstituteLevels
+    samples: dict[int, Samples]
+
+
+@dataclass(frozen=True)
+class Choice:
+    """The chosen set: its rows, the controls and the ranking's units."""
+
+    chosen_rows: list[int]
+    control_rows: list[int]
+    n_units: int
+    log_psa: Floats | None
+    log_target: Floats | None
+
+
+def filtered_candidates(features: Any, frame: PortalFrame, options: SelectionOptions) -> Candidates:
+    """Step 1: the frame's band, each record's path through it and the cheap scores, then the
+    filters (docs/selection.md, "Candidates")."""
+    table = features.reset_index(drop=True).copy()
+    band = frame_band(
+        frame,
+        a_max_m=options.a_max_m,
+        design_displacement_m=options.design_displacement_m,
+        x_star_fraction=options.x_star_fraction,
+        n_levels=options.n_levels,
+    )
+    cheap = _cheap_scores(table, band, options.strong_motion_fraction)
+    paths = cheap["paths"]
+    table["window_start_s"] = paths.start_s
+    table["window_end_s"] = paths.end_s
+    table["omega_window_start_rad_s"] = paths.omega_start_rad_s
+    table["omega_window_end_rad_s"] = paths.omega_end_rad_s
+    for name in ("enters_from_above", "band_coverage", "spectral_ratio_eq_6_18",
+                 "omega_p_over_s_sq"):  # fmt: skip
+        table[name] = cheap[name]
+    dropped_by, reports = apply_filters(table, options, band, paths)
+    candidates = Candidates(table, band, paths, dropped_by, reports)
+    if candidates.passing.size == 0:
+        raise InputError(
+            f"every candidate was filtered out ({candidates.summary_line}), expected some left"
+        )
+    return candidates
+
+
+def physics_scores(
+    candidates: Candidates,
+    frame: PortalFrame,
+    options: SelectionOptions,
+    parallel: tuple[int | None, Executor | None],
+) -> None:
+    """Step 2 (when ranked by them or confirmed): the fitted model's backbone and descent
+    amplifications."""
+    table = candidates.table
+    table["backbone_amplification"] = np.nan
+    table["descent_amplification"] = np.nan
+    if options.rank_by not in PHYSICS_SCORES and not options.confirm:
+        return
+    backbone, descent, fails, failed_rows = _physics(
+        table, candidates.passing, candidates.band, frame, candidates.paths, *parallel
+    )
+    table["backbone_amplification"] = backbone
+    table["descent_amplification"] = descent
+    candidates.failures += fails
+    candidates.dropped_by[failed_rows] = "physics_failed"
+
+
+def spectra_and_substitute(
+    candidates: Candidates,
+    options: SelectionOptions,
+    sources: tuple[Mapping[RecordKey, Samples] | None, Mapping[str, Any] | None],
+    parallel: tuple[int | None, Executor | None],
+) -> Spectra:
+    """Step 3: read the passing records and run their one spectra pass (PSA at T_1 and the
+    misfit periods, SD at the substitute levels); the substitute structure's scores."""
+    table, band = candidates.table, candidates.band
+    needs_samples = (
+        options.confirm
+        or options.scale != "none"
+        or options.has_target
+        or options.rank_by in RECORD_SCORES
+    )
+    periods = misfit_periods_s(options, band)
+    levels = substitute_levels(band)
+    table["psa_t1_g"] = np.nan
+    psa = np.full((len(table), periods.size), np.nan)
+    sd_levels = np.full((len(table), levels.periods_s.size), np.nan)
+    samples: dict[int, Samples] = {}
+    if needs_samples:
+        samples, fails = _spectra(
+            table, candidates.dropped_by, band, levels, periods, (psa, sd_levels), sources,
+            parallel,
+        )  # fmt: skip
+        candidates.failures += fails
+    table["substitute_demand_ratio"] = substitute_demand_ratio(sd_levels, levels)
+    table["substitute_overturn_ratio"] = predicted_overturn_ratio(
+        table["substitute_demand_ratio"].to_numpy()
+    )
+    _count_compute_failures(candidates, options)
+    if options.unit == "record":
+        _drop_single_components(table, candidates.dropped_by, candidates.reports)
+    return Spectra(periods, psa, sd_levels, levels, samples)
+
+
+def _count_compute_failures(candidates: Candidates, options: SelectionOptions) -> None:
+    """Report the candidates that passed the filters but could not be computed; none left is
+    an error naming the first failure."""
+    dropped_by = candidates.dropped_by
+    failed = int(np.isin(dropped_by, COMPUTE_FAILURES).sum())
+    if not failed:
+        return
+    left = int((dropped_by == "").sum())
+    candidates.reports.append(FilterReport("computed", COMPUTED_RULE, failed, left))
+    if left == 0:
+        failures = candidates.failures
+        first = f"; first failure: {failures[0].item}: {failures[0].message}" if failures else ""
+        raise InputError(
+            f"no candidate could be computed ({candidates.summary_line}{first}), expected "
+            f"readable records for {options.rank_by} (records= or the files by path), or "
+            "rank_by a score of the fit"
+        )
+
+
+def rank_and_scale(
+    candidates: Candidates, spectra: Spectra, options: SelectionOptions, target: Any
+) -> tuple[Floats, Floats | None, Floats | None]:
+    """Step 4: each passing candidate's percentile of the ranking score, its scale factor by
+    the scaling policy and its misfit to the target; returns the percentiles and the log
+    spectra the choice matches (None without a target)."""
+    table, band, passing = candidates.table, candidates.band, candidates.passing
+    score = np.asarray(table[options.rank_by], dtype=np.float64)
+    z = np.full(len(table), np.nan)
+    z[passing] = percentile_scores(score[passing])
+    table["rank_score_percentile"] = z
+    psa = spectra.psa
+    psa_t1 = table["psa_t1_g"].to_numpy() * G_M_S2
+    target_t1 = None if target is None else target.sa_m_s2(band.period_1_s)
+    target_psa = None if target is None else target_values(target, spectra.periods_s)
+    scales, clipped = scale_factors(
+        options.scale, psa_t1, psa, target_t1, target_psa, (options.scale_min, options.scale_max)
+    )
+    table["scale_factor"] = scales
+    table["scale_clipped"] = clipped
+    table["spectral_misfit"] = (
+        spectral_misfit(psa, scales, target_psa) if target_psa is not None else np.nan
+    )
+    if target_psa is None:
+        return z, None, None
+    with np.errstate(divide="ignore", invalid="ignore"):
+        log_psa = np.log(scales[:, None] * psa)
+    return z, log_psa, np.log(target_psa)
+
+
+def _picker(options: SelectionOptions, log_target: Floats | None) -> Callable[[Units], list[int]]:
+    def pick(candidates: Units) -> list[int]:
+        return choose(
+            candidates,
+            options.n,
+            weight=options.spectral_weight,
+            log_target=log_target,
+            max_per_event=options.max_per_event,
+            max_per_station=options.max_per_station,
+        )
+
+    return pick
+
+
+def choose_set(
+    candidates: Candidates,
+    z: Floats,
+    log_psa: Floats | None,
+    log_target: Floats | None,
+    options: SelectionOptions,
+) -> Choice:
+    """Step 5: the units (components or records), the chosen n under the caps and the spectral
+    match, and as many controls (the lowest ranked units not chosen)."""
+    table = candidates.table
+    units, members = _units(table, candidates.passing, z, options.unit, log_psa)
+    if len(members) < options.n:
+        what = "records" if options.unit == "record" else "candidates"
+        raise InputError(
+            f"n = {options.n} but only {len(members)} {what} left ({candidates.summary_line}), "
+            f"expected n ≤ {len(members)}"
+        )
+    chosen = _picker(options, log_target)(units)
+    order = np.argsort(units.z, kind="stable")
+    taken = set(chosen)
+    controls = [int(u) for u in order if u not in taken][: len(chosen)]
+    chosen_rows = [i for u in chosen for i in members[u]]
+    control_rows = [i for u in controls for i in members[u]]
+    return Choice(chosen_rows, control_rows, len(chosen), log_psa, log_target)
+
+
+def rank_stability(
+    candidates: Candidates,
+    frame: PortalFrame,
+    choice: Choice,
+    options: SelectionOptions,
+    parallel: tuple[int | None, Executor | None],
+) -> None:
+    """Step 6: redraw the fitted parameters from their standard errors, rescore, choose again;
+    each candidate's share of replicates in which it is chosen (one batch for all replicates,
+    so a process pool starts once)."""
+    import pandas as pd
+
+    table, band, passing = candidates.table, candidates.band, candidates.passing
+    counts = np.zeros(len(table))
+    rng = np.random.default_rng(options.seed)
+    replicates = [
+        _perturbed(table.iloc[passing].reset_index(drop=True), rng)
+        for _ in range(options.n_bootstrap)
+    ]
+    if replicates:
+        drawn = pd.concat(replicates, ignore_index=True)
+        if options.rank_by in RECORD_SCORES:
+            # The record's spectrum does not depend on the fit: every replicate ranks alike.
+            score = np.asarray(table[options.rank_by], dtype=np.float64)
+            all_values = np.tile(score[passing], options.n_bootstrap)
+        elif options.rank_by in PHYSICS_SCORES:
+            paths = strong_motion_paths(drawn, options.strong_motion_fraction)
+            b, d, _, _ = _physics(drawn, np.arange(len(drawn)), band, frame, paths, *parallel)
+            all_values = b if options.rank_by == "backbone_amplification" else d
+        else:
+            cheap = _cheap_scores(drawn, band, options.strong_motion_fraction)
+            all_values = np.asarray(cheap[options.rank_by], dtype=np.float64)
+        pick = _picker(options, choice.log_target)
+        for values in all_values.reshape(options.n_bootstrap, passing.size):
+            z_b = np.full(len(table), np.nan)
+            z_b[passing] = percentile_scores(values)
+            units_b, members_b = _units(table, passing, z_b, options.unit, choice.log_psa)
+            for u in pick(units_b):
+                counts[members_b[u]] += 1
+    probability = np.full(len(table), np.nan)
+    if options.n_bootstrap:
+        probability[passing] = counts[passing] / options.n_bootstrap
+    table["selection_probability"] = probability
+
+
+def _mark_choice(candidates: Candidates, choice: Choice) -> None:
+    """The table's ``selected``, ``control`` and ``dropped_by`` columns."""
+    table = candidates.table
+    table["selected"] = False
+    table.loc[choice.chosen_rows, "selected"] = True
+    table["control"] = False
+    table.loc[choice.control_rows, "control"] = True
+    table["dropped_by"] = candidates.dropped_by
+
+
+def _selection_table(table: Any, chosen_rows: list[int], rank_by: str) -> Any:
+    """The chosen rows, in the order chosen, the most telling columns first."""
+    selection = table.loc[chosen_rows].copy()
+    selection.insert(0, "rank", np.arange(1, len(chosen_rows) + 1))
+    selection.insert(1, "score", selection[rank_by].to_numpy())
+    keep_first = [
+        "rank", "file", "component", "station", "score", "scale_factor",
+        "selection_probability", "rank_score_percentile", *sc.SCORES, "enters_from_above",
+        "psa_t1_g", "spectral_misfit",
+    ]  # fmt: skip
+    keep = [c for c in keep_first if c in selection.columns]
+    selection = selection[keep + [c for c in selection.columns if c not in keep]]
+    return selection.reset_index(drop=True)
+
+
 def select_records(
     features: Any,
     frame: PortalFrame,
@@ -368,6 +677,10 @@ def select_records(
     record_options: Mapping[str, Any] | None = None,
 ) -> SelectionResult:
     """Select records by moving resonance for ``frame`` (docs/selection.md).
+
+    The steps, each a function of this module: the candidates and their filters, the physics
+    scores, the spectra and the substitute structure's scores, the ranking and scaling, the
+    choice, its stability under the fits' errors, and the confirmation by simulation.
 
     Parameters
     ----------
@@ -385,7 +698,7 @@ def select_records(
         (``record_options`` passed on). Not needed when neither scaling, a target nor the
         confirmation is asked for.
     jobs, executor
-        Parallelism of the per-candidate stages (:func:`stepframe.core.execution.map_items`).
+        Parallelism of the per-candidate steps (:func:`stepframe.core.execution.map_items`).
 
     Returns
     -------
@@ -397,208 +710,34 @@ def select_records(
         A features table without the model columns; every candidate filtered out; fewer
         candidates left than ``options.n`` (the message says how many passed each filter).
     """
-    import pandas as pd
-
     _check_table(features)
     target = target_spectrum(options)  # an unreadable target fails before any work
-    table = features.reset_index(drop=True).copy()
-    band = frame_band(
-        frame,
-        a_max_m=options.a_max_m,
-        design_displacement_m=options.design_displacement_m,
-        x_star_fraction=options.x_star_fraction,
-        n_levels=options.n_levels,
-    )
-    cheap = _cheap_scores(table, band, options.strong_motion_fraction)
-    paths = cheap["paths"]
-    table["window_start_s"] = paths.start_s
-    table["window_end_s"] = paths.end_s
-    table["omega_window_start_rad_s"] = paths.omega_start_rad_s
-    table["omega_window_end_rad_s"] = paths.omega_end_rad_s
-    for name in (
-        "enters_from_above",
-        "band_coverage",
-        "spectral_ratio_eq_6_18",
-        "omega_p_over_s_sq",
-    ):
-        table[name] = cheap[name]
-    dropped_by, reports = apply_filters(table, options, band, paths)
-    summary_line = filter_summary(reports, len(table))
-    failures: list[Failure] = []
-    passing = np.flatnonzero(dropped_by == "")
-    if passing.size == 0:
-        raise InputError(f"every candidate was filtered out ({summary_line}), expected some left")
-    needs_physics = options.rank_by in PHYSICS_SCORES or options.confirm
-    table["backbone_amplification"] = np.nan
-    table["descent_amplification"] = np.nan
-    if needs_physics:
-        backbone, descent, fails, failed_rows = _physics(
-            table, passing, band, frame, paths, jobs, executor
-        )
-        table["backbone_amplification"] = backbone
-        table["descent_amplification"] = descent
-        failures += fails
-        dropped_by[failed_rows] = "physics_failed"
-    needs_samples = (
-        options.confirm
-        or options.scale != "none"
-        or options.has_target
-        or options.rank_by in RECORD_SCORES
-    )
-    periods = misfit_periods_s(options, band)
-    levels = substitute_levels(band)
-    table["psa_t1_g"] = np.nan
-    psa = np.full((len(table), periods.size), np.nan)
-    sd_levels = np.full((len(table), levels.periods_s.size), np.nan)
-    samples: dict[int, Samples] = {}
-    if needs_samples:
-        samples, fails = _spectra(
-            table,
-            dropped_by,
-            band,
-            levels,
-            periods,
-            (psa, sd_levels),
-            (records, record_options),
-            (jobs, executor),
-        )
-        failures += fails
-    table["substitute_demand_ratio"] = substitute_demand_ratio(sd_levels, levels)
-    table["substitute_overturn_ratio"] = predicted_overturn_ratio(
-        table["substitute_demand_ratio"].to_numpy()
-    )
-    sd_t1 = sd_levels[:, 0]  # SD(T_1, ξ_1), the confirmation's intensity measure
-    failed = int(np.isin(dropped_by, COMPUTE_FAILURES).sum())
-    if failed:
-        left = int((dropped_by == "").sum())
-        reports.append(FilterReport("computed", COMPUTED_RULE, failed, left))
-        summary_line = filter_summary(reports, len(table))
-        if left == 0:
-            first = (
-                f"; first failure: {failures[0].item}: {failures[0].message}" if failures else ""
-            )
-            raise InputError(
-                f"no candidate could be computed ({summary_line}{first}), expected readable "
-                f"records for {options.rank_by} (records= or the files by path), or rank_by a "
-                "score of the fit"
-            )
-    if options.unit == "record":
-        _drop_single_components(table, dropped_by, reports)
-        summary_line = filter_summary(reports, len(table))
-    passing = np.flatnonzero(dropped_by == "")
-    score = np.asarray(table[options.rank_by], dtype=np.float64)
-    z = np.full(len(table), np.nan)
-    z[passing] = percentile_scores(score[passing])
-    table["rank_score_percentile"] = z
-    psa_t1 = table["psa_t1_g"].to_numpy() * G_M_S2
-    target_t1 = None if target is None else target.sa_m_s2(band.period_1_s)
-    target_psa = None if target is None else target_values(target, periods)
-    scales, clipped = scale_factors(
-        options.scale, psa_t1, psa, target_t1, target_psa, (options.scale_min, options.scale_max)
-    )
-    table["scale_factor"] = scales
-    table["scale_clipped"] = clipped
-    table["spectral_misfit"] = (
-        spectral_misfit(psa, scales, target_psa) if target_psa is not None else np.nan
-    )
-    log_psa = None
-    log_target = None
-    if target_psa is not None:
-        with np.errstate(divide="ignore", invalid="ignore"):
-            log_psa = np.log(scales[:, None] * psa)
-        log_target = np.log(target_psa)
-    units, members = _units(table, passing, z, options.unit, log_psa)
-    if len(members) < options.n:
-        what = "records" if options.unit == "record" else "candidates"
-        raise InputError(
-            f"n = {options.n} but only {len(members)} {what} left ({summary_line}), expected "
-            f"n ≤ {len(members)}"
-        )
+    parallel = (jobs, executor)
+    candidates = filtered_candidates(features, frame, options)
+    physics_scores(candidates, frame, options, parallel)
+    spectra = spectra_and_substitute(candidates, options, (records, record_options), parallel)
+    z, log_psa, log_target = rank_and_scale(candidates, spectra, options, target)
+    choice = choose_set(candidates, z, log_psa, log_target, options)
+    rank_stability(candidates, frame, choice, options, parallel)
+    _mark_choice(candidates, choice)
+    return _result(candidates, spectra, choice, frame, options)
 
-    def pick(candidates: Units) -> list[int]:
-        return choose(
-            candidates,
-            options.n,
-            weight=options.spectral_weight,
-            log_target=log_target,
-            max_per_event=options.max_per_event,
-            max_per_station=options.max_per_station,
-        )
 
-    chosen = pick(units)
-    chosen_rows = [i for u in chosen for i in members[u]]
-    # Rank stability: redraw the fitted parameters, rescore, choose again (one batch for all
-    # replicates, so a process pool starts once).
-    counts = np.zeros(len(table))
-    rng = np.random.default_rng(options.seed)
-    replicates = [
-        _perturbed(table.iloc[passing].reset_index(drop=True), rng)
-        for _ in range(options.n_bootstrap)
-    ]
-    if replicates:
-        drawn = pd.concat(replicates, ignore_index=True)
-        if options.rank_by in RECORD_SCORES:
-            # The record's spectrum does not depend on the fit: every replicate ranks alike.
-            all_values = np.tile(score[passing], options.n_bootstrap)
-        elif options.rank_by in PHYSICS_SCORES:
-            b, d, _, _ = _physics(
-                drawn,
-                np.arange(len(drawn)),
-                band,
-                frame,
-                strong_motion_paths(drawn, options.strong_motion_fraction),
-                jobs,
-                executor,
-            )
-            all_values = b if options.rank_by == "backbone_amplification" else d
-        else:
-            all_values = np.asarray(
-                _cheap_scores(drawn, band, options.strong_motion_fraction)[options.rank_by],
-                dtype=np.float64,
-            )
-        for values in all_values.reshape(options.n_bootstrap, passing.size):
-            z_b = np.full(len(table), np.nan)
-            z_b[passing] = percentile_scores(values)
-            units_b, members_b = _units(table, passing, z_b, options.unit, log_psa)
-            for u in pick(units_b):
-                counts[members_b[u]] += 1
-    probability = np.full(len(table), np.nan)
-    if options.n_bootstrap:
-        probability[passing] = counts[passing] / options.n_bootstrap
-    table["selection_probability"] = probability
-    table["selected"] = False
-    table.loc[chosen_rows, "selected"] = True
-    order = np.argsort(units.z, kind="stable")
-    taken = set(chosen)
-    controls = [int(u) for u in order if u not in taken][: len(chosen)]
-    control_rows = [i for u in controls for i in members[u]]
-    table["control"] = False
-    table.loc[control_rows, "control"] = True
-    table["dropped_by"] = dropped_by
-    selection = table.loc[chosen_rows].copy()
-    selection.insert(0, "rank", np.arange(1, len(chosen_rows) + 1))
-    selection.insert(1, "score", selection[options.rank_by].to_numpy())
-    keep_first = [
-        "rank",
-        "file",
-        "component",
-        "station",
-        "score",
-        "scale_factor",
-        "selection_probability",
-        "rank_score_percentile",
-        *sc.SCORES,
-        "enters_from_above",
-        "psa_t1_g",
-        "spectral_misfit",
-    ]
-    keep = [c for c in keep_first if c in selection.columns]
-    selection = selection[keep + [c for c in selection.columns if c not in keep]]
-    selection = selection.reset_index(drop=True)
-    status, message = "ok", f"{len(chosen_rows)} components chosen by {options.rank_by}"
-    if len(chosen) < options.n:
+def _result(
+    candidates: Candidates,
+    spectra: Spectra,
+    choice: Choice,
+    frame: PortalFrame,
+    options: SelectionOptions,
+) -> SelectionResult:
+    """Step 7: the confirmation by simulation (when asked) and the result's tables."""
+    import pandas as pd
+
+    table, band, failures = candidates.table, candidates.band, candidates.failures
+    status, message = "ok", f"{len(choice.chosen_rows)} components chosen by {options.rank_by}"
+    if choice.n_units < options.n:
         status = "degraded"
-        message = f"only {len(chosen)} of {options.n} could be chosen under the caps"
+        message = f"only {choice.n_units} of {options.n} could be chosen under the caps"
     if failures:
         status = "degraded"
         message += f"; {len(failures)} component(s) failed (failures.csv)"
@@ -607,29 +746,30 @@ def select_records(
     medians: dict[str, Any] = {}
     throughput = math.nan
     if options.confirm:
+        sd_t1 = spectra.sd_levels[:, 0]  # SD(T_1, ξ_1), the confirmation's intensity measure
         confirm_table, correlations, medians, throughput = _confirm(
-            table, frame, samples, chosen_rows, control_rows, sd_t1, options
+            table, frame, spectra.samples, choice.chosen_rows, choice.control_rows, sd_t1, options
         )
     summary = {
         "rank_by": options.rank_by,
         "scale": options.scale,
         "band": band.to_dict(),
-        "substitute": levels.to_dict(),
-        "filters": [r.to_dict() for r in reports],
-        "filter_summary": summary_line,
+        "substitute": spectra.levels.to_dict(),
+        "filters": [r.to_dict() for r in candidates.reports],
+        "filter_summary": candidates.summary_line,
         "correlations": correlations,
         "medians": medians,
         "confirmation_samples_per_s": throughput,
         "options": options.to_dict(),
     }
+    selection_columns = {
+        "rank": ("", "rank in the set (1 best)"),
+        "score": ("", f"the ranking score ({options.rank_by})"),
+        **CANDIDATE_COLUMNS,
+    }
     return SelectionResult(
         _with_dictionary(
-            selection,
-            {
-                "rank": ("", "rank in the set (1 best)"),
-                "score": ("", f"the ranking score ({options.rank_by})"),
-                **CANDIDATE_COLUMNS,
-            },
+            _selection_table(table, choice.chosen_rows, options.rank_by), selection_columns
         ),
         _with_dictionary(table, CANDIDATE_COLUMNS),
         _with_dictionary(confirm_table, CONFIRMATION_COLUMNS),
