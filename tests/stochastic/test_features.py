@@ -33,7 +33,9 @@ def test_vanmarcke_q_against_quadrature(zeta: float) -> None:
     assert float(vanmarcke_q(np.array([zeta]))[0]) == pytest.approx(q, rel=1e-6)
 
 
-@pytest.mark.parametrize("frequency", ["zero-crossing", "moment", "ridge", "wavelet-ridge"])
+@pytest.mark.parametrize(
+    "frequency", ["zero-crossing", "moment", "ridge", "wavelet-ridge", "multiwindow"]
+)
 def test_pure_tone_returns_its_frequency(frequency: str) -> None:
     t = np.arange(0, 30, 0.005)
     x = 0.3 * np.sin(2 * math.pi * 3.3 * t + 0.4)

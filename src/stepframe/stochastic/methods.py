@@ -18,7 +18,7 @@ from __future__ import annotations
 from typing import Literal, get_args
 
 #: ω_g(t) estimators, fast to dear (the fidelity ladder of DESIGN.md).
-FrequencyMethod = Literal["zero-crossing", "ridge", "moment", "wavelet-ridge"]
+FrequencyMethod = Literal["zero-crossing", "ridge", "moment", "wavelet-ridge", "multiwindow"]
 #: Evolutionary-spectrum methods.
 SpectrumMethod = Literal["stft", "wavelet", "parametric"]
 #: Mean-square response methods, cheap to dear.
