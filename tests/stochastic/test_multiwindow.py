@@ -52,10 +52,13 @@ def test_a_tone_returns_its_frequency(omega: float) -> None:
     np.testing.assert_allclose(f.omega_g_rad_s[middle], omega, rtol=3e-3)
     # An amplitude A(t) adds (A'/A)² to ẋ²/x²: +0.8 % at 1 rad/s where the Hann rises fastest.
     np.testing.assert_allclose(f.omega_g_rad_s[f.strong_motion()], omega, rtol=0.015)
+    # Three periods per window, never under 2 s (the pilot is the crossing rate: within 1 %).
+    expected_window = max(2.0, 3 * 2 * math.pi / omega)
+    np.testing.assert_allclose(f.omega_window_s[middle], expected_window, rtol=0.01)
     # Its floor: 6π/120 s at mid-record; the fixed windows stop at 2π/2 s = π rad/s.
     assert f.usable_floor_rad_s == pytest.approx(6 * math.pi / (t[-1]), rel=1e-3)
     assert "omega_below_floor" not in f.flags
-    fixed = record_features(x, 0.005)
+    fixed = record_features(x, 0.005, frequency="zero-crossing")
     assert fixed.usable_floor_rad_s == pytest.approx(math.pi)
     # Below π rad/s the 2-s window holds under one cycle: zero crossings flag it.
     assert ("omega_below_floor" in fixed.flags) == (omega < math.pi)

@@ -36,7 +36,7 @@ from stepframe.errors import InputError
 from stepframe.stochastic.features import FrequencyEstimator, TimeOrigin, record_features
 from stepframe.stochastic.fit import PARAMETERS, fit_model
 from stepframe.stochastic.flags import implausible, meaning
-from stepframe.stochastic.methods import FrequencyMethod
+from stepframe.stochastic.methods import DEFAULT_FREQUENCY_METHOD, FrequencyMethod
 from stepframe.stochastic.transforms import DEFAULT_WINDOW_S, FftBackend
 
 #: Column dictionary of the features table: name → (unit, meaning).
@@ -82,7 +82,7 @@ if TYPE_CHECKING:
 class Options:
     """Options of the per-component computation (picklable, passed to workers)."""
 
-    frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing"
+    frequency: FrequencyMethod | FrequencyEstimator = DEFAULT_FREQUENCY_METHOD
     t0: TimeOrigin = "auto"
     window_s: float = DEFAULT_WINDOW_S
     fft: FftBackend = "scipy"
@@ -215,7 +215,7 @@ def catalog_features(
     n_jobs: int | None = None,
     executor: Executor | None = None,
     progress: bool | str = False,
-    frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing",
+    frequency: FrequencyMethod | FrequencyEstimator = DEFAULT_FREQUENCY_METHOD,
     t0: TimeOrigin = "auto",
     window_s: float = DEFAULT_WINDOW_S,
     fft: FftBackend = "scipy",

@@ -28,7 +28,9 @@ and smoothed over one window of ``window_s`` (default 2 s), stated for each:
   shorter than ``window_s``: the only one that resolves ω_g below 2π/``window_s``, down to
   6π/T on a record of T seconds (:mod:`stepframe.stochastic.multiwindow`).
 - Resolution floor (``omega_floor_rad_s``, per frame): the lowest ω_g the estimator resolves
-  there: 2π/``window_s`` (one cycle per window) for the fixed-window estimators; for
+  there: 2π/``window_s`` (one cycle per window) for the STFT and zero-crossing estimators; for
+  ``"wavelet-ridge"`` its lowest band 12π/T (six cycles in a record of T s, at least 0.2 rad/s)
+  or, nearer the record's ends, the cone of influence √2·6/d (d the time to the nearer end); for
   ``"multiwindow"`` three cycles in a window centred on the frame and inside the record (the
   cone of influence), 6π/max(``window_s``, 2 × the distance to the nearer record end).
 - ``α_g(t)``: from the local spectral width: Vanmarcke's ``q² = 1 - λ1²/(λ0 λ2)`` of the STFT
@@ -55,7 +57,7 @@ from numpy.typing import ArrayLike, NDArray
 from stepframe.core import validation
 from stepframe.errors import InputError
 from stepframe.stochastic.envelope import DEFAULT_DURATION_THRESHOLD
-from stepframe.stochastic.methods import FrequencyMethod
+from stepframe.stochastic.methods import DEFAULT_FREQUENCY_METHOD, FrequencyMethod
 from stepframe.stochastic.standard_errors import least_squares_covariance
 from stepframe.stochastic.transforms import (
     DEFAULT_HOP_S,
@@ -111,6 +113,10 @@ class RecordFeatures:
     omega_floor_rad_s
         Lowest ω_g the estimator resolves at each frame [rad/s] (module docstring; None: the
         fixed-window rule 2π/``window_s``, see :meth:`resolution_floor`).
+    omega_window_s
+        Length of the window behind each frame's ω_g [s] where it differs from frame to frame
+        (``"multiwindow"``; None: ``window_s`` everywhere). Neighbouring frames share data over
+        that length, which the fit's standard errors and smoothed model assume is ``window_s``.
     """
 
     time_s: NDArray[np.float64]
@@ -135,6 +141,7 @@ class RecordFeatures:
     t0_source: str = "start"
     p_pick_snr: float | None = None
     omega_floor_rad_s: NDArray[np.float64] | None = None
+    omega_window_s: NDArray[np.float64] | None = None
 
     def strong_motion(self) -> NDArray[np.bool_]:
         """Frames after t0 with I_g ≥ threshold · max I_g."""
@@ -436,11 +443,13 @@ class FrameSpectra:
 class FrequencyEstimate:
     """An estimator's ω_g(t) [rad/s] on the frame grid (NaN where undefined), the smoothing
     kernel it applied (unit sum, on the frame grid), which the fit applies to the model too,
-    and the lowest ω_g it resolves at each frame [rad/s] (None: one cycle per ``window_s``)."""
+    the lowest ω_g it resolves at each frame [rad/s] (None: one cycle per ``window_s``) and,
+    when its window changes from frame to frame, each frame's window length [s]."""
 
     omega_g_rad_s: NDArray[np.float64]
     kernel: NDArray[np.float64]
     floor_rad_s: NDArray[np.float64] | None = None
+    window_s: NDArray[np.float64] | None = None
 
 
 class FrequencyEstimator(Protocol):
@@ -473,10 +482,16 @@ def ridge_estimate(frames: FrameSpectra) -> FrequencyEstimate:
 
 def wavelet_ridge_estimate(frames: FrameSpectra) -> FrequencyEstimate:
     """Maximum of the Morlet spectrum (module docstring)."""
+    from stepframe.stochastic.transforms import cone_of_influence
+
     omega_g = _wavelet_ridge(frames.data, frames.dt_s, frames.hop_s, frames.time_s.size)
     # The Morlet's time support shrinks with frequency; no single kernel describes it, so the
     # fit compares unsmoothed (its Gaussian time spread, 6/ω, is under a second above 1 Hz).
-    return FrequencyEstimate(omega_g, np.ones(1))
+    # Its floor: its lowest band, and the bands clear of the record's ends (cone of influence).
+    duration = (frames.data.size - 1) * frames.dt_s
+    lowest = _wavelet_ridge_lowest_band(frames.data.size, frames.dt_s)
+    cone = cone_of_influence(frames.time_s, duration, _RIDGE_MORLET_Q)
+    return FrequencyEstimate(omega_g, np.ones(1), np.maximum(lowest, cone))
 
 
 def multiwindow_estimate(frames: FrameSpectra) -> FrequencyEstimate:
@@ -487,7 +502,7 @@ def multiwindow_estimate(frames: FrameSpectra) -> FrequencyEstimate:
     # Where a frame's window is longer than window_s, the fit's model is smoothed less than
     # the estimate (docs/stochastic-features.md measures what that costs).
     kernel = hann_kernel(frames.window_s, frames.hop_s)
-    return FrequencyEstimate(found.omega_rad_s, kernel, found.floor_rad_s)
+    return FrequencyEstimate(found.omega_rad_s, kernel, found.floor_rad_s, found.window_s)
 
 
 #: The ω_g(t) estimators by name (:data:`stepframe.stochastic.methods.FrequencyMethod` names them).
@@ -521,7 +536,7 @@ def record_features(
     record_or_array: Trace | ArrayLike,
     dt_s: float | None = None,
     *,
-    frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing",
+    frequency: FrequencyMethod | FrequencyEstimator = DEFAULT_FREQUENCY_METHOD,
     t0: TimeOrigin = "auto",
     window_s: float = DEFAULT_WINDOW_S,
     hop_s: float = DEFAULT_HOP_S,
@@ -537,8 +552,9 @@ def record_features(
     record_or_array
         ``obspy.Trace`` in m/s², or an array (then ``dt_s`` [s] is needed).
     frequency
-        ω_g estimator: a name of :data:`FREQUENCY_ESTIMATORS` (``"zero-crossing"``, default;
-        ``"ridge"``, ``"moment"``, ``"wavelet-ridge"``, ``"multiwindow"``) or a
+        ω_g estimator: a name of :data:`FREQUENCY_ESTIMATORS`
+        (:data:`~stepframe.stochastic.methods.DEFAULT_FREQUENCY_METHOD`, ``"zero-crossing"``, by
+        default; ``"ridge"``, ``"moment"``, ``"wavelet-ridge"``, ``"multiwindow"``) or a
         :class:`FrequencyEstimator`.
     t0
         Time origin: ``"auto"`` (default: the picked P onset when the pick is reliable,
@@ -675,6 +691,7 @@ def record_features(
         t0_source=t0_source,
         p_pick_snr=p_snr,
         omega_floor_rad_s=floor,
+        omega_window_s=estimate.window_s,
     )
 
 
@@ -750,6 +767,15 @@ def _power_kernel(window: NDArray[np.float64], dt_s: float, hop_s: float) -> NDA
     return np.asarray(k / k.sum())
 
 
+#: Relative bandwidth ω/σ of the wavelet-ridge estimator's Morlet bands.
+_RIDGE_MORLET_Q = 6.0
+
+
+def _wavelet_ridge_lowest_band(npts: int, dt_s: float) -> float:
+    """The wavelet ridge's lowest band [rad/s]: q cycles in the record, at least 0.2 rad/s."""
+    return max(2 * math.pi / (npts * dt_s) * _RIDGE_MORLET_Q, 0.2)
+
+
 def _wavelet_ridge(
     data: NDArray[np.float64], dt_s: float, hop_s: float, n_frames: int
 ) -> NDArray[np.float64]:
@@ -757,9 +783,11 @@ def _wavelet_ridge(
     from stepframe.stochastic.transforms import wavelet_power
 
     nyquist = math.pi / dt_s
-    low = max(2 * math.pi / (data.size * dt_s) * 6.0, 0.2)
+    low = _wavelet_ridge_lowest_band(data.size, dt_s)
     omega = np.geomspace(low, 0.8 * nyquist, 160)
-    _, omega, psd = wavelet_power(data, dt_s, hop_s=hop_s, omega_rad_s=omega)
+    _, omega, psd = wavelet_power(
+        data, dt_s, hop_s=hop_s, omega_rad_s=omega, morlet_q=_RIDGE_MORLET_Q
+    )
     # Ridge of |u|² = S·2σ_j/√π ∝ S·ω (the band's power, not its density): a line's band power
     # peaks at its frequency, while its density (divided by σ_j ∝ ω_j) peaks ~1/q² lower.
     psd = psd[:n_frames] * omega[None, :]

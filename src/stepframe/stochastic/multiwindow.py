@@ -70,7 +70,8 @@ class MultiwindowFrequency:
     Attributes
     ----------
     omega_rad_s
-        ω_g [rad/s] per frame (NaN where the window holds no energy).
+        ω_g [rad/s] per frame (NaN where the window holds no energy, or where even the longest
+        window holds fewer zero crossings than the cycles it needs).
     window_s
         Length of the Hann window each frame used [s].
     floor_rad_s
@@ -211,8 +212,13 @@ def multiwindow_frequency(
     low, high = _smoothed(weighted, kept).transpose(1, 0, 2)
     with np.errstate(divide="ignore", invalid="ignore"):
         omega = np.sqrt(np.where(low > 0, np.clip(high, 0.0, None) / low, np.nan))
+    # Fewer crossings than `periods` cycles hold even in the longest window: no frequency the
+    # record resolves (a baseline offset, for one, leaves none, and the energy of the offset
+    # would pass for a slow motion).
+    cycles = rate[-1] * ladder[-1] / 2
+    estimate = np.where(cycles >= periods, _at_length(omega, ladder[used], length), np.nan)
     return MultiwindowFrequency(
-        _at_length(omega, ladder[used], length),
+        estimate,
         length,
         resolution_floor(time_s, duration, window_s, periods),
     )

@@ -40,7 +40,7 @@ from stepframe.stochastic.features import (
     record_features,
 )
 from stepframe.stochastic.fit import fit_model
-from stepframe.stochastic.methods import FrequencyMethod, SpectrumMethod
+from stepframe.stochastic.methods import DEFAULT_FREQUENCY_METHOD, FrequencyMethod, SpectrumMethod
 from stepframe.stochastic.transforms import (
     DEFAULT_HOP_S,
     DEFAULT_WINDOW_S,
@@ -67,7 +67,7 @@ class SpectrumOptions:
     omega_rad_s: ArrayLike | None = None
     morlet_q: float = 6.0
     t0: TimeOrigin = "start"
-    frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing"
+    frequency: FrequencyMethod | FrequencyEstimator = DEFAULT_FREQUENCY_METHOD
 
 
 #: The attribute a spectrum method may set to state its per-frame floor (see SpectrumFunction).
@@ -170,7 +170,7 @@ def evolutionary_spectrum(
     omega_rad_s: ArrayLike | None = None,
     morlet_q: float = 6.0,
     t0: TimeOrigin = "start",
-    frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing",
+    frequency: FrequencyMethod | FrequencyEstimator = DEFAULT_FREQUENCY_METHOD,
 ) -> xr.DataArray:
     """Evolutionary power spectral density S(ω, t) of a record.
 
