@@ -98,7 +98,7 @@ def test_chirp_falling_to_half_a_radian_per_second() -> None:
 
 def test_recovery_of_a_path_to_half_a_radian_per_second_over_20_seeds() -> None:
     """Median |relative error| over 20 synthetic records (120 s): multiwindow ω_p 10 %, ω_s
-    23 %, ω_r 27 %; zero crossings ω_r 269 % (bench/estimator_recovery.py has 40 seeds)."""
+    23 %, ω_r 26 %; zero crossings ω_r 269 % (bench/estimator_recovery.py has 40 seeds)."""
     _, acc = synthetic_motions(TO_HALF, duration_s=120.0, dt_s=0.01, n_realisations=20, seed=31)
     keys = ("omega_p_rad_s", "omega_s_rad_s", "omega_r_rad_s")
     errors: dict[str, list[list[float]]] = {"multiwindow": [], "zero-crossing": []}
