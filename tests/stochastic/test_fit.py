@@ -36,7 +36,9 @@ def _relative_errors(fitted: GroundMotionModel, true: GroundMotionModel) -> np.n
 
 
 @pytest.mark.parametrize("name", list(SETS))
-@pytest.mark.parametrize("frequency", ["zero-crossing", "ridge", "moment", "wavelet-ridge"])
+@pytest.mark.parametrize(
+    "frequency", ["zero-crossing", "ridge", "moment", "wavelet-ridge", "multiwindow"]
+)
 def test_chirp_following_eq_6_10_is_recovered(name: str, frequency: str) -> None:
     true = SETS[name]
     features = record_features(_chirp(true), 0.005, frequency=frequency)  # type: ignore[arg-type]

@@ -9,9 +9,11 @@ reproducible.
 
 Plausibility (column ``plausible`` and ``implausible_reason``): ω_p ≥ ω_s ≥ ω_r holds by
 construction of the fit, so the checks are that the fitted frequencies lie inside the usable
-band (ω_r above both the window's resolution 2π/window_s and, when known, the record's lowest
-usable frequency; ω_p below half the Nyquist frequency), that ω_g falls at all (ω_p > 1.05 ω_r),
-and that no flag marks a value at a bound, floor or clip
+band (ω_r above both the estimator's resolution floor on the record,
+:attr:`stepframe.stochastic.features.RecordFeatures.usable_floor_rad_s` (2π/window_s for a fixed
+window, 6π/T for ``frequency="multiwindow"`` on a record of T s), and, when known, the
+record's lowest usable frequency; ω_p below half the Nyquist frequency), that ω_g falls at all
+(ω_p > 1.05 ω_r), and that no flag marks a value at a bound, floor or clip
 (:func:`stepframe.stochastic.flags.implausible`; every flag's meaning in
 :data:`stepframe.stochastic.flags.FLAGS`).
 """
@@ -34,7 +36,7 @@ from stepframe.errors import InputError
 from stepframe.stochastic.features import FrequencyEstimator, TimeOrigin, record_features
 from stepframe.stochastic.fit import PARAMETERS, fit_model
 from stepframe.stochastic.flags import implausible, meaning
-from stepframe.stochastic.methods import FrequencyMethod
+from stepframe.stochastic.methods import DEFAULT_FREQUENCY_METHOD, FrequencyMethod
 from stepframe.stochastic.model import AlphaReading
 from stepframe.stochastic.transforms import DEFAULT_WINDOW_S, FftBackend
 
@@ -62,6 +64,7 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "fit_quality": ("", "weighted RMS relative misfit of ω_g(t) (0 is perfect)"),
     "max_intensity_m_s2": ("m/s2", "max I_g (RMS acceleration over the window)"),
     "omega_range_rad_s": ("rad/s", "ω_max - ω_min of the measured ω_g(t) in strong motion"),
+    "omega_floor_rad_s": ("rad/s", "lowest ω_g the estimator resolves on the record"),
     "p_onset_used": ("", "whether t0 is a picked P onset"),
     "p_onset_s": ("s", "picked P onset in record time (empty if none)"),
     "t0_source": ("", "what t0 is: p-pick (picked P onset) or start (record start)"),
@@ -80,7 +83,7 @@ if TYPE_CHECKING:
 class Options:
     """Options of the per-component computation (picklable, passed to workers)."""
 
-    frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing"
+    frequency: FrequencyMethod | FrequencyEstimator = DEFAULT_FREQUENCY_METHOD
     t0: TimeOrigin = "auto"
     window_s: float = DEFAULT_WINDOW_S
     fft: FftBackend = "scipy"
@@ -101,10 +104,14 @@ class Item:
     lowest_usable_hz: float | None = None
 
 
-def plausibility(row: dict[str, Any], window_s: float, lowest_usable_hz: float | None) -> str:
-    """Empty string if the fitted parameters pass the checks, else the reasons ('; ')."""
+def plausibility(row: dict[str, Any], floor_rad_s: float, lowest_usable_hz: float | None) -> str:
+    """Empty string if the fitted parameters pass the checks, else the reasons ('; ').
+
+    ``floor_rad_s`` is the estimator's resolution floor on the record [rad/s]
+    (:attr:`stepframe.stochastic.features.RecordFeatures.usable_floor_rad_s`).
+    """
     reasons = []
-    low = 2 * math.pi / window_s
+    low = floor_rad_s
     if lowest_usable_hz is not None and math.isfinite(lowest_usable_hz):
         low = max(low, 2 * math.pi * lowest_usable_hz)
     high = 0.5 * math.pi / row["dt_s"]
@@ -162,12 +169,13 @@ def component_row(
     row["omega_range_rad_s"] = (
         float(omega_strong.max() - omega_strong.min()) if omega_strong.size else math.nan
     )
+    row["omega_floor_rad_s"] = features.usable_floor_rad_s
     row["p_onset_used"] = features.p_onset_s is not None
     row["p_onset_s"] = features.p_onset_s if features.p_onset_s is not None else math.nan
     row["t0_source"] = features.t0_source
     row["p_pick_snr"] = math.nan if features.p_pick_snr is None else features.p_pick_snr
     row["flags"] = ";".join(result.flags)
-    reason = plausibility(row, options.window_s, lowest_usable_hz)
+    reason = plausibility(row, features.usable_floor_rad_s, lowest_usable_hz)
     row["plausible"] = not reason
     row["implausible_reason"] = reason
     return row
@@ -209,7 +217,7 @@ def catalog_features(
     n_jobs: int | None = None,
     executor: Executor | None = None,
     progress: bool | str = False,
-    frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing",
+    frequency: FrequencyMethod | FrequencyEstimator = DEFAULT_FREQUENCY_METHOD,
     t0: TimeOrigin = "auto",
     window_s: float = DEFAULT_WINDOW_S,
     fft: FftBackend = "scipy",

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from stepframe.core.options import Range, check_fields, option
-from stepframe.stochastic.methods import FREQUENCY_METHOD_NAMES
+from stepframe.stochastic.methods import DEFAULT_FREQUENCY_METHOD, FREQUENCY_METHOD_NAMES
 
 if TYPE_CHECKING:
     from stepframe.stochastic.features import FrequencyEstimator, TimeOrigin
@@ -27,8 +27,8 @@ class FitOptions:
     """
 
     frequency: FrequencyMethod | FrequencyEstimator = option(
-        "zero-crossing",
-        "ω_g(t) estimator, fast to dear (default zero-crossing)",
+        DEFAULT_FREQUENCY_METHOD,
+        "ω_g(t) estimator, fast to dear (default %(default)s; docs/stochastic-features.md)",
         choices=FREQUENCY_METHOD_NAMES,
     )
     t0: TimeOrigin = option(

@@ -19,8 +19,9 @@ from stepframe.pipeline.engine.stage import Context, Param, Stage, Task, params_
 from stepframe.pipeline.engine.store import file_sha256, make_key
 
 INVENTORY_VERSION = 1
-# 2: the fit's α_g reading and the example's lowest usable frequency enter the features
-FEATURES_VERSION = 2
+# 2: the fit's α_g reading and the example's lowest usable frequency enter the features;
+# 3: each estimator's own resolution floor (column omega_floor_rad_s, the plausibility check)
+FEATURES_VERSION = 3
 
 #: Column dictionary of the inventory table: name → (unit, meaning).
 INVENTORY_COLUMNS: dict[str, tuple[str, str]] = {
