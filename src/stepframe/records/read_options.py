@@ -45,6 +45,9 @@ class RecordReadOptions:
         Refuse a record whose peak exceeds this [g].
     max_file_mb
         Refuse a record file larger than this [MiB].
+    allow_short
+        Read a record cut short (fewer samples than declared, components missing), flagged in
+        ``stats.stepframe.incomplete``, instead of refusing it.
     """
 
     format: str | None = option(
@@ -73,9 +76,17 @@ class RecordReadOptions:
         metavar="MB",
     )
 
+    allow_short: bool = option(
+        False,
+        "read a record cut short (fewer samples than its header declares, or a component "
+        "missing) with a warning, flagged in stats.stepframe.incomplete; default: refused",
+        kind="flag",
+    )
+
     def read_kwargs(self) -> dict[str, Any]:
         """The keyword arguments of :func:`stepframe.records.read` (the read limits only when
-        given: ``read(max_abs_g=None)`` would turn the peak check off)."""
+        given: ``read(max_abs_g=None)`` would turn the peak check off; ``allow_short`` only
+        when set, so the default reads and cache keys stay as they were)."""
         kwargs: dict[str, Any] = {
             "format": self.format,
             "units": self.units,
@@ -87,6 +98,8 @@ class RecordReadOptions:
             kwargs["max_abs_g"] = float(self.max_abs_g)
         if self.max_file_mb is not None:
             kwargs["max_bytes"] = max(1, int(self.max_file_mb * 1024**2))
+        if self.allow_short:
+            kwargs["allow_short"] = True
         return kwargs
 
     def catalog_kwargs(self) -> dict[str, Any]:
