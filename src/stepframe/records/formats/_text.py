@@ -407,6 +407,29 @@ def check_components(
     return f"{found} of {declared} {what}"
 
 
+def file_cut(where: str, path: Path, line: int | None, options: ReadOptions, expected: str) -> str:
+    """Refuse a file that ends ``where`` a whole file goes on (after a block, before an end
+    line, inside a heading), or with ``allow_short`` warn and return the note that flags its
+    traces (``"file ends inside the header of channel 3"``).
+
+    Parameters
+    ----------
+    where
+        Where the file ends (``"before the '/&' line ending channel H2"``).
+    path, line
+        The file and the 1-based line, for the message.
+    options
+        The read options (``allow_short``).
+    expected
+        What a whole file holds there, for the message.
+    """
+    message = f"the file ends {where} (cut short?), expected {expected}"
+    if not options.allow_short:
+        raise FormatError(f"{message} (a cut file is read only with --allow-short)", path, line)
+    warn(f"{message}; read (allow_short), flagged in stats.stepframe.incomplete", path, line)
+    return f"file ends {where}"
+
+
 def mark_incomplete(traces: Iterable[Any], note: str | None) -> None:
     """Add ``note`` to ``stats.stepframe.incomplete`` of each trace (``"; "``-joined)."""
     if note is None:

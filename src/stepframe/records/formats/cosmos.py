@@ -39,6 +39,7 @@ from stepframe.records.formats._text import (
     check_count,
     check_peak,
     check_samples,
+    file_cut,
     fortran_width,
     mark_incomplete,
     numbers,
@@ -130,7 +131,7 @@ def _parse(lines: list[str], path: Path, options: ReadOptions) -> tuple[list[_Ch
             continue
         if channels and not any(_DATA.search(x) for x in lines[i:]):
             where = f"inside the header of channel {len(channels) + 1}"
-            return channels, _cut(where, options, path, len(lines))
+            return channels, file_cut(where, path, len(lines), options, "whole channels")
         first = i
         n_text = int(_expect(_TEXT_COUNT, lines, i, "a COSMOS text header line 1", path)[1])
         text = lines[i : i + n_text]
@@ -167,7 +168,7 @@ def _parse(lines: list[str], path: Path, options: ReadOptions) -> tuple[list[_Ch
             i = end
         if i >= len(lines):
             where = f"before the end-of-data line of channel {len(channels)}"
-            channel.incomplete = _cut(where, options, path, len(lines))
+            channel.incomplete = file_cut(where, path, len(lines), options, "whole channels")
             return channels, None
         if not _END.search(lines[i]):
             raise FormatError(
@@ -178,15 +179,6 @@ def _parse(lines: list[str], path: Path, options: ReadOptions) -> tuple[list[_Ch
             )
         i += 1
     return channels, None
-
-
-def _cut(where: str, options: ReadOptions, path: Path, line: int) -> str:
-    """The note of a file cut outside a data block (read with ``allow_short``)."""
-    message = f"the file ends {where} (cut short?), expected whole channels"
-    if not options.allow_short:
-        raise FormatError(f"{message} (a cut file is read only with --allow-short)", path, line)
-    warn(f"{message}; read (allow_short), flagged in stats.stepframe.incomplete", path, line)
-    return f"file ends {where}"
 
 
 def _identity(channel: _Channel, index: int) -> tuple[str, str, str, str]:

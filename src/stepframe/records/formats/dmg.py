@@ -35,6 +35,7 @@ from stepframe.records.formats._text import (
     check_components,
     check_peak,
     check_samples,
+    file_cut,
     fortran_width,
     mark_incomplete,
     numbers,
@@ -242,21 +243,12 @@ def _later_blocks(
         width = fortran_width(lines[index]) or _DEFAULT_WIDTH[False]
         block, index = numbers(lines, index + 1, path, count=declared, width=width)
         if block.size < declared:
-            return _cut(
-                f"in the {match[2].lower()} block of channel {channel}", options, path, index
-            )
+            where = f"in the {match[2].lower()} block of channel {channel}"
+            return file_cut(where, path, index, options, "the whole channel")
     if stop >= len(lines):
-        return _cut(f"before the '/&' line ending channel {channel}", options, path, len(lines))
+        where = f"before the '/&' line ending channel {channel}"
+        return file_cut(where, path, len(lines), options, "the whole channel")
     return None
-
-
-def _cut(where: str, options: ReadOptions, path: Path, line: int) -> str:
-    """The note of a file cut after a channel's acceleration (read with ``allow_short``)."""
-    message = f"the file ends {where} (cut short?), expected the whole channel"
-    if not options.allow_short:
-        raise FormatError(f"{message} (a cut file is read only with --allow-short)", path, line)
-    warn(f"{message}; read (allow_short), flagged in stats.stepframe.incomplete", path, line)
-    return f"file ends {where}"
 
 
 def _refuse_other_products(lines: list[str], path: Path) -> None:

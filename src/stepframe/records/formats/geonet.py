@@ -31,12 +31,12 @@ from stepframe.records.formats._text import (
     check_count,
     check_peak,
     check_samples,
+    file_cut,
     mark_incomplete,
     numbers,
     read_lines,
     resolution_of,
     resolve_units,
-    warn,
 )
 from stepframe.records.units import factor_to_m_s2
 
@@ -164,9 +164,8 @@ def _component(
         block, end = numbers(lines, end, path, count=count, width=_WIDTH)
         declared, last = count, f"integer {number} ({name} samples)"
         if block.size < count:
-            incomplete = _cut_block(
-                block.size, count, f"{name} block of component {channel}", path, count_line, options
-            )
+            where = f"in the {name} block of component {channel} ({block.size} of {count} values)"
+            incomplete = file_cut(where, path, count_line, options, "the whole component")
     if incomplete is None:
         check_block_end(
             lines,
@@ -198,18 +197,6 @@ def _component(
         incomplete=incomplete,
     )
     return trace, end
-
-
-def _cut_block(
-    found: int, declared: int, what: str, path: Path, line: int, options: ReadOptions
-) -> str:
-    """The incomplete note of a file cut inside a block that is not read (velocity,
-    displacement): the acceleration is whole, the file is not."""
-    message = f"{found} values follow (truncated), expected {declared} in the {what}"
-    if not options.allow_short:
-        raise FormatError(f"{message} (a cut file is read only with --allow-short)", path, line)
-    warn(f"{message}; read (allow_short), flagged in stats.stepframe.incomplete", path, line)
-    return f"file ends in the {what}"
 
 
 def read(path: Path, options: ReadOptions) -> Stream:

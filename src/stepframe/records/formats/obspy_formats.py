@@ -35,8 +35,8 @@ from stepframe.records.formats._text import (
     check_peak,
     check_samples,
     drop_cut_value,
+    file_cut,
     mark_incomplete,
-    warn,
 )
 from stepframe.records.units import STANDARD_GRAVITY_M_S2, factor_to_m_s2, normalize_units
 
@@ -142,11 +142,7 @@ def _obspy_read(path: Path, name: str, options: ReadOptions) -> tuple[Any, str |
         if not _MSEED_CUT.search(text):
             warnings.warn(text, warning.category, stacklevel=2)
             continue
-        message = f"file ends inside a MiniSEED record, expected whole records ({text[:80]})"
-        if not options.allow_short:
-            raise FormatError(f"{message} (a cut file is read only with --allow-short)", path)
-        warn(f"{message}; read short (allow_short), flagged in stats.stepframe.incomplete", path)
-        note = "file ends inside a MiniSEED record"
+        note = file_cut("inside a MiniSEED record", path, None, options, "whole records")
     return stream, note
 
 
