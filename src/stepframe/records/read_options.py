@@ -22,6 +22,16 @@ if TYPE_CHECKING:
 
 #: Embedded example catalogues that ``--example`` names.
 EXAMPLE_NAMES = ("fema-p695",)
+#: Record options that apply to files only, not to the embedded example catalogue.
+_FILE_ONLY = (
+    "format",
+    "units",
+    "dt_s",
+    "inventory",
+    "max_abs_g",
+    "max_file_mb",
+    "allow_short",
+)
 
 
 @dataclass(frozen=True)
@@ -128,6 +138,22 @@ class RecordSource(RecordReadOptions):
         "--component picks one, such as MUL009)",
         choices=EXAMPLE_NAMES,
     )
+
+    def __post_init__(self) -> None:
+        # The embedded catalogue is not read from a file: of the record options only
+        # ``component`` applies to it; any other would be silently ignored.
+        if self.example is None:
+            return
+        given = [
+            "--" + name.replace("_", "-")
+            for name in _FILE_ONLY
+            if getattr(self, name) not in (None, False)
+        ]
+        if given:
+            raise InputError(
+                f"{', '.join(given)} with --example {self.example}, expected only --component "
+                "with the embedded catalogue (the other record options apply to files)"
+            )
 
     def read(self, path: str | None) -> Stream:
         """The record file ``path`` (or, with ``path`` None, the example) as an
