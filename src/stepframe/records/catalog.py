@@ -61,6 +61,11 @@ _METADATA: dict[str, tuple[str, str]] = {
     "rrup_km": ("km", "closest distance to the rupture where the format gives it"),
     "rjb_km": ("km", "Joyner-Boore distance where the format gives it"),
     "vs30_m_s": ("m/s", "time-averaged shear-wave velocity of the top 30 m, where given"),
+    "incomplete": (
+        "",
+        "empty for a complete record; what a record read with --allow-short lacks "
+        "('3849 of 28600 samples', '1 of 3 components')",
+    ),
 }
 
 
@@ -114,6 +119,7 @@ def trace_row(trace: Trace, file: str = "", warning_text: str = "") -> dict[str,
     for key in ("magnitude", "repi_km", "rrup_km", "rjb_km", "vs30_m_s"):
         value = info.get(key)
         row[key] = np.nan if value is None else float(value)
+    row["incomplete"] = info.get("incomplete") or ""
     row.update(trace_intensity_measures(trace))  # raw counts: after the standard processing
     psa = response_spectrum(trace.data, dt, CATALOG_PERIODS_S, CATALOG_DAMPING).psa_m_s2
     for period, value in zip(CATALOG_PERIODS_S, psa, strict=True):
@@ -203,6 +209,7 @@ class _ReadOptions:
     component: str | None = None
     #: Read limits given by the user (``max_abs_g``, ``max_bytes`` of :func:`~.io.read`).
     limits: tuple[tuple[str, float], ...] = ()
+    allow_short: bool = False
 
 
 def _catalog_file(file: Path, options: _ReadOptions) -> tuple[list[dict[str, Any]], list[Failure]]:
@@ -221,6 +228,7 @@ def _catalog_file(file: Path, options: _ReadOptions) -> tuple[list[dict[str, Any
             dt=options.dt_s,
             inventory=options.inventory,
             component=options.component,
+            allow_short=options.allow_short,
             **dict(options.limits),  # type: ignore[arg-type]  # max_abs_g: float, max_bytes: int
         )
     warning_text = "; ".join(str(w.message).replace("\n", " ") for w in caught)
@@ -248,6 +256,7 @@ def catalog(
     progress: bool | str = False,
     exclude: Iterable[str | PathLike[str]] = (),
     limits: Mapping[str, float] | None = None,
+    allow_short: bool = False,
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
     """Catalogue every record under a folder: one row per component.
 
@@ -267,6 +276,9 @@ def catalog(
         [g], ``max_bytes``).
     exclude
         Files not to catalogue (the run's own outputs when they are inside ``path``).
+    allow_short
+        Catalogue records cut short instead of recording them as failures (see
+        :func:`stepframe.records.read`); their ``incomplete`` column says what they lack.
 
     Returns
     -------
@@ -288,6 +300,7 @@ def catalog(
         None if inventory is None else str(inventory),
         component,
         tuple(sorted((limits or {}).items())),
+        allow_short,
     )
     outcome = map_items(
         partial(_catalog_file, options=options),
