@@ -151,3 +151,23 @@ def test_site_from_records_is_the_median_of_the_fitted_parameters(scene: Path) -
         assert site[name] == pytest.approx(float(np.median(features[name])), rel=1e-14)
     assert site["n_components"] == SMALL
     assert site["fp_hz"] == pytest.approx(site["omega_p_rad_s"] / (2 * np.pi), rel=1e-14)
+
+
+def test_record_options_of_the_records_table_reach_the_reader(tmp_path: Path) -> None:
+    """``dt_s``, ``units`` and ``allow_short`` of [records] are the reader's options: a
+    one-column text file needs dt and units, and its inventory row says what they gave."""
+    records = tmp_path / "records"
+    records.mkdir()
+    samples = np.sin(np.arange(3000) * 0.05) * 0.1
+    np.savetxt(records / "a.txt", samples)
+    workflow = tmp_path / "wf.toml"
+    workflow.write_text(
+        '[records]\nfolder = "records"\ndt_s = 0.01\nunits = "g"\nallow_short = true\n'
+        "[outputs]\ninventory = true\n",
+        encoding="utf-8",
+    )
+    report = run_workflow(workflow, shipped_stages(), jobs=1)
+    assert report.failures == [] and report.exit_code == 0
+    table = pd.read_parquet(tmp_path / "stepframe-work" / "outputs" / "inventory.parquet")
+    assert table["dt_s"].tolist() == [0.01] and table["npts"].tolist() == [3000]
+    assert table["pga_m_s2"].iloc[0] == pytest.approx(np.abs(samples).max() * 9.80665, rel=1e-9)

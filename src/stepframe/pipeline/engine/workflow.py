@@ -48,11 +48,16 @@ RECORDS_KEYS: dict[str, Param] = {
     "units": Param("str", None, "units when the file does not say: g, m/s2, cm/s2, mm/s2"),
     "dt_s": Param("float", None, "sampling interval [s] when the file does not say"),
     "component": Param("str", None, "keep only this channel of multi-channel files"),
+    "allow_short": Param(
+        "bool", False, "read a record with fewer samples than declared (flagged incomplete)"
+    ),
 }
 OUTPUT_KEYS_FIXED: dict[str, Param] = {
     "folder": Param("str", None, "where outputs go (default: <workspace>/outputs)"),
 }
-RECORD_OPTIONS = ("format", "units", "dt_s", "component")
+RECORD_OPTIONS = ("format", "units", "dt_s", "component", "allow_short")
+#: The keys whose name in ``stepframe.records.read`` differs (the file names the unit).
+READ_KEYWORDS = {"dt_s": "dt"}
 
 
 class Lines:
@@ -330,7 +335,7 @@ def _records(table: Any, folder: Path, lines: Lines, scene: Scene) -> Records | 
         example=given.get("example"),
         glob=given.get("glob", "*"),
         recursive=given.get("recursive", True),
-        options={k: given[k] for k in RECORD_OPTIONS if k in given},
+        options={READ_KEYWORDS.get(k, k): given[k] for k in RECORD_OPTIONS if k in given},
     )
 
 
