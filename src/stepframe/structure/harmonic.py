@@ -35,7 +35,32 @@ PULSE_KINDS: tuple[str, ...] = ("cosine", "sine")
 #: Default bound on events per integration call (Zeno sequences are cut by the hold state).
 DEFAULT_MAX_EVENTS = 200_000
 
-_KERNEL_STATUS: dict[int, Status] = {0: "ok", 1: "nonfinite", 2: "too_many_events"}
+
+def _checked(
+    prm: np.ndarray, amp_bound: float, x0: float, code: int, overturned: bool, peak: float,
+    *values: float,
+) -> tuple[Status, str]:  # fmt: skip
+    """Status and message of a run after the run-level invariant every result passes.
+
+    Non-finite values, or a peak beyond the cap or beyond y_e = (γ₁ + P₂A)/ω₂² without an
+    overturning verdict (:func:`stepframe.structure.status.run_invariant`), are a failure with
+    its reason, never "ok".
+    """
+    from stepframe.structure.status import (
+        STATUS_MESSAGES,
+        STATUS_NAMES,
+        no_escape_bound_m,
+        run_invariant,
+    )
+
+    bound = no_escape_bound_m(prm[4], prm[3], prm[1], amp_bound, x0, prm[9])
+    code = run_invariant(code, overturned, peak, bound, *values)
+    return STATUS_NAMES[code], STATUS_MESSAGES[code]
+
+
+def _lifts_at_start(phase: int, x: float, prm: np.ndarray) -> int:
+    """1 when a run starts on the switching surface in a stepped phase (a lift-off at t = 0)."""
+    return int(phase in (1, -1) and abs(x) == prm[7])
 
 
 def frame_parameters(frame: FrameLike) -> np.ndarray:
@@ -164,9 +189,10 @@ def simulate_harmonic(
     vs[0] = v
     phase = int(hk.start_phase(x, v, amp * math.cos(phi), prm))
     jac = np.eye(2)
-    n_lift = n_imp = 0
+    n_lift = _lifts_at_start(phase, x, prm)
+    n_imp = 0
     peak = abs(x)
-    status: Status = "ok"
+    code = hk.K_OK
     overturned = False
     t_end = dur
     for i in range(n):
@@ -177,7 +203,7 @@ def simulate_harmonic(
         n_imp += ni
         peak = max(peak, pk)
         if st != hk.K_OK:
-            status = _KERNEL_STATUS[int(st)]
+            code = int(st)
             t_end = float(te)
             break
         if ov:
@@ -186,7 +212,9 @@ def simulate_harmonic(
             break
         xs[i + 1] = x
         vs[i + 1] = v
-    message = "" if status == "ok" else f"stopped at t = {t_end:.6g} s"
+    status, message = _checked(prm, amp, xs[0], code, overturned, float(peak), x, v)
+    if status != "ok":
+        message = f"{message} (stopped at t = {t_end:.6g} s)"
     return HarmonicRun(
         times, xs, vs, status, overturned, t_end, n_lift, n_imp, float(peak), message
     )
@@ -264,30 +292,17 @@ def simulate_pulse(
     st, x, v, phase, _nl, ni, pk, ov, _te = hk.advance(
         prm, amp, om, phi, 0.0, tp, 0.0, 0.0, phase, jac, False, max_events, amp
     )
-    if st != hk.K_OK:
-        return PulseOutcome(False, float(pk), _KERNEL_STATUS[int(st)], int(ni), "during the pulse")
-    if ov:
-        return PulseOutcome(True, float(pk), "ok", int(ni))
-    phase = int(hk.start_phase(x, v, 0.0, prm)) if phase in (2, -2) else phase
-    st2, x, v, phase, _nl2, ni2, pk2, ov2, _te2 = hk.advance(
-        prm,
-        0.0,
-        om,
-        phi,
-        tp,
-        tp * (1.0 + free_periods),
-        x,
-        v,
-        phase,
-        jac,
-        False,
-        max_events,
-        0.0,
-    )
-    peak = float(max(pk, pk2))
-    if st2 != hk.K_OK:
-        return PulseOutcome(False, peak, _KERNEL_STATUS[int(st2)], int(ni + ni2), "after the pulse")
-    return PulseOutcome(bool(ov2), peak, "ok", int(ni + ni2))
+    peak = float(pk)
+    if st == hk.K_OK and not ov:
+        phase = int(hk.start_phase(x, v, 0.0, prm)) if phase in (2, -2) else phase
+        st, x, v, phase, _nl2, ni2, pk2, ov, _te2 = hk.advance(
+            prm, 0.0, om, phi, tp, tp * (1.0 + free_periods), x, v, phase, jac, False,
+            max_events, 0.0,
+        )  # fmt: skip
+        peak = float(max(pk, pk2))
+        ni += ni2
+    status, message = _checked(prm, amp, 0.0, int(st), bool(ov), peak, x, v)
+    return PulseOutcome(bool(ov), peak, status, int(ni), message)
 
 
 @dataclass(frozen=True)
@@ -346,8 +361,9 @@ def stroboscopic_map(
     phase = int(hk.start_phase(x, v, amplitude_m_s2 * math.cos(phase_rad), prm))
     n_imp = n_lift = 0
     phases = []
+    st, ov, peak = hk.K_OK, 0, abs(x)
     for i in range(n_periods):
-        st, x, v, phase, nl, ni, _pk, ov, _te = hk.advance(
+        st, x, v, phase, nl, ni, pk, ov, _te = hk.advance(
             prm,
             amplitude_m_s2,
             omega_rad_s,
@@ -364,7 +380,9 @@ def stroboscopic_map(
         )
         n_imp += ni
         n_lift += nl
+        peak = max(peak, pk)
         phases.append(int(phase))
         if st != hk.K_OK or ov:
-            return MapStep(x, v, jac, _KERNEL_STATUS[int(st)], bool(ov), n_imp, n_lift, phases)
-    return MapStep(x, v, jac, "ok", False, n_imp, n_lift, phases)
+            break
+    status, _message = _checked(prm, amplitude_m_s2, x_m, int(st), bool(ov), peak, x, v)
+    return MapStep(x, v, jac, status, bool(ov), n_imp, n_lift, phases)

@@ -50,14 +50,13 @@ from stepframe.structure.status import (
     EVENT_NAMES,
     EVENT_TOUCHDOWN,
     INVARIANT_RTOL,
-    STATUS_IMPOSSIBLE,
     STATUS_MESSAGES,
     STATUS_NAMES,
-    STATUS_NONFINITE,
-    STATUS_OK,
     Model,
     RawRun,
     SimulationStatus,
+    no_escape_bound_m,
+    run_invariant,
 )
 
 if TYPE_CHECKING:
@@ -440,16 +439,11 @@ def _checked_status(raw: RawRun, model: Model, ag: np.ndarray, x0: float) -> int
     frame that did not overturn can pass neither its cap nor y_e = (γ₁ + P₂ max|ẍ_g|)/ω₂², the
     displacement beyond which a stepped frame moving outward cannot return (docs/paper-notes.md).
     """
-    if raw.status != STATUS_OK:
-        return raw.status
-    values = (raw.peak_abs_x, raw.x_end, raw.v_end)
-    if not all(math.isfinite(value) for value in values):
-        return STATUS_NONFINITE
-    if raw.overturned:
-        return STATUS_OK
-    reach = (model.gamma_1_m_s2 + model.p_2 * float(np.max(np.abs(ag)))) / model.omega_2_rad_s**2
-    bound = min(model.x_cap_m, max(abs(x0), reach) * (1.0 + INVARIANT_RTOL))
-    return STATUS_OK if raw.peak_abs_x <= bound else STATUS_IMPOSSIBLE
+    bound = no_escape_bound_m(
+        model.gamma_1_m_s2, model.p_2, model.omega_2_rad_s, float(np.max(np.abs(ag))), x0,
+        model.x_cap_m,
+    )  # fmt: skip
+    return run_invariant(raw.status, raw.overturned, raw.peak_abs_x, bound, raw.x_end, raw.v_end)
 
 
 def _result(
