@@ -25,6 +25,7 @@ import numpy as np
 from stepframe.core import validation
 from stepframe.core.results import Status
 from stepframe.errors import InputError
+from stepframe.structure.work import check_samples
 
 if TYPE_CHECKING:
     from stepframe.structure.simulator import FrameLike
@@ -56,6 +57,42 @@ def _checked(
     bound = no_escape_bound_m(prm[4], prm[3], prm[1], amp_bound, x0, prm[9])
     code = run_invariant(code, overturned, peak, bound, *values)
     return STATUS_NAMES[code], STATUS_MESSAGES[code]
+
+
+def harmonic_work_units(
+    prm: np.ndarray, omega_rad_s: float, duration_s: float, n_samples: float
+) -> float:
+    """Work estimate of a closed-form run [pieces] (:mod:`stepframe.structure.work`).
+
+    Parameters
+    ----------
+    prm
+        :func:`frame_parameters` of the frame.
+    omega_rad_s, duration_s
+        Forcing frequency [rad/s] and the time integrated [s].
+    n_samples
+        Output samples (each a call of the kernel).
+    """
+    from stepframe.structure import work
+
+    rate = work.pieces_per_second(
+        omega_rad_s, work.frame_piece_rate(prm[0], prm[1], prm[5], prm[6], prm[7])
+    )
+    return float(duration_s * rate + work.SAMPLE_UNITS * n_samples)
+
+
+def check_harmonic_work(
+    prm: np.ndarray,
+    omega_rad_s: float,
+    duration_s: float,
+    n_samples: float,
+    what: str,
+    advice: str = "ask for fewer periods or a higher forcing frequency",
+) -> None:
+    """Refuse a closed-form run whose :func:`harmonic_work_units` pass the limit, in one line."""
+    from stepframe.structure import work
+
+    work.check_work(harmonic_work_units(prm, omega_rad_s, duration_s, n_samples), what, advice)
 
 
 def _lifts_at_start(phase: int, x: float, prm: np.ndarray) -> int:
@@ -168,20 +205,26 @@ def simulate_harmonic(
     max_events
         Bound on events between two output samples (status ``too_many_events`` beyond).
     """
-    from stepframe.structure import _harmonic_kernel as hk
-
     prm = frame_parameters(frame)
     amp = validation.non_negative("amplitude_m_s2", amplitude_m_s2)
     om = validation.positive("omega_rad_s", omega_rad_s)
+    if duration_s == math.inf:
+        # Periods of a frequency so near 0 that their length overflows: refused as work.
+        check_harmonic_work(prm, om, math.inf, 0, "a run of more than 1e308 s")
     dur = validation.positive("duration_s", duration_s)
     phi = validation.finite("phase_rad", phase_rad)
     x = validation.finite("x0_m", x0_m)
     v = validation.finite("v0_m_s", v0_m_s)
     if samples_per_period < 1:
         raise InputError(f"samples_per_period = {samples_per_period}, expected ≥ 1")
-    n = max(1, math.ceil(dur * om / (2 * math.pi) * samples_per_period))
-    if n > 50_000_000:
-        raise InputError(f"{n} output samples, expected ≤ 50,000,000 (lower samples_per_period)")
+    periods = dur * om / (2 * math.pi)
+    what = f"a run of {dur:.6g} s ({periods:.6g} forcing periods of {2 * math.pi / om:.6g} s)"
+    check_samples(periods * samples_per_period, what, "lower samples_per_period or the duration")
+    n = max(1, math.ceil(periods * samples_per_period))
+    check_harmonic_work(prm, om, dur, n, what)
+    # The kernel (numba) is loaded only for a run that passed the checks: a refusal is instant.
+    from stepframe.structure import _harmonic_kernel as hk
+
     times = np.linspace(0.0, dur, n + 1)
     xs = np.full(n + 1, np.nan)
     vs = np.full(n + 1, np.nan)
@@ -280,13 +323,18 @@ def simulate_pulse(
     free_periods
         Free motion followed after the pulse, in pulse periods.
     """
-    from stepframe.structure import _harmonic_kernel as hk
-
     prm = frame_parameters(frame)
     amp = validation.non_negative("amplitude_m_s2", amplitude_m_s2)
     om = validation.positive("omega_rad_s", omega_rad_s)
     phi = pulse_phase_rad(kind)
+    free = validation.non_negative("free_periods", free_periods)
     tp = 2.0 * math.pi / om
+    check_harmonic_work(
+        prm, om, tp * (1.0 + free), 2, f"a pulse of {tp:.6g} s and {free:g} periods after it",
+        "ask for a higher pulse frequency or fewer free periods",
+    )  # fmt: skip
+    from stepframe.structure import _harmonic_kernel as hk
+
     jac = np.eye(2)
     phase = int(hk.start_phase(0.0, 0.0, amp * math.cos(phi), prm))
     st, x, v, phase, _nl, ni, pk, ov, _te = hk.advance(
@@ -296,7 +344,7 @@ def simulate_pulse(
     if st == hk.K_OK and not ov:
         phase = int(hk.start_phase(x, v, 0.0, prm)) if phase in (2, -2) else phase
         st, x, v, phase, _nl2, ni2, pk2, ov, _te2 = hk.advance(
-            prm, 0.0, om, phi, tp, tp * (1.0 + free_periods), x, v, phase, jac, False,
+            prm, 0.0, om, phi, tp, tp * (1.0 + free), x, v, phase, jac, False,
             max_events, 0.0,
         )  # fmt: skip
         peak = float(max(pk, pk2))

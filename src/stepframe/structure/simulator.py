@@ -312,6 +312,20 @@ def _check_motion(
     return ag
 
 
+def _check_run_work(
+    n_samples: int, n_tail: int, dt_s: float, tail_s: float, record_history: bool, runs: int = 1
+) -> None:
+    """Refuse a run (or ``runs`` runs) whose intervals or kept history pass the limits of
+    :mod:`stepframe.structure.work`, before any array is allocated."""
+    from stepframe.structure import work
+
+    intervals = float(n_samples - 1 + n_tail)
+    what = f"{runs} run(s) of {n_samples} samples at {dt_s:g} s with a {tail_s:g} s tail"
+    work.check_work(runs * work.INTERVAL_UNITS * intervals, what, "shorten the tail or the record")
+    if record_history:
+        work.check_samples(intervals + 1, what, "shorten the tail or pass record_history=False")
+
+
 def _height(frame: FrameLike, height_m: float | None) -> float | None:
     if height_m is not None:
         return validation.positive("height_m", height_m)
@@ -554,6 +568,7 @@ def simulate(
             raise InputError(f"{name} = {tol!r}, expected a finite tolerance > 0")
     height = _height(frame, height_m)
     n_tail = math.ceil(tail_s / dt_s - 1e-9)
+    _check_run_work(ag.size, n_tail, dt_s, tail_s, record_history)
     ag = ag * scale
     raw = integrator(model, ag, float(dt_s), n_tail, x0, v0, record_history, rtol, atol)
     return _result(raw, float(dt_s), height, "m", _checked_status(raw, model, ag, x0))
@@ -605,6 +620,7 @@ def simulate_rigid_block(
     ag = _check_motion(ground_acc_m_s2, dt_s)
     tail_s = validation.non_negative("tail_s", tail_s)
     n_tail = math.ceil(tail_s / dt_s - 1e-9)
+    _check_run_work(ag.size, n_tail, dt_s, tail_s, record_history)
     theta0 = validation.finite("theta0_rad", theta0_rad)
     omega0 = validation.finite("omega0_rad_s", omega0_rad_s)
     raw = _run_exact(model, ag, float(dt_s), n_tail, theta0, omega0, record_history)
@@ -758,6 +774,16 @@ def simulate_batch(
         pair_scales = scale_arr
     else:
         raise InputError(f"pairs = {pairs!r}, expected 'product' or 'zip'")
+    intervals = [
+        a.size - 1 + math.ceil(tail_s / dt - 1e-9) for a, dt in zip(series, dts, strict=True)
+    ]
+    from stepframe.structure import work
+
+    work.check_work(
+        work.INTERVAL_UNITS * float(sum(intervals[r] for r in rec_index)),
+        f"{rec_index.size} runs of {len(series)} record(s) with a {tail_s:g} s tail",
+        "ask for fewer runs or a shorter tail",
+    )  # fmt: skip
     params = np.asarray([*model, x0, v0], dtype=float)
     spread = executor is not None or jobs > 1
     n_blocks = 4 * max(1, jobs) if spread else 1
