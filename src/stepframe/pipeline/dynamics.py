@@ -360,6 +360,14 @@ def bifurcation_sweep(frame: PortalFrame, options: BifurcationOptions) -> Bifurc
 
 
 # ------------------------------------------------------------------ ida
+#: (probe factor, probes) of an IDA over records, and over one-cycle pulses: a pulse's survival
+#: band above the first overturning s_c reaches 3.7 (ω = 2p) to 6.7 (ω = 4p) times s_c for
+#: Housner's block and is at least 0.75 s_c wide (docs/structure-dynamics.md), so probes 0.56 s_c
+#: apart up to 10 s_c see it.
+RECORD_PROBES = (2.0, 8)
+PULSE_PROBES = (10.0, 16)
+
+
 @dataclass(frozen=True)
 class IdaOptions:
     """What an IDA runs over (records or pulses) and how finely it traces."""
@@ -384,6 +392,20 @@ class IdaOptions:
     max_g: float = option(5.0, "largest intensity hunted (default 5)", kind="positive", metavar="S")
     tail_s: float = option(
         10.0, "free vibration after each record [s] (default 10)", kind="non_negative", metavar="T"
+    )
+    probe_factor: float | None = option(
+        None,
+        "probe up to F times the first overturning intensity for survival above it "
+        f"(default {RECORD_PROBES[0]:g} for records, {PULSE_PROBES[0]:g} for pulses)",
+        kind="positive",
+        metavar="F",
+    )
+    probes: int | None = option(
+        None,
+        "probes evenly spaced in that range "
+        f"(default {RECORD_PROBES[1]} for records, {PULSE_PROBES[1]} for pulses)",
+        kind="positive_int",
+        metavar="N",
     )
 
 
@@ -432,7 +454,11 @@ class IdaStudy:
         for row in data["items"][:50]:
             first = row["first_overturning"]
             shown = "none found" if first is None or first != first else f"{first:.6g}"
-            extra = f", resurrections {row['resurrections']}" if row["resurrected"] else ""
+            extra = ""
+            if row["resurrected"]:
+                item = self.items[self.names.index(row["item"])]
+                bands = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in item.overturning_bands)
+                extra = f", resurrections {row['resurrections']}; overturns on {bands}"
             lines.append(f"  {row['item']}: first overturning {shown} ({row['status']}){extra}")
         fractiles = ", ".join(f"{k} {v:.4g}" for k, v in data["fractiles"].items())
         lines.append("fractiles of the first overturning: " + fractiles)
@@ -470,6 +496,11 @@ def ida_study(
 
     fema_p695, pulse, omegas_rad_s = options.fema_p695, options.pulse, options.omegas_rad_s
     resolution_g, max_g, tail_s = options.resolution_g, options.max_g, options.tail_s
+    factor, probes = PULSE_PROBES if pulse is not None else RECORD_PROBES
+    factor = factor if options.probe_factor is None else options.probe_factor
+    probes = probes if options.probes is None else options.probes
+    if factor < 1:
+        raise InputError(f"--probe-factor {factor:g}, expected ≥ 1")
 
     if pulse is not None:
         if not omegas_rad_s:
@@ -480,6 +511,8 @@ def ida_study(
             step_increment=0.25,
             resolution=resolution_g,
             max_intensity=max_g * 10,
+            probe_factor=factor,
+            n_probe=probes,
         )
         names = [f"{pulse} ω = {w:g} rad/s" for w in omegas_rad_s]
         items = ida_pulse(frame, omegas_rad_s, kind=pulse, settings=settings)
@@ -490,6 +523,8 @@ def ida_study(
         step_increment=0.05,
         resolution=resolution_g,
         max_intensity=max_g,
+        probe_factor=factor,
+        n_probe=probes,
     )
     motions: list[tuple[np.ndarray, float]] = []
     names = []

@@ -54,7 +54,8 @@ class IdaSettings:
     probe_factor
         After the first overturning s_c, probe (s_c, probe_factor·s_c] for resurrection.
     n_probe
-        Probes in that range.
+        Probes in that range, evenly spaced: a survival band above s_c is seen when it is wider
+        than (probe_factor - 1)·s_c/n_probe and lies below probe_factor·s_c.
     n_fill
         Extra runs filling the largest gaps below the first overturning.
     max_runs
