@@ -203,3 +203,32 @@ def test_portal_frame_step_from_rest(delta: float) -> None:
         assert run.peak_abs_x_m == pytest.approx(-p1 * a / (w * w) * overshoot, rel=1e-9)
     elif delta > 1e-13:
         assert run.overturned and run.peak_abs_x_m == FRAME.x_cap_m
+
+
+@settings(max_examples=60, deadline=None)
+@given(delta=deltas)
+def test_aframe_step_from_rest(delta: float) -> None:
+    # The hysteretic A-frame loads with stiffness ω₁²(1 + πξ₁): a step a from rest reaches
+    # 2P₁a/(ω₁²(1 + πξ₁)), and there it sticks (πξ₁ ≥ 1/3) or turns back.
+    from stepframe.structure.aframe_hysteretic import simulate_aframe
+    from stepframe.structure.frame import AFrame
+
+    frame = AFrame(
+        omega_1_rad_s=6.0, omega_2_rad_s=1.5, p_1=1.1, p_2=1.2, gamma_1_m_s2=2.0, xi_1=0.15,
+        theta_rad=0.2, x_c_m=0.04, c_r=0.85, x_cap_m=0.8,
+    )  # fmt: skip
+    k_load = frame.omega_1_rad_s**2 * (1.0 + math.pi * frame.xi_1)
+    a = frame.x_c_m * k_load / (2.0 * frame.p_1) * (1.0 + delta)
+    run = simulate_aframe(frame, np.full(301, a), 0.01, tail_s=0.0)
+    assert run.status == "ok" and not run.overturned
+    if delta < -1e-13:
+        assert run.n_liftoffs == 0 and run.n_sticks == 1
+        assert run.peak_abs_x_m == pytest.approx(2 * frame.p_1 * a / k_load, rel=1e-12)
+    else:
+        # Crossing x_c at ω√(2 x_s δ x_c)-ish speed against the stepped phase's pull back:
+        # a rise of at most 2δ x_c·k_load·x_c/pull beyond x_c (the ratio of the two stiffnesses).
+        w2, g1, p2 = frame.stepped_constants
+        pull = g1 - w2 * w2 * frame.x_c_m - p2 * a
+        assert pull > 0
+        rise = 2.0 * max(delta, 1e-13) * k_load * frame.x_c_m**2 / pull
+        assert run.peak_abs_x_m <= frame.x_c_m + 2.0 * rise
