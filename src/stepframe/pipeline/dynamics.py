@@ -144,6 +144,7 @@ class HarmonicStudy:
             f"status {run.status}, {run.n_liftoffs} lift-offs, {run.n_impacts} impacts, peak |x| "
             f"{run.peak_abs_x_m:.6g} m"
             + (f", OVERTURNED at {run.t_end_s:.4f} s" if run.overturned else "")
+            + (f"; {run.message}" if run.message else "")
         ]
         orbit = self.orbit
         if orbit is not None:

@@ -95,6 +95,13 @@ def check_harmonic_work(
     work.check_work(harmonic_work_units(prm, omega_rad_s, duration_s, n_samples), what, advice)
 
 
+def _small_angle(frame: FrameLike, prm: np.ndarray, peak_m: float) -> str:
+    """The note of a linearised rigid block that rotated beyond small angles ("" else)."""
+    from stepframe.structure.rocking_block import small_angle_note
+
+    return small_angle_note(prm[7], prm[4] / prm[1] ** 2, getattr(frame, "h_r_m", None), peak_m)
+
+
 def _lifts_at_start(phase: int, x: float, prm: np.ndarray) -> int:
     """1 when a run starts on the switching surface in a stepped phase (a lift-off at t = 0)."""
     return int(phase in (1, -1) and abs(x) == prm[7])
@@ -258,6 +265,8 @@ def simulate_harmonic(
     status, message = _checked(prm, amp, xs[0], code, overturned, float(peak), x, v)
     if status != "ok":
         message = f"{message} (stopped at t = {t_end:.6g} s)"
+    elif not overturned:
+        message = _small_angle(frame, prm, float(peak))
     return HarmonicRun(
         times, xs, vs, status, overturned, t_end, n_lift, n_imp, float(peak), message
     )
@@ -350,6 +359,8 @@ def simulate_pulse(
         peak = float(max(pk, pk2))
         ni += ni2
     status, message = _checked(prm, amp, 0.0, int(st), bool(ov), peak, x, v)
+    if status == "ok" and not ov:
+        message = _small_angle(frame, prm, peak)
     return PulseOutcome(bool(ov), peak, status, int(ni), message)
 
 

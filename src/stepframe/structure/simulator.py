@@ -52,6 +52,7 @@ from stepframe.structure.status import (
     INVARIANT_RTOL,
     STATUS_MESSAGES,
     STATUS_NAMES,
+    STATUS_OK,
     Model,
     RawRun,
     SimulationStatus,
@@ -101,7 +102,8 @@ class SimulationSummary:
         broke its phase invariant, or the result is physically impossible without an overturn
         verdict); see ``message``.
     message
-        One line saying what went wrong ("" when the status is "ok").
+        One line saying what went wrong; with "ok", "" or a note (a linearised rigid block that
+        rotated beyond small angles: :func:`stepframe.structure.rocking_block.small_angle_note`).
     """
 
     peak_abs_x_m: float
@@ -461,8 +463,16 @@ def _checked_status(raw: RawRun, model: Model, ag: np.ndarray, x0: float) -> int
 
 
 def _result(
-    raw: RawRun, dt_s: float, height: float | None, units: str, status: int
+    raw: RawRun, dt_s: float, height: float | None, units: str, status: int, model: Model
 ) -> SimulationResult:
+    from stepframe.structure.rocking_block import small_angle_note
+
+    message = STATUS_MESSAGES.get(status, f"unknown status code {status}")
+    if status == STATUS_OK:
+        # x = hθ for a linearised block (θ itself, h = 1, for simulate_rigid_block).
+        h = 1.0 if units == "rad" else height
+        message = small_angle_note(model.x_c_m, model.gamma_1_m_s2 / model.omega_2_rad_s**2, h,
+                                   raw.peak_abs_x)  # fmt: skip
     summary = SimulationSummary(
         peak_abs_x_m=raw.peak_abs_x,
         peak_time_s=raw.peak_time_s,
@@ -476,7 +486,7 @@ def _result(
         residual_x_m=raw.x_end,
         residual_v_m_s=raw.v_end,
         status=STATUS_NAMES.get(status, "failed"),
-        message=STATUS_MESSAGES.get(status, f"unknown status code {status}"),
+        message=message,
     )
     return SimulationResult(summary=summary, raw=raw, dt_s=dt_s, units=units)
 
@@ -571,7 +581,7 @@ def simulate(
     _check_run_work(ag.size, n_tail, dt_s, tail_s, record_history)
     ag = ag * scale
     raw = integrator(model, ag, float(dt_s), n_tail, x0, v0, record_history, rtol, atol)
-    return _result(raw, float(dt_s), height, "m", _checked_status(raw, model, ag, x0))
+    return _result(raw, float(dt_s), height, "m", _checked_status(raw, model, ag, x0), model)
 
 
 def simulate_rigid_block(
@@ -624,7 +634,7 @@ def simulate_rigid_block(
     theta0 = validation.finite("theta0_rad", theta0_rad)
     omega0 = validation.finite("omega0_rad_s", omega0_rad_s)
     raw = _run_exact(model, ag, float(dt_s), n_tail, theta0, omega0, record_history)
-    return _result(raw, float(dt_s), None, "rad", _checked_status(raw, model, ag, theta0))
+    return _result(raw, float(dt_s), None, "rad", _checked_status(raw, model, ag, theta0), model)
 
 
 @dataclass(frozen=True)
