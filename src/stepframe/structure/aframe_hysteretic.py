@@ -555,13 +555,20 @@ def equivalent_viscous_error(
     """Peak |x| and overturning by the hysteretic model against its equivalent-viscous substitute.
 
     One row per (record, scale): ``peak_hysteretic_m``, ``peak_viscous_m``, ``rel_error`` (viscous
-    over hysteretic minus 1), and both overturning verdicts.
+    over hysteretic minus 1), both overturning verdicts and the hysteretic run's status.
+    :func:`equivalent_viscous_summary` reduces it.
     """
+    import warnings
+
     import pandas as pd
 
+    from stepframe.structure.frame import EquivalentViscousWarning
     from stepframe.structure.simulator import simulate
 
-    viscous = frame.to_portal_frame(hysteretic="equivalent-viscous")
+    with warnings.catch_warnings():
+        # Measuring the substitute is the point here.
+        warnings.simplefilter("ignore", EquivalentViscousWarning)
+        viscous = frame.to_portal_frame(hysteretic="equivalent-viscous")
     rows = []
     for r, (acc, dt) in enumerate(records):
         for s in np.atleast_1d(np.asarray(scales, dtype=float)):
@@ -578,7 +585,39 @@ def equivalent_viscous_error(
                     else math.nan,
                     "overturned_hysteretic": hyst.overturned,
                     "overturned_viscous": vis.summary.overturned,
-                    "status": hyst.status,
+                    "status": hyst.status if vis.summary.status == "ok" else vis.summary.status,
                 }
             )
     return pd.DataFrame(rows)
+
+
+def equivalent_viscous_summary(table: pd.DataFrame) -> dict[str, Any]:
+    """Median and worst error of the equivalent-viscous route in a table of
+    :func:`equivalent_viscous_error`.
+
+    Returns
+    -------
+    dict
+        ``all_runs``; ``runs``, those that neither model overturned (both "ok", a finite error);
+        over them ``median_abs_rel_error`` (median of |viscous/hysteretic - 1|) and
+        ``worst_rel_error`` (the signed error of largest size) with its ``worst_record``; and
+        ``verdicts_differing``, the runs that one model overturned and the other did not.
+    """
+    both = table[
+        ~table["overturned_hysteretic"]
+        & ~table["overturned_viscous"]
+        & (table["status"] == "ok")
+        & np.isfinite(table["rel_error"])
+    ]
+    errors = both["rel_error"].to_numpy(dtype=float)
+    worst = int(np.argmax(np.abs(errors))) if errors.size else -1
+    return {
+        "all_runs": len(table),
+        "runs": len(both),
+        "median_abs_rel_error": float(np.median(np.abs(errors))) if errors.size else math.nan,
+        "worst_rel_error": float(errors[worst]) if errors.size else math.nan,
+        "worst_record": int(both["record"].iloc[worst]) if errors.size else None,
+        "verdicts_differing": int(
+            (table["overturned_hysteretic"] != table["overturned_viscous"]).sum()
+        ),
+    }
