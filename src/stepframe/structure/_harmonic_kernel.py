@@ -12,12 +12,13 @@ homogeneous part y, written with E_C = e^{-βσ}C(σ), E_S = e^{-βσ}S(σ) as i
 :mod:`stepframe.structure._exact` (C, S = cos/sin, cosh/sinh or 1/σ by the sign of β² - k).
 
 Events are found on the closed form without sampling error: a phase is cut into pieces short
-against the forcing period and the homogeneous time scale (a sixteenth of each), each piece is
-cut at the zero of ẍ it holds (where its end values differ in sign) and then at the zero of ẋ on
-each part (ẋ is monotone there; bracketed Newton on ẍ with the jerk, on ẋ with ẍ), and a crossing
-of the switching surface on a piece where x is monotone is bracketed by the end values and
-located by bracketed Newton on x. A tangential visit of x_c (grazing) is therefore found at the
-extremum, and a short flight after an impact (chatter) turns back inside its piece.
+against the forcing period and the homogeneous time scale (a sixteenth of each); a piece is cut at
+the zero of ẍ it holds when |ẋ| falls and rises again over it without changing sign (ẋ may then
+have two zeros, one on each side) and at the zero of ẋ on each part (bracketed Newton on ẍ with
+the jerk, on ẋ with ẍ); a crossing of the switching surface on a piece where x is monotone is
+bracketed by the end values and located by bracketed Newton on x. A tangential visit of x_c
+(grazing) is therefore found at the extremum, and a short flight after an impact (chatter) turns
+back inside its piece.
 
 Thresholds (issue 31): a frame at rest on the surface leaves it when a margin (the acceleration
 the phase would have there) turns positive beyond its rounding; the time is closed form. A phase
@@ -414,6 +415,10 @@ def advance(
     peak = abs(x)
     t = t0
     fresh = False
+    # Cut points of a piece: ẍ's zero and ẋ's zeros (ẋ is monotone between zeros of ẍ, so each
+    # part holds at most one), then the piece end; ``ext`` marks the zeros of ẋ.
+    ends = np.empty(4)
+    ext = np.zeros(4, dtype=np.bool_)
     while t < t1:
         if n_ev > max_events:
             return K_TOO_MANY_EVENTS, x, v, phase, n_lift, n_imp, peak, 0, t
@@ -449,10 +454,6 @@ def advance(
         if dir_a == 0.0:
             dir_a = (s_ph if phase != 0 else -x) if on_surface else acc_a
         first = True
-        # Cut points of a piece: ẍ's zero and ẋ's zeros (ẋ is monotone between zeros of ẍ, so
-        # each part holds at most one), then the piece end; ``ext`` marks the zeros of ẋ.
-        ends = np.empty(4)
-        ext = np.zeros(4, dtype=np.bool_)
         ev_sig = -1.0
         ev_type = 0
         ev_target = 0.0
@@ -462,7 +463,11 @@ def advance(
             x_b, v_b, acc_b = _eval(seg, b_k)
             n_parts = 1
             s_infl = b_k
-            if (acc_a > 0.0 and acc_b < 0.0) or (acc_a < 0.0 and acc_b > 0.0):
+            # ẋ changing sign over the piece has one zero (monotone on each side of ẍ's zero).
+            # Keeping its sign, it may have two only if |ẋ| falls and then rises (ẍ against ẋ,
+            # then with it): cut at ẍ's zero then. A zero of ẍ where |ẋ| peaks needs no cut.
+            v_turns = (dir_a > 0.0 and v_b < 0.0) or (dir_a < 0.0 and v_b > 0.0)
+            if not v_turns and dir_a * acc_a < 0.0 < dir_a * acc_b:
                 s_infl = _root(seg, a_k, b_k, 0.0, 2)
                 n_parts = 2
             n_sub = 0
