@@ -39,9 +39,9 @@ from stepframe.structure.aframe_hysteretic import (
     equivalent_viscous_summary,
     simulate_aframe,
 )
-from stepframe.structure.frame import AFrame, EquivalentViscousWarning
+from stepframe.structure.frame import AFrame, EquivalentViscousWarning, RockingBlock
 from stepframe.structure.harmonic import simulate_pulse
-from stepframe.structure.rocking_block import RockingBlock, block_pulse, simulate_block
+from stepframe.structure.rocking_block import block_pulse, simulate_block
 from stepframe.structure.simulator import simulate
 from timing import median_seconds
 

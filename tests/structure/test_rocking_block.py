@@ -12,10 +12,10 @@ from hypothesis import strategies as st
 from scipy.special import ellipkinc
 
 from stepframe.errors import InputError
+from stepframe.structure.frame import RockingBlock
 from stepframe.structure.harmonic import simulate_harmonic, simulate_pulse
 from stepframe.structure.ida import IdaSettings, ida_pulse
 from stepframe.structure.rocking_block import (
-    RockingBlock,
     block_harmonic,
     block_pulse,
     simulate_block,

@@ -29,7 +29,7 @@ from stepframe.errors import InputError
 if TYPE_CHECKING:
     import pandas as pd
 
-    from stepframe.structure.rocking_block import RockingBlock
+    from stepframe.structure.frame import RockingBlock
     from stepframe.structure.simulator import FrameLike
 
 #: evaluate(items, intensities) -> (overturned, peak |x| [m], status per run).
@@ -354,13 +354,15 @@ def ida_pulse(
 
     Intensities are the pulse amplitude in units of the static uplift acceleration: γ₁/P₂ for a
     frame (g·α for the linearised Housner block: 1 is the amplitude that just lifts it), g·tan α
-    for the nonlinear :class:`~stepframe.structure.rocking_block.RockingBlock` (whose peaks are
+    for the nonlinear :class:`~stepframe.structure.frame.RockingBlock` (whose peaks are
     then rotations [rad]).
     """
-    from stepframe.structure.rocking_block import RockingBlock, block_pulse
+    from stepframe.structure.frame import RockingBlock
 
     oms = [float(w) for w in omegas_rad_s]
     if isinstance(frame, RockingBlock):
+        from stepframe.structure.rocking_block import block_pulse
+
         block = frame
         unit = block.uplift_acceleration_m_s2
 

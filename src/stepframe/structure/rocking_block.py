@@ -1,5 +1,7 @@
 """Housner's rigid block beyond small angles: the full nonlinear rocking equation.
 
+The block is :class:`~stepframe.structure.frame.RockingBlock` (importable from here too).
+
 Convention. θ is the block's rotation from upright [rad], positive when it rocks on the corner
 on the +x side; α = atan(b/h) is its slenderness (b, h the half-width and half-height), R = √(b²
 + h²) the distance from a base corner to the centre of mass, p = √(3g/(4R)) its frequency
@@ -42,12 +44,10 @@ from stepframe.core import validation
 from stepframe.core.jit import njit
 from stepframe.core.results import Status
 from stepframe.errors import InputError
-from stepframe.structure.frame import PAPER_G_M_S2
+from stepframe.structure.frame import RockingBlock
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
-
-    from stepframe.structure.frame import PortalFrame
 
 #: Default relative tolerance of the Runge-Kutta steps.
 DEFAULT_RTOL = 1e-10
@@ -78,67 +78,9 @@ _A = np.array(
 _E = np.array([71 / 57600, 0.0, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525, -1 / 40])
 
 
-@dataclass(frozen=True)
-class RockingBlock:
-    """A rigid rectangular block on a rigid base (SI units).
-
-    Attributes
-    ----------
-    half_width_m, half_height_m
-        b and h [m].
-    g_m_s2
-        Gravity [m/s²] (9.81, the paper's value, as
-        :meth:`~stepframe.structure.frame.PortalFrame.housner_block`).
-    c_r
-        Velocity ratio at impact (None: Housner's 1 - (3/2)sin²α); Housner's energy ratio r is
-        its square.
-    """
-
-    half_width_m: float
-    half_height_m: float
-    g_m_s2: float = PAPER_G_M_S2
-    c_r: float | None = None
-
-    def __post_init__(self) -> None:
-        for name in ("half_width_m", "half_height_m", "g_m_s2"):
-            validation.positive(name, getattr(self, name))
-        if self.c_r is not None:
-            validation.in_range("c_r", self.c_r, 0.0, 1.0)
-
-    @property
-    def alpha_rad(self) -> float:
-        """Slenderness α = atan(b/h) [rad]."""
-        return math.atan2(self.half_width_m, self.half_height_m)
-
-    @property
-    def p_rad_s(self) -> float:
-        """Frequency parameter p = √(3g/(4R)) [rad/s]."""
-        return math.sqrt(
-            3.0 * self.g_m_s2 / (4.0 * math.hypot(self.half_width_m, self.half_height_m))
-        )
-
-    @property
-    def restitution(self) -> float:
-        """C_r used at impacts (the given one, or Housner's 1 - (3/2)sin²α)."""
-        return 1.0 - 1.5 * math.sin(self.alpha_rad) ** 2 if self.c_r is None else self.c_r
-
-    @property
-    def uplift_acceleration_m_s2(self) -> float:
-        """Ground acceleration that lifts the block off at rest, g·tan α [m/s²]."""
-        return self.g_m_s2 * self.half_width_m / self.half_height_m
-
-    def linearised(self) -> PortalFrame:
-        """The small-angle model of the same block (x = hθ, uplift at g·α)."""
-        from stepframe.structure.frame import PortalFrame
-
-        return PortalFrame.housner_block(
-            half_width_m=self.half_width_m, half_height_m=self.half_height_m,
-            g_m_s2=self.g_m_s2, c_r=self.restitution,
-        )  # fmt: skip
-
-    def params(self) -> np.ndarray:
-        """Kernel parameters (p, α, g, C_r)."""
-        return np.array([self.p_rad_s, self.alpha_rad, self.g_m_s2, self.restitution])
+def _params(block: RockingBlock) -> np.ndarray:
+    """Kernel parameters (p, α, g, C_r) of a block."""
+    return np.array([block.p_rad_s, block.alpha_rad, block.g_m_s2, block.restitution])
 
 
 @dataclass(frozen=True)
@@ -592,7 +534,7 @@ def simulate_block(
     n = ag.size - 1 + n_tail
     what = f"a block run of {ag.size} samples at {dt_s:g} s with a {tail:g} s tail"
     work.check_work(n * 2.0, what, "shorten the tail or the record")
-    prm = block.params()
+    prm = _params(block)
     counts = np.array([0.0, 0.0, abs(th), 0.0, 0.0, math.nan])
     phase = _start_phase(th, w)
     hist = np.full(n + 1 if record_history else 0, np.nan)
@@ -651,7 +593,7 @@ def block_pulse(
         tp * max(16.0 * om / (2.0 * math.pi), block.p_rad_s) * 10.0,
         f"a pulse of {tp:.6g} s", "ask for a higher pulse frequency",
     )  # fmt: skip
-    prm = block.params()
+    prm = _params(block)
     counts = np.array([0.0, 0.0, 0.0, 0.0, 0.0, math.nan])
     code, th, w, _phase, t, _h, _n = advance_block(
         prm, _HARMONIC, 0.0, tp, 0.0, 0.0, 0.0, amp, om, phi, amp, 0.0, 0.0, 0, 1e-3 / prm[0],
@@ -691,7 +633,7 @@ def block_harmonic(
         dur * max(16.0 * om / (2.0 * math.pi), block.p_rad_s) * 10.0 + work.SAMPLE_UNITS * n,
         what, "ask for fewer periods or a higher forcing frequency",
     )  # fmt: skip
-    prm = block.params()
+    prm = _params(block)
     counts = np.array([0.0, 0.0, 0.0, 0.0, 0.0, math.nan])
     times = np.linspace(0.0, dur, n + 1)
     hist = np.full(n + 1, np.nan)
