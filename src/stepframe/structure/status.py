@@ -10,6 +10,7 @@ the kernels can return; :data:`STATUS_NAMES` maps each onto the project's one st
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Literal, NamedTuple
 
@@ -83,6 +84,44 @@ CHATTER_DRIFT = 1e-3
 
 #: Tolerance of the phase invariant, relative to x_ref = max(x_c, x*).
 INVARIANT_RTOL = 1e-9
+
+
+def no_escape_bound_m(
+    gamma_1_m_s2: float,
+    p_2: float,
+    omega_2_rad_s: float,
+    max_abs_ground_acc_m_s2: float,
+    x0_m: float = 0.0,
+    x_cap_m: float = math.inf,
+) -> float:
+    """Largest |x| [m] a stepping frame that does not overturn can reach.
+
+    A stepped frame beyond y_e = (γ₁ + P₂·max|ẍ_g|)/ω₂² and moving outward is pushed further out
+    whatever the ground does (docs/paper-notes.md, "the certain-escape verdict"), so a run without
+    an overturning verdict stays within max(|x₀|, y_e) (plus the relative rounding
+    :data:`INVARIANT_RTOL`), and within the cap when the frame has one.
+    """
+    reach = (gamma_1_m_s2 + p_2 * max_abs_ground_acc_m_s2) / omega_2_rad_s**2
+    return min(x_cap_m, max(abs(x0_m), reach) * (1.0 + INVARIANT_RTOL))
+
+
+def run_invariant(
+    status: int, overturned: bool, peak_abs_x_m: float, bound_m: float, *values: float
+) -> int:
+    """The run's status code after the checks every integrator's result must pass.
+
+    A run that ended ``STATUS_OK`` is downgraded to ``STATUS_NONFINITE`` when its peak or any of
+    ``values`` (the final state) is not finite, and to ``STATUS_IMPOSSIBLE`` when it did not
+    overturn yet its peak passed ``bound_m`` (:func:`no_escape_bound_m`). Never "ok" for an
+    impossible answer.
+    """
+    if status != STATUS_OK:
+        return status
+    if not all(math.isfinite(value) for value in (peak_abs_x_m, *values)):
+        return STATUS_NONFINITE
+    if not overturned and not peak_abs_x_m <= bound_m:
+        return STATUS_IMPOSSIBLE
+    return STATUS_OK
 
 
 class Model(NamedTuple):
