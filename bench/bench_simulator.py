@@ -149,9 +149,10 @@ def work_precision(stream: Any) -> None:
         impacts = sum(t.summary.n_impacts for t in truths)
         overturned = sum(bool(t.summary.overturned) for t in truths)
         described = f"{label}: {stepping} stepping, {impacts} impacts, {overturned} overturned"
-        for method, rtol, e_peak, e_sw, e_over, wall in rows:
-            print(f"| {described} | {which} | {method} | {rtol} | {e_peak:.1e} | {e_sw:.1e} | "
-                  f"{e_over:.1e} | {wall:.4g} | {wall / t_exact:,.0f} |")  # fmt: skip
+        for k, (method, rtol, e_peak, e_sw, e_over, wall) in enumerate(rows):
+            case = f"{described} | {which}" if k == 0 else " | "  # the case on its first row
+            print(f"| {case} | {method} | {rtol} | {e_peak:.1e} | {e_sw:.1e} | {e_over:.1e} | "
+                  f"{wall:.4g} | {wall / t_exact:,.0f} |")  # fmt: skip
         ok = [r for r in rows[1:] if r[2] <= 1e-6 and r[3] <= 1e-6 and r[4] <= 1e-6]
         best = min(ok, key=lambda r: r[5]) if ok else None
         summary.append((label, which, t_exact, best))
