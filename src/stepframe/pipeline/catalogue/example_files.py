@@ -31,8 +31,11 @@ def at2_bytes(values_g: np.ndarray, dt_s: float, title: str, event: str, station
 
 
 def example_name(row: dict[str, Any]) -> str:
-    """The AT2 file name of an example component (its RSN and PEER component name)."""
-    return f"RSN{int(row['rsn'])}_{str(row['component_name']).replace('/', '_')}.AT2"
+    """The AT2 file name of an example component (:func:`stepframe.records.examples.file_name`,
+    the one name it has everywhere)."""
+    from stepframe.records.examples import file_name
+
+    return file_name(row)
 
 
 def example_metadata(folder: Path) -> Any:

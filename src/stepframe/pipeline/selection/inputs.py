@@ -49,13 +49,14 @@ def example_catalogue(jobs: int | None = None) -> tuple[Any, dict[tuple[str, str
     failures : pandas.DataFrame
         Components whose features failed (item, stage, error_type, message).
     """
-    from stepframe.records.examples import fema_p695
+    from stepframe.records.examples import fema_p695, file_name
     from stepframe.stochastic.catalog_features import catalog_features
 
     stream, metadata = fema_p695()
     features, failures = catalog_features(stream, n_jobs=jobs)
+    rows: list[dict[str, Any]] = metadata.to_dict(orient="records")  # type: ignore[assignment]
     meta = metadata.assign(
-        file="fema_p695/" + metadata["file"].astype(str),
+        file=[file_name(row) for row in rows],
         event=metadata["event"].astype(str) + " " + metadata["year"].astype(str),
     )[["file", *EXAMPLE_METADATA]]
     records = {

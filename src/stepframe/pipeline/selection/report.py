@@ -123,16 +123,16 @@ def load_record(row: dict[str, Any], folder: Path) -> Any:
 
             stream = read(path, component=component)
             return stream[0]
-    if file.startswith("fema_p695/") or ("/" in file and not Path(file).is_absolute()):
-        return _example_trace(file, component)
-    return None
+    return _example_trace(file, component)
 
 
 def _example_trace(file: str, component: str | None) -> Any:
+    """The example component named ``file`` (its one name, ``RSN174_IMPVALL_H-E11230.AT2``,
+    bare or under a folder), or None."""
     from stepframe.records.examples import fema_p695
 
     stream, _ = _examples_cache(fema_p695)
-    key = file if file.startswith("fema_p695/") else f"fema_p695/{file}"
+    key = Path(file).name
     for trace in stream:
         if trace.stats.stepframe.source_file == key and (
             component is None or trace.stats.channel == component
