@@ -9,7 +9,8 @@ their record, in this order:
 1. ``rsn``: PEER's record sequence number, from an ``rsn`` column (metadata, the AT2 reader) or
    the file name (``RSN8883_14383980_13849090.AT2``, ``RSN174_IMPVALL_H-E11230.AT2``);
 2. ``nied``: a K-NET/KiK-net file name, station code and origin time
-   (``AOM0011801241951.EW``: station AOM001, origin 2018-01-24 19:51 JST; KiK-net's borehole
+   (``AOM0011801241951.EW``: station AOM001, origin 2018-01-24 19:51 JST; KiK-net's
+   ``NGNH311106302345.EW2``, station NGNH31; KiK-net's borehole
    ``EW1`` and surface ``EW2`` sensors are two records);
 3. ``header``: the station and event the file's header (or the metadata) gives;
 4. ``file``: otherwise the file alone is the record (its own components, if several).
@@ -39,7 +40,7 @@ RULES: dict[str, str] = {
 }
 
 _RSN_NAME = re.compile(r"(?:^|_)RSN(\d+)(?=[_.\-]|$)", re.IGNORECASE)
-_NIED_NAME = re.compile(r"^([A-Z]{3}\d{3})(\d{10})\.(?:EW|NS|UD)([12]?)(?:\.gz)?$", re.IGNORECASE)
+_NIED_NAME = re.compile(r"^([A-Z]{3,4}\d{2,3})(\d{10})\.(?:EW|NS|UD)([12]?)(?:\.gz)?$", re.IGNORECASE)
 _KIKNET_CHANNEL = re.compile(r"^(?:EW|NS|UD)([12])$", re.IGNORECASE)
 #: Vertical channels: SEED codes ending in Z (HNZ, BHZ), NIED's UD/UD1/UD2, PEER's and COSMOS's
 #: UP/DWN/DOWN/V/VER/VERT (``RSN8883_..._UP``, ``H-UP``), possibly after a prefix and separator.
