@@ -40,7 +40,9 @@ RULES: dict[str, str] = {
 }
 
 _RSN_NAME = re.compile(r"(?:^|_)RSN(\d+)(?=[_.\-]|$)", re.IGNORECASE)
-_NIED_NAME = re.compile(r"^([A-Z]{3,4}\d{2,3})(\d{10})\.(?:EW|NS|UD)([12]?)(?:\.gz)?$", re.IGNORECASE)
+_NIED_NAME = re.compile(
+    r"^([A-Z]{3,4}\d{2,3})(\d{10})\.(?:EW|NS|UD)([12]?)(?:\.gz)?$", re.IGNORECASE
+)
 _KIKNET_CHANNEL = re.compile(r"^(?:EW|NS|UD)([12])$", re.IGNORECASE)
 #: Vertical channels: SEED codes ending in Z (HNZ, BHZ), NIED's UD/UD1/UD2, PEER's and COSMOS's
 #: UP/DWN/DOWN/V/VER/VERT (``RSN8883_..._UP``, ``H-UP``), possibly after a prefix and separator.
