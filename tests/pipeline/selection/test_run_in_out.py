@@ -43,7 +43,8 @@ def test_records_are_pairs_scaled_by_their_rotd50(
     target_t1 = Asce7TwoPeriod(1.0, 0.6).sa_m_s2(2 * np.pi / example4.omega_1_rad_s)
     for _, pair in selection.groupby("record"):
         assert pair["scale_factor"].nunique() == 1  # one factor per record
-        (a, dt), (b, _) = (records[(f, c)] for f, c in zip(pair["file"], pair["component"]))
+        keys = zip(pair["file"], pair["component"], strict=True)
+        (a, dt), (b, _) = (records[key] for key in keys)
         rotd50 = rotd_spectrum(a, b, dt, [2 * np.pi / example4.omega_1_rad_s]).rotd50_m_s2[0]
         if not pair["scale_clipped"].iat[0]:
             assert pair["scale_factor"].iat[0] * rotd50 == pytest.approx(target_t1, rel=1e-9)
