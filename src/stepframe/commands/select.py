@@ -83,6 +83,7 @@ def register(subparsers: Subparsers) -> None:
 
 def options_from_args(args: argparse.Namespace) -> SelectionOptions:
     """The :class:`SelectionOptions` of the command line (over an optional [selection] file)."""
+    from stepframe.errors import InputError
     from stepframe.pipeline.dynamics.design import design_displacement_m
     from stepframe.pipeline.selection.options import selection_options
 
@@ -96,7 +97,14 @@ def options_from_args(args: argparse.Namespace) -> SelectionOptions:
         values["exclude"] = exclude
     if args.design:
         values["design_displacement_m"] = design_displacement_m(args.design)
-    return selection_options(args.options, values)
+    try:
+        return selection_options(args.options, values)
+    except InputError as error:
+        # a value the command line gave is named by its flag, as every command does
+        if error.key not in values or not error.what.startswith(f"{error.key} = "):
+            raise
+        flag = "--" + error.key.replace("_", "-")
+        raise InputError(error.what.replace(f"{error.key} = ", f"{flag} ", 1)) from None
 
 
 def run_select(args: argparse.Namespace) -> SelectionFolder:
