@@ -122,3 +122,36 @@ def test_partial_metadata_caps_count_unknown_events_apart(
     assert len(result.selection) == 7 and result.status == "ok"
     chosen_events = result.selection["event"].dropna().tolist()
     assert len(chosen_events) == len(set(chosen_events)) <= 2
+
+
+def test_confirmation_section_marks_the_chosen_and_prints_the_run_medians(
+    example_inputs: tuple[Any, Any, Any], example4: PortalFrame, tmp_path: Path
+) -> None:
+    table, records, _ = example_inputs
+    plausible = table[table["plausible"].astype(bool)]
+    small = plausible.head(10).reset_index(drop=True)  # a short confirmation
+    options = SelectionOptions(n=3, confirm=True, n_bootstrap=0)
+    result = select_records(small, example4, options, records=records, jobs=1)
+    result.write(tmp_path)
+    html = make_selection_report(str(tmp_path))
+    numbers = json.loads((data_folder_of(html) / "numbers.json").read_text())
+    medians = json.loads((tmp_path / "selection.json").read_text())["medians"]
+    confirmation = numbers["confirmation"]
+    # the report's selected/controls medians are the run's (what the command printed)
+    assert confirmation["median_response_selected"] == pytest.approx(
+        medians["equal_psa_t1_peak_x_m_selected"]
+    )
+    assert confirmation["median_response_controls"] == pytest.approx(
+        medians["equal_psa_t1_peak_x_m_control"]
+    )
+    # and they are the medians of the chosen rows at equal intensity (marked by file, component)
+    rows = pd.read_csv(tmp_path / "confirmation.csv")
+    equal = rows[rows["case"] == "equal-psa-t1"]
+    chosen = set(zip(result.selection["file"], result.selection["component"], strict=True))
+    mine = [(f, c) in chosen for f, c in zip(equal["file"], equal["component"], strict=True)]
+    assert sum(mine) == 3
+    assert np.median(equal["peak_abs_x_m"][mine]) == pytest.approx(
+        medians["equal_psa_t1_peak_x_m_selected"]
+    )
+    table_csv = pd.read_csv(data_folder_of(html) / "confirmation_summary.csv")
+    assert table_csv["group"].tolist() == ["selected", "controls"]

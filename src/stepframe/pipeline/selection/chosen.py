@@ -158,6 +158,39 @@ def _set_misfit(psa_g: Floats, grid: Floats, target_g: Floats, periods_s: Floats
     return float(np.sqrt(np.mean((at - goal) ** 2)))
 
 
+def _code_check(
+    code: str | None,
+    target: Target | None,
+    options: SelectionOptions,
+    grid: Floats,
+    spectra: Any,
+    target_g: Floats | None,
+    ranges: list[tuple[float, float]],
+) -> dict[str, Any]:
+    """The code's suite check of the set's spectra, or why it was not run."""
+    if not code or target is None or target_g is None:
+        why = (
+            "no target spectrum"
+            if target is None
+            else f"the target {describe_target(target, options)} names no code (give "
+            "--target-code asce7-22 or ec8 for a tabulated code spectrum)"
+        )
+        return {"not_run": why}
+    check_at = check_periods_s(grid, ranges[0])
+    index = np.searchsorted(grid, check_at)
+    return check_suite(
+        code,
+        check_at,
+        spectra.mean_psa_g[index],
+        target_g[index],
+        ranges[0],
+        measure=spectra.measure,
+        n_units=len(spectra.names),
+        mean_pga_g=float(np.mean(spectra.pga_g)) if spectra.names else None,
+        target_pga_g=getattr(target, "pga_g", None),
+    ).to_dict()
+
+
 def chosen_set(
     table: Any,
     rows: list[int],
@@ -247,30 +280,9 @@ def chosen_set(
         "damping": damping,
         "units": spectra.names,
     }
-    if code and target is not None:
-        check_at = check_periods_s(grid, ranges[0])
-        index = np.searchsorted(grid, check_at)
-        target_pga = getattr(target, "pga_g", None)
-        check = check_suite(
-            code,
-            check_at,
-            spectra.mean_psa_g[index],
-            columns["target_g"][index],
-            ranges[0],
-            measure=spectra.measure,
-            n_units=len(spectra.names),
-            mean_pga_g=float(np.mean(spectra.pga_g)) if spectra.names else None,
-            target_pga_g=target_pga,
-        )
-        summary["code_check"] = check.to_dict()
-    else:
-        why = (
-            "no target spectrum"
-            if target is None
-            else f"the target {describe_target(target, options)} names no code (give "
-            "--target-code asce7-22 or ec8 for a tabulated code spectrum)"
-        )
-        summary["code_check"] = {"not_run": why}
+    summary["code_check"] = _code_check(
+        code, target, options, grid, spectra, columns.get("target_g"), ranges
+    )
     response = _response(frame, motions) if motions else {"n": 0}
     summary["chosen_response"] = response
     if response["n"] and response["linear"] == response["n"]:

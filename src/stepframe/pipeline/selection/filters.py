@@ -215,6 +215,81 @@ def _measures(
     return origin
 
 
+Rule = tuple[str, str, Callable[[], Mask]]
+
+
+def _metadata_rules(table: Any, options: SelectionOptions) -> list[Rule]:
+    """The magnitude, distance and Vs30 filters asked for (each needs its column)."""
+    ranges: list[tuple[str, str, float | None, float | None, str]] = [
+        ("magnitude", "magnitude", options.magnitude_min, options.magnitude_max, ""),
+        (
+            "distance",
+            f"{options.distance_metric}_km",
+            options.distance_min_km,
+            options.distance_max_km,
+            "km",
+        ),
+        ("vs30", "vs30_m_s", options.vs30_min_m_s, options.vs30_max_m_s, "m/s"),
+    ]
+    rules: list[Rule] = []
+    for name, column, low, high, unit in ranges:
+        if low is None and high is None:
+            continue
+
+        def in_range(
+            column: str = column,
+            low: float | None = low,
+            high: float | None = high,
+            name: str = name,
+        ) -> Mask:
+            return _between(_column(table, column, name), low, high)
+
+        rules.append((name, _range_text(column, low, high, unit), in_range))
+    return rules
+
+
+def _amplitude_rules(
+    table: Any, options: SelectionOptions, band: FrameBand, sources: Sources
+) -> list[Rule]:
+    """The amplitude filters asked for, their values from the metadata or the records."""
+    amplitude = [
+        (name, column, unit, *options.amplitude_range(name))
+        for name, column, unit in AMPLITUDE_FILTERS
+        if options.amplitude_range(name) != (None, None)
+    ]
+    if not amplitude:
+        return []
+    origin = _measures(table, [(a[0], a[1]) for a in amplitude], band.period_1_s, sources)
+    rules: list[Rule] = []
+    for name, column, unit, low, high in amplitude:
+
+        def measured(
+            column: str = column, low: float | None = low, high: float | None = high
+        ) -> Mask:
+            return _between(np.asarray(table[column]), low, high)
+
+        text = f"{_range_text(column, low, high, unit)} ({origin[column]})"
+        rules.append((name, text, measured))
+    return rules
+
+
+def _lowest_usable_rule(table: Any, band: FrameBand) -> Rule:
+    """The lowest usable frequency at or below the band's bottom."""
+    limit_hz = band.omega_low_rad_s / (2 * math.pi)
+
+    def usable() -> Mask:
+        for column in LOWEST_USABLE_COLUMNS:
+            if column in table.columns:
+                values = np.asarray(table[column], dtype=np.float64)
+                return np.asarray(np.isfinite(values) & (values <= limit_hz))
+        raise InputError(
+            "filter lowest_usable needs a column lowest_usable_hz, expected it in the "
+            "features table"
+        )
+
+    return "lowest_usable", f"lowest usable frequency ≤ {limit_hz:.4g} Hz (band bottom)", usable
+
+
 def apply_filters(
     table: Any,
     options: SelectionOptions,
@@ -247,7 +322,7 @@ def apply_filters(
     n = len(table)
     dropped_by = np.full(n, "", dtype=object)
     reports: list[FilterReport] = []
-    rules: list[tuple[str, str, Callable[[], Mask]]] = []
+    rules: list[Rule] = []
     warnings: dict[str, str] = {}
 
     def finite_path() -> Mask:
@@ -276,61 +351,10 @@ def apply_filters(
         rules.append((name, rule, keep))
         if unmatched:
             warnings[name] = f"exclude: {', '.join(unmatched)} matched no candidate"
-    ranges: list[tuple[str, str, float | None, float | None, str]] = [
-        ("magnitude", "magnitude", options.magnitude_min, options.magnitude_max, ""),
-        (
-            "distance",
-            f"{options.distance_metric}_km",
-            options.distance_min_km,
-            options.distance_max_km,
-            "km",
-        ),
-        ("vs30", "vs30_m_s", options.vs30_min_m_s, options.vs30_max_m_s, "m/s"),
-    ]
-    for name, column, low, high, unit in ranges:
-        if low is None and high is None:
-            continue
-
-        def in_range(
-            column: str = column,
-            low: float | None = low,
-            high: float | None = high,
-            name: str = name,
-        ) -> Mask:
-            return _between(_column(table, column, name), low, high)
-
-        rules.append((name, _range_text(column, low, high, unit), in_range))
-    amplitude = [
-        (name, column, unit, *options.amplitude_range(name))
-        for name, column, unit in AMPLITUDE_FILTERS
-        if options.amplitude_range(name) != (None, None)
-    ]
-    if amplitude:
-        origin = _measures(table, [(a[0], a[1]) for a in amplitude], band.period_1_s, sources)
-        for name, column, unit, low, high in amplitude:
-
-            def measured(column: str = column, low: float | None = low,
-                         high: float | None = high) -> Mask:  # fmt: skip
-                return _between(np.asarray(table[column]), low, high)
-
-            text = f"{_range_text(column, low, high, unit)} ({origin[column]})"
-            rules.append((name, text, measured))
+    rules += _metadata_rules(table, options)
+    rules += _amplitude_rules(table, options, band, sources)
     if options.lowest_usable_below_band:
-        limit_hz = band.omega_low_rad_s / (2 * math.pi)
-
-        def usable() -> Mask:
-            for column in LOWEST_USABLE_COLUMNS:
-                if column in table.columns:
-                    values = np.asarray(table[column], dtype=np.float64)
-                    return np.asarray(np.isfinite(values) & (values <= limit_hz))
-            raise InputError(
-                "filter lowest_usable needs a column lowest_usable_hz, expected it in the "
-                "features table"
-            )
-
-        rules.append(
-            ("lowest_usable", f"lowest usable frequency ≤ {limit_hz:.4g} Hz (band bottom)", usable)
-        )
+        rules.append(_lowest_usable_rule(table, band))
     for name, rule, keep in rules:
         mask = keep()
         newly = (dropped_by == "") & ~mask

@@ -31,6 +31,17 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+#: The columns the grouping adds to the candidate table (:func:`.filters.add_grouping`).
+COLUMNS: dict[str, tuple[str, str]] = {
+    "record": ("", "the record the component belongs to (RSN174, a station and event, a file)"),
+    "record_rule": ("", "how its files were grouped: rsn, nied, header or file"),
+    "vertical": ("", "a vertical component"),
+    "event_key": ("", "the event the caps count (the record's own name when it has none)"),
+    "station_key": ("", "the station the caps count (the record's own name when it has none)"),
+    "has_event": ("", "the catalogue gives the record's event"),
+    "has_station": ("", "the catalogue gives the record's station"),
+}
+
 #: The grouping rules, in the order they are tried, and what each says in the output.
 RULES: dict[str, str] = {
     "rsn": "PEER record number (RSN)",

@@ -20,6 +20,7 @@ from stepframe.pipeline.selection.band import FrameBand, frame_band
 from stepframe.pipeline.selection.choose import Units, choose, percentile_scores
 from stepframe.pipeline.selection.chosen import ChosenSet, chosen_set
 from stepframe.pipeline.selection.filters import FilterReport, apply_filters, filter_summary
+from stepframe.pipeline.selection.grouping import COLUMNS as GROUPING_COLUMNS
 from stepframe.pipeline.selection.grouping import grouping_summary
 from stepframe.pipeline.selection.names import PHYSICS_SCORES, RECORD_SCORES
 from stepframe.pipeline.selection.options import SelectionOptions
@@ -55,6 +56,7 @@ CANDIDATE_COLUMNS: dict[str, tuple[str, str]] = {
     "omega_window_start_rad_s": ("rad/s", "fitted omega_g at the start of strong motion"),
     "omega_window_end_rad_s": ("rad/s", "fitted omega_g at the end of strong motion"),
     "enters_from_above": ("", "omega_g starts strong motion above omega_1 and ends below it"),
+    **GROUPING_COLUMNS,
     **sc.SCORES,
     "substitute_overturn_ratio": (
         "",
@@ -740,7 +742,11 @@ def _result(
         "options": options.to_dict(),
     }
     selection_columns = {
-        "rank": ("", "rank in the set (1 best)"),
+        "rank": (
+            "",
+            "order in which the choice picked it (1 first: greedy under the caps and the "
+            "spectral objective; the score's own rank among the candidates may differ)",
+        ),
         "score": ("", f"the ranking score ({options.rank_by})"),
         **CANDIDATE_COLUMNS,
     }
