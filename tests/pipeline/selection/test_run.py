@@ -128,6 +128,8 @@ def test_write_and_read_back(run: Any, tmp_path: Path) -> None:
             "candidates.csv",
             "confirmation.csv",
             "failures.csv",
+            "spectra.csv",
+            "manifest.csv",
             "columns.csv",
             "selection.json",
         ]

@@ -80,8 +80,10 @@ def test_select_json_and_outputs(
             "columns.csv",
             "confirmation.csv",
             "failures.csv",
+            "motions",
             "selection.csv",
             "selection.json",
+            "spectra.csv",
         ]
     )
 

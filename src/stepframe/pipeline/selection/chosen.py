@@ -256,6 +256,20 @@ def chosen_set(
     )
     damping = options.target_damping
     with_samples = [(n, m) for n, m in units if all(i in samples for i in m)]
+    if not with_samples:
+        warnings.append(
+            "the chosen records' samples could not be read (give records=, or files at their "
+            "paths): the set's spectra, the code check, the response and the motions: not run"
+        )
+        summary.update(
+            target=None if target is None else target_record(target, options, grid),
+            set_misfit=None,
+            set_spectra={"not_run": "no samples"},
+            code_check={"not_run": "no samples of the chosen records"},
+            chosen_response={"n": 0},
+            warnings=warnings,
+        )
+        return ChosenSet(summary, None, [], warnings)
     spectra = set_spectra(
         [(n, [samples[i] for i in m], float(scales[m[0]])) for n, m in with_samples],
         grid,

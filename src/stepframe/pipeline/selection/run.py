@@ -907,10 +907,9 @@ def chosen_outcome(
     table = candidates.table
     samples = dict(spectra.samples)
     missing = np.array([i for i in choice.chosen_rows if i not in samples], dtype=np.int64)
-    if missing.size:
-        more, fails = _read_samples(table, missing, *sources)
+    if missing.size:  # none read yet (ranked by a score of the fit, no scaling or target)
+        more, _ = _read_samples(table, missing, *sources)  # unread: chosen_set says so
         samples.update(more)
-        candidates.failures += fails
     return chosen_set(
         table, choice.chosen_rows, samples, frame, candidates.band, options, target,
         spectra.periods_s,
