@@ -40,9 +40,7 @@ from typing import Any, Literal
 from stepframe.core import validation
 from stepframe.errors import InputError
 from stepframe.structure.design_spectrum import Branch
-
-#: Standard gravity [m/s²]: code spectra are given in g.
-STANDARD_GRAVITY_M_S2 = 9.80665
+from stepframe.structure.frame import PAPER_G_M_S2
 
 #: EN 1998-1 Tables 3.2 (Type 1) and 3.3 (Type 2): ground type → (S, T_B [s], T_C [s], T_D [s]).
 EC8_PARAMETERS: dict[str, dict[str, tuple[float, float, float, float]]] = {
@@ -76,13 +74,14 @@ class Asce7TwoPeriod:
     t_l_s
         Long-period transition period T_L [s] (None: the S_D1/T branch continues).
     g_m_s2
-        Gravity converting g to m/s².
+        Gravity converting g to m/s² (default the paper's 9.81, as every g_m_s2 of
+        :mod:`stepframe.structure`; the selection passes standard gravity 9.80665).
     """
 
     s_ds_g: float
     s_d1_g: float
     t_l_s: float | None = None
-    g_m_s2: float = STANDARD_GRAVITY_M_S2
+    g_m_s2: float = PAPER_G_M_S2
 
     def __post_init__(self) -> None:
         validation.positive("s_ds_g", self.s_ds_g)
@@ -164,7 +163,8 @@ class Ec8Elastic:
     damping
         Viscous damping ratio (a fraction; the code's ξ is in percent).
     g_m_s2
-        Gravity converting g to m/s².
+        Gravity converting g to m/s² (default the paper's 9.81, as every g_m_s2 of
+        :mod:`stepframe.structure`; the selection passes standard gravity 9.80665).
     """
 
     spectrum_type: Literal["type1", "type2"]
@@ -172,7 +172,7 @@ class Ec8Elastic:
     a_gr_g: float
     importance: float = 1.0
     damping: float = 0.05
-    g_m_s2: float = STANDARD_GRAVITY_M_S2
+    g_m_s2: float = PAPER_G_M_S2
 
     def __post_init__(self) -> None:
         if self.spectrum_type not in EC8_PARAMETERS:
