@@ -37,7 +37,9 @@ class Parser(argparse.ArgumentParser):
     """
 
     def error(self, message: str) -> NoReturn:
-        raise UserError(f"{self.prog}: {message}")
+        # the top-level parser's prog is the program itself, which the error line already names
+        prefix = f"{self.prog}: " if " " in self.prog else ""
+        raise UserError(f"{prefix}{message}")
 
 
 @dataclass(frozen=True)
