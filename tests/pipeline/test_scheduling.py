@@ -59,15 +59,17 @@ def test_the_documented_command_runs_the_inbox(tmp_path: Path, scheduler: str) -
     ]
     outputs = project / "workflows" / "stepframe-work" / "outputs"
     assert (outputs / "features.csv").read_text().count("\n") == 3  # header + 2 components
-    # two files arrive in a sub-folder: a copy of a file already seen (cached: same bytes) and
-    # a new one, which the next scheduled run computes alone
+    # two files arrive in a sub-folder: a copy of a file already seen (the same bytes: one item
+    # with two names) and a new one, which the next scheduled run computes alone
     write_example_files(inbox / "later", count=3)
-    (inbox / "later" / sorted(p.name for p in inbox.glob("*.AT2"))[0]).unlink()
+    first_name, copied_name = sorted(p.name for p in inbox.glob("*.AT2"))
+    (inbox / "later" / first_name).unlink()
     log.unlink(missing_ok=True)
     second = subprocess.run(_as_here(command, project), shell=True, capture_output=True, text=True)
     assert second.returncode == 0, second.stderr
     report = json.loads(log.read_text()) if scheduler == "cron" else json.loads(second.stdout)
     assert [(s["name"], s["computed"], s["cached"]) for s in report["stages"]] == [
-        ("inventory", 1, 3),
-        ("features", 1, 3),
+        ("inventory", 1, 2),
+        ("features", 1, 2),
     ]
+    assert [d["name"] for d in report["duplicates"]] == [f"later/{copied_name}"]

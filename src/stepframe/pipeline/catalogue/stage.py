@@ -13,6 +13,7 @@ import math
 from pathlib import Path
 from typing import Any
 
+from stepframe.pipeline.engine.same_content import NAME_SEPARATOR
 from stepframe.pipeline.engine.stage import Context, Param, Stage, Task
 from stepframe.pipeline.engine.store import file_sha256, make_key
 
@@ -22,6 +23,10 @@ FEATURES_VERSION = 1
 #: Column dictionary of the inventory table: name → (unit, meaning).
 INVENTORY_COLUMNS: dict[str, tuple[str, str]] = {
     "file": ("", "record file, relative to the records folder"),
+    "duplicates": (
+        "",
+        "other files with the same bytes, '; '-separated (one item, computed once; empty: none)",
+    ),
     "content_sha256": ("", "sha256 of the file's bytes (the cache key's root)"),
     "channel_index": ("", "position of the component in the file"),
     "station": ("", "station name"),
@@ -77,35 +82,45 @@ def _record_contents(context: Context) -> list[tuple[Path, str]]:
 
 
 def _inventory_tasks(context: Context) -> list[Task]:
+    """One task per distinct content: files with the same bytes are one item, named by the first
+    (in sorted order) with the others in its ``duplicates`` column and the run's summary."""
     folder = record_folder(context)
     options = _record_options(context)
-    tasks = []
+    names: dict[str, list[Path]] = {}
     for path, sha in _record_contents(context):
+        names.setdefault(sha, []).append(path)
+    tasks = []
+    for sha, paths in names.items():
         key = make_key("inventory", INVENTORY_VERSION, options, sha)
-        relative = path.relative_to(folder).as_posix()
+        first, *others = [path.relative_to(folder).as_posix() for path in paths]
         tasks.append(
             Task(
                 key=key,
-                name=relative,
+                name=first,
                 # absolute: a Dask worker's current folder is not this process's
-                payload=(str(path.absolute()), options),
-                context={"file": relative, "content_sha256": sha},
+                payload=(str(paths[0].absolute()), options, first),
+                context={
+                    "file": first,
+                    "duplicates": NAME_SEPARATOR.join(others),
+                    "content_sha256": sha,
+                },
+                aliases=tuple(others),
             )
         )
     return tasks
 
 
-def read_components(payload: tuple[str, dict[str, Any]]) -> list[dict[str, Any]]:
+def read_components(payload: tuple[str, dict[str, Any], str]) -> list[dict[str, Any]]:
     """Inventory of one file: a row per component (worker side)."""
     import numpy as np
 
     from stepframe.records import read
 
-    path, options = payload
+    path, options, name = payload
     try:
         stream = read(path, **options)
     except Exception as error:  # a reader may raise anything on a foreign file: recorded
-        raise ItemFailure(f"read: {_one_line(error)}") from None
+        raise ItemFailure(f"read: {_one_line(error, path, name)}") from None
     if len(stream) == 0:
         raise ItemFailure("read: no traces in the file")
     rows = []
@@ -127,12 +142,16 @@ def read_components(payload: tuple[str, dict[str, Any]]) -> list[dict[str, Any]]
     return rows
 
 
-def _one_line(error: BaseException) -> str:
+def _one_line(error: BaseException, path: str = "", name: str = "") -> str:
+    """The error as one line; the file's absolute ``path`` written as its ``name`` in the
+    records folder, so that a stored failure reads the same wherever the workspace is."""
     from stepframe.errors import InputError
 
     if isinstance(error, InputError):
-        return error.one_line()
-    return f"{type(error).__name__}: {error}".replace("\n", " ")
+        line = error.one_line()
+    else:
+        line = f"{type(error).__name__}: {error}".replace("\n", " ")
+    return line.replace(path, name) if path else line
 
 
 FEATURE_PARAMS: dict[str, Param] = {
@@ -169,9 +188,16 @@ def _features_tasks(context: Context) -> list[Task]:
             Task(
                 key=key,
                 name=f"{row['file']} [{row['component']}]",
-                payload=(str((folder / str(row["file"])).absolute()), options, index, params),
+                payload=(
+                    str((folder / str(row["file"])).absolute()),
+                    options,
+                    index,
+                    params,
+                    str(row["file"]),
+                ),
                 context={
                     "file": row["file"],
+                    "duplicates": row["duplicates"],
                     "station": row["station"],
                     "component": row["component"],
                 },
@@ -181,7 +207,7 @@ def _features_tasks(context: Context) -> list[Task]:
 
 
 def component_features(
-    payload: tuple[str, dict[str, Any], int, dict[str, Any]],
+    payload: tuple[str, dict[str, Any], int, dict[str, Any], str],
 ) -> list[dict[str, Any]]:
     """Features and fitted parameters of one component (worker side): one row.
 
@@ -193,11 +219,11 @@ def component_features(
     from stepframe.records import read
     from stepframe.stochastic.catalog_features import Options, component_row
 
-    path, record_options, index, params = payload
+    path, record_options, index, params, name = payload
     try:
         trace = read(path, **record_options)[index]
     except Exception as error:  # recorded as this item's failure
-        raise ItemFailure(f"read: {_one_line(error)}") from None
+        raise ItemFailure(f"read: {_one_line(error, path, name)}") from None
     options = Options(
         frequency=params["frequency"],
         t0=params["t0"],
@@ -220,7 +246,8 @@ def component_features(
 def _features_columns() -> dict[str, tuple[str, str]]:
     from stepframe.stochastic.catalog_features import COLUMNS
 
-    return dict(COLUMNS)
+    first, *rest = COLUMNS.items()  # the file, then its other names, then the features
+    return dict([first, ("duplicates", INVENTORY_COLUMNS["duplicates"]), *rest])
 
 
 INVENTORY_STAGE = Stage(

@@ -35,6 +35,7 @@ from stepframe.core.results import Failure, failures_path, failures_table, set_c
 from stepframe.errors import InputError
 from stepframe.pipeline.engine.lock import workspace_lock
 from stepframe.pipeline.engine.plan import check_forced, plan_stages
+from stepframe.pipeline.engine.same_content import alias_lines, merge_same_key, named_now
 from stepframe.pipeline.engine.scheduler import Execution, check_scheduler, open_execution
 from stepframe.pipeline.engine.shipped import is_shipped, resolve_workflow
 from stepframe.pipeline.engine.stage import Context, Stage, StageTable, Task
@@ -96,6 +97,8 @@ class RunReport:
     outputs: dict[str, list[str]] = field(default_factory=dict)
     missing: dict[str, str] = field(default_factory=dict)
     failures: list[Failure] = field(default_factory=list)
+    #: ``(stage, name, same as)``: inputs with the same bytes as another, merged into its item.
+    duplicates: list[tuple[str, str, str]] = field(default_factory=list)
 
     @property
     def exit_code(self) -> int:
@@ -122,6 +125,11 @@ class RunReport:
             if s.status not in ("ok",):
                 line += f"   {s.status}: {s.message}"
             lines.append(line)
+        if self.duplicates:
+            lines.append(f"same content as another input, one item ({len(self.duplicates)}):")
+            lines += [f"  {stage}: {name} = {same}" for stage, name, same in self.duplicates[:20]]
+            if len(self.duplicates) > 20:
+                lines.append(f"  ... and {len(self.duplicates) - 20} more")
         if self.dry_run:
             lines.append("dry run: nothing computed or written")
             return "\n".join(lines)
@@ -148,6 +156,10 @@ class RunReport:
             "outputs": self.outputs,
             "missing": self.missing,
             "failures": [f.to_dict() for f in self.failures],
+            "duplicates": [
+                {"stage": stage, "name": name, "same_as": same}
+                for stage, name, same in self.duplicates
+            ],
             "exit_code": self.exit_code,
         }
 
@@ -337,7 +349,8 @@ def _run_items(
     assert stage.tasks is not None and stage.compute is not None
     if stage.prepare is not None:
         stage.prepare(context)
-    tasks = stage.tasks(context)
+    tasks = merge_same_key(stage.tasks(context))
+    report.duplicates += alias_lines(stage.name, tasks)
     index = store.index(stage.name)
     force = stage.name in forced
 
@@ -400,7 +413,7 @@ def _run_items(
     )
     context.tables[stage.name] = table
     failures = store.failures(stage.name, keys)
-    stage_failures = [failures[t.key] for t in tasks if t.key in failures]
+    stage_failures = [named_now(failures[t.key], t.name) for t in tasks if t.key in failures]
     summary.failed = len(stage_failures)
     report.failures += stage_failures
     context.item_keys[stage.name] = keys
@@ -487,7 +500,8 @@ def _dry_run(
             summary.message = f"depends on {blocked[0]}, not yet complete"
         elif stage.kind == "item":
             assert stage.tasks is not None
-            tasks = stage.tasks(context)
+            tasks = merge_same_key(stage.tasks(context))
+            report.duplicates += alias_lines(name, tasks)
             index = store.index(name)
             todo = [
                 t

@@ -69,12 +69,17 @@ class Task:
         What the worker needs (plain, picklable data: paths and options, never records).
     context
         Columns the output table gets from the current run (the file's path now), not stored.
+    aliases
+        Names of other inputs with the same key (the same bytes under other names): one item,
+        computed once, its other names listed in the run's summary
+        (:mod:`stepframe.pipeline.engine.same_content`).
     """
 
     key: str
     name: str
     payload: Any
     context: Mapping[str, Any] = field(default_factory=dict)
+    aliases: tuple[str, ...] = ()
 
 
 @dataclass
