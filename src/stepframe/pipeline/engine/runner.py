@@ -20,6 +20,7 @@ listed), 1 an output could not be produced.
 
 from __future__ import annotations
 
+import errno
 import operator
 import shutil
 import time
@@ -39,6 +40,7 @@ from stepframe.pipeline.engine.same_content import alias_lines, merge_same_key, 
 from stepframe.pipeline.engine.scheduler import Execution, check_scheduler, open_execution
 from stepframe.pipeline.engine.shipped import is_shipped, resolve_workflow
 from stepframe.pipeline.engine.stage import Context, Stage, StageTable, Task
+from stepframe.pipeline.engine.integrity import StorageError, StoreEvent
 from stepframe.pipeline.engine.store import KEY_COLUMN, Store, write_output_table
 from stepframe.pipeline.engine.workflow import DEFAULT_WORKSPACE, Workflow, load_workflow
 
@@ -52,6 +54,8 @@ DEFAULT_BATCH_ITEMS = 1024
 BATCH_ITEMS_PER_WORKER = 32
 #: A batch of at most this many items per worker runs in this process (no pool to start).
 SMALL_BATCH_PER_WORKER = 2
+#: Errors of a write that no retry of the item would mend: the run stops with one line, exit 1.
+DISK_ERRORS = (errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EIO)
 
 
 @dataclass
@@ -99,6 +103,8 @@ class RunReport:
     failures: list[Failure] = field(default_factory=list)
     #: ``(stage, name, same as)``: inputs with the same bytes as another, merged into its item.
     duplicates: list[tuple[str, str, str]] = field(default_factory=list)
+    #: Damaged or missing objects the store found (quarantined and recomputed).
+    store_events: list[StoreEvent] = field(default_factory=list)
 
     @property
     def exit_code(self) -> int:
@@ -130,6 +136,7 @@ class RunReport:
             lines += [f"  {stage}: {name} = {same}" for stage, name, same in self.duplicates[:20]]
             if len(self.duplicates) > 20:
                 lines.append(f"  ... and {len(self.duplicates) - 20} more")
+        lines += [f"store: {event.line()}" for event in self.store_events]
         if self.dry_run:
             lines.append("dry run: nothing computed or written")
             return "\n".join(lines)
@@ -160,6 +167,7 @@ class RunReport:
                 {"stage": stage, "name": name, "same_as": same}
                 for stage, name, same in self.duplicates
             ],
+            "store": [event.to_dict() for event in self.store_events],
             "exit_code": self.exit_code,
         }
 
@@ -184,6 +192,12 @@ def _prepare(workflow: Workflow, forced: list[str], stages: StageTable) -> list[
             workflow.record_files()
     _check_writable(workflow.workspace)
     _check_writable(workflow.outputs_folder)
+    store = workflow.workspace / "store"
+    for stage in (store.iterdir() if store.is_dir() else ()):
+        # the folders a run renames objects in: a read-only one is found before any work
+        for folder in (stage, stage / "sets"):
+            if folder.is_dir():
+                _check_writable(folder)
     return planned
 
 
@@ -279,7 +293,7 @@ def run_workflow(
             f"stepframe run {name} --copy DIR, then stepframe run DIR/{name}.toml"
         )
     planned = _prepare(workflow, forced, stages)
-    store = Store(workflow.workspace / "store")
+    store = Store(workflow.workspace / "store", dry=dry_run)
     if dry_run:
         return _dry_run(workflow, stages, planned, store, forced, retry_failed)
     # the lock before the executor: a busy workspace is reported before a cluster starts
@@ -309,7 +323,11 @@ def run_workflow(
                 _run_set(stage, context, store, summary, name in forced)
             summary.seconds = round(time.perf_counter() - start, 3)
             report.stages.append(summary)
-        _publish(workflow, stages, context, report)
+        _publish(workflow, stages, context, report, store)
+        for name in planned:
+            if stages[name].kind == "item":
+                store.compact(name)
+        report.store_events = store.events
     return report
 
 
@@ -429,7 +447,7 @@ def _run_set(
     summary.items = 1
     key = stage.set_key(context)
     target = store.set_dir(stage.name, key)
-    if target.is_dir() and not force:
+    if store.has_set(stage.name, key) and not force:
         summary.cached = 1
     else:
         summary.computed = 1
@@ -438,6 +456,8 @@ def _run_set(
             stage.run_set(context, temporary)
         except Exception as error:  # the run goes on; this output is reported missing
             shutil.rmtree(temporary, ignore_errors=True)
+            if isinstance(error, OSError) and error.errno in DISK_ERRORS:
+                raise StorageError(Path(error.filename or temporary), error) from None
             summary.failed = 1
             summary.status = "failed"
             summary.message = Failure.from_exception(context.workflow.path.name, stage.name,
@@ -448,7 +468,18 @@ def _run_set(
     context.set_dirs[stage.name] = target
 
 
-def _publish(workflow: Workflow, stages: StageTable, context: Context, report: RunReport) -> None:
+def _publish(
+    workflow: Workflow, stages: StageTable, context: Context, report: RunReport, store: Store
+) -> None:
+    try:
+        _publish_outputs(workflow, stages, context, report, store)
+    except OSError as error:
+        raise StorageError(Path(error.filename or workflow.outputs_folder), error) from None
+
+
+def _publish_outputs(
+    workflow: Workflow, stages: StageTable, context: Context, report: RunReport, store: Store
+) -> None:
     folder = workflow.outputs_folder
     for name in workflow.outputs:
         stage = stages[name]
@@ -468,6 +499,10 @@ def _publish(workflow: Workflow, stages: StageTable, context: Context, report: R
         else:
             assert stage.publish is not None
             paths = stage.publish(context.set_dirs[name], folder)
+            problem = store.check_published(name, context.set_keys[name], paths)
+            if problem:  # never a damaged copy published as complete
+                report.missing[name] = problem
+                continue
         report.outputs[name] = [str(p) for p in paths]
 
 
@@ -527,11 +562,12 @@ def _dry_run(
             assert stage.set_key is not None
             key = stage.set_key(context)
             summary.items = 1
-            if store.set_dir(name, key).is_dir() and name not in forced:
+            if store.has_set(name, key) and name not in forced:
                 summary.cached = 1
                 context.set_keys[name] = key
                 context.set_dirs[name] = store.set_dir(name, key)
             else:
                 summary.computed = 1
         report.stages.append(summary)
+    report.store_events = store.events
     return report
