@@ -111,7 +111,7 @@ def _run(args_list: list[str], debug: bool) -> int:
     except WorkspaceBusy as busy:
         print(f"stepframe: error: {terminal_safe(str(busy))}", file=sys.stderr)
         return 3
-    except StorageError as error:  # disk full, read-only: not the user's input, nothing half-written
+    except StorageError as error:  # disk full, read-only: not the user's input; nothing half-done
         if debug:
             traceback.print_exc()
         print(f"stepframe: error: {terminal_safe(str(error))}", file=sys.stderr)

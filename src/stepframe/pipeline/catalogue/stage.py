@@ -118,7 +118,7 @@ def read_components(payload: tuple[str, dict[str, Any], str]) -> list[dict[str, 
 
     path, options, name = payload
     try:
-        stream = read(path, **options)
+        stream = read(path, **read_kwargs(options))
     except Exception as error:  # a reader may raise anything on a foreign file: recorded
         raise ItemFailure(f"read: {_one_line(error, path, name)}") from None
     if len(stream) == 0:
@@ -140,6 +140,15 @@ def read_components(payload: tuple[str, dict[str, Any], str]) -> list[dict[str, 
             }
         )
     return rows
+
+
+def read_kwargs(options: dict[str, Any]) -> dict[str, Any]:
+    """The keyword arguments of :func:`stepframe.records.read` for a workflow's record options
+    (``[records] dt_s`` is read's ``dt``)."""
+    from stepframe.records.read_options import RecordReadOptions
+
+    given = RecordReadOptions(**options).read_kwargs()
+    return {name: value for name, value in given.items() if value is not None}
 
 
 def _one_line(error: BaseException, path: str = "", name: str = "") -> str:
@@ -221,7 +230,7 @@ def component_features(
 
     path, record_options, index, params, name = payload
     try:
-        trace = read(path, **record_options)[index]
+        trace = read(path, **read_kwargs(record_options))[index]
     except Exception as error:  # recorded as this item's failure
         raise ItemFailure(f"read: {_one_line(error, path, name)}") from None
     options = Options(

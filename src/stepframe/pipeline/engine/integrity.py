@@ -170,10 +170,13 @@ class StageIndex:
         Segment file name → checksum.
     sets
         Whole-set result key → (file path inside its folder → checksum).
+    files
+        Other files of the stage (its history) → checksum.
     """
 
     segments: dict[str, Checksum]
     sets: dict[str, dict[str, Checksum]]
+    files: dict[str, Checksum]
 
     def to_json(self) -> str:
         """The file's text: the index and its own checksum."""
@@ -184,6 +187,7 @@ class StageIndex:
                 key: {name: list(checksum) for name, checksum in sorted(files.items())}
                 for key, files in sorted(self.sets.items())
             },
+            "files": {name: list(checksum) for name, checksum in sorted(self.files.items())},
         }
         return json.dumps({**body, "checksum": _checksum_of(body)}, indent=1, sort_keys=True)
 
@@ -196,17 +200,19 @@ def read_index(path: Path) -> tuple[StageIndex | None, str]:
         return None, "" if problem == "missing" else problem
     try:
         document = json.loads(data.decode("utf-8"))
-        body = {k: document[k] for k in ("format", "segments", "sets")}
+        body = {k: document[k] for k in ("format", "segments", "sets", "files")}
         if document["checksum"] != _checksum_of(body) or body["format"] != INDEX_FORMAT:
             return None, "checksum mismatch"
-        segments = {str(k): (str(v[0]), int(v[1])) for k, v in body["segments"].items()}
-        sets = {
-            str(key): {str(k): (str(v[0]), int(v[1])) for k, v in files.items()}
-            for key, files in body["sets"].items()
-        }
+        segments = _checksums(body["segments"])
+        sets = {str(key): _checksums(files) for key, files in body["sets"].items()}
+        files = _checksums(body["files"])
     except (ValueError, KeyError, TypeError, IndexError, AttributeError):
         return None, "not a readable index"
-    return StageIndex(segments, sets), ""
+    return StageIndex(segments, sets, files), ""
+
+
+def _checksums(given: dict[str, Any]) -> dict[str, Checksum]:
+    return {str(name): (str(value[0]), int(value[1])) for name, value in given.items()}
 
 
 def folder_manifest(folder: Path) -> dict[str, Checksum]:

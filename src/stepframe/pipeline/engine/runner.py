@@ -32,15 +32,17 @@ from typing import TYPE_CHECKING, Any
 
 from stepframe.core.execution import map_items
 from stepframe.core.io import TEMPORARY_SUFFIX
-from stepframe.core.results import Failure, failures_path, failures_table, set_column_dictionary
+from stepframe.core.results import Failure, failures_path, set_column_dictionary
 from stepframe.errors import InputError
+from stepframe.pipeline.engine.history import item_outputs
+from stepframe.pipeline.engine.integrity import StorageError, StoreEvent
 from stepframe.pipeline.engine.lock import workspace_lock
 from stepframe.pipeline.engine.plan import check_forced, plan_stages
+from stepframe.pipeline.engine.run_log import append_run, run_line, utc_now
 from stepframe.pipeline.engine.same_content import alias_lines, merge_same_key, named_now
 from stepframe.pipeline.engine.scheduler import Execution, check_scheduler, open_execution
 from stepframe.pipeline.engine.shipped import is_shipped, resolve_workflow
 from stepframe.pipeline.engine.stage import Context, Stage, StageTable, Task
-from stepframe.pipeline.engine.integrity import StorageError, StoreEvent
 from stepframe.pipeline.engine.store import KEY_COLUMN, Store, write_output_table
 from stepframe.pipeline.engine.workflow import DEFAULT_WORKSPACE, Workflow, load_workflow
 
@@ -105,6 +107,8 @@ class RunReport:
     duplicates: list[tuple[str, str, str]] = field(default_factory=list)
     #: Damaged or missing objects the store found (quarantined and recomputed).
     store_events: list[StoreEvent] = field(default_factory=list)
+    #: Failures this run found first (with ``[outputs] history``; else None).
+    new_failures: int | None = None
 
     @property
     def exit_code(self) -> int:
@@ -168,6 +172,7 @@ class RunReport:
                 for stage, name, same in self.duplicates
             ],
             "store": [event.to_dict() for event in self.store_events],
+            "new_failures": self.new_failures,
             "exit_code": self.exit_code,
         }
 
@@ -193,7 +198,7 @@ def _prepare(workflow: Workflow, forced: list[str], stages: StageTable) -> list[
     _check_writable(workflow.workspace)
     _check_writable(workflow.outputs_folder)
     store = workflow.workspace / "store"
-    for stage in (store.iterdir() if store.is_dir() else ()):
+    for stage in store.iterdir() if store.is_dir() else ():
         # the folders a run renames objects in: a read-only one is found before any work
         for folder in (stage, stage / "sets"):
             if folder.is_dir():
@@ -225,6 +230,7 @@ def run_workflow(
     executor: Executor | None = None,
     force: list[str] | None = None,
     retry_failed: bool = False,
+    prune: bool = False,
     dry_run: bool = False,
     wait: bool = False,
     progress: bool = False,
@@ -254,6 +260,9 @@ def run_workflow(
         Stages whose items are all recomputed.
     retry_failed
         Recompute items whose stored result is a failure.
+    prune
+        With ``[outputs] history``: forget the items and failures this run does not find
+        (:mod:`stepframe.pipeline.engine.history`).
     dry_run
         Only say what would be computed (nothing is written, no lock taken).
     wait
@@ -292,6 +301,10 @@ def run_workflow(
             f"the shipped workflow {name} reads a records folder beside it, expected a copy: "
             f"stepframe run {name} --copy DIR, then stepframe run DIR/{name}.toml"
         )
+    if prune and not workflow.history:
+        raise InputError(
+            "--prune without [outputs] history = true, expected a workflow that keeps what it saw"
+        )
     planned = _prepare(workflow, forced, stages)
     store = Store(workflow.workspace / "store", dry=dry_run)
     if dry_run:
@@ -301,6 +314,7 @@ def run_workflow(
         workspace_lock(workflow.workspace, wait=wait),
         open_execution(scheduler, jobs, executor) as execution,
     ):
+        started, started_utc = time.perf_counter(), utc_now()
         report = RunReport(
             str(workflow.path), str(workflow.workspace), execution.description, False
         )
@@ -323,11 +337,13 @@ def run_workflow(
                 _run_set(stage, context, store, summary, name in forced)
             summary.seconds = round(time.perf_counter() - start, 3)
             report.stages.append(summary)
-        _publish(workflow, stages, context, report, store)
+        _publish(workflow, stages, context, report, store, now=started_utc, prune=prune)
         for name in planned:
             if stages[name].kind == "item":
                 store.compact(name)
         report.store_events = store.events
+        seconds = time.perf_counter() - started
+        append_run(workflow.workspace, run_line(report, started_utc, seconds, context.facts))
     return report
 
 
@@ -369,6 +385,7 @@ def _run_items(
         stage.prepare(context)
     tasks = merge_same_key(stage.tasks(context))
     report.duplicates += alias_lines(stage.name, tasks)
+    context.item_tasks[stage.name] = tasks
     index = store.index(stage.name)
     force = stage.name in forced
 
@@ -469,16 +486,30 @@ def _run_set(
 
 
 def _publish(
-    workflow: Workflow, stages: StageTable, context: Context, report: RunReport, store: Store
+    workflow: Workflow,
+    stages: StageTable,
+    context: Context,
+    report: RunReport,
+    store: Store,
+    *,
+    now: str,
+    prune: bool,
 ) -> None:
     try:
-        _publish_outputs(workflow, stages, context, report, store)
+        _publish_outputs(workflow, stages, context, report, store, now=now, prune=prune)
     except OSError as error:
         raise StorageError(Path(error.filename or workflow.outputs_folder), error) from None
 
 
 def _publish_outputs(
-    workflow: Workflow, stages: StageTable, context: Context, report: RunReport, store: Store
+    workflow: Workflow,
+    stages: StageTable,
+    context: Context,
+    report: RunReport,
+    store: Store,
+    *,
+    now: str,
+    prune: bool,
 ) -> None:
     folder = workflow.outputs_folder
     for name in workflow.outputs:
@@ -489,13 +520,13 @@ def _publish_outputs(
             continue
         folder.mkdir(parents=True, exist_ok=True)
         if stage.kind == "item":
-            table = context.tables[name].drop(columns=[KEY_COLUMN])
-            table.attrs = dict(context.tables[name].attrs)
-            paths = write_output_table(table, folder / f"{name}.parquet")
-            failed = [f for f in report.failures if f.stage == name]
+            made = item_outputs(name, workflow, stages, context, store, now=now, prune=prune)
+            paths = write_output_table(made.table, folder / f"{name}.parquet")
             failures_file = failures_path(folder / f"{name}.csv")
-            _write_csv(failures_table(failed), failures_file)
+            _write_csv(made.failures, failures_file)
             paths.append(failures_file)
+            if made.new_failures is not None:
+                report.new_failures = (report.new_failures or 0) + made.new_failures
         else:
             assert stage.publish is not None
             paths = stage.publish(context.set_dirs[name], folder)

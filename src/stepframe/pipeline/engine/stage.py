@@ -94,6 +94,10 @@ class Context:
     jobs: int | None
     executor: Any
     progress: bool
+    #: Facts of this run a stage reports (timings): kept in the run log, not in the outputs.
+    facts: dict[str, Any] = field(default_factory=dict)
+    #: The tasks of each per-item stage in this run (one per key).
+    item_tasks: dict[str, list[Task]] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)

@@ -147,6 +147,7 @@ class _Stage:
 
     segments: dict[str, _Segment] = field(default_factory=dict)
     sets: dict[str, dict[str, Checksum]] = field(default_factory=dict)
+    files: dict[str, Checksum] = field(default_factory=dict)
     entries: dict[str, Entry] = field(default_factory=dict)
 
 
@@ -222,8 +223,12 @@ class Store:
             )
         listed = index.segments if index is not None else {}
         state.sets = dict(index.sets) if index is not None else {}
+        state.files = dict(index.files) if index is not None else {}
         on_disk = {p.name for p in folder.iterdir() if _SEGMENT_NAME.match(p.name)}
         changed = index is None and bool(on_disk)
+        if changed and not problem:  # deleted, or a store written before checksums
+            item = (folder / INDEX_FILE).relative_to(self.root).as_posix()
+            self.events.append(StoreEvent(stage, item, "missing", "rebuilt from the segments"))
         for name in sorted(set(listed) | on_disk, key=_order):
             segment, problem = self._read_segment(folder / name, listed.get(name))
             if segment is None:
@@ -273,7 +278,8 @@ class Store:
         """Write the stage's index (after the objects it names)."""
         if self.dry:
             return
-        index = StageIndex({n: s.checksum for n, s in state.segments.items()}, state.sets)
+        segments = {name: segment.checksum for name, segment in state.segments.items()}
+        index = StageIndex(segments, state.sets, state.files)
         write_object(self.stage_dir(stage) / INDEX_FILE, index.to_json().encode())
 
     # -- per-item rows -------------------------------------------------------------------------
@@ -418,6 +424,34 @@ class Store:
                     return f"{path}: {problem}, expected a copy of the stored {name}"
         return ""
 
+    # -- other files of a stage (its history) -----------------------------------------------
+
+    def read_file(self, stage: str, name: str) -> bytes | None:
+        """The stage's file ``name`` as last written (None: never written, or damaged, then
+        quarantined and named in :attr:`events`)."""
+        state = self._stage(stage)
+        checksum = state.files.get(name)
+        if checksum is None:
+            return None
+        path = self.stage_dir(stage) / name
+        data, problem = read_verified(path, checksum)
+        if data is None:
+            self.events.append(
+                quarantine(self.root, stage, path, problem, dry=self.dry, then="started again")
+            )
+            if not self.dry:
+                del state.files[name]
+                self._save(stage, state)
+        return data
+
+    def write_file(self, stage: str, name: str, data: bytes) -> None:
+        """Write the stage's file ``name`` (atomically) and index its checksum."""
+        make_folder(self.stage_dir(stage))
+        state = self._stage(stage)
+        write_object(self.stage_dir(stage) / name, data)
+        state.files[name] = (sha256_hex(data), len(data))
+        self._save(stage, state)
+
     # -- upkeep ----------------------------------------------------------------------------------
 
     def compact(self, stage: str, *, at: int = COMPACT_AT) -> int:
@@ -509,16 +543,23 @@ class Store:
             state = self._stage(stage)
             for key in list(state.sets):
                 self.has_set(stage, key)
+            for name in list(state.files):
+                self.read_file(stage, name)
             removed = self.remove_unreachable(stage)
-            summary[stage] = {
-                "segments": len(state.segments),
-                "sets": len(state.sets),
-                "items": len(state.entries),
-                "bytes": sum(s.checksum[1] for s in state.segments.values())
-                + sum(size for files in state.sets.values() for _, size in files.values()),
-                "removed": removed,
-            }
+            summary[stage] = {**self.describe(stage), "removed": removed}
         return summary
+
+    def describe(self, stage: str) -> dict[str, int]:
+        """A stage's segments, sets, items and bytes (segments and set files)."""
+        state = self._stage(stage)
+        return {
+            "segments": len(state.segments),
+            "sets": len(state.sets),
+            "items": len(state.entries),
+            "bytes": sum(s.checksum[1] for s in state.segments.values())
+            + sum(size for files in state.sets.values() for _, size in files.values())
+            + sum(size for _, size in state.files.values()),
+        }
 
 
 def _parquet_bytes(table: pd.DataFrame) -> bytes:
