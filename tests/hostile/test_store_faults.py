@@ -66,15 +66,12 @@ selection = true
 selection_report = true
 """
 
-#: Outputs that are not byte-stable across a recomputation (until the report states no time).
-UNSTABLE = ("selection_report.html", "provenance.json")
-
 
 def _tree(folder: Path) -> dict[str, bytes]:
     return {
         p.relative_to(folder).as_posix(): p.read_bytes()
         for p in sorted(folder.rglob("*"))
-        if p.is_file() and not p.name.endswith(UNSTABLE)
+        if p.is_file()
     }
 
 

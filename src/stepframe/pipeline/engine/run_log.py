@@ -26,9 +26,10 @@ RUN_LOG = "runs.jsonl"
 
 
 def utc_now() -> str:
-    """The current time, UTC, to the second (ISO 8601 with ``Z``)."""
-    now = datetime.datetime.now(datetime.UTC).replace(microsecond=0)
-    return now.isoformat().replace("+00:00", "Z")
+    """The current time, UTC, to the microsecond (ISO 8601 with ``Z``): the identity of a run
+    in the history (two runs never start in the same microsecond: one holds the lock)."""
+    now = datetime.datetime.now(datetime.UTC)
+    return now.isoformat(timespec="microseconds").replace("+00:00", "Z")
 
 
 def run_line(

@@ -348,6 +348,17 @@ class Store:
                 out[str(group_key)] = group.reset_index(drop=True)
         return out
 
+    def table(self, stage: str, keys: Iterable[str]) -> pd.DataFrame:
+        """The stored rows of every successful key among ``keys`` as one table (with ``_key``),
+        each verified segment parsed once; rows of a key keep their stored order, keys come in
+        no particular order (the runner orders them)."""
+        import pandas as pd
+
+        parts = list(self._tables(stage, keys, failed=False))
+        if not parts:
+            return pd.DataFrame(columns=[KEY_COLUMN])
+        return pd.concat(parts, ignore_index=True) if len(parts) > 1 else parts[0]
+
     def failures(self, stage: str, keys: Iterable[str]) -> dict[str, Failure]:
         """The stored failure of each key whose latest entry is a failure."""
         out: dict[str, Failure] = {}
@@ -454,9 +465,10 @@ class Store:
 
     # -- upkeep ----------------------------------------------------------------------------------
 
-    def compact(self, stage: str, *, at: int = COMPACT_AT) -> int:
-        """Merge the stage's small segments once there are ``at`` of them (of rows; of
-        failures), keeping only the rows still in use; returns the segments removed.
+    def compact(self, stage: str, *, at: int | None = None) -> int:
+        """Merge the stage's small segments once there are ``at`` (default
+        :data:`COMPACT_AT`) of them (of rows; of failures), keeping only the rows still in use;
+        returns the segments removed.
 
         A scheduled run that finds a few new files writes a segment of a few rows, and a
         Parquet file's own overhead (its schema and statistics, a few kB) is then most of the
@@ -475,12 +487,14 @@ class Store:
                 for name, segment in sorted(state.segments.items(), key=lambda i: _order(i[0]))
                 if segment.failed == failed and segment.checksum[1] < SMALL_SEGMENT_BYTES
             ]
-            if len(small) < max(at, 2):
+            if len(small) < max(COMPACT_AT if at is None else at, 2):
                 continue
             # tables of one schema merge into one segment (a stage's new version may add columns)
             groups: dict[Any, list[Any]] = {}
             for segment in small:
                 live = [k for k in segment.keys if state.entries[k].segment.name == segment.name]
+                if not live:  # every key of it written again later: nothing to keep
+                    continue
                 table = pq.read_table(pa.BufferReader(segment.data))
                 table = table.filter(pc.is_in(table.column(KEY_COLUMN), pa.array(live)))
                 if table.num_rows:

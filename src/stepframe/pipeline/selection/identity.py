@@ -12,15 +12,44 @@ bytes: a record that is gone or changed is an error naming it, never a report dr
 
 from __future__ import annotations
 
+import dataclasses
 import json
+import os
 import tempfile
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from stepframe.errors import InputError
 from stepframe.pipeline.engine.store import file_sha256
 
+if TYPE_CHECKING:
+    from stepframe.pipeline.selection.result import SelectionResult
+    from stepframe.records.read_options import RecordSource
+
 SUMMARY_FILE = "selection.json"
+
+
+def identified(
+    result: SelectionResult, catalogue: Path, out_dir: Path, source: RecordSource
+) -> SelectionResult:
+    """The result of ``stepframe select CATALOGUE -o OUT_DIR`` naming its records by identity:
+    files relative to the catalogue folder, their sha256, the folder relative to ``out_dir``
+    and the record options (:meth:`~stepframe.pipeline.selection.result.SelectionResult.
+    with_record_identity`)."""
+    prefix = f"{catalogue.as_posix().rstrip('/')}/"  # the files as catalog_features names them
+    names = {str(file) for table in (result.selection, result.candidates) for file in table["file"]}
+    hashes = {
+        name.removeprefix(prefix): file_sha256(name)
+        for name in names
+        if name.startswith(prefix) and Path(name).is_file()
+    }
+    options = {
+        key: value
+        for key, value in dataclasses.asdict(source).items()
+        if value is not None and key != "example"
+    }
+    folder = Path(os.path.relpath(catalogue.absolute(), out_dir.absolute())).as_posix()
+    return result.with_record_identity(catalogue, hashes, {"folder": folder, "options": options})
 
 
 def records_identity(folder: Path) -> dict[str, Any] | None:

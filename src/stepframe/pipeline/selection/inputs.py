@@ -210,4 +210,8 @@ def select_to_folder(
         record_options={k: v for k, v in source.read_kwargs().items() if v is not None},
         jobs=jobs,
     )
+    if catalogue is not None and source.example is None:
+        from stepframe.pipeline.selection.identity import identified
+
+        result = identified(result, Path(catalogue), folder, source)
     return SelectionFolder(result, result.write(folder))
