@@ -5,9 +5,9 @@ Reads: every object of a workspace (result and failure segments of ``inventory``
 amplification curve, ``selection.csv``, ``selection.json``, the stored report) is truncated,
 emptied, flipped, deleted or replaced by a folder. The next run names each damaged object in its
 summary, moves it to ``store/quarantine/``, recomputes it and publishes outputs byte-identical to
-an undamaged run's: exit 0, no traceback. Writes: disk full (``ENOSPC``), a read-only file
-system (``EROFS``) and an I/O error are injected at each kind of write (a segment, an index, a
-whole-set result's file, an output, the quarantine itself): one line, exit 1, the store
+an undamaged run's: exit 0, no traceback. Writes: disk full (``ENOSPC``) and a read-only file
+system (``EROFS``) are injected at each kind of write (a segment, an index, a whole-set result's
+file, an output, the run log; ``ENOSPC`` at the quarantine itself): one line, exit 1, the store
 consistent (``store verify`` finds nothing), and the next run finishes with the same outputs.
 """
 
@@ -231,11 +231,7 @@ def test_a_damaged_published_copy_is_not_an_output(
 
 # -- writes --------------------------------------------------------------------------------------
 
-ERRORS = {
-    errno.ENOSPC: "No space left on device",
-    errno.EROFS: "Read-only file system",
-    errno.EIO: "Input/output error",
-}
+ERRORS = {errno.ENOSPC: "No space left on device", errno.EROFS: "Read-only file system"}
 
 
 def _failing_fsync(monkeypatch: pytest.MonkeyPatch, target: str, code: int) -> list[str]:
@@ -263,6 +259,7 @@ WRITES = [
     ("whole-set result file", "selection.csv", "selection"),
     ("output table", "features.parquet", "features"),
     ("output copy", "amplification.nc", "amplification"),
+    ("run log", "runs.jsonl", "site"),
 ]
 
 
