@@ -5,17 +5,24 @@ it was computing:
 
 1. read and check the workflow, its frame, the stage tables and the records folder (exit 2);
 2. take the workspace lock (exit 3 if another run holds it, or wait with ``wait=True``);
-3. remove temporaries of killed runs; rebuild the store's index from its files;
-4. per-item stages: compute the items whose key is not stored (or failed, with
-   ``retry_failed``; or all, for a ``force``\\ d stage) in batches through
+3. remove temporaries of killed runs; open the store, checking every object it reads
+   (:mod:`stepframe.pipeline.engine.store`: a damaged one is quarantined and recomputed);
+4. per-item stages: one task per distinct key (inputs with the same bytes are one item,
+   :mod:`stepframe.pipeline.engine.same_content`); compute the items whose key is not stored
+   (or failed, with ``retry_failed``; or all, for a ``force``\\ d stage) in batches through
    :func:`stepframe.core.execution.map_items`, storing each batch as one segment; then read
    every item's rows back from the store in input order (so a table is the same bytes whether
    its rows were computed now or earlier);
-5. whole-set stages: compute the result unless its key is stored;
-6. publish the requested outputs (Parquet, CSV copies, failure tables, NetCDF) atomically.
+5. whole-set stages: compute the result unless its key is stored and sound;
+6. publish the requested outputs (Parquet, CSV copies, failure tables, NetCDF) atomically,
+   with what earlier runs saw when the workflow keeps a history
+   (:mod:`stepframe.pipeline.engine.history`), each copy of a stored file checked against it;
+7. merge a stage's small segments; append the run's line to the run log
+   (:mod:`stepframe.pipeline.engine.run_log`).
 
 Exit status (:attr:`RunReport.exit_code`): 0 every requested output produced (failed items are
-listed), 1 an output could not be produced.
+listed), 1 an output could not be produced. A file that cannot be written (disk full) raises
+:class:`~stepframe.pipeline.engine.integrity.StorageError` (exit 1 on the command line).
 """
 
 from __future__ import annotations
