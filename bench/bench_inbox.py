@@ -12,7 +12,10 @@ is damaged (not a record); every 25 runs the 10 oldest files still in the inbox 
 - the store's size per record against a batch run over the same files (one run, fresh
   workspace), with compaction (as shipped) and without (``COMPACT_AT`` set beyond reach: the
   store as it grew before issue 30);
-- the run log's size per run, and the wall time of a run at the start and at the end.
+- the run log's size per run, and the wall time of a run at the start and at the end;
+- the cost of opening a checked store: a stage of 43,000 features-like rows (``--open-items``)
+  opened with every segment read and its checksum checked, against reading only the segments'
+  key columns (how the store was opened before issue 27).
 
 Files go to bench/out/inbox/ (ignored by git).
 """
@@ -33,6 +36,7 @@ from stepframe.pipeline.engine import store as store_module
 from stepframe.pipeline.engine.runner import run_workflow
 from stepframe.pipeline.engine.shipped import copy_workflow
 from stepframe.pipeline.stages import shipped_stages
+from timing import median_seconds
 
 OUT = Path(__file__).parent / "out" / "inbox"
 SEED = 30
@@ -124,10 +128,48 @@ def batch(root: Path, files: list[tuple[str, bytes]]) -> int:
     return _bytes(root / "stepframe-work" / "store")
 
 
+def open_cost(root: Path, items: int, per_segment: int = 1024) -> tuple[float, float, float]:
+    """Opening a stage of ``items`` features-like rows (31 numbers and 4 texts per row) in
+    segments of ``per_segment``: the store's checked open (every segment read and its sha256
+    checked) against reading only each segment's key column (the open before issue 27), median
+    of 5 [s]; and the store's size [MB]."""
+    import numpy as np
+    import pyarrow.parquet as pq
+
+    from stepframe.pipeline.engine.store import KEY_COLUMN, Store
+
+    shutil.rmtree(root, ignore_errors=True)
+    store = Store(root)
+    store.prepare()
+    rng = np.random.default_rng(SEED)
+    for start in range(0, items, per_segment):
+        count = min(per_segment, items - start)
+        table = pd.DataFrame(rng.normal(size=(count, 31)), columns=[f"x{i}" for i in range(31)])
+        for column in ("file", "station", "component", "flags"):
+            table[column] = [f"{column}_{start + i:06d}" for i in range(count)]
+        table[KEY_COLUMN] = [f"{start + i:064x}" for i in range(count)]
+        store.add_rows("features", table, [])
+    segments = sorted((root / "features").glob("seg-*.parquet"))
+
+    def checked() -> None:
+        assert len(Store(root).index("features")) == items
+
+    def keys_only() -> None:
+        assert sum(pq.read_table(p, columns=[KEY_COLUMN]).num_rows for p in segments) == items
+
+    size_mb = sum(p.stat().st_size for p in segments) / 1e6
+    return median_seconds(checked), median_seconds(keys_only), size_mb
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--files", type=int, default=1000)
+    parser.add_argument("--open-items", type=int, default=43000)
     args = parser.parse_args()
+    checked_s, keys_s, size_mb = open_cost(OUT / "open", args.open_items)
+    print(f"opening a stage of {args.open_items:,} rows ({size_mb:.1f} MB in 1,024-row "
+          f"segments): checked {checked_s:.3f} s, key columns only {keys_s:.3f} s "
+          f"(x{checked_s / keys_s:.2f})\n")  # fmt: skip
     files = _files(args.files)
     damaged = sum(1 for name, _ in files if name.startswith("damaged"))
     records = len(files) - damaged

@@ -179,6 +179,16 @@ def test_every_damaged_object_is_quarantined_named_and_recomputed(
     assert _tree(work / "outputs") == expected
 
 
+def test_a_stage_folder_replaced_by_a_file(scene: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    work = scene / "stepframe-work"
+    expected = _tree(work / "outputs")
+    shutil.rmtree(work / "store" / "features")
+    (work / "store" / "features").write_text("not a folder\n")
+    status, out, _ = _run(scene, capsys)
+    assert status == 0 and "store: features: not a folder: moved to quarantine/features/" in out
+    assert _tree(work / "outputs") == expected
+
+
 def test_a_dry_run_reports_damage_and_moves_nothing(
     scene: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

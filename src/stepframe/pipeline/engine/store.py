@@ -207,6 +207,8 @@ class Store:
     def _open(self, stage: str) -> _Stage:
         folder = self.stage_dir(stage)
         state = _Stage()
+        if folder.exists() and not folder.is_dir():  # a file where the stage's folder belongs
+            self.events.append(quarantine(self.root, stage, folder, "not a folder", dry=self.dry))
         if not folder.is_dir():
             return state
         index, problem = read_index(folder / INDEX_FILE)
