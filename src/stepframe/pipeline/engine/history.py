@@ -197,18 +197,18 @@ def _table_with_history(
     present["last_seen_utc"] = [seen[str(k)]["last"] for k in present[KEY_COLUMN]]
     now = set(map(str, table[KEY_COLUMN]))
     absent = [key for key in seen if key not in now]
-    stored = store.rows(name, absent)
-    parts = [present]
-    for key in absent:
-        if key not in stored:  # its result is no longer in the store (quarantined, say)
-            continue
-        part = stored[key].copy()
-        for column, value in json.loads(seen[key]["context"]).items():
-            part[column] = value
-        part["present"] = False
-        part["first_seen_utc"] = seen[key]["first"]
-        part["last_seen_utc"] = seen[key]["last"]
-        parts.append(part)
+    # one read of the store for every absent item (a key no longer stored is left out)
+    gone = store.table(name, absent)
+    order = {key: position for position, key in enumerate(absent)}
+    gone = gone.iloc[sorted(range(len(gone)), key=lambda i: order[str(gone[KEY_COLUMN].iat[i])])]
+    contexts = {key: json.loads(seen[key]["context"]) for key in absent}
+    keys = [str(key) for key in gone[KEY_COLUMN]]
+    for column in dict.fromkeys(c for context in contexts.values() for c in context):
+        gone[column] = [contexts[key].get(column) for key in keys]
+    gone["present"] = False
+    gone["first_seen_utc"] = [seen[key]["first"] for key in keys]
+    gone["last_seen_utc"] = [seen[key]["last"] for key in keys]
+    parts = [present, gone] if len(gone) else [present]  # an empty part would change dtypes
     out = pd.concat(parts, ignore_index=True)[list(present.columns)].drop(columns=[KEY_COLUMN])
     dictionary = get_column_dictionary(table)
     if dictionary is not None:
