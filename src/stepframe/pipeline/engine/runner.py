@@ -344,14 +344,29 @@ def run_workflow(
                 _run_set(stage, context, store, summary, name in forced)
             summary.seconds = round(time.perf_counter() - start, 3)
             report.stages.append(summary)
-        _publish(workflow, stages, context, report, store, now=started_utc, prune=prune)
-        for name in planned:
-            if stages[name].kind == "item":
-                store.compact(name)
-        report.store_events = store.events
-        seconds = time.perf_counter() - started
-        append_run(workflow.workspace, run_line(report, started_utc, seconds, context.facts))
+        _finish(workflow, stages, planned, context, report, store, prune, started, started_utc)
     return report
+
+
+def _finish(
+    workflow: Workflow,
+    stages: StageTable,
+    planned: list[str],
+    context: Context,
+    report: RunReport,
+    store: Store,
+    prune: bool,
+    started: float,
+    started_utc: str,
+) -> None:
+    """The end of a run: publish the outputs, merge small segments, write the run's log line."""
+    _publish(workflow, stages, context, report, store, now=started_utc, prune=prune)
+    for name in planned:
+        if stages[name].kind == "item":
+            store.compact(name)
+    report.store_events = store.events
+    seconds = time.perf_counter() - started
+    append_run(workflow.workspace, run_line(report, started_utc, seconds, context.facts))
 
 
 def _available(context: Context, name: str) -> bool:
