@@ -155,6 +155,7 @@ GROUPS = {
     "records": "read accelerograms, intensity measures, spectra, catalogues",
     "stochastic": "evolutionary spectra, ground-motion model, mean square, amplification",
     "structure": "frame parameters, quasi-dynamic design, stepping simulation",
+    "store": "a workspace's store: verify every object's checksum, compact small segments",
 }
 
 

@@ -344,4 +344,24 @@ def select_to_folder(
         record_options={k: v for k, v in source.read_kwargs().items() if v is not None},
         jobs=jobs,
     )
+    root = _common_folder(catalogue)
+    if root is not None and source.example is None:
+        from stepframe.pipeline.selection.identity import identified
+
+        result = identified(result, root, folder, source)
     return SelectionFolder(result, result.write(folder))
+
+
+def _common_folder(catalogue: str | list[str] | None) -> Path | None:
+    """The folder the catalogue's files are named under (one folder, or the common folder of
+    several as typed); None when they share none (the files keep their names as typed)."""
+    import os
+
+    if catalogue is None:
+        return None
+    folders = [catalogue] if isinstance(catalogue, str) else list(catalogue)
+    try:
+        common = os.path.commonpath([Path(f).as_posix() for f in folders])
+    except ValueError:  # absolute and relative folders mixed
+        return None
+    return Path(common) if common else None

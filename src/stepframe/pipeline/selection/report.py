@@ -112,7 +112,14 @@ def _band(summary: dict[str, Any], frame: Any, where: Path) -> tuple[float, floa
 
 
 def load_record(row: dict[str, Any], folder: Path) -> Any:
-    """The selected component as a Trace: a file beside the folder, or the example catalogue."""
+    """The selected component as a Trace: by its identity when the selection records it
+    (:func:`~stepframe.pipeline.selection.identity.find_record`: gone or changed is an error);
+    else a file beside the folder, or the example catalogue."""
+    from stepframe.pipeline.selection.identity import find_record, records_identity
+
+    records = records_identity(folder)
+    if records is not None and isinstance(row.get("content_sha256"), str):
+        return find_record(row, folder, records)
     file = str(row["file"])
     component = row.get("component")
     component = None if component is None or pd.isna(component) else str(component)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from os import PathLike
 from pathlib import Path
 from typing import Any
@@ -246,6 +246,39 @@ class SelectionResult:
             written.append(_framed("manifest", MANIFEST_COLUMNS))
         return written
 
+    def with_record_identity(
+        self, root: str | PathLike[str], hashes: dict[str, str], records: dict[str, Any]
+    ) -> SelectionResult:
+        """The result naming its records as a later step re-reads them from anywhere.
+
+        Every path under ``root`` (the records folder, absolute) in the tables and the summary
+        becomes relative to it, so the result is the same bytes wherever the workspace is;
+        ``content_sha256`` (from ``hashes``: file relative to ``root`` → sha256 of its bytes)
+        follows each ``file`` column, so that a changed file is found out; and the summary gets
+        ``records``: where the folder is (``folder``, relative to the selection's folder or a
+        folder above it; or ``example``) and the record options the files were read with.
+        """
+        prefix = f"{Path(root).as_posix().rstrip('/')}/"
+        tables = {
+            name: _with_hashes(_relative(table, prefix), hashes)
+            for name, table in self.tables().items()
+        }
+        summary = json.loads(json.dumps(self.summary, default=str).replace(prefix, ""))
+        return SelectionResult(
+            tables["selection"],
+            tables["candidates"],
+            tables["confirmation"],
+            tables["failures"],
+            self.band_rad_s,
+            self.status,
+            self.message.replace(prefix, ""),
+            {**summary, "records": records},
+            spectra=None
+            if self.spectra is None
+            else self.spectra.rename(columns=lambda name: str(name).replace(prefix, "")),
+            motions=[replace(m, file=m.file.removeprefix(prefix)) for m in self.motions],
+        )
+
     def tables(self) -> dict[str, Any]:
         """The four tables by name."""
         return {
@@ -335,6 +368,48 @@ def _score_ranks(candidates: Any, rank_by: str) -> dict[tuple[str, str], tuple[i
     }
 
 
+def _relative(table: Any, prefix: str) -> Any:
+    """``table`` with ``prefix`` (a folder's absolute path and ``/``) taken off its text cells."""
+    from pandas.api.types import is_object_dtype, is_string_dtype
+
+    out = table.copy()
+    for column in out.columns:
+        if is_object_dtype(out[column]) or is_string_dtype(out[column]):
+            out[column] = [
+                value.replace(prefix, "") if isinstance(value, str) else value
+                for value in out[column]
+            ]
+    dictionary = get_column_dictionary(table)
+    if dictionary is not None:
+        set_column_dictionary(out, dictionary)
+    return out
+
+
+def _with_hashes(table: Any, hashes: dict[str, str]) -> Any:
+    """``table`` with ``content_sha256`` after its ``file`` column (if it has one)."""
+    import pandas as pd
+
+    if "file" not in table.columns or "content_sha256" in table.columns:
+        return table
+    out = table.copy()
+    out.insert(
+        list(out.columns).index("file") + 1,
+        "content_sha256",
+        [hashes.get(str(file), "") for file in out["file"]],
+    )
+    dictionary = get_column_dictionary(table)
+    if dictionary is not None:
+        row = pd.DataFrame(
+            [("content_sha256", "", "sha256 of the record file's bytes (its identity)")],
+            columns=["column", "unit", "meaning"],
+        )
+        names = list(dictionary["column"])
+        at = names.index("file") + 1 if "file" in names else len(names)
+        dictionary = pd.concat([dictionary.iloc[:at], row, dictionary.iloc[at:]])
+        set_column_dictionary(out, dictionary.reset_index(drop=True))
+    return out
+
+
 def read_selection(outdir: str | PathLike[str]) -> SelectionResult:
     """Read back what :meth:`SelectionResult.write` wrote (column dictionaries in attrs)."""
     import pandas as pd
@@ -351,7 +426,13 @@ def read_selection(outdir: str | PathLike[str]) -> SelectionResult:
     dictionaries = pd.read_csv(folder / COLUMNS_FILE, keep_default_na=False)
     tables: dict[str, Any] = {}
     for name, file in TABLE_FILES.items():
-        text_columns = {"file": str, "component": str, "station": str, "dropped_by": str}
+        text_columns = {
+            "file": str,
+            "content_sha256": str,
+            "component": str,
+            "station": str,
+            "dropped_by": str,
+        }
         try:
             table = pd.read_csv(folder / file, dtype=text_columns, keep_default_na=True)
         except pd.errors.EmptyDataError:
