@@ -661,24 +661,34 @@ class _BatchBlock:
         return f"pairs {self.first}-{self.first + self.scales.size - 1}"
 
 
+def _batch_threads() -> int:
+    """Threads of an in-process batch: numba's thread count (``numba.set_num_threads`` when the
+    caller set it, else ``NUMBA_NUM_THREADS``, by default the CPUs this process may use), read
+    without starting numba's thread pool, which the batch does not use."""
+    import numba
+    from numba.np.ufunc import parallel
+
+    if getattr(parallel, "_is_initialized", False):  # set_num_threads started the pool
+        return int(numba.get_num_threads())
+    return int(numba.config.NUMBA_NUM_THREADS)  # type: ignore[attr-defined]
+
+
 def _run_block(block: _BatchBlock) -> np.ndarray:
     """Summaries of one block, on all cores through threads (the kernel releases the GIL).
 
     In a worker (a thread of a thread pool, or a process of a pool) the block runs on that one
     thread: the pool is the parallelism there. In the process's main thread the pairs are cut
-    into four pieces per thread, taken in turn by ``NUMBA_NUM_THREADS`` threads (default: the
-    CPUs this process may use, as numba's own parallel loops), since records differ in length.
+    into four pieces per thread, taken in turn by :func:`_batch_threads` threads (records
+    differ in length).
     """
     import multiprocessing
     import threading
     from concurrent.futures import ThreadPoolExecutor
 
-    import numba
-
     from stepframe.structure import _exact
 
     n_pairs = block.scales.size
-    threads = min(int(numba.config.NUMBA_NUM_THREADS), n_pairs)
+    threads = min(_batch_threads(), n_pairs)
     worker_thread = threading.current_thread() is not threading.main_thread()
     if worker_thread or multiprocessing.parent_process() is not None:
         threads = 1
