@@ -1,0 +1,174 @@
+"""The tiers below the simulation on the fidelity ladder, and the prefilter that uses them.
+
+A tier is any ranking cheaper than simulating the frame: the closed forms of the fit
+(``band_coverage``, ``omega_p_over_s_sq``, eq. 6.18), the fit's covariance scores
+(``backbone_amplification``, ``descent_amplification``), the substitute structure
+(``substitute_demand_ratio``) and the standard intensity measures
+(:mod:`stepframe.pipeline.selection.peers`). Each is read at the ranking intensity (a peer that
+scales with the record, S_a or FIV3, is multiplied by the record's scale), signed so that larger
+is more severe.
+
+The prefilter ranks the candidates by a tier and simulates only its best K. By default
+(``prefilter = "auto"``) every candidate is simulated while the estimated cost of doing so
+(:func:`estimated_exact_s`) stays under the budget; above it the run prefilters with
+:data:`DEFAULT_PREFILTER` and K = :data:`DEFAULT_K_PER_N` × n, the tier and multiple that kept
+at least 95 % of the exact top n in bench/ranking_tiers.py (docs/selection.md, "Tiers").
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from stepframe.pipeline.selection.names import PEER_NAMES
+
+Floats = NDArray[np.float64]
+
+#: The tier the automatic prefilter ranks by, and K per chosen candidate (bench/ranking_tiers.py).
+DEFAULT_PREFILTER = "n_p_band"
+DEFAULT_K_PER_N = 10
+#: CPU seconds of the exact simulation per input sample and ladder level on one core
+#: (bench/bench_selection.py: 6,000-sample records with a 10 s tail at 0.01 s).
+SIMULATION_S_PER_SAMPLE = 4.0e-8
+#: Fit-based tiers: they need finite fitted parameters; the others read the record.
+FIT_TIERS = (
+    "band_coverage",
+    "spectral_ratio_eq_6_18",
+    "omega_p_over_s_sq",
+    "backbone_amplification",
+    "descent_amplification",
+)
+
+
+def tier_values(table: Any, name: str, base_scales: Floats) -> Floats:
+    """The tier ``name``'s values at the ranking intensity, larger more severe."""
+    from stepframe.pipeline.selection.peers import at_intensity
+
+    values = np.asarray(table[name], dtype=np.float64)
+    if name in PEER_NAMES:
+        return at_intensity(name, values, base_scales)
+    return values
+
+
+def estimated_exact_s(samples: int, levels: int, cores: int | None = None) -> float:
+    """Estimated wall time of simulating ``samples`` input samples (records plus their tails)
+    at ``levels`` ladder levels on ``cores`` cores (default: the CPUs available) [s]."""
+    if cores is None:
+        cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 1
+    return samples * levels * SIMULATION_S_PER_SAMPLE / max(cores, 1)
+
+
+@dataclass(frozen=True)
+class Plan:
+    """Which candidates the ranking simulates, and why (``ranking`` in selection.json).
+
+    Attributes
+    ----------
+    method
+        ``"exact"`` (every candidate simulated), ``"prefilter"`` (the best ``k`` by ``tier``)
+        or ``"tier"`` (ranked by a tier alone, nothing simulated for the ranking).
+    tier, k
+        The prefilter's tier and K (None for ``exact``).
+    estimated_s, budget_s
+        The estimated cost of simulating every candidate and the budget [s].
+    reason
+        One line for people.
+    """
+
+    method: str
+    tier: str | None
+    k: int | None
+    estimated_s: float
+    budget_s: float
+    reason: str
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready."""
+        return {
+            "method": self.method,
+            "tier": self.tier,
+            "k": self.k,
+            "estimated_exact_s": self.estimated_s,
+            "budget_s": self.budget_s,
+            "text": self.reason,
+        }
+
+
+def plan(options: Any, n_candidates: int, samples: int, levels: int) -> Plan:
+    """The ranking's plan for ``n_candidates`` records of ``samples`` input samples in all."""
+    estimate = estimated_exact_s(samples, levels)
+    budget = float(options.exact_budget_s)
+    if options.rank_by != "simulated_response":
+        return Plan(
+            "tier", options.rank_by, None, estimate, budget,
+            f"ranked by the tier {options.rank_by} at the ranking intensity (not simulated)",
+        )  # fmt: skip
+    k = options.prefilter_k or DEFAULT_K_PER_N * options.n
+    if options.prefilter == "none" or (
+        options.prefilter == "auto" and (estimate <= budget or k >= n_candidates)
+    ):
+        why = (
+            f"every candidate simulated ({n_candidates}; estimated {estimate:.3g} s"
+            f"{' within the budget ' + format(budget, 'g') + ' s' if estimate <= budget else ''})"
+        )
+        return Plan("exact", None, None, estimate, budget, why)
+    tier = DEFAULT_PREFILTER if options.prefilter == "auto" else options.prefilter
+    k = min(k, n_candidates)
+    if options.prefilter == "auto":
+        why = (
+            f"estimated {estimate:.3g} s for all {n_candidates} candidates, over the budget "
+            f"{budget:g} s: the best {k} by {tier} simulated"
+        )
+    else:
+        why = f"prefiltered as asked: the best {k} of {n_candidates} by {tier} simulated"
+    return Plan("prefilter", tier, k, estimate, budget, why)
+
+
+def best_rows(values: Floats, k: int) -> NDArray[np.int64]:
+    """Indices of the ``k`` largest finite ``values`` (ties by index), then NaNs by index."""
+    key = np.where(np.isnan(values), -np.inf, values)
+    order = np.lexsort((np.arange(key.size), -key))
+    return np.asarray(order[:k], dtype=np.int64)
+
+
+def recall(exact_top: NDArray[np.int64], values: Floats, k: int) -> float:
+    """Share of ``exact_top`` (indices of the exact ranking's top N) among the best ``k`` by
+    ``values``."""
+    if exact_top.size == 0:
+        return math.nan
+    return float(np.isin(exact_top, best_rows(values, k)).mean())
+
+
+#: K as multiples of N in the recall of the exact top N.
+RECALL_MULTIPLES = (1, 2, 5, 10)
+
+
+def agreement(exact: Floats, tiers: dict[str, Floats], n: int) -> list[dict[str, Any]]:
+    """Each tier against the exact ranking of the same candidates: Spearman ρ with it and the
+    recall of the exact top ``n`` inside the tier's top K = m·n (m in :data:`RECALL_MULTIPLES`).
+
+    Parameters
+    ----------
+    exact
+        The exact ranking's percentile per candidate (1 most severe; all finite).
+    tiers
+        Tier name → its values at the ranking intensity (larger more severe), same candidates.
+    n
+        The size of the chosen set.
+    """
+    from stepframe.pipeline.selection.confirm import spearman_interval
+
+    top = best_rows(exact, n)
+    rows = []
+    for name, values in tiers.items():
+        rho, low, high, count = spearman_interval(values, exact, seed=0)
+        row: dict[str, Any] = {"tier": name, "spearman": rho, "low": low, "high": high, "n": count}
+        for m in RECALL_MULTIPLES:
+            row[f"recall_at_{m}n"] = recall(top, values, m * n)
+        rows.append(row)
+    return rows
