@@ -20,6 +20,7 @@ import math
 from typing import Any
 
 import numpy as np
+
 from ranking_study import (
     GRID,
     LIBRARY_LADDERS,
@@ -86,7 +87,9 @@ def rankings(
             out[f"{name}, overturning first"] = _order_value(ranking_order(within, response))
     for levels in LIBRARY_LADDERS:
         out[f"exact: library, ladder 0.5-2 ({levels} levels)"] = _order_value(
-            ranking_order(nominal[f"library{levels}_overturn"], nominal[f"library{levels}_response"])
+            ranking_order(
+                nominal[f"library{levels}_overturn"], nominal[f"library{levels}_response"]
+            )
         )
     onset = np.where(np.isnan(nominal["onset"]), 2 * OVERTURN_RATIO_RANGE[1], nominal["onset"])
     margin_order = np.lexsort((np.arange(onset.size), -peaks[:, grid_index(1.0)], onset))
@@ -194,7 +197,13 @@ def main() -> None:
     parser.add_argument("--jobs", type=int, default=None)
     parser.add_argument("--frames", choices=("all", "two"), default="all")
     parser.add_argument("--csv", default=None, help="also write every number to this CSV")
+    parser.add_argument(
+        "--from-csv", default=None, help="print the summary tables of a CSV this script wrote"
+    )
     args = parser.parse_args()
+    if args.from_csv:
+        summary_tables(pd.read_csv(args.from_csv))
+        return
     names = list(frame_family())
     if args.frames == "two":
         names = [n for n in names if n.startswith(("Example 4", "wide"))]
@@ -220,6 +229,54 @@ def main() -> None:
             f"{f(r['perturbed margin: mean'])} [{f(r['perturbed margin: low'])}, "
             f"{f(r['perturbed margin: high'])}] | {r['perturbed margin: worst']} |"
         )
+    summary_tables(table)
+
+
+#: The rankings of the summary tables (docs/selection.md, "Robustness").
+SUMMARY = {
+    "exact: library, ladder 0.5-2 (5 levels)": "default (ladder ×0.5-2, 5)",
+    "exact: 1 run at the stated intensity": "1 run",
+    "exact: overturn margin (24-run scan), then peak": "24-run scan",
+    "substitute_demand_ratio": "substitute",
+}
+PEER_COLUMNS = ("n_p_band", "fiv3_m_s", "sa_avg_g", "pgv_pga_s")
+
+
+def summary_tables(table: Any) -> None:
+    """Per judge (perturbed peak, perturbed margin, nominal peak at 1.5x): a frame × catalogue
+    row with the mean ρ [95 %] of the default, the other exact measures, the substitute score,
+    and the best peer (named); then the means over the 12 rows."""
+    from stepframe.pipeline.selection.names import PEER_NAMES
+
+    def f(v: float) -> str:
+        return "—" if not np.isfinite(v) else f"{v:.2f}"
+
+    for judge, label in (
+        ("perturbed peak", "peak |x| of the 8 perturbed frames at the stated intensity"),
+        ("perturbed margin", "overturning margin of the 8 perturbed frames"),
+    ):
+        print(f"\nmean ρ with the {label} [95 % bootstrap interval]:\n")
+        heads = [*SUMMARY.values(), *PEER_COLUMNS, "best peer"]
+        print("| frame | catalogue | " + " | ".join(heads) + " |")
+        print("|---" * (len(heads) + 2) + "|")
+        means: dict[str, list[float]] = {h: [] for h in heads}
+        for (frame, catalogue), rows in table.groupby(["frame", "catalogue"], sort=False):
+            by = rows.set_index("ranking")
+            cells = []
+            for name, head in [*SUMMARY.items(), *((p, p) for p in PEER_COLUMNS)]:
+                value = by.at[name, f"{judge}: mean"]
+                means[head].append(value)
+                if name in SUMMARY and name != "substitute_demand_ratio":
+                    low, high = by.at[name, f"{judge}: low"], by.at[name, f"{judge}: high"]
+                    cells.append(f"{f(value)} [{f(low)}, {f(high)}]")
+                else:
+                    cells.append(f(value))
+            peers = by.loc[[p for p in PEER_NAMES if p in by.index], f"{judge}: mean"]
+            best = peers.idxmax()
+            means["best peer"].append(peers.max())
+            cells.append(f"{f(peers.max())} ({best})")
+            print(f"| {frame} | {catalogue} | " + " | ".join(cells) + " |")
+        print("| mean | | " + " | ".join(f(float(np.nanmean(means[h]))) for h in heads) + " |")
 
 
 if __name__ == "__main__":

@@ -22,6 +22,7 @@ model sets the scale; the real frame differs).
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import math
 import os
@@ -80,7 +81,8 @@ def frame_family() -> dict[str, tuple[Any, float]]:
                 if narrow:
                     tables["conventions"]["l_m"] = l_example4
                 frame = frame_from_mapping(tables)
-            shape = f"T1 {2 * math.pi / frame.omega_1_rad_s:.2g} s, x_c/x* {frame.x_c_m / frame.x_star_m:.2f}"
+            period = 2 * math.pi / frame.omega_1_rad_s
+            shape = f"T1 {period:.2g} s, x_c/x* {frame.x_c_m / frame.x_star_m:.2f}"
             name = (
                 "Example 4"
                 if frame is example4
@@ -114,7 +116,7 @@ def catalogues(jobs: int | None) -> dict[str, tuple[Any, list[tuple[str, str]], 
 
                 table, by_key = synthetic_catalogue(300, seed=7)
             table = table.reset_index(drop=True)
-            keys = list(zip(table["file"].astype(str), table["component"].astype(str)))
+            keys = list(zip(table["file"].astype(str), table["component"].astype(str), strict=True))
             records = [by_key[k] for k in keys]
             table.to_parquet(table_path)
             np.savez(
@@ -122,7 +124,7 @@ def catalogues(jobs: int | None) -> dict[str, tuple[Any, list[tuple[str, str]], 
                 dt=np.array([dt for _, dt in records]),
                 **{f"a{k}": acc for k, (acc, _) in enumerate(records)},
             )
-        keys = list(zip(table["file"].astype(str), table["component"].astype(str)))
+        keys = list(zip(table["file"].astype(str), table["component"].astype(str), strict=True))
         out[name] = (table, keys, records)
     return out
 
@@ -168,12 +170,11 @@ def scores_and_peers(frame: Any, table: Any, records: list[Any], tag: str) -> di
             params = [row[c] for c in MODEL_COLUMNS]
             if not (all(np.isfinite(params)) and np.isfinite(paths.end_s[i])):
                 continue
-            try:
+            # a score that cannot be computed stays NaN, as in the run
+            with contextlib.suppress(Exception):
                 backbone[i], descent[i] = sc.physics_scores(
                     row, band, frame.xi_1, xi_levels, (paths.start_s[i], paths.end_s[i])
                 )
-            except Exception:  # a score that cannot be computed stays NaN, as in the run
-                pass
         out["backbone_amplification"] = backbone
         out["descent_amplification"] = descent
         levels = substitute_levels(band)

@@ -22,6 +22,7 @@ import time
 from typing import Any
 
 import numpy as np
+
 from ranking_study import catalogues, frame_family, load_note, scores_and_peers, simulations, slug
 
 N = 10
@@ -147,10 +148,10 @@ def cost_table(frame: Any) -> list[tuple[str, float, str]]:
         start = time.process_time()
         result = simulated_response(frame, records, base)
         exact = (time.process_time() - start) / len(records) * 1e3
-        tied = int(np.isfinite(result.overturn_factor).sum())
+        over = int(np.isfinite(result.overturn_factor).sum())
         rows.append(
             (f"exact: simulated_response at onset ratio {ratio:g}", exact,
-             f"5-level ladder, {tied} of {len(records)} tied (tie-break simulated)")
+             f"5-level ladder, {over} of {len(records)} overturn in it (bisected)")
         )  # fmt: skip
     return rows
 
@@ -169,7 +170,7 @@ def agreement_rows(jobs: int | None) -> list[dict[str, Any]]:
             scores = scores_and_peers(frame, table, records, tag)
             base = equal_intensity_scales(scores["sd_t1_xi1_m"], frame, ratio)
             nominal = simulations(frame, ratio, records, scores["sd_t1_xi1_m"], tag)["nominal"]
-            order = ranking_order(nominal["default_response"], -nominal["default_overturn"])
+            order = ranking_order(nominal["library5_overturn"], nominal["library5_response"])
             exact = np.empty(order.size)
             exact[order] = 1.0 - np.arange(order.size) / (order.size - 1.0)
             frame_table = {name: np.asarray(scores[name], dtype=float) for name in TIERS}
@@ -203,8 +204,8 @@ def main() -> None:
         rho = "—" if not np.isfinite(r.spearman) else f"{r.spearman:.2f}"
         recalls = " | ".join(f"{getattr(r, k):.1f}" for k in keys)
         print(f"| {r.frame} | {r.catalogue} | {r.tier} | {rho} | {recalls} |")
-    worst = rows.groupby("tier", sort=False)[keys + ["spearman"]].agg(
-        {**{k: "min" for k in keys}, "spearman": "mean"}
+    worst = rows.groupby("tier", sort=False)[[*keys, "spearman"]].agg(
+        {**dict.fromkeys(keys, "min"), "spearman": "mean"}
     )
     print("\nworst recall over every frame and catalogue, mean ρ:\n")
     print("| tier | mean ρ with exact | worst recall K=N | 2N | 5N | 10N |")

@@ -156,7 +156,10 @@ def test_plan_budget_rule_and_recall() -> None:
     options = SelectionOptions(n=10)
     assert plan(options, 1000, 10**6, 5).method == "exact"
     over = plan(SelectionOptions(n=10, exact_budget_s=1e-6), 1000, 10**9, 5)
-    assert (over.method, over.tier, over.k) == ("prefilter", "n_p_band", 100)
+    # the measured share of the candidates (tiers.PREFILTER_SHARE), at least 10 n
+    assert (over.method, over.tier, over.k) == ("prefilter", "n_p_band", 910)
+    small = plan(SelectionOptions(n=10, exact_budget_s=1e-6), 105, 10**9, 5)
+    assert small.method == "prefilter" and small.k == 100
     assert "over the budget" in over.reason
     asked = plan(SelectionOptions(n=10, prefilter="fiv3_m_s", prefilter_k=30), 1000, 10, 5)
     assert (asked.method, asked.tier, asked.k) == ("prefilter", "fiv3_m_s", 30)

@@ -90,8 +90,9 @@ class SelectionOptions:
     prefilter, prefilter_k, exact_budget_s
         ``"auto"`` (default) simulates every candidate while the estimated cost stays under
         ``exact_budget_s`` [s], else ranks by the measured best tier first and simulates its
-        best ``prefilter_k`` (default a multiple of n that kept ≥ 95 % recall); ``"none"``
-        always simulates every candidate; a tier name always prefilters by that tier.
+        best ``prefilter_k`` (default: the share of the candidates that kept the exact top 10
+        in every case measured, :mod:`stepframe.pipeline.selection.tiers`); ``"none"`` always
+        simulates every candidate; a tier name always prefilters by that tier.
     scores
         Scores to compute and compare besides the defaults (the dominated ones of
         :data:`stepframe.pipeline.selection.names.DOMINATED` are computed only when named here,

@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 
 from stepframe.core.results import Failure
 from stepframe.pipeline.selection.choose import percentile_scores
-from stepframe.pipeline.selection.exact import LADDER, simulated_response
+from stepframe.pipeline.selection.exact import BISECTION_STEPS, LADDER, simulated_response
 from stepframe.pipeline.selection.intensity import RankingIntensity, ranking_intensity
 from stepframe.pipeline.selection.names import SIMULATED_RESPONSE
 from stepframe.pipeline.selection.peers import PEERS
@@ -126,7 +126,8 @@ def rank_candidates(
     for i in sorted(set(passing.tolist()) - set(usable.tolist())):
         failures.append(_failure(table, i, f"ranking scale {base[i]:g}, expected a finite factor"))
     tail = sum(samples[i][0].size + TAIL_S / samples[i][1] for i in usable)
-    the_plan = plan(options, int(usable.size), int(tail), len(LADDER))
+    # at most the ladder's runs and the bisection's, per candidate
+    the_plan = plan(options, int(usable.size), int(tail), len(LADDER) + BISECTION_STEPS)
     rows = usable
     if the_plan.method == "prefilter":
         assert the_plan.tier is not None and the_plan.k is not None
@@ -151,3 +152,68 @@ def rank_candidates(
 def _failure(table: Any, row: int, message: str) -> Failure:
     name = f"{table['file'].iat[row]} [{table['component'].iat[row]}]"
     return Failure(name, "ranking", "SimulationError", message)
+
+
+def _number(value: Any, digits: str = ".2f") -> str:
+    return format(float(value), digits) if isinstance(value, int | float) else "—"
+
+
+def ranking_lines(summary: dict[str, Any]) -> list[str]:
+    """For people (the demo's summary, the report): the stated intensity, what was simulated,
+    the chosen set against the rest at that intensity, the run's ranking against the best
+    standard intensity measures at the confirmation's equal PSA(T_1), and the tiers' recall of
+    the exact top n. Empty parts are left out (a run ranked by a tier, without confirmation)."""
+    lines = []
+    intensity = summary.get("ranking_intensity") or {}
+    ranking = summary.get("ranking") or {}
+    if intensity:
+        lines.append(f"ranked at: {intensity.get('text')}")
+    if ranking:
+        seconds = ranking.get("simulation_s")
+        lines.append(
+            f"ranking: {ranking.get('text')}"
+            + (f"; simulations {seconds:.2g} s" if isinstance(seconds, int | float) else "")
+        )
+    versus = ranking.get("chosen_vs_rest") or {}
+    if versus:
+        lines.append(
+            "at the ranking intensity: the chosen reach a median peak |x| of "
+            f"{_number(versus['peak_x_m_chosen'], '.3g')} m ({versus['overturned_chosen']} of "
+            f"{versus['n_chosen']} overturn), the other {versus['n_rest']} candidates "
+            f"{_number(versus['peak_x_m_rest'], '.3g')} m ({versus['overturned_rest']} overturn)"
+        )
+    rank_by = summary.get("rank_by")
+    entries = [e for e in summary.get("correlations") or [] if isinstance(e, dict)]
+    for response in ("peak_drift", "overturn_margin"):
+        mine = next(
+            (e for e in entries if e["score"] == rank_by and e["response"] == response), None
+        )
+        peers = sorted(
+            (e for e in entries if e["response"] == response and e["score"] != rank_by
+             and isinstance(e.get("spearman"), int | float) and math.isfinite(e["spearman"])),
+            key=lambda e: -e["spearman"],
+        )[:3]  # fmt: skip
+        if mine is None or not peers:
+            continue
+        best = "; ".join(
+            f"{e['score']} {_number(e['spearman'])} (Δρ {_number(e.get('delta'))} "
+            f"[{_number(e.get('delta_low'))}, {_number(e.get('delta_high'))}])"
+            for e in peers
+        )
+        lines.append(
+            f"ρ with {response.replace('_', ' ')} at equal PSA(T_1): {rank_by} "
+            f"{_number(mine['spearman'])} [{_number(mine['low'])}, {_number(mine['high'])}]; "
+            f"next best {best}"
+        )
+    tiers = [t for t in summary.get("tiers") or [] if isinstance(t, dict)]
+    if tiers:
+        best_tiers = sorted(tiers, key=lambda t: -float(t.get("recall_at_5n") or 0.0))[:3]
+        lines.append(
+            "tiers' recall of the exact top n within their top n/2n/5n/10n: "
+            + "; ".join(
+                f"{t['tier']} "
+                + "/".join(_number(t.get(f"recall_at_{m}n"), ".1f") for m in (1, 2, 5, 10))
+                for t in best_tiers
+            )
+        )
+    return lines

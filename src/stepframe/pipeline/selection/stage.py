@@ -18,8 +18,9 @@ from stepframe.pipeline.engine.stage import Context, Stage
 from stepframe.pipeline.engine.store import make_key
 from stepframe.pipeline.reports.provenance import workflow_provenance
 
-SELECTION_VERSION = 2  # 2: default rank_by substitute_demand_ratio
-SELECTION_REPORT_VERSION = 3  # 2: the best records' accelerograms; 3: stated correlations
+SELECTION_VERSION = 3  # 2: default rank_by substitute_demand_ratio; 3: simulated_response
+# 2: the best records' accelerograms; 3: stated correlations; 4: the ranking's sections
+SELECTION_REPORT_VERSION = 4
 SELECTION_REPORT_HTML = "selection_report.html"
 
 
