@@ -175,7 +175,7 @@ def test_demo_summary_text(demo_run: tuple[dict[str, object], Path]) -> None:
     )
     assert any(line.startswith("at the ranking intensity: the chosen") for line in lines)
     assert any(line.startswith("ρ with overturn margin at equal PSA(T_1)") for line in lines)
-    assert any(line.startswith("tiers' recall of the exact top n") for line in lines)
+    assert any(line.startswith("tiers closest to the exact ranking") for line in lines)
     outputs = [line for line in lines if line.startswith(("report: ", "tables: ", "features: "))]
     assert outputs[0] == f"report: {out}/selection_report.html"
 

@@ -201,17 +201,23 @@ def ranking_lines(summary: dict[str, Any]) -> list[str]:
             for e in peers
         )
         lines.append(
-            f"ρ with {response.replace('_', ' ')} at equal PSA(T_1): {rank_by} "
-            f"{_number(mine['spearman'])} [{_number(mine['low'])}, {_number(mine['high'])}]; "
-            f"next best {best}"
+            f"ρ with {response.replace('_', ' ')} at equal PSA(T_1) (the frame ranked with; "
+            f"perturbed frames: docs/selection.md): {rank_by} {_number(mine['spearman'])} "
+            f"[{_number(mine['low'])}, {_number(mine['high'])}]; next best {best}"
         )
-    tiers = [t for t in summary.get("tiers") or [] if isinstance(t, dict)]
+    tiers = [
+        t
+        for t in summary.get("tiers") or []
+        if isinstance(t, dict) and isinstance(t.get("spearman"), int | float)
+        and math.isfinite(t["spearman"])
+    ]  # fmt: skip
     if tiers:
-        best_tiers = sorted(tiers, key=lambda t: -float(t.get("recall_at_5n") or 0.0))[:3]
+        best_tiers = sorted(tiers, key=lambda t: -float(t["spearman"]))[:3]
         lines.append(
-            "tiers' recall of the exact top n within their top n/2n/5n/10n: "
+            "tiers closest to the exact ranking, ρ and recall of its top n within their top "
+            "n/2n/5n/10n: "
             + "; ".join(
-                f"{t['tier']} "
+                f"{t['tier']} {_number(t['spearman'])}, "
                 + "/".join(_number(t.get(f"recall_at_{m}n"), ".1f") for m in (1, 2, 5, 10))
                 for t in best_tiers
             )

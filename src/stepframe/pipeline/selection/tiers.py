@@ -180,7 +180,11 @@ def agreement(exact: Floats, tiers: dict[str, Floats], n: int) -> list[dict[str,
     for name, values in tiers.items():
         rho, low, high, count = spearman_interval(values, exact, seed=0)
         row: dict[str, Any] = {"tier": name, "spearman": rho, "low": low, "high": high, "n": count}
+        finite = values[np.isfinite(values)]
+        ranks = finite.size > 1 and bool(np.ptp(finite) > 0)
         for m in RECALL_MULTIPLES:
-            row[f"recall_at_{m}n"] = recall(top, values, m * n)
+            # a tier that gives every candidate the same value ranks nothing (S_a(T_1) at equal
+            # S_a(T_1)): its "top K" would be candidate order
+            row[f"recall_at_{m}n"] = recall(top, values, m * n) if ranks else math.nan
         rows.append(row)
     return rows
