@@ -207,3 +207,33 @@ def test_a_target_that_does_not_cover_t1() -> None:
         "period, where the selection reads it)"
     )
     check_target_covers(TabulatedSpectrum((0.1, 2.0), (3.0, 2.0)), 0.97)
+
+
+@pytest.mark.parametrize(
+    ("words", "line"),
+    [
+        (["--prefilter", "nope"], "argument --prefilter: invalid choice: 'nope'"),
+        (["--prefilter-k", "5"], "prefilter_k = 5 < n = 10, expected at least n"),
+        (["--rank-psa-t1-g", "30"], "rank_psa_t1_g = 30.0, expected in (0, 20]"),
+        (["--rank-onset-ratio", "0"], "'0' is not positive, expected a positive number"),
+        (["--target-csv", "TARGET"], "the target spectrum covers 0.1-0.5 s, expected it to cover"),
+    ],
+)
+def test_bad_ranking_input_is_one_line_exit_2(
+    words: list[str], line: str, tmp_path: Any, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Refused before any work: nothing written, one line on stderr, exit 2."""
+    from stepframe.cli import main
+    from stepframe.structure.frame_file import FRAME_TEMPLATE
+
+    frame = tmp_path / "FRAME.toml"
+    frame.write_text(FRAME_TEMPLATE)
+    target = tmp_path / "target.csv"
+    target.write_text("period_s,sa_g\n0.1,1.0\n0.5,0.8\n")
+    words = [str(target) if w == "TARGET" else w for w in words]
+    out = tmp_path / "picks"
+    command = ["select", "--frame", str(frame), "--example", "fema-p695", "-n", "10"]
+    assert main([*command, "-o", str(out), *words]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("stepframe: error: ") and line in err[0]
+    assert not out.exists()

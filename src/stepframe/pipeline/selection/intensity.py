@@ -144,3 +144,17 @@ def check_target_covers(target: Any, period_1_s: float) -> None:
             f"the target spectrum covers {low:g}-{high:g} s, expected it to cover T_1 = "
             f"{period_1_s:.4g} s (the frame's period, where the selection reads it)"
         )
+
+
+def checked_target(options: Any, frame: Any) -> Any:
+    """The options' target spectrum (:func:`stepframe.pipeline.selection.spectral.target_spectrum`,
+    None without one), refused when it does not cover the frame's T_1 (:func:`check_target_covers`):
+    read before any work."""
+    import math
+
+    from stepframe.pipeline.selection.spectral import target_spectrum
+
+    target = target_spectrum(options)
+    if target is not None:
+        check_target_covers(target, 2.0 * math.pi / frame.omega_1_rad_s)
+    return target

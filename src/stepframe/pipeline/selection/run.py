@@ -19,7 +19,7 @@ from stepframe.pipeline.selection import scores as sc
 from stepframe.pipeline.selection.band import FrameBand, frame_band
 from stepframe.pipeline.selection.choose import Units, choose, percentile_scores
 from stepframe.pipeline.selection.filters import FilterReport, apply_filters, filter_summary
-from stepframe.pipeline.selection.intensity import check_target_covers
+from stepframe.pipeline.selection.intensity import checked_target
 from stepframe.pipeline.selection.names import (
     DOMINATED,
     PEER_NAMES,
@@ -37,7 +37,6 @@ from stepframe.pipeline.selection.spectral import (
     misfit_periods_s,
     scale_factors,
     spectral_misfit,
-    target_spectrum,
     target_values,
 )
 from stepframe.pipeline.selection.substitute import (
@@ -779,9 +778,7 @@ def select_records(
         candidates left than ``options.n`` (the message says how many passed each filter).
     """
     _check_table(features)
-    target = target_spectrum(options)  # an unreadable target fails before any work
-    if target is not None:
-        check_target_covers(target, 2.0 * math.pi / frame.omega_1_rad_s)
+    target = checked_target(options, frame)  # an unreadable target fails before any work
     parallel = (jobs, executor)
     candidates = filtered_candidates(features, frame, options)
     physics_scores(candidates, frame, options, parallel)
