@@ -237,3 +237,24 @@ def test_bad_ranking_input_is_one_line_exit_2(
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("stepframe: error: ") and line in err[0]
     assert not out.exists()
+
+
+def test_prefilter_simulates_the_tiers_best_k(example_inputs: Any, example4: PortalFrame) -> None:
+    from stepframe.pipeline.selection import select_records
+
+    table, records, _ = example_inputs
+    options = SelectionOptions(
+        n=3, prefilter="n_p_band", prefilter_k=20, n_bootstrap=0, rank_onset_ratio=1.0
+    )
+    result = select_records(table, example4, options, records=records, jobs=1)
+    cands = result.candidates
+    simulated = cands["simulated"].astype(bool).to_numpy()
+    assert simulated.sum() == 20
+    # independent: the 20 largest N_p over the band (a ratio: the same at any scale)
+    n_p = cands["n_p_band"].to_numpy(dtype=float)
+    assert set(np.flatnonzero(simulated)) == set(np.argsort(-n_p, kind="stable")[:20])
+    assert cands.loc[cands["selected"].astype(bool), "simulated"].astype(bool).all()
+    ranking = result.summary["ranking"]
+    assert (ranking["method"], ranking["tier"], ranking["k"]) == ("prefilter", "n_p_band", 20)
+    assert ranking["n_simulated"] == 20 and "prefiltered as asked" in ranking["text"]
+    assert result.summary["tiers"] == []  # no exact ranking of every candidate to compare with

@@ -154,12 +154,14 @@ class SelectionOptions:
         "rank at equal PSA(T_1): P_1·SD(T_1, xi_1) = this multiple of x_c (default: the "
         "records as used)",
         kind="positive",
+        metavar="R",
         valid=Range(0.0, 20.0, low_open=True),
     )
     rank_psa_t1_g: float | None = option(
         None,
         "rank at equal PSA(T_1) of this many g, 5 % damping (default: the records as used)",
         kind="positive",
+        metavar="G",
         valid=Range(0.0, 20.0, low_open=True),
     )
     prefilter: str = option(
@@ -169,13 +171,18 @@ class SelectionOptions:
         choices=PREFILTER_CHOICES,
     )
     prefilter_k: int | None = option(
-        None, "candidates the prefilter keeps (≥ n)", kind="positive_int", valid=Range(1.0)
+        None,
+        "candidates the prefilter keeps (≥ n)",
+        kind="positive_int",
+        metavar="K",
+        valid=Range(1.0),
     )
     exact_budget_s: float = option(
         600.0,
         "auto prefilter: simulate every candidate while the estimate is under this [s] "
         "(default: %(default)s)",
         kind="positive",
+        metavar="S",
         valid=Range(0.0, low_open=True),
     )
     scores: tuple[str, ...] = option(
