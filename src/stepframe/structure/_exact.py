@@ -320,7 +320,7 @@ def _impact_rule(
 
 
 # Called, not inlined at the IR level (inline="always" typed a copy per call site into integrate:
-# about 0.5 s of its first compilation); LLVM still inlines it.
+# about 0.5 s of its first compilation); the batch runs as fast (bench/bench_batch_threads.py).
 @njit(cache=True)
 def _push(
     n_ev: int,
