@@ -16,7 +16,8 @@ from dataclasses import dataclass
 from types import ModuleType
 from typing import TYPE_CHECKING, Any, NoReturn, Protocol
 
-from stepframe.core.options import Once, add_fields, add_options
+from stepframe.core.memory import MemoryOptions
+from stepframe.core.options import Once, add_fields, add_options, options_from
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -66,8 +67,9 @@ Run = Callable[[argparse.Namespace], CommandResult | Reported]
 def add_command(
     subparsers: Subparsers, name: str, run: Run, *, plot: str | None = None
 ) -> argparse.ArgumentParser:
-    """Add the leaf command ``name``, run by ``run``, with ``--json``, ``--debug`` and, when
-    ``plot`` (its help) is given, ``--plot OUT.png``.
+    """Add the leaf command ``name``, run by ``run``, with ``--json``, ``--debug``,
+    ``--memory-mb MB`` (:class:`~stepframe.core.memory.MemoryOptions`) and, when ``plot`` (its
+    help) is given, ``--plot OUT.png``.
 
     ``run``'s docstring is the command's help: its summary is the line in the group's command
     list (with a lowercase first letter and no full stop, as argparse writes its own), its
@@ -88,6 +90,7 @@ def add_command(
         ("--json", bool, None, "print only JSON on stdout", argparse.SUPPRESS),
         ("--debug", bool, None, "show the traceback of an error", argparse.SUPPRESS),
     )
+    add_fields(parser, MemoryOptions)
     if plot is not None:
         add_options(parser, ("--plot", None, "OUT.png", plot))
     parser.set_defaults(run=run)
@@ -110,15 +113,17 @@ def _help_text(run: Run) -> tuple[str, str, str]:
 
 
 def execute(args: argparse.Namespace) -> CommandResult:
-    """Run the leaf command of ``args``: refuse a bad ``--plot`` path before any work, and draw
-    the result's figure to it after (the result gains ``plot`` and the line ``plot written to``).
+    """Run the leaf command of ``args`` within its memory budget (``--memory-mb``,
+    :mod:`stepframe.core.memory`): refuse a bad ``--plot`` path before any work, and draw the
+    result's figure to it after (the result gains ``plot`` and the line ``plot written to``).
     """
     plot = getattr(args, "plot", None)
     if plot is not None:
         from stepframe.core.figures import check_figure_path
 
         check_figure_path(plot)
-    done = args.run(args)
+    with options_from(args, MemoryOptions).applied():
+        done = args.run(args)
     if isinstance(done, CommandResult):
         result = done
     else:

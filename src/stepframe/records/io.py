@@ -205,6 +205,11 @@ def _file_kind(file: Path, max_bytes: int) -> str:
         raise InputError(
             "not a regular file (socket or block device), expected a record file", file
         )
+    from stepframe.core.paths import readable_file
+
+    problem = readable_file(file)
+    if problem is not None:
+        raise InputError(f"{problem}, expected a record file", file)
     if info.st_size > max_bytes:
         raise InputError(
             f"{info.st_size} bytes ({_mib(info.st_size)}), expected a record file of at most "
