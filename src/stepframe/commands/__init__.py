@@ -129,6 +129,7 @@ def execute(args: argparse.Namespace) -> CommandResult:
     else:
         figure, exit_code = getattr(done, "figure", None), getattr(done, "exit_code", 0)
         result = CommandResult(done.to_dict(), done.describe(), figure, exit_code)
+    result = finite_or_failed(result)
     if plot is None or result.figure is None:
         return result
     from stepframe.core.figures import save_figure
@@ -136,6 +137,42 @@ def execute(args: argparse.Namespace) -> CommandResult:
     save_figure(result.figure(), plot)
     data = {**result.data, "plot": plot} if isinstance(result.data, dict) else result.data
     return CommandResult(data, f"{result.text}\nplot written to {plot}", exit_code=result.exit_code)
+
+
+#: Statuses (:data:`stepframe.core.results.STATUSES`) of a result that is not usable: the
+#: command exits 1 (its output printed, for the record of what happened).
+FAILED_STATUSES = ("nonfinite", "failed")
+
+
+def finite_or_failed(result: CommandResult) -> CommandResult:
+    """``result`` with an exit status that says whether its numbers are usable.
+
+    A result with a ``status`` (an object at the top) is never ``ok`` with a number that left
+    the finite range: such numbers are left out of the printed object (a key documented as a
+    number is a number or absent, never null), the status becomes ``nonfinite`` with a message
+    naming them, and the exit status 1; a result whose status is ``nonfinite`` or ``failed``
+    exits 1 too.
+    """
+    import math
+
+    data = result.data
+    if not isinstance(data, dict) or "status" not in data:
+        return result
+    bad = [
+        key for key, value in data.items() if isinstance(value, float) and not math.isfinite(value)
+    ]
+    status, exit_code = data["status"], result.exit_code
+    if bad:
+        data = {key: value for key, value in data.items() if key not in bad}
+        status = data["status"] = "nonfinite" if status in ("ok", "success") else status
+        note = f"not finite, left out: {', '.join(bad)}"
+        data["message"] = "; ".join(filter(None, [str(data.get("message") or ""), note]))
+    if status in FAILED_STATUSES:
+        exit_code = max(exit_code, 1)
+    if data is result.data and exit_code == result.exit_code:
+        return result
+    text = result.text + (f"\nstatus {status}: {data.get('message', '')}" if bad else "")
+    return CommandResult(data, text, result.figure, exit_code)
 
 
 def add_record_options(parser: argparse.ArgumentParser) -> None:
