@@ -92,7 +92,10 @@ class Range:
 
 
 def _number(value: float) -> str:
-    """A bound in words: whole numbers below 10⁸ in full (``1000000``), others as ``%g``."""
+    """A bound in words: integers and whole numbers below 10⁸ in full (``1000000``, a seed's
+    ``18446744073709551615``), others as ``%g``."""
+    if isinstance(value, int):
+        return str(value)
     if float(value).is_integer() and abs(value) < 1e8:
         return str(int(value))
     return f"{value:g}"
@@ -148,6 +151,16 @@ def check_fields(instance: Any) -> None:
             raise InputError(f"{f.name} = {_shown(value)}, expected {problem}", key=f.name)
 
 
+def accepted(kind: str | None, valid: Range) -> str:
+    """The values a field of ``kind`` checked by ``valid`` accepts, in words (the end of the
+    message of :func:`check_fields`, and the ranges table of docs/cli.md)."""
+    if kind == "range":
+        return f"LO,HI,N with LO ≤ HI each {valid.describe()} and N in [1, {MAX_RANGE_POINTS}]"
+    if kind in ("floats", "positive_floats"):
+        return f"1 to {MAX_LIST_VALUES} values, each {valid.describe()}"
+    return valid.describe()
+
+
 def _field_problem(kind: str | None, value: Any, valid: Range) -> str | None:
     """What is wrong with ``value`` of a field of ``kind`` checked by ``valid``, or None."""
     if kind == "range":
@@ -159,19 +172,15 @@ def _field_problem(kind: str | None, value: Any, valid: Range) -> str | None:
             and isinstance(value[2], int)
             and 1 <= value[2] <= MAX_RANGE_POINTS
         )
-        return (
-            None
-            if ok
-            else (f"LO,HI,N with LO ≤ HI each {valid.describe()} and N in [1, {MAX_RANGE_POINTS}]")
-        )
-    if kind in ("floats", "positive_floats"):
+    elif kind in ("floats", "positive_floats"):
         ok = (
             isinstance(value, (list, tuple))
             and 0 < len(value) <= MAX_LIST_VALUES
             and all(_is_number(v) and valid.contains(v) for v in value)
         )
-        return None if ok else f"1 to {MAX_LIST_VALUES} values, each {valid.describe()}"
-    return None if _is_number(value) and valid.contains(value) else valid.describe()
+    else:
+        ok = _is_number(value) and valid.contains(value)
+    return None if ok else accepted(kind, valid)
 
 
 def option(
@@ -532,6 +541,7 @@ __all__ = [
     "Once",
     "OptionRow",
     "Range",
+    "accepted",
     "add_fields",
     "add_options",
     "arguments_of",
