@@ -158,9 +158,10 @@ class HarmonicStudy:
             "x_c_m": self.frame.x_c_m,
             "x_star_m": self.frame.x_star_m,
             **self.run.to_dict(),
-            "x_end_m": float(self.run.x_m[-1]),
-            "v_end_m_s": float(self.run.v_m_s[-1]),
         }
+        if not self.run.overturned:  # an overturned frame has no final state (x left x_cap)
+            data["x_end_m"] = float(self.run.x_m[-1])
+            data["v_end_m_s"] = float(self.run.v_m_s[-1])
         if self.orbit is not None:
             data["orbit"] = self.orbit.to_dict()
         return data
