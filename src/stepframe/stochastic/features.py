@@ -57,6 +57,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from stepframe.core import validation
+from stepframe.core.memory import check_memory
 from stepframe.errors import InputError
 from stepframe.stochastic.envelope import DEFAULT_DURATION_THRESHOLD
 from stepframe.stochastic.methods import DEFAULT_FREQUENCY_METHOD, FrequencyMethod
@@ -580,6 +581,46 @@ def _estimator_name(frequency: str | FrequencyEstimator) -> str:
     return frequency if isinstance(frequency, str) else getattr(frequency, "__name__", "custom")
 
 
+#: Memory of the features beside the record [bytes per sample], per estimator, measured on
+#: records of 6·10⁵ and 3·10⁶ samples at dt = 5 ms (docs/benchmarks.md, "Memory"): the
+#: estimators that work on the samples hold a few record-long arrays at once; the multiwindow
+#: estimator's smoothing bank holds one per rung of its ladder.
+FEATURES_BYTES_PER_SAMPLE = {
+    "zero-crossing": 48.0,
+    "moment": 48.0,
+    "ridge": 48.0,
+    "multiwindow": 420.0,
+    "wavelet-ridge": 120.0,
+}
+#: Memory of the features whatever the record's length [bytes]: a block of STFT frames and
+#: the fit's small arrays.
+FEATURES_FIXED_BYTES = 64 * 1024**2
+
+
+def features_memory_bytes(
+    npts: int,
+    dt_s: float,
+    frequency: FrequencyMethod | FrequencyEstimator = DEFAULT_FREQUENCY_METHOD,
+    *,
+    window_s: float = DEFAULT_WINDOW_S,
+    hop_s: float = DEFAULT_HOP_S,
+) -> float:
+    """The peak memory :func:`record_features` needs beside the record [bytes] (an estimate:
+    :data:`FEATURES_BYTES_PER_SAMPLE` per sample; the whole PSD, frames × frequencies, for
+    the estimators that read it, and the Morlet bands for the wavelet ridge; a custom
+    estimator is counted as one that reads the PSD)."""
+    name = _estimator_name(frequency)
+    per_sample = FEATURES_BYTES_PER_SAMPLE.get(name, 48.0)
+    frames = npts * dt_s / max(hop_s, dt_s) + 1
+    bins = 2 ** max(math.ceil(math.log2(max(window_s / dt_s, 1.0))), 4) // 2 + 1
+    need = FEATURES_FIXED_BYTES + per_sample * npts
+    if name == "ridge" or name not in FEATURES_BYTES_PER_SAMPLE:
+        need += 2.2 * 8 * frames * bins  # the PSD and its power temporaries
+    if name == "wavelet-ridge":
+        need += 2 * 8 * frames * 160  # the bands' power, and the ridge's weighted copy
+    return need
+
+
 def record_features(
     record_or_array: Trace | ArrayLike,
     dt_s: float | None = None,
@@ -637,6 +678,16 @@ def record_features(
     # Finite and at most 10⁶ s (a window longer than the record is refused further on).
     validation.length("window_s", window_s)
     validation.length("hop_s", hop_s)
+    check_memory(
+        features_memory_bytes(data.size, dt, frequency, window_s=window_s, hop_s=hop_s),
+        f"computing the features of {data.size} samples ({_estimator_name(frequency)})",
+        "a shorter record"
+        + (
+            ""
+            if _estimator_name(frequency) == "zero-crossing"
+            else ", or --frequency zero-crossing"
+        ),
+    )
     if omega_max_rad_s is not None:
         validation.positive("omega_max_rad_s", omega_max_rad_s)
     nyquist = math.pi / dt

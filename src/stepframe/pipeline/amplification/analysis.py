@@ -171,6 +171,11 @@ class AmplificationAnalysis:
                 "f_min_hz < f_max_hz",
                 key="f_min_hz",
             )
+        from stepframe.stochastic.mean_square import check_mean_square_memory
+
+        # The curve's oscillators over the grid, refused before any work (a workflow at its
+        # file's line); a single f0 or a frame is one oscillator and fits whenever this does.
+        check_mean_square_memory(self.n_frequencies, self.n_steps)
 
     @property
     def xi0_or_default(self) -> float:
