@@ -98,7 +98,8 @@ def test_the_workflow_refuses_at_parse_time_at_the_keys_line(
     )
     assert main(["run", str(workflow), "--dry-run"]) == 2
     err = capsys.readouterr().err
-    assert err == f"stepframe: error: {workflow}:12: [amplification] n_steps = 50, expected in [100, 1000000]\n"
+    expected = "[amplification] n_steps = 50, expected in [100, 1000000]"
+    assert err == f"stepframe: error: {workflow}:12: {expected}\n"
     assert not (tmp_path / "stepframe-work").exists()
 
 
