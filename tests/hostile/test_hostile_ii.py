@@ -411,3 +411,23 @@ def test_an_overturned_harmonic_run_is_a_result(cli: Callable[..., Any], frame_f
     assert "x_end_m" not in data and "v_end_m_s" not in data
     # the run stopped at the overturn, before its 100 forcing periods of 2π/7.854 = 0.8 s
     assert 0 < data["t_end_s"] < 100 * 2 * math.pi / 7.854
+
+
+def test_response_spectrum_of_a_long_record_over_the_budget(
+    long_record: Path, tmp_path: Path
+) -> None:
+    """A period of 1 ms at dt = 5 ms upsamples the record 50 times (10 points a period):
+    1.5·10⁶ × 50 samples × 48 bytes = 3.35 GiB, refused under a 2,000 MiB budget before it
+    starts (in a child that could not map it)."""
+    status, stderr, _ = _child(
+        ["records", "spectrum", "--periods-s", "0.001,1", "--memory-mb", "2000", str(long_record)],
+        tmp_path,
+    )
+    assert status == 2
+    need = size_text(1_500_000 * 50 * 48.0)
+    assert need == "3.35 GiB"
+    assert _error(stderr).endswith(
+        f"the response spectrum of 1500000 samples upsampled 50 times (nigam_jennings) needs "
+        f"about {need} of memory, over the budget of 1.95 GiB (--memory-mb), expected work that "
+        "fits it: a shortest period nearer 10 dt (it sets the upsampling)"
+    )

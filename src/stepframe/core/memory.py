@@ -130,7 +130,8 @@ def size_text(n_bytes: float) -> str:
     """A size in words: ``3.1 GiB``, ``420 MiB``, ``12 KiB``, ``900 bytes``."""
     for unit, scale in (("TiB", 1024**4), ("GiB", 1024**3), ("MiB", 1024**2), ("KiB", 1024)):
         if n_bytes >= scale:
-            return f"{n_bytes / scale:.3g} {unit}"
+            value = n_bytes / scale
+            return f"{value:.0f} {unit}" if value >= 100 else f"{value:.3g} {unit}"
     return f"{n_bytes:.0f} bytes"
 
 
