@@ -11,9 +11,11 @@ record files through :func:`walk_files`, so a folder is read the same way wherev
   or cannot be read) are skipped, and so are hidden files and folders (names starting with
   ``.``). A regular file of ``/proc`` or ``/sys`` given by name is refused
   (:func:`pseudo_file_system`): its size means nothing and reading it reads the kernel's memory.
-- **Symbolic links** are followed only when their target lies inside the folder being listed
-  (a link out of it, to ``/proc/self/mem``, ``/etc`` or another disk, is skipped with one
-  warning that counts them); a link to a folder already listed (a loop) is not entered twice.
+- **Symbolic links** are followed (a linked sub-folder of records, a linked file), except into
+  ``/proc``, ``/sys`` or ``/dev`` (a link to ``/proc/self/mem`` or ``/proc/kcore`` is skipped
+  with one warning that counts them); each real folder is walked once (a link back up the tree,
+  a loop, or a folder linked twice is not entered again). A dangling link is listed, so that
+  reading it reports it.
 - **A glob** (:func:`check_glob`) is a relative pattern of names, matched against each file's
   path inside the folder as :meth:`pathlib.Path.rglob` matches (``*.AT2``, ``sub/*.AT2``,
   ``**/RSN*``; ``**`` only as a whole part): an absolute glob, one with a ``..`` part, one with
@@ -159,23 +161,18 @@ def walk_files(
     """
     root = check_records_folder(folder)
     glob = _glob_parts(check_glob(pattern), recursive)
-    real_root = os.path.realpath(root)
     excluded = None if exclude is None else os.path.realpath(exclude)
     outside: list[str] = []
     seen: set[tuple[int, int]] = set()
     info = os.stat(root)
     seen.add((info.st_dev, info.st_ino))
-    yield from _walk(root, (), glob, recursive, real_root, excluded, seen, outside)
+    yield from _walk(root, (), glob, recursive, excluded, seen, outside)
     if outside:
         warnings.warn(
-            f"{root}: {len(outside)} symbolic link(s) out of the folder skipped (first: "
-            f"{outside[0]}); links are followed only inside the records folder",
+            f"{root}: {len(outside)} symbolic link(s) into {', '.join(PSEUDO_ROOTS)} skipped "
+            f"(first: {outside[0]}); their files are views of the kernel, not records",
             stacklevel=2,
         )
-
-
-def _inside(real: str, real_root: str) -> bool:
-    return real == real_root or real.startswith(real_root.rstrip("/") + "/")
 
 
 def _walk(
@@ -183,7 +180,6 @@ def _walk(
     prefix: tuple[str, ...],
     glob: tuple[str, ...],
     recursive: bool,
-    real_root: str,
     excluded: str | None,
     seen: set[tuple[int, int]],
     outside: list[str],
@@ -200,7 +196,7 @@ def _walk(
         if entry.name.startswith("."):
             continue
         path = folder / entry.name
-        kind = _kind(entry, real_root, outside)
+        kind = _kind(entry, outside)
         parts = (*prefix, entry.name)
         if kind == "folder":
             folders.append((entry.name, path))
@@ -216,20 +212,24 @@ def _walk(
         if (info.st_dev, info.st_ino) in seen:
             continue  # a loop, or a folder linked twice
         seen.add((info.st_dev, info.st_ino))
-        yield from _walk(path, (*prefix, name), glob, recursive, real_root, excluded, seen, outside)
+        yield from _walk(path, (*prefix, name), glob, recursive, excluded, seen, outside)
 
 
-def _kind(entry: os.DirEntry[str], real_root: str, outside: list[str]) -> str | None:
-    """``"file"`` (regular), ``"folder"`` or None (anything else, to skip: a device, a FIFO, a
-    socket, a link out of the folder, dangling or unreadable); a link inside the folder is its
-    target's kind. The directory entry's own type answers without a system call per file."""
+def _kind(entry: os.DirEntry[str], outside: list[str]) -> str | None:
+    """``"file"`` (regular, or a dangling link for the reader to report), ``"folder"`` or None
+    (anything else, to skip: a device, a FIFO, a socket, a link into a pseudo-file system); a
+    link is its target's kind. The directory entry's own type answers without a system call
+    per file."""
     try:
         if entry.is_symlink():
             target = os.path.realpath(entry.path)
-            if not _inside(target, real_root):
+            if pseudo_file_system(target) is not None:
                 outside.append(f"{entry.path} -> {target}")
                 return None
-            mode = os.stat(target).st_mode
+            try:
+                mode = os.stat(target).st_mode
+            except FileNotFoundError:
+                return "file"  # dangling: read() names it as a failure of the batch
             return "folder" if stat.S_ISDIR(mode) else "file" if stat.S_ISREG(mode) else None
         if entry.is_dir(follow_symlinks=False):
             return "folder"

@@ -162,11 +162,12 @@ def record_files(
 
     The folder is listed by :func:`stepframe.core.paths.walk_files`, the rule every records
     folder follows: regular files only (a FIFO or a device would block or never end, a socket
-    cannot be read), hidden files and folders skipped, links followed inside the folder only,
-    a folder in ``/proc``, ``/sys`` or ``/dev`` refused. Skipped too: documentation, licences,
-    inventories and metadata tables beside records (:func:`is_record_file`); stepframe's own
-    outputs and the paths in ``exclude`` (a catalogue written inside the folder it scans must
-    not be read back as a record on the next run).
+    cannot be read), hidden files and folders skipped, symbolic links followed (each real
+    folder walked once: a link back up the tree, a loop, is not walked again) except into
+    ``/proc``, ``/sys`` or ``/dev``, a folder there refused. Skipped too: documentation,
+    licences, inventories and metadata tables beside records (:func:`is_record_file`);
+    stepframe's own outputs and the paths in ``exclude`` (a catalogue written inside the folder
+    it scans must not be read back as a record on the next run).
 
     Parameters
     ----------
