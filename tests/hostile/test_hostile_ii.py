@@ -432,3 +432,21 @@ def test_response_spectrum_of_a_long_record_over_the_budget(
         f"about {need} of memory, over the budget of 1.95 GiB (--memory-mb), expected work that "
         "fits it: a shortest period nearer 10 dt (it sets the upsampling)"
     )
+
+
+def test_workflow_folder_with_links_into_proc(cli: Callable[..., Any], tmp_path: Path) -> None:
+    """A workflow's records folder holding links to /proc/self/mem and /proc/kcore and a FIFO:
+    the one record is computed, the links are named in one warning (once, not once per
+    listing), the FIFO is skipped."""
+    folder = tmp_path / "in"
+    folder.mkdir()
+    (folder / "rec.AT2").write_bytes(RECORD.read_bytes())
+    (folder / "mem.AT2").symlink_to("/proc/self/mem")
+    (folder / "kcore.AT2").symlink_to("/proc/kcore")
+    os.mkfifo(folder / "pipe.AT2")
+    path = _workflow(tmp_path, '[records]\nfolder = "in"\n')
+    run = cli(["run", str(path), "--json"])
+    assert run.problem is None and run.status == 0, run.stderr
+    assert run.stderr.count("2 symbolic link(s) into /proc, /sys, /dev skipped") == 1, run.stderr
+    stages = {stage["name"]: stage for stage in json.loads(run.stdout)["stages"]}
+    assert (stages["features"]["items"], stages["features"]["failed"]) == (1, 0), stages
