@@ -34,6 +34,7 @@ SITE = (
     "--fp-hz", "7.43", "--fs-hz", "3.12", "--fr-hz", "1.11", "--xi-p", "0.096",
     "--xi-r", "0.655", "--t-max-s", "5", "--t-dur-s", "20",
 )  # fmt: skip
+SELECT = ("select", "--example", "fema-p695", "--frame", "{frame}", "-n", "3", "-o", "{out}")
 FEATURES = '[features]\nfrequency = "zero-crossing"\n\n[outputs]\nfeatures = true\n'
 AMPLIFICATION = """\
 [site]
@@ -204,35 +205,11 @@ def test_records_folder_links_fifos_and_loops(cli: Callable[..., Any], tmp_path:
             r"--omega-rad-s 1e\+308, expected in \(0, 10000\]",
         ),
         (
-            (
-                "select",
-                "--example",
-                "fema-p695",
-                "--frame",
-                "{frame}",
-                "-n",
-                "3",
-                "-o",
-                "{out}",
-                "--a-max-m",
-                "1e308",
-            ),
+            (*SELECT, "--a-max-m", "1e308"),
             r"--a-max-m 1e\+308, expected in \(0, 100\]",
         ),
         (
-            (
-                "select",
-                "--example",
-                "fema-p695",
-                "--frame",
-                "{frame}",
-                "-n",
-                "3",
-                "-o",
-                "{out}",
-                "--target-periods-s",
-                "0.1,1e308",
-            ),
+            (*SELECT, "--target-periods-s", "0.1,1e308"),
             r"--target-periods-s \(0\.1, 1e\+308\), expected 1 to 10000 values, each in "
             r"\[0\.001, 100\]",
         ),
