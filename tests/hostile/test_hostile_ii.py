@@ -130,6 +130,23 @@ def test_workflow_feature_values_exit_2(
     _one_line(cli(["run", str(path)]), 2, pattern)
 
 
+@pytest.mark.parametrize(
+    ("text", "pattern"),
+    [
+        ("x = " + "[" * 3000 + "]" * 3000 + "\n", r"wf\.toml: arrays or tables nested too deeply"),
+        ("[amplification]\nxi0 = " + "1" * 5001 + "\n", r"wf\.toml: an integer of more than 4,300"),
+    ],
+    ids=["3000-deep", "5001-digits"],
+)
+def test_workflow_toml_past_the_parser(
+    cli: Callable[..., Any], tmp_path: Path, text: str, pattern: str
+) -> None:
+    """A RecursionError and a ValueError before (issue 28): one line, exit 2."""
+    path = tmp_path / "wf.toml"
+    path.write_text(text)
+    _one_line(cli(["run", str(path)]), 2, pattern)
+
+
 def test_records_folder_links_fifos_and_loops(cli: Callable[..., Any], tmp_path: Path) -> None:
     """Links into /proc (/proc/self/mem, /proc/kcore) are skipped with one warning, a FIFO is
     skipped (reading it would block), a link back to the folder is walked once; a link to a
