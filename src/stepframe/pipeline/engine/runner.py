@@ -31,6 +31,7 @@ import errno
 import operator
 import shutil
 import time
+import warnings
 from collections.abc import Callable
 from concurrent.futures import Executor
 from dataclasses import dataclass, field
@@ -201,7 +202,11 @@ def _prepare(workflow: Workflow, forced: list[str], stages: StageTable) -> list[
                 workflow.path,
             )
         if records.folder is not None:
-            workflow.record_files()
+            # listed here for its errors only (exit 2 before any work): its warnings (links
+            # skipped) come once, from the listing the catalogue stage makes
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                workflow.record_files()
     _check_writable(workflow.workspace)
     _check_writable(workflow.outputs_folder)
     store = workflow.workspace / "store"
