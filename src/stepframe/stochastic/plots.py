@@ -215,12 +215,18 @@ def amplification_figure(
     return figure
 
 
+#: Least distance [in] between two labels of the site-frequency scale: a label, turned upright,
+#: is about 0.12 in wide at 8 pt; closer frequencies share one label.
+LABEL_ROOM_IN = 0.2
+
+
 def mark_site_frequencies(ax: Axes, model: GroundMotionModel) -> None:
     """Dotted lines at f_p, f_s, f_r [Hz], labelled on a scale above the axes.
 
-    The labels sit outside the plotting area, where no curve, legend or marker can cover them,
-    and the x range is widened to include all three (a site's f_p of 15-20 Hz lies beyond a
-    0.1-10 Hz grid; it is shown, not dropped).
+    The labels sit outside the plotting area, upright, where no curve, legend or marker can
+    cover them (frequencies closer than :data:`LABEL_ROOM_IN` share one label), and the x range
+    is widened to include all three (a site's f_p of 15-20 Hz lies beyond a 0.1-10 Hz grid; it
+    is shown, not dropped).
     """
     names = (
         ("f_r", model.omega_r_rad_s, "#0969da"),
@@ -229,15 +235,30 @@ def mark_site_frequencies(ax: Axes, model: GroundMotionModel) -> None:
     )
     frequencies = [omega / TWO_PI for _, omega, _ in names]
     low, high = ax.get_xlim()
-    ax.set_xlim(min(low, min(frequencies) / 1.25), max(high, max(frequencies) * 1.25))
+    low, high = min(low, min(frequencies) / 1.25), max(high, max(frequencies) * 1.25)
+    ax.set_xlim(low, high)
     for (_, _, colour), f in zip(names, frequencies, strict=True):
         ax.axvline(f, color=colour, ls=":", lw=1.2)
+    figure = ax.get_figure(root=True)
+    assert figure is not None  # the axes were made by a figure's add_subplot
+    # the axes' width before the layout engine runs, less what an outside legend may take
+    width_in = 0.5 * ax.get_position().width * figure.get_figwidth()
+    decades = math.log10(high / low)
+    ticks: list[float] = []
+    texts: list[str] = []
+    colours: list[str] = []
+    for (name, _, colour), f in zip(names, frequencies, strict=True):
+        if ticks and math.log10(f / ticks[-1]) / decades * width_in < LABEL_ROOM_IN:
+            texts[-1] = texts[-1].removesuffix(" Hz") + f", {name} {f:.3g} Hz"
+            continue
+        ticks.append(f)
+        texts.append(f"{name} {f:.3g} Hz")
+        colours.append(colour)
     top = ax.secondary_xaxis("top")
-    top.set_xticks(frequencies, [f"{name}\n{f:.3g} Hz" for (name, _, _), f in
-                                 zip(names, frequencies, strict=True)])  # fmt: skip
+    top.set_xticks(ticks, texts)
     top.minorticks_off()
-    top.tick_params(labelsize=8, length=3)
-    for label, (_, _, colour) in zip(top.get_xticklabels(), names, strict=True):
+    top.tick_params(labelsize=8, length=3, labelrotation=90)
+    for label, colour in zip(top.get_xticklabels(), colours, strict=True):
         label.set_color(colour)
 
 
@@ -447,6 +468,7 @@ def response_amplification_figure(
 
 __all__ = [
     "ENERGY_SHARE",
+    "LABEL_ROOM_IN",
     "amplification_figure",
     "energy_band_hz",
     "fit_figure",

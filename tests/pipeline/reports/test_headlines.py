@@ -196,7 +196,7 @@ def rsn8883_site() -> Any:
 
 def test_delta_band_agrees_with_monte_carlo_when_the_errors_are_small(paper_model: Any) -> None:
     """Standard errors of 3 % on each parameter: the curve is near linear over them, and the
-    delta method on ln A (11 curves) gives the Monte Carlo band (256 Sobol sets) within 5 %."""
+    delta method on ln A (11 curves) gives the Monte Carlo band (512 Sobol sets) within 5 %."""
     from stepframe.pipeline.amplification.band import VARIED, parameter_band
 
     stderr = {name: 0.03 * float(getattr(paper_model, name)) for name in VARIED}
@@ -205,7 +205,7 @@ def test_delta_band_agrees_with_monte_carlo_when_the_errors_are_small(paper_mode
     mc = parameter_band(paper_model, stderr, f0, 0.05, n_steps=500, seed=5)
     assert delta is not None and mc is not None
     assert (delta.method, delta.n_curves) == ("delta", 11)
-    assert (mc.method, mc.n_curves) == ("monte-carlo", 256)
+    assert (mc.method, mc.n_curves) == ("monte-carlo", 512)
     np.testing.assert_allclose(delta.low, mc.low, rtol=0.05)
     np.testing.assert_allclose(delta.high, mc.high, rtol=0.05)
 
@@ -241,14 +241,14 @@ def test_band_samples_apply_only_to_the_monte_carlo_band() -> None:
     with pytest.raises(InputError, match="band_samples = 100 with band = 'delta'"):
         AmplificationOptions(band="delta", band_samples=100)
     assert AmplificationOptions(band_samples=100).band_samples_or_default == 100
-    assert AmplificationOptions().band_samples_or_default == 256
+    assert AmplificationOptions().band_samples_or_default == 512
 
 
 def test_records_report_draws_the_band(records_amplification_html: Path) -> None:
     import pandas as pd
 
     numbers = _numbers(records_amplification_html)
-    assert numbers["band"]["method"] == "monte-carlo" and numbers["band"]["n_curves"] == 256
+    assert numbers["band"]["method"] == "monte-carlo" and numbers["band"]["n_curves"] == 512
     table = pd.read_csv(data_folder_of(records_amplification_html) / "amplification.csv")
     assert (table["band_low"] < table["response_vs_fixed"]).all()
     assert (table["response_vs_fixed"] < table["band_high"]).all()
@@ -273,10 +273,38 @@ def test_the_site_frequencies_are_on_the_figures_beyond_the_grid(rsn8883_site: A
     assert ax.get_xlim()[1] > f_p
     [scale] = ax.child_axes  # the scale above the axes
     [label] = [t for t in scale.get_xticklabels() if t.get_text().startswith("f_p")]
-    assert f"{f_p:.3g} Hz" in label.get_text()
+    assert label.get_text() == f"f_p {f_p:.3g} Hz"
     renderer = figure.canvas.get_renderer()  # type: ignore[attr-defined]
     legend = ax.get_legend().get_window_extent(renderer)
     assert not legend.overlaps(label.get_window_extent(renderer))
+
+
+@pytest.mark.parametrize("f_s_hz", [3.15, 2.2])
+def test_site_frequency_labels_do_not_overlap(f_s_hz: float) -> None:
+    """f_r = 2.09 Hz with f_s = 3.15 Hz (the Beverly Hills records) or 2.2 Hz, over 0.06-16 Hz
+    with the report's legend beside the axes: upright labels apart, or one label for both."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from stepframe.stochastic import plots
+    from stepframe.stochastic.model import GroundMotionModel
+
+    model = GroundMotionModel.from_hz(10.4, f_s_hz, 2.09, 0.175, 0.658, t_max_s=5.8,
+                                      t_dur_s=21.0)  # fmt: skip
+    f0 = np.geomspace(0.0626, 16.0, 40)
+    figure = plots.response_amplification_figure(
+        f0, 3 + 0 * f0, 2 + 0 * f0, model, site="Beverly Hills - Mulhol", xi0=0.05,
+        band_hz=(0.11, 1.03), parameter_band=(2 + 0 * f0, 4 + 0 * f0, "95 % band, N = 256"),
+    )  # fmt: skip
+    FigureCanvasAgg(figure).draw()
+    renderer = figure.canvas.get_renderer()  # type: ignore[attr-defined]
+    [scale] = figure.axes[0].child_axes
+    labels = [label.get_text() for label in scale.get_xticklabels()]
+    boxes = [label.get_window_extent(renderer) for label in scale.get_xticklabels()]
+    assert not any(a.overlaps(b) for i, a in enumerate(boxes) for b in boxes[i + 1 :])
+    if f_s_hz == 2.2:  # 5 % apart: one label
+        assert labels == ["f_r 2.09, f_s 2.2 Hz", "f_p 10.4 Hz"]
+    else:
+        assert labels == ["f_r 2.09 Hz", "f_s 3.15 Hz", "f_p 10.4 Hz"]
 
 
 def test_long_titles_are_wrapped_inside_the_figure(rsn8883_site: Any) -> None:

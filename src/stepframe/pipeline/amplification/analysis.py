@@ -37,10 +37,10 @@ DEFAULT_XI0 = 0.05
 #: Monte Carlo motions per check frequency in a report when not given (a single f0: none).
 REPORT_MONTE_CARLO = 50
 
-#: Parameter sets of the Monte Carlo band when not given (scrambled Sobol points): from N = 256
-#: on, the band's edges move between seeds by a few per cent of its half-width for RSN 8883's
-#: site and the example catalogue's (docs/benchmarks.md, "Issue 30").
-BAND_SAMPLES = 256
+#: Parameter sets of the Monte Carlo band when not given (scrambled Sobol points): at N = 512 the
+#: band's edges move between seeds by at most 7.3 % of its half-width (median 3.4 %) for RSN
+#: 8883's site and the example catalogue's; 256 sets: 12 % (docs/benchmarks.md, "Issue 30").
+BAND_SAMPLES = 512
 
 #: How the band from the parameters' standard errors is computed
 #: (:func:`stepframe.pipeline.amplification.band.parameter_band`).
