@@ -101,7 +101,11 @@ class ParameterBand:
             f"delta method ({self.n_curves} curves)"
             if self.method == "delta"
             else f"Monte Carlo over N = {self.n_curves} parameter sets"
-            + (f" ({self.n_rejected} draws refused by ω_p ≥ ω_s ≥ ω_r)" if self.n_rejected else "")
+            + (
+                f" ({self.n_rejected} draw{'s' * (self.n_rejected > 1)} refused by ω_p ≥ ω_s ≥ ω_r)"
+                if self.n_rejected
+                else ""
+            )
         )
         return f"{100 * self.confidence:g} % band from the standard errors of " + (
             ", ".join(self.varied) + f", {how}"
