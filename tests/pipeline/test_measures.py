@@ -29,6 +29,7 @@ from stepframe.pipeline.catalogue.measures import (
 )
 from stepframe.pipeline.catalogue.measures_stage import record_pairs
 from stepframe.pipeline.engine.runner import run_workflow
+from stepframe.pipeline.engine.shipped import copy_workflow
 from stepframe.pipeline.stages import shipped_stages
 from stepframe.records import read
 
@@ -144,19 +145,29 @@ def test_waveforms_read_back(outputs: Path) -> None:
         assert written.stats.delta == pytest.approx(original.stats.delta)
 
 
-def test_record_pairs_group_by_station_and_event() -> None:
+def test_record_pairs_group_components_as_the_selection_does() -> None:
+    kik = "NGNH311106302345"
     inventory = pd.DataFrame(
         {
-            "file": ["a.AT2", "b.AT2", "c.mseed", "c.mseed", "c.mseed", "d.AT2", "e.AT2"],
-            "station": ["S1", "S1", "S2", "S2", "S2", "S3", "S3"],
-            "event": ["E1", "E1", "", "", "", "E1", "E2"],
-            "component": ["090", "360", "HNE", "HNN", "HNZ", "000", "090"],
-            "channel_index": [0, 0, 0, 1, 2, 0, 0],
+            "file": ["RSN8883_14383980_13849090.AT2", "RSN8883_14383980_13849360.AT2",
+                     "c.mseed", "c.mseed", "c.mseed", "d.AT2", "e.AT2",
+                     *(f"{kik}.{c}" for c in ("EW1", "NS1", "UD1", "EW2", "NS2", "UD2"))],
+            "station": ["", "", "", "", "", "S3", "S3", *["NGNH31"] * 6],
+            "event": ["", "", "", "", "", "E1", "E2", *[""] * 6],
+            "component": ["90", "360", "HNE", "HNN", "HNZ", "000", "090",
+                          "EW1", "NS1", "UD1", "EW2", "NS2", "UD2"],
+            "channel_index": [0, 0, 0, 1, 2, 0, 0, *[0] * 6],
         }
-    )
-    pairs = [(a["file"], a["component"], b["component"]) for a, b in record_pairs(inventory)]
-    # S3's two files are two events: no pair; c.mseed's vertical is left out
-    assert pairs == [("a.AT2", "090", "360"), ("c.mseed", "HNE", "HNN")]
+    )  # fmt: skip
+    pairs = [(r, a["file"], a["component"], b["component"]) for r, a, b in record_pairs(inventory)]
+    # PEER's two files by their RSN; c.mseed (no station or event) alone, its vertical left out;
+    # S3's two files are two events: no pair; KiK-net's borehole and surface sensors two records
+    assert pairs == [
+        ("RSN8883", "RSN8883_14383980_13849090.AT2", "90", "360"),
+        ("c.mseed", "c.mseed", "HNE", "HNN"),
+        (f"NGNH31 {kik[6:]} sensor 1", f"{kik}.EW1", "EW1", "NS1"),
+        (f"NGNH31 {kik[6:]} sensor 2", f"{kik}.EW2", "EW2", "NS2"),
+    ]
 
 
 def test_standard_processing_is_recorded() -> None:
@@ -199,8 +210,70 @@ def test_the_arrivals_report_shows_the_latest_run(tmp_path: Path) -> None:
     second = _run(tmp_path)
     numbers = json.loads((second / "arrivals_report_files" / "numbers.json").read_text())
     assert (numbers["components"], numbers["records"], numbers["pairs"]) == (2, 1, 1)
-    assert (numbers["known_components"], numbers["runs"]) == (4, 2)
-    arrived = pd.read_csv(second / "arrivals_report_files" / "arrived.csv")
+    assert (numbers["components_in_folder"], numbers["runs"]) == (4, 2)
+    arrived = pd.read_csv(second / "arrivals_report_files" / "arrived_all.csv")
     assert set(arrived["station"]) == {"Beverly Hills - Mulhol"}
     html = (second / "arrivals_report.html").read_text(encoding="utf-8")
     assert f"Records measured in the run of {numbers['run_utc']}" in html
+
+
+NIGHTLY = ("measures", "rotd50", "arrivals_report", "waveforms")
+
+
+def test_the_inbox_keeps_what_it_saw_in_the_nightly_outputs(tmp_path: Path) -> None:
+    """The shipped inbox with its nightly lines uncommented: history and measures together."""
+    copy_workflow("inbox", tmp_path)
+    workflow = tmp_path / "inbox.toml"
+    text = workflow.read_text(encoding="utf-8")
+    for name in NIGHTLY:
+        assert f"# {name} = true" in text
+        text = text.replace(f"# {name} = true", f"{name} = true")
+    workflow.write_text(text, encoding="utf-8")
+    inbox = tmp_path / "inbox"
+    for path in sorted(PEER.glob("*.AT2")):
+        shutil.copy(path, inbox / path.name)
+    (inbox / "damaged.AT2").write_text("PEER NGA STRONG MOTION DATABASE\n")
+    outputs = tmp_path / "stepframe-work" / "outputs"
+
+    def sets() -> list[str]:
+        """The whole-set results stored of the waveforms and the summary."""
+        store = tmp_path / "stepframe-work" / "store"
+        return [folder.name for stage in ("waveforms", "arrivals_report")
+                for folder in sorted((store / stage / "sets").iterdir())]  # fmt: skip
+
+    def run() -> tuple[pd.DataFrame, pd.DataFrame, pd.DataFrame, dict[str, Any]]:
+        report = run_workflow(workflow, shipped_stages(), jobs=1)
+        assert report.exit_code == 0, report.missing
+        numbers = json.loads((outputs / "arrivals_report_files" / "numbers.json").read_text())
+        failures = pd.read_csv(outputs / "measures.failures.csv", keep_default_na=False)
+        return (pd.read_parquet(outputs / "measures.parquet"),
+                pd.read_parquet(outputs / "rotd50.parquet"), failures, numbers)  # fmt: skip
+
+    measures, rotd50, failures, numbers = run()
+    assert failures[["item", "stage", "new"]].values.tolist() == [
+        ["damaged.AT2", "inventory", True]
+    ]
+    assert numbers["without_result"] == [{"stage": "inventory", "item": "damaged.AT2"}]
+    # a row computed by the run that first found it is stamped with that run's start
+    assert (measures["processed_utc"] == measures["first_seen_utc"]).all()
+    assert rotd50["record"].tolist() == ["RSN8883"]
+    before = measures.set_index("file")
+    first_sets = sets()
+    assert len(first_sets) == 2
+
+    # one of RSN 8883's files is archived, two example files arrive (one record)
+    archived = sorted(p.name for p in PEER.glob("*.AT2"))[0]
+    (inbox / archived).rename(tmp_path / archived)
+    write_example_files(inbox, count=2)
+    measures, rotd50, failures, numbers = run()
+    assert failures[["item", "present", "new"]].values.tolist() == [["damaged.AT2", True, False]]
+    assert (numbers["components"], numbers["pairs"], numbers["components_in_folder"]) == (2, 1, 3)
+    kept = measures.set_index("file")
+    assert len(kept) == 4 and not kept.at[archived, "present"]
+    assert kept.at[archived, "pga_g"] == before.at[archived, "pga_g"]  # its numbers kept
+    new = kept[kept["first_seen_utc"] > before["first_seen_utc"].max()]
+    assert len(new) == 2 and (new["processed_utc"] == new["first_seen_utc"]).all()
+    # the waveforms and the summary were made again; the store keeps only the latest of each
+    assert len(sets()) == 2 and not set(sets()) & set(first_sets)
+    # RSN 8883 lost a component: its pair stays in the table, absent
+    assert rotd50.set_index("record")["present"].to_dict() == {"RSN8883": False, "RSN953": True}

@@ -5,9 +5,13 @@ page says what that was, in the run that brought it: the components measured in 
 (the rows whose ``processed_utc``, the start of the run that measured them, is the latest),
 their intensity measures and spectra, their RotD50 and fitted parameters when those stages are
 asked for too, and a line per earlier run with its count. Its size grows with what arrived in
-one run, not with the catalogue. Its key is the keys of the rows it shows: a run that brings
-nothing leaves the last summary in place, and the page names the run it describes. Failures are
-not visible to it (the engine keeps them): each output's ``.failures.csv`` lists them.
+one run, not with the catalogue. It sees the records folder as it is now: with ``[outputs]
+history`` the output tables keep the files that left it (``present = false``), the page does
+not. The items of this run that have no result (a file that cannot be read, a component that
+cannot be measured) are named with their stage; why is in each output's ``.failures.csv``
+(with first and last seen times and a ``new`` mark when the workflow keeps a history). Its key
+is the keys of the rows it shows and of the items without a result: a run that brings nothing
+leaves the last summary in place, and the page names the run it describes.
 """
 
 from __future__ import annotations
@@ -35,7 +39,6 @@ MAX_SPECTRA = 40
 #: The measures shown on the page (all are in the CSV beside it).
 PAGE_COLUMNS = (
     "file",
-    "station",
     "component",
     "event",
     "pga_g",
@@ -49,13 +52,25 @@ PAGE_COLUMNS = (
     "processing",
 )
 #: The RotD50 columns shown on the page.
-PAIR_COLUMNS = ("files", "station", "components", "pga_rotd50_g", "pgv_rotd50_m_s",
+PAIR_COLUMNS = ("record", "station", "components", "pga_rotd50_g", "pgv_rotd50_m_s",
                 "pgd_rotd50_m", psa_column(1.0).replace("psa_", "psa_rotd50_"))  # fmt: skip
 
 
 def _upstream(workflow: Any) -> tuple[str, ...]:
     """``measures``, and ``rotd50`` and ``features`` when the workflow asks for them."""
     return ("measures", *(name for name in ("rotd50", "features") if name in workflow.outputs))
+
+
+def without_result(context: Context) -> list[tuple[str, str]]:
+    """(stage, item) of this run's items that have no result, in the inventory and the stages
+    the page shows (an item whose file could not be read is named once, by the inventory)."""
+    found: list[tuple[str, str]] = []
+    for name in ("inventory", *_upstream(context.workflow)):
+        table = context.tables.get(name)
+        done = set() if table is None else set(map(str, table["_key"]))
+        found += [(name, task.name) for task in context.item_tasks.get(name, [])
+                  if task.key not in done]  # fmt: skip
+    return found
 
 
 def _key(context: Context) -> str:
@@ -66,6 +81,7 @@ def _key(context: Context) -> str:
         for name in _upstream(context.workflow)
         for key in sorted(map(str, context.tables[name]["_key"]))
     ]
+    keys += sorted(f"{stage}:{item}" for stage, item in without_result(context))
     params = {"measures": vars(measure_options(context.workflow)), "name": context.workflow.name}
     return make_key("arrivals_report", ARRIVALS_VERSION, params, *keys)
 
@@ -75,6 +91,7 @@ def spectra_figure(measures: pd.DataFrame, rotd50: pd.DataFrame | None) -> MplFi
     pair in black."""
     import numpy as np
     from matplotlib.figure import Figure
+    from matplotlib.ticker import FormatStrFormatter
 
     fig = Figure(figsize=(9.5, 4.6), layout="constrained")
     ax = fig.add_subplot()
@@ -89,11 +106,15 @@ def spectra_figure(measures: pd.DataFrame, rotd50: pd.DataFrame | None) -> MplFi
             label=f"{Path(str(row['file'])).name} [{row['component']}]",
         )
     if rotd50 is not None:
-        for _, row in rotd50.head(MAX_SPECTRA).iterrows():
+        styles = ("-", "--", ":", "-.")  # black lines told apart by their dashes
+        for i, (_, row) in enumerate(rotd50.head(MAX_SPECTRA).iterrows()):
             values = [row[psa_column(t).replace("psa_", "psa_rotd50_")] for t in STANDARD_PERIODS_S]
-            ax.loglog(periods, values, color="k", lw=2.0, label=f"RotD50 {row['station']}")
+            ax.loglog(periods, values, color="k", lw=2.0, ls=styles[i % len(styles)],
+                      label=f"RotD50 {row['record']}")  # fmt: skip
     ax.set_xlabel("period T [s]")
     ax.set_ylabel("PSA [g], 5 % damping")
+    for axis in (ax.xaxis, ax.yaxis):
+        axis.set_major_formatter(FormatStrFormatter("%g"))  # 0.01 and 10, not 10⁻² and 10¹
     ax.set_title("Response spectra of the components that arrived", fontsize=10)
     ax.grid(True, which="both", lw=0.3)
     if len(ax.get_lines()) <= 12:
@@ -102,8 +123,10 @@ def spectra_figure(measures: pd.DataFrame, rotd50: pd.DataFrame | None) -> MplFi
 
 
 def overview_figure(measures: pd.DataFrame, latest: Any) -> MplFigure:
-    """PGA [g] against D5-95 [s] of every component measured, this run's highlighted."""
+    """PGA [g] against D5-95 [s] of every component in the records folder, this run's
+    highlighted."""
     from matplotlib.figure import Figure
+    from matplotlib.ticker import FormatStrFormatter
 
     fig = Figure(figsize=(8.0, 4.2), layout="constrained")
     ax = fig.add_subplot()
@@ -126,7 +149,9 @@ def overview_figure(measures: pd.DataFrame, latest: Any) -> MplFigure:
     )
     ax.set_xlabel("significant duration D5-95 [s]")
     ax.set_ylabel("PGA [g]")
-    ax.set_title("Every component measured so far", fontsize=10)
+    for axis in (ax.yaxis.set_major_formatter, ax.yaxis.set_minor_formatter):
+        axis(FormatStrFormatter("%g"))  # 0.3, 0.4 rather than 3×10⁻¹
+    ax.set_title("Every component in the records folder", fontsize=10)
     ax.grid(True, which="both", lw=0.3)
     ax.legend(fontsize=8)
     return fig
@@ -141,11 +166,13 @@ class Arrivals:
     latest
         The run's ``processed_utc`` (UTC, ISO 8601).
     measures
-        Every component measured so far.
+        Every component in the records folder.
     new, new_pairs
         This run's rows of ``measures`` and ``rotd50`` (None without ``rotd50``).
     runs
         Components measured per run, latest first.
+    failed
+        (stage, item) of the items of this run without a result.
     """
 
     latest: str
@@ -153,6 +180,7 @@ class Arrivals:
     new: pd.DataFrame
     new_pairs: pd.DataFrame | None
     runs: pd.DataFrame
+    failed: tuple[tuple[str, str], ...] = ()
 
     @property
     def records(self) -> int:
@@ -160,7 +188,11 @@ class Arrivals:
         return len(self.new[["station", "event"]].drop_duplicates())
 
 
-def arrivals_of(measures: pd.DataFrame, rotd50: pd.DataFrame | None) -> Arrivals:
+def arrivals_of(
+    measures: pd.DataFrame,
+    rotd50: pd.DataFrame | None,
+    failed: tuple[tuple[str, str], ...] = (),
+) -> Arrivals:
     """This run's rows (those with the latest ``processed_utc``) and the count of every run."""
     latest = str(measures["processed_utc"].max())
     new = measures[measures["processed_utc"] == latest].drop(columns=["_key"], errors="ignore")
@@ -169,7 +201,8 @@ def arrivals_of(measures: pd.DataFrame, rotd50: pd.DataFrame | None) -> Arrivals
         this_run = rotd50["processed_utc"] == latest
         new_pairs = rotd50[this_run].drop(columns=["_key"], errors="ignore")
     runs = measures.groupby("processed_utc").size().rename("components").reset_index()
-    return Arrivals(latest, measures, new, new_pairs, runs.sort_values("processed_utc")[::-1])
+    runs = runs.sort_values("processed_utc")[::-1]
+    return Arrivals(latest, measures, new, new_pairs, runs, failed)
 
 
 def _summary(arrivals: Arrivals) -> list[tuple[str, str]]:
@@ -184,8 +217,12 @@ def _summary(arrivals: Arrivals) -> list[tuple[str, str]]:
             + (f", {len(pairs)} horizontal pairs" if pairs is not None else ""),
         ),
         (
-            "Known so far",
-            f"{len(arrivals.measures)} components, over {len(arrivals.runs)} runs with arrivals",
+            "In the records folder",
+            f"{len(arrivals.measures)} components, measured over {len(arrivals.runs)} runs",
+        ),
+        (
+            "Without a result",
+            _failed_line(arrivals.failed) if arrivals.failed else "none",
         ),
         (
             "Largest PGA of this run",
@@ -193,6 +230,18 @@ def _summary(arrivals: Arrivals) -> list[tuple[str, str]]:
         ),
         ("Processing", ", ".join(sorted({str(p) or "none (as read)" for p in new["processing"]}))),
     ]
+
+
+def _failed_line(failed: tuple[tuple[str, str], ...]) -> str:
+    """The items without a result, by stage, a few named."""
+    by_stage: dict[str, list[str]] = {}
+    for stage, item in failed:
+        by_stage.setdefault(stage, []).append(item)
+    parts = []
+    for stage, items in by_stage.items():
+        shown = ", ".join(items[:3]) + (f" and {len(items) - 3} more" if len(items) > 3 else "")
+        parts.append(f"{len(items)} at {stage} ({shown})")
+    return "; ".join(parts) + ": why in the .failures.csv tables"
 
 
 def _meanings(columns: dict[str, tuple[str, str]]) -> dict[str, str]:
@@ -215,7 +264,8 @@ def arrived_section(arrivals: Arrivals, features: pd.DataFrame | None) -> Sectio
             f"{arrivals.latest}",
             how_to_read=(
                 "Each coloured line is one component's 5 %-damped PSA at the 21 NGA-West2 "
-                "periods (0.01-10 s); black lines are the RotD50 of the horizontal pairs. "
+                "periods (0.01-10 s); black lines, told apart by their dashes, are the RotD50 of "
+                "the horizontal pairs. "
                 f"At most {MAX_SPECTRA} of each are drawn; the table has them all."
             ),
         ),
@@ -239,25 +289,26 @@ def arrived_section(arrivals: Arrivals, features: pd.DataFrame | None) -> Sectio
         items.append(_fits_table(new, features))
     items.append(
         Note(
-            "Files that could not be read or measured do not reach this page: each output's "
-            "failures table (measures.failures.csv, features.failures.csv) lists them."
+            "Files that could not be read or measured are named in the summary at the top, not "
+            "here: each output's failures table (measures.failures.csv, features.failures.csv) "
+            "says why, with when each was first and last seen when the workflow keeps a history."
         )
     )
     return Section("Arrived in this run", items)
 
 
 def history_section(arrivals: Arrivals) -> Section:
-    """This run among every component measured so far, and the count of every run."""
+    """This run among every component in the records folder, and the count of every run."""
     from stepframe.pipeline.reports.document import Section, Table, figure_from_matplotlib
 
     measures = arrivals.measures
     return Section(
-        "Every run so far",
+        "The records folder",
         [
             figure_from_matplotlib(
                 overview_figure(measures, arrivals.latest),
                 key="overview",
-                title="This run among every component measured",
+                title="This run among every component in the records folder",
                 alt=f"PGA against D5-95 of {len(measures)} components, this run's "
                 f"{len(arrivals.new)} in red",
                 how_to_read=(
@@ -279,6 +330,7 @@ def arrivals_report(
     *,
     rotd50: pd.DataFrame | None = None,
     features: pd.DataFrame | None = None,
+    failed: tuple[tuple[str, str], ...] = (),
     name: str = "",
     provenance: Any,
 ) -> Report:
@@ -292,6 +344,8 @@ def arrivals_report(
         The ``rotd50`` table, or None.
     features
         The ``features`` table, or None (its fits are joined on file and component).
+    failed
+        (stage, item) of this run's items without a result (:func:`without_result`).
     name
         The workflow's name, for the title.
     provenance
@@ -299,7 +353,7 @@ def arrivals_report(
     """
     from stepframe.pipeline.reports.document import Report
 
-    arrivals = arrivals_of(measures, rotd50)
+    arrivals = arrivals_of(measures, rotd50, failed)
     new, pairs = arrivals.new, arrivals.new_pairs
     return Report(
         title=f"What arrived: {name}" if name else "What arrived",
@@ -312,9 +366,10 @@ def arrivals_report(
             "components": len(new),
             "records": arrivals.records,
             "pairs": None if pairs is None else len(pairs),
-            "known_components": len(measures),
+            "components_in_folder": len(measures),
             "runs": len(arrivals.runs),
             "largest_pga_g": float(new["pga_g"].max()),
+            "without_result": [{"stage": stage, "item": item} for stage, item in arrivals.failed],
         },
     )
 
@@ -364,6 +419,7 @@ def _run(context: Context, folder: Path) -> None:
         tables["measures"],
         rotd50=tables.get("rotd50") if "rotd50" in workflow.outputs else None,
         features=tables.get("features") if "features" in workflow.outputs else None,
+        failed=tuple(without_result(context)),
         name=workflow.name,
         provenance=workflow_provenance(workflow.path, parameters),
     )
@@ -387,6 +443,7 @@ ARRIVALS_REPORT_STAGE = Stage(
     run_set=_run,
     publish=_publish,
     needs_records=True,
+    latest_set_only=True,  # one page per run with arrivals would pile up in the store
 )
 
 
@@ -397,4 +454,5 @@ __all__ = [
     "arrivals_report",
     "overview_figure",
     "spectra_figure",
+    "without_result",
 ]

@@ -143,6 +143,7 @@ def measure_columns() -> dict[str, tuple[str, str]]:
 
     columns: dict[str, tuple[str, str]] = {
         "file": ("", "record file, relative to the records folder"),
+        "duplicates": ("", "other files with the same bytes (';'-separated), one item"),
         "station": ("", "station name"),
         "component": ("", "channel / component name"),
         "event": ("", "event name (empty if the file does not say)"),
@@ -193,6 +194,7 @@ def component_measures(trace: Trace, options: MeasureOptions) -> dict[str, Any]:
 def rotd50_columns() -> dict[str, tuple[str, str]]:
     """The ``rotd50`` table's columns (unit, meaning)."""
     columns: dict[str, tuple[str, str]] = {
+        "record": ("", "the record, named as the selection names it (RSN8883, station / event)"),
         "files": ("", "the pair's record file(s), relative to the records folder, ';'-separated"),
         "station": ("", "station name"),
         "event": ("", "event name (empty if the files do not say)"),

@@ -3,27 +3,28 @@
 ``measures`` (one item per component, beside ``features``): PGA, PGV, PGD, Arias, D5-95 and the
 PSA at the NGA-West2 periods (:func:`stepframe.pipeline.catalogue.measures.component_measures`).
 ``rotd50`` (one item per pair of horizontal components of one record): RotD50 of PGA, PGV, PGD
-and PSA (:func:`~stepframe.pipeline.catalogue.measures.pair_measures`). A record is the
-components of one station and one event (the inventory's ``station`` and ``event``, so the two
-AT2 files of a PEER record make one), or of one file and station when the file names no event;
-a record with exactly two horizontal components has a pair. ``waveforms`` (whole set, on
+and PSA (:func:`~stepframe.pipeline.catalogue.measures.pair_measures`). Components are grouped
+into records as the selection groups them (:func:`stepframe.pipeline.selection.grouping.
+group_records`: PEER's RSN, a K-NET/KiK-net file's station and origin time, the header's station
+and event, else the file), so the two AT2 files of a PEER record make one; a record with exactly
+two horizontal components has a pair. ``waveforms`` (whole set, on
 request) writes each component after the same processing as SAC (acceleration in SAC's nm/s²)
 with an index table.
 All three follow the ``[measures]`` table (:class:`~stepframe.pipeline.catalogue.measures.
-MeasureOptions`). Rows carry ``processed_utc``, the start of the run that measured them: the
-``arrivals_report`` stage (:mod:`stepframe.pipeline.catalogue.arrivals`) tells from it what
-arrived in a run.
+MeasureOptions`). Rows carry ``processed_utc``, the start of the run that measured them (the
+run's ``started_utc``, the time a workflow with ``[outputs] history`` also writes as the
+``first_seen_utc`` of what that run found first): the ``arrivals_report`` stage
+(:mod:`stepframe.pipeline.catalogue.arrivals`) tells from it what arrived in a run.
 """
 
 from __future__ import annotations
 
-import datetime as dt
 from pathlib import Path
 from typing import Any
 
 from stepframe.errors import InputError
 from stepframe.pipeline.catalogue.measures import MeasureOptions
-from stepframe.pipeline.catalogue.stage import ItemFailure, _one_line, record_folder
+from stepframe.pipeline.catalogue.stage import ItemFailure, _one_line, read_kwargs, record_folder
 from stepframe.pipeline.engine.stage import Context, Param, Stage, Task, params_from_options
 from stepframe.pipeline.engine.store import make_key
 
@@ -61,19 +62,13 @@ def _params(context: Context) -> dict[str, Any]:
     return asdict(measure_options(context.workflow))
 
 
-#: Where a run's stamp is kept on its context (one context per run).
-_STAMP = "_processed_utc"
-
-
 def run_stamp(context: Context) -> str:
-    """The time this run first listed measuring tasks (UTC, ISO 8601): the ``processed_utc`` of
-    every row the run computes, the same for ``measures`` and ``rotd50``, so the
+    """The run's start (UTC, ISO 8601): the ``processed_utc`` of every row the run computes,
+    the same for ``measures`` and ``rotd50`` (and the history's seen time), so the
     ``arrivals_report`` can tell this run's rows from earlier ones."""
-    stamp = vars(context).get(_STAMP)
-    if stamp is None:
-        stamp = dt.datetime.now(dt.UTC).isoformat(timespec="seconds")
-        setattr(context, _STAMP, stamp)
-    return str(stamp)
+    if not context.started_utc:
+        raise ValueError("a context without its run's start, expected one made by run_workflow")
+    return context.started_utc
 
 
 def _record_options(context: Context) -> dict[str, Any]:
@@ -81,13 +76,15 @@ def _record_options(context: Context) -> dict[str, Any]:
     return dict(records.options) if records is not None else {}
 
 
-def _read_component(path: str, record_options: dict[str, Any], index: int) -> Any:
+def _read_component(path: str, record_options: dict[str, Any], index: int, name: str) -> Any:
+    """Component ``index`` of the file at ``path`` (``name`` in the records folder, which a
+    failure names instead of the absolute path)."""
     from stepframe.records import read
 
     try:
-        return read(path, **record_options)[index]
+        return read(path, **read_kwargs(record_options))[index]
     except Exception as error:  # a reader may raise anything on a foreign file: recorded
-        raise ItemFailure(f"read: {_one_line(error)}") from None
+        raise ItemFailure(f"read: {_one_line(error, path, name)}") from None
 
 
 def _measures_tasks(context: Context) -> list[Task]:
@@ -109,9 +106,11 @@ def _measures_tasks(context: Context) -> list[Task]:
                     index,
                     params,
                     stamp,
+                    str(row["file"]),
                 ),
                 context={
                     "file": row["file"],
+                    "duplicates": row["duplicates"],
                     "station": row["station"],
                     "component": row["component"],
                     "event": row["event"],
@@ -122,13 +121,13 @@ def _measures_tasks(context: Context) -> list[Task]:
 
 
 def component_row(
-    payload: tuple[str, dict[str, Any], int, dict[str, Any], str],
+    payload: tuple[str, dict[str, Any], int, dict[str, Any], str, str],
 ) -> list[dict[str, Any]]:
     """The measures of one component (worker side): one row."""
     from stepframe.pipeline.catalogue.measures import component_measures
 
-    path, record_options, index, params, stamp = payload
-    trace = _read_component(path, record_options, index)
+    path, record_options, index, params, stamp, name = payload
+    trace = _read_component(path, record_options, index, name)
     try:
         row = component_measures(trace, MeasureOptions(**params))
     except Exception as error:  # recorded as this item's failure
@@ -142,30 +141,26 @@ def _measure_columns() -> dict[str, tuple[str, str]]:
     return measure_columns()
 
 
-def record_pairs(inventory: Any) -> list[tuple[dict[str, Any], dict[str, Any]]]:
+def record_pairs(inventory: Any) -> list[tuple[str, dict[str, Any], dict[str, Any]]]:
     """The pairs of horizontal components of each record of an inventory table.
 
-    A record is the components of one (station, event), or of one (file, station) when the file
-    names no event; it has a pair when it has exactly two horizontal components (vertical ones
-    are recognised by name: :func:`stepframe.pipeline.catalogue.record_spectra.is_vertical`).
-    The pair is in inventory order (file, then position in the file): h1 first.
+    Records are grouped as the selection groups them
+    (:func:`stepframe.pipeline.selection.grouping.group_records`); a record has a pair when it
+    has exactly two horizontal components. Each pair is (record name, h1, h2), in inventory
+    order (file, then position in the file): h1 first.
     """
-    from stepframe.pipeline.catalogue.record_spectra import is_vertical
+    from stepframe.pipeline.selection.grouping import group_records
 
-    records: dict[tuple[str, ...], list[dict[str, Any]]] = {}
-    for row in inventory.to_dict(orient="records"):
-        event = str(row["event"])
-        key = (
-            ("event", event, str(row["station"]))
-            if event
-            else ("file", str(row["file"]), str(row["station"]))
-        )
-        records.setdefault(key, []).append(row)
+    grouping = group_records(inventory)
+    records: dict[str, list[dict[str, Any]]] = {}
+    rows = inventory.to_dict(orient="records")
+    for row, record, vertical in zip(rows, grouping.record, grouping.vertical, strict=True):
+        if not vertical:
+            records.setdefault(str(record), []).append(row)
     pairs = []
-    for rows in records.values():
-        horizontal = [r for r in rows if not is_vertical(str(r["component"]))]
+    for record, horizontal in records.items():
         if len(horizontal) == 2:
-            pairs.append((horizontal[0], horizontal[1]))
+            pairs.append((record, horizontal[0], horizontal[1]))
     return pairs
 
 
@@ -175,9 +170,10 @@ def _rotd50_tasks(context: Context) -> list[Task]:
     folder = record_folder(context)
     stamp = run_stamp(context)
     tasks = []
-    for h1, h2 in record_pairs(context.tables["inventory"]):
+    for record, h1, h2 in record_pairs(context.tables["inventory"]):
         parts = [
-            (str((folder / str(r["file"])).absolute()), int(r["channel_index"])) for r in (h1, h2)
+            (str((folder / str(r["file"])).absolute()), int(r["channel_index"]), str(r["file"]))
+            for r in (h1, h2)
         ]
         key = make_key(
             "rotd50",
@@ -196,6 +192,7 @@ def _rotd50_tasks(context: Context) -> list[Task]:
                 name=f"{files} [{components}]",
                 payload=(parts, options, params, stamp),
                 context={
+                    "record": record,
                     "files": files,
                     "station": h1["station"],
                     "event": h1["event"],
@@ -207,13 +204,13 @@ def _rotd50_tasks(context: Context) -> list[Task]:
 
 
 def pair_row(
-    payload: tuple[list[tuple[str, int]], dict[str, Any], dict[str, Any], str],
+    payload: tuple[list[tuple[str, int, str]], dict[str, Any], dict[str, Any], str],
 ) -> list[dict[str, Any]]:
     """RotD50 of one pair of horizontal components (worker side): one row."""
     from stepframe.pipeline.catalogue.measures import pair_measures
 
     parts, record_options, params, stamp = payload
-    h1, h2 = (_read_component(path, record_options, index) for path, index in parts)
+    h1, h2 = (_read_component(path, record_options, index, name) for path, index, name in parts)
     try:
         row = pair_measures(h1, h2, MeasureOptions(**params))
     except Exception as error:
@@ -299,7 +296,10 @@ def _waveforms_run(context: Context, folder: Path) -> None:
         }
         try:
             trace = _read_component(
-                str(source / str(row["file"])), record_options, int(row["channel_index"])
+                str(source / str(row["file"])),
+                record_options,
+                int(row["channel_index"]),
+                str(row["file"]),
             )
             work = processed(trace, options)
         except (ItemFailure, InputError) as error:
@@ -349,6 +349,7 @@ WAVEFORMS_STAGE = Stage(
     publish=_waveforms_publish,
     needs_records=True,
     check=_check,
+    latest_set_only=True,  # a file arriving would store the whole folder's waveforms again
 )
 
 
