@@ -12,7 +12,8 @@ timed per stage from the run's own summary (wall seconds; the machine's cores ar
 3. a run after two files (one record) arrive.
 
 Prints a Markdown table for docs/benchmarks.md ("Issue 30") with seconds per stage and per item,
-and the size of each output.
+the size of each output, and the store's size per stage at the end (kB per 1,000 items: what
+the nightly lines of the shipped ``inbox`` add to its store, docs/scheduling.md).
 """
 
 from __future__ import annotations
@@ -77,6 +78,11 @@ def main() -> None:
             "arrivals_report (html + files)": _size(outputs / "arrivals_report.html")
             + _size(outputs / "arrivals_report_files"),
         }
+        store = folder / "stepframe-work" / "store"
+        stored = {
+            stage: (_size(store / stage), next(s for s in rows[-1][1].stages if s.name == stage))
+            for stage in ("inventory", *STAGES)
+        }
     print("| run | " + " | ".join(f"{s} [s] (computed/items)" for s in STAGES) + " |")
     print("|---|" + "---|" * len(STAGES))
     for label, report in rows:
@@ -90,6 +96,13 @@ def main() -> None:
     print("|---|---|")
     for name, size in sizes.items():
         print(f"| {name} | {size / 1e3:.0f} |")
+    print()
+    print("| store folder | size [kB] | items | kB per 1,000 items |")
+    print("|---|---|---|---|")
+    for stage, (size, summary) in stored.items():
+        # a whole-set result is one item: per item is no figure to scale by
+        per = f"{size / summary.items:.0f}" if summary.kind == "item" else "(one result)"
+        print(f"| store/{stage} | {size / 1e3:.0f} | {summary.items} | {per} |")
 
 
 if __name__ == "__main__":
