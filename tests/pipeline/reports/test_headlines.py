@@ -4,6 +4,7 @@ parameters' standard errors, the site's frequencies on the figures, titles that 
 
 from __future__ import annotations
 
+import html
 import json
 import math
 from pathlib import Path
@@ -184,6 +185,34 @@ def test_delta_star_at_or_beyond_x_star_is_refused(paper_model: Any, frame_file:
                    AmplificationOptions(delta_star_m=0.4), ReportNumbers())  # fmt: skip
 
 
+def test_delta_star_beyond_x_star_is_refused_before_any_work(
+    tmp_path: Path, frame_file: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The command refuses δ* ≥ x* before it reads the records (an empty folder would be the
+    error otherwise), and a workflow names the key's line before anything runs."""
+    from stepframe.cli import main
+
+    empty = tmp_path / "no_records"
+    empty.mkdir()
+    out = tmp_path / "r.html"
+    argv = ["report", "amplification", "--records", str(empty), "--frame", str(frame_file)]
+    assert main([*argv, "--delta-star-m", "0.4", "-o", str(out)]) == 2
+    assert "delta_star_m = 0.4 m ≥ x* = 0.3339 m" in capsys.readouterr().err
+    assert main([*argv, "--delta-star-m", "0.3", "-o", str(out)]) == 2  # below x*: the folder
+    assert "delta_star_m" not in capsys.readouterr().err
+    workflow = tmp_path / "wf.toml"
+    workflow.write_text(
+        f'[site]\nfrom = "parameters"\nfp_hz = 7.43\nfs_hz = 3.12\nfr_hz = 1.11\nxi_p = 0.096\n'
+        f'xi_r = 0.655\nt_max_s = 5.0\nt_dur_s = 20.0\n[frame]\nfile = "{frame_file}"\n'
+        "[amplification_report]\ndelta_star_m = 0.4\n[outputs]\namplification_report = true\n",
+        encoding="utf-8",
+    )
+    assert main(["run", str(workflow)]) == 2
+    err = capsys.readouterr().err
+    assert "wf.toml:13: [amplification_report] delta_star_m = 0.4 m ≥ x* = 0.3339 m" in err
+    assert not (tmp_path / "stepframe-work").exists()
+
+
 # -- the band -----------------------------------------------------------------------------------
 
 
@@ -348,9 +377,12 @@ def test_the_provenance_command_keeps_the_site_name(tmp_path: Path) -> None:
 
     options = AmplificationReportOptions(
         fp_hz=7.43, fs_hz=3.12, fr_hz=1.11, xi_p=0.096, xi_r=0.655, t_max_s=5.0, t_dur_s=20.0,
-        site_name="Paper site", monte_carlo=0, n_steps=300, n_frequencies=5, grid_only=True,
+        site_name="Paper's site", monte_carlo=0, n_steps=300, n_frequencies=5, grid_only=True,
     )  # fmt: skip
     out = make_amplification_report(str(tmp_path / "p.html"), options)
     provenance = json.loads((data_folder_of(out) / "provenance.json").read_text())
-    assert "--site-name 'Paper site'" in provenance["command"]
+    assert "--site-name 'Paper'\"'\"'s site'" in provenance["command"]  # shell quoting
     assert "--grid-only" in provenance["command"]
+    # the parameters on the page read as typed (jinja's tojson wrote \u0027 for the quote)
+    page = html.unescape(out.read_text(encoding="utf-8"))
+    assert '"site_name": "Paper\'s site"' in page and "\\u0027" not in page

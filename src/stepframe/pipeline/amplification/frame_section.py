@@ -89,16 +89,28 @@ def _frame_rows(frame: Any, band: tuple[float, float], a_max: float, driven: Any
     ]  # fmt: skip
 
 
+def check_design_displacement(frame: Any, delta_star_m: float | None) -> None:
+    """Refuse a design displacement δ* at or beyond the frame's x* (checked before any work).
+
+    Raises
+    ------
+    InputError
+        ``delta_star_m`` ≥ x* (the frame overturns there: no band can end at it).
+    """
+    if delta_star_m is not None and delta_star_m >= frame.x_star_m:
+        raise InputError(
+            f"delta_star_m = {delta_star_m} m ≥ x* = {frame.x_star_m:.4g} m, expected a design "
+            "displacement below x* (the frame overturns there)",
+            key="delta_star_m",
+        )
+
+
 def _amplitude_limit(frame: Any, opts: AmplificationOptions) -> float:
     """A_max [m]: the design displacement δ*, else a fixed fraction of the way to x*."""
     x_star = frame.x_star_m
     if opts.delta_star_m is None:
         return float(frame.x_c_m + DEFAULT_A_MAX_FRACTION * (x_star - frame.x_c_m))
-    if opts.delta_star_m >= x_star:
-        raise InputError(
-            f"delta_star_m = {opts.delta_star_m} m ≥ x* = {x_star:.4g} m, expected a design "
-            "displacement below x* (the frame overturns there)"
-        )
+    check_design_displacement(frame, opts.delta_star_m)
     return opts.delta_star_m
 
 

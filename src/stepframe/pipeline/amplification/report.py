@@ -651,7 +651,11 @@ def amplification_report(
     provenance
         How the report was made.
     """
+    from stepframe.pipeline.amplification.frame_section import check_design_displacement
+
     opts = options or AmplificationOptions()
+    if frame is not None:
+        check_design_displacement(frame, opts.delta_star_m)  # before the curves are computed
     model = model_of(site)
     name = opts.site_name or "site"
     curve = response_curve(model, opts, stderr_of(site))
@@ -782,13 +786,15 @@ def make_amplification_report(out_html: str, options: AmplificationReportOptions
     o = options
     if o.frame is None and o.delta_star_m is not None:
         raise InputError("--delta-star-m without --frame, expected --frame FRAME.toml with it")
-    site, name = _site_of(o)
-    inputs = [path for path in (o.records, o.frame) if path is not None]
     portal = None
     if o.frame is not None:
+        from stepframe.pipeline.amplification.frame_section import check_design_displacement
         from stepframe.structure.frame_file import read_frame_file
 
         portal = read_frame_file(o.frame)
+        check_design_displacement(portal, o.delta_star_m)  # before the records are fitted
+    site, name = _site_of(o)
+    inputs = [path for path in (o.records, o.frame) if path is not None]
     analysis = AmplificationOptions(
         **{f.name: getattr(o, f.name) for f in fields(AmplificationOptions)}
     )

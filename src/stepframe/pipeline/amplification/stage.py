@@ -295,6 +295,15 @@ def _amplification_report_check(workflow: Any) -> None:
             "amplification_report",
             "delta_star_m",
         )
+    if hasattr(workflow.frame, "x_star_m"):  # a frame that can overturn
+        from stepframe.pipeline.amplification.frame_section import check_design_displacement
+
+        try:
+            check_design_displacement(workflow.frame, options.delta_star_m)
+        except InputError as error:
+            raise workflow.lines.error(
+                f"[amplification_report] {error.what}", "amplification_report", "delta_star_m"
+            ) from None
 
 
 def _publish_report(folder: Path, outputs: Path) -> list[Path]:

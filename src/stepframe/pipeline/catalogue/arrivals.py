@@ -30,7 +30,7 @@ if TYPE_CHECKING:
 
     from stepframe.pipeline.reports.document import Report, Section
 
-ARRIVALS_VERSION = 1
+ARRIVALS_VERSION = 2
 ARRIVALS_HTML = "arrivals_report.html"
 
 #: Spectra drawn per figure (more are in the table and its CSV).

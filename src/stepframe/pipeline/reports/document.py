@@ -264,12 +264,17 @@ def render(report: Report, data_folder: str) -> str:
         table.key: [list(row) for row in table.frame.itertuples(index=False, name=None)]
         for table in report.tables()
     }
+    provenance = _jsonable(report.provenance.to_dict())
     return str(
         template.render(
             report=report,
             rows=rows,
             data_folder=data_folder,
-            provenance=_jsonable(report.provenance.to_dict()),
+            provenance=provenance,
+            # escaped as text by the template: "paper's site", not jinja's tojson "\u0027"
+            parameters_json=json.dumps(
+                provenance["parameters"], indent=2, sort_keys=True, ensure_ascii=False
+            ),
         )
     )
 
