@@ -11,13 +11,15 @@ the dataclasses below, so each option has one name, one default and one check
 - :class:`AmplificationAnalysis`: the oscillator's damping, the time grid, the f0 grid, the
   Monte Carlo check and the frame-driven run's intensity;
 - :class:`AmplifyOptions` (``stochastic amplify``), :class:`AmplificationOptions` (a report's
-  choices) and :class:`AmplificationReportOptions` (``report amplification``) built from them.
+  choices: the site's name, the frame's δ*, the band from the parameters' standard errors, the
+  search for maxima beyond the grid) and :class:`AmplificationReportOptions` (``report
+  amplification``) built from them.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Literal
 
 from stepframe.core.options import SEEDS, Range, check_fields, option
 
@@ -45,6 +47,14 @@ _BANDWIDTH = Range(1e-3, 10)
 _SECONDS = Range(0, 1e6, low_open=True)
 #: Lengths of a frame [m] (a design displacement).
 _METRES = Range(0, 100, low_open=True)
+#: Parameter sets of the Monte Carlo band when not given (scrambled Sobol points): at N = 512 the
+#: band's edges move between seeds by at most 7.3 % of its half-width (median 3.4 %) for RSN
+#: 8883's site and the example catalogue's; 256 sets: 12 % (docs/benchmarks.md, "Issue 30").
+BAND_SAMPLES = 512
+
+#: How the band from the parameters' standard errors is computed
+#: (:func:`stepframe.pipeline.amplification.band.parameter_band`).
+BandMethod = Literal["monte-carlo", "delta", "none"]
 
 
 @dataclass(frozen=True)
@@ -224,6 +234,43 @@ class AmplificationOptions(AmplificationAnalysis):
         "start (auto, the default), or one of them",
         choices=("auto", "start", "p-pick"),
     )
+    band: BandMethod = option(
+        "monte-carlo",
+        "band of the response amplification from the site parameters' standard errors: "
+        "monte-carlo (the default: --band-samples parameter sets, one curve each), delta (the "
+        "delta method on ln A, 11 curves: cheap, blind to the curve's curvature) or none; a "
+        "site given by its parameters has no standard errors, so no band",
+        choices=("monte-carlo", "delta", "none"),
+    )
+    band_samples: int | None = option(
+        None,
+        f"with --band monte-carlo: parameter sets drawn (default {BAND_SAMPLES})",
+        kind="int",
+        metavar="N",
+        valid=Range(20, 100_000),  # one curve each: 10⁵ curves is hours of CPU
+    )
+    grid_only: bool = option(
+        False,
+        "keep the curve on the f0 grid: where the response amplification still rises at an "
+        "edge, say so ('at the edge, rising') instead of extending the grid past the edge (up "
+        "to a decade) until the curve turns",
+    )
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.band_samples is not None and self.band != "monte-carlo":
+            from stepframe.errors import InputError
+
+            raise InputError(
+                f"band_samples = {self.band_samples} with band = {self.band!r}, expected band = "
+                "'monte-carlo' with it (the delta method draws no samples)",
+                key="band_samples",
+            )
+
+    @property
+    def band_samples_or_default(self) -> int:
+        """Parameter sets of a Monte Carlo band (:data:`BAND_SAMPLES` when not given)."""
+        return BAND_SAMPLES if self.band_samples is None else self.band_samples
 
 
 @dataclass(frozen=True)

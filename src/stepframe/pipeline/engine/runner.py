@@ -332,7 +332,8 @@ def run_workflow(
         )
         store.prepare()
         _remove_temporaries(workflow.outputs_folder)
-        context = Context(workflow, {}, {}, {}, {}, execution.jobs, execution.executor, progress)
+        context = Context(workflow, {}, {}, {}, {}, execution.jobs, execution.executor, progress,
+                          started_utc=started_utc)  # fmt: skip
         batch = batch_items or max(DEFAULT_BATCH_ITEMS, BATCH_ITEMS_PER_WORKER * execution.jobs)
         for name in planned:
             stage = stages[name]
@@ -508,6 +509,8 @@ def _run_set(
                                                      error).message  # fmt: skip
             return
         store.commit_set(stage.name, key, temporary)
+        if stage.latest_set_only:
+            store.drop_other_sets(stage.name, key)
     context.set_keys[stage.name] = key
     context.set_dirs[stage.name] = target
 
@@ -581,7 +584,7 @@ def _dry_run(
 ) -> RunReport:
     """What a run would do: per stage, items to compute and cached (nothing written)."""
     report = RunReport(str(workflow.path), str(workflow.workspace), "dry run", True)
-    context = Context(workflow, {}, {}, {}, {}, None, None, False)
+    context = Context(workflow, {}, {}, {}, {}, None, None, False, started_utc=utc_now())
     import pandas as pd
 
     for name in planned:
