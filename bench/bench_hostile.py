@@ -40,11 +40,12 @@ sys.exit(code)
 REPEATS = 3
 
 
-def run(argv: list[str]) -> tuple[float, float, int, str]:
-    """(median wall time [s], peak memory [MiB], exit status, first error line)."""
+def run(argv: list[str], repeats: int = REPEATS) -> tuple[float, float, int, str]:
+    """(median wall time [s], peak memory [MiB], exit status, first error line) of
+    ``repeats`` runs."""
     times, peaks = [], []
     status, message = 0, ""
-    for _ in range(REPEATS):
+    for _ in range(repeats):
         start = time.perf_counter()
         result = subprocess.run(
             [sys.executable, "-c", CHILD, *argv], capture_output=True, text=True, timeout=600

@@ -132,15 +132,45 @@ def _run(args_list: list[str], debug: bool) -> int:
         print("stepframe: interrupted", file=sys.stderr)
         return 130
     except BrokenPipeError:
-        # The reader went away (`stepframe ... | head -1`): stop quietly, as `yes | head` does.
-        # Point stdout at /dev/null so the interpreter's final flush does not fail again.
-        import os
-
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
-        return 141  # 128 + SIGPIPE, the shell's status for a command ended by a closed pipe
+        return _broken_pipe()
+    except OSError as error:
+        # The machine, not the input: a full disk (ENOSPC, EDQUOT), a read-only file system, a
+        # path of the wrong kind where a run writes. Writes go through temporary files, so
+        # nothing is half-written; the run stops with one line and exit 1.
+        if debug:
+            traceback.print_exc()
+        print(f"stepframe: error: {_os_error_line(error)}", file=sys.stderr)
+        return 1
     except SystemExit as exit_:  # --help and --version exit through argparse
         return int(exit_.code or 0) if isinstance(exit_.code, int) else 0
+
+
+def _broken_pipe() -> int:
+    """The reader went away (``stepframe ... | head -1``): stop quietly, as ``yes | head``
+    does. Point stdout at /dev/null so the interpreter's final flush does not fail again."""
+    import os
+
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, sys.stdout.fileno())
+    return 141  # 128 + SIGPIPE, the shell's status for a command ended by a closed pipe
+
+
+def _os_error_line(error: OSError) -> str:
+    """One line for an error of the machine: the path, what the system said, what to do."""
+    import errno
+
+    where = " -> ".join(
+        terminal_safe(str(name)) for name in (error.filename, error.filename2) if name is not None
+    )
+    said = error.strerror or type(error).__name__
+    advice = {
+        errno.ENOSPC: "expected room on the disk: free some and run again",
+        errno.EDQUOT: "expected room in the disk quota: free some and run again",
+        errno.EROFS: "expected a writable file system",
+        errno.EEXIST: "expected a folder there, not a file: move the file away",
+        errno.ENOTDIR: "expected a folder there, not a file: move the file away",
+    }.get(error.errno or 0, "expected a usable file system")
+    return f"{where + ': ' if where else ''}{said}, {advice} (nothing was half-written)"
 
 
 if __name__ == "__main__":

@@ -195,3 +195,23 @@ def build(folder: Path, seed: int = 16) -> list[Damaged]:
     corpus.append(Damaged(directory, "at2", "directory"))
     corpus.append(Damaged(folder / "missing.AT2", "at2", "missing"))
     return corpus
+
+
+def write_long_at2(path: Path, npts: int) -> Path:
+    """An AT2 file of ``npts`` samples at dt = 5 ms: the real 16,396-sample record of
+    :data:`SOURCES` repeated, five values a line as PEER writes them (15.2 bytes a sample)."""
+    lines = (DATA / SOURCES[0][0]).read_text().splitlines()
+    values = " ".join(lines[4:]).split()
+    block = [f"{float(v):15.7E}" for v in values[: len(values) - len(values) % 5]]
+    body = "\n".join("".join(block[i : i + 5]) for i in range(0, len(block), 5)) + "\n"
+    with path.open("w") as handle:
+        handle.write("\n".join(lines[:3]) + "\n")
+        handle.write(f"NPTS= {npts:>10d}, DT=   0.005 SEC\n")
+        written = 0
+        while written + len(block) <= npts:
+            handle.write(body)
+            written += len(block)
+        rest = block[: npts - written]
+        for i in range(0, len(rest), 5):
+            handle.write("".join(rest[i : i + 5]) + "\n")
+    return path

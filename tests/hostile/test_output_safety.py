@@ -101,7 +101,7 @@ def test_format_names_light_and_complete() -> None:
         (lambda: validation.integer("n", 2.5), r"n = 2.5, expected an integer"),
         (lambda: validation.seed("seed", -1), r"seed = -1, expected an integer 0\.\."),
         (
-            lambda: validation.count("bootstrap", 10**9, bytes_each=40.0),
+            lambda: validation.count("bootstrap", 10**9, bytes_each=40.0, budget_bytes=4 * 1024**3),
             r"bootstrap = 1000000000 needs about 37\.3 GiB of memory, expected at most 4 GiB",
         ),
         (lambda: validation.length("window_s", 1e308), r"window_s = 1e\+308 s, expected"),

@@ -85,7 +85,7 @@ def test_spectrum_default_grid_and_plot(capsys: pytest.CaptureFixture[str], tmp_
     ("args", "message"),
     [
         (["records", "spectrum", str(H1), "--damping", "5"], "damping 5.0"),
-        (["records", "spectrum", str(H1), "--periods-s", "0.1,-2"], "positive"),
+        (["records", "spectrum", str(H1), "--periods-s", "0.1,-2"], "each in [0.001, 10000]"),
         (["records", "spectrum", str(H1), str(H2), str(H1)], "one or two"),
         (["records", "catalog", "/nonexistent/dir", "-o", "x.csv"], "no such file or folder"),
         # Options that apply to files only are refused with the embedded catalogue, never

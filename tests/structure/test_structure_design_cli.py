@@ -95,7 +95,7 @@ def test_tabulated_spectrum_uses_search(tmp_path: Path, capsys: pytest.CaptureFi
 @pytest.mark.parametrize(
     ("extra", "message"),
     [
-        (["--height-m", "-3"], "height_m = -3.0, expected > 0"),
+        (["--height-m", "-3"], "--height-m -3.0, expected in (0, 300]"),
         (["--xi", "0.1"], "expected exactly one of beta, xi or c_r"),
         (["--plot", "out.txt"], "expected .png, .pdf or .svg"),
     ],

@@ -134,7 +134,6 @@ def test_bad_input_is_one_line_and_exit_2(
         (["--omega-rad-s", "1e4", "--periods", "1000000"], "1.44e+08 closed-form pieces"),
         (["--omega-rad-s", "1e-300", "--periods", "1"], "5.32e+287 years"),
         (["--omega-rad-s", "1e-320", "--periods", "1"], "more than 1e308 s would take without end"),
-        (["--omega-rad-s", "16", "--periods", "1", "--orbit", "100000000"], "Newton steps"),
     ],
 )
 def test_work_beyond_the_limit_is_refused_before_integrating(
@@ -144,6 +143,16 @@ def test_work_beyond_the_limit_is_refused_before_integrating(
     status, out, err = run(capsys, *base, *argv)
     assert (status, out) == (2, "")
     assert err.count("\n") == 1 and said in err and "expected at most 3e+07" in err
+
+
+def test_an_orbit_of_a_hundred_million_periods_is_out_of_range(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """Once refused by its work (10⁸-period Newton steps), now by the option's range."""
+    base = ["structure", "harmonic", "--block", "0.25,1.0", "--amplitude-g", "0.3"]
+    status, out, err = run(capsys, *base, "--omega-rad-s", "16", "--orbit", "100000000")
+    assert (status, out) == (2, "")
+    assert err == "stepframe: error: --orbit 100000000, expected in [1, 64]\n"
 
 
 def test_the_threshold_case_answers_with_a_tiny_rocking(capsys: pytest.CaptureFixture[str]) -> None:

@@ -16,7 +16,8 @@ from dataclasses import dataclass
 from types import ModuleType
 from typing import TYPE_CHECKING, Any, NoReturn, Protocol
 
-from stepframe.core.options import Once, add_fields, add_options
+from stepframe.core.memory import MemoryOptions
+from stepframe.core.options import Once, add_fields, add_options, options_from
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -68,8 +69,9 @@ Run = Callable[[argparse.Namespace], CommandResult | Reported]
 def add_command(
     subparsers: Subparsers, name: str, run: Run, *, plot: str | None = None
 ) -> argparse.ArgumentParser:
-    """Add the leaf command ``name``, run by ``run``, with ``--json``, ``--debug`` and, when
-    ``plot`` (its help) is given, ``--plot OUT.png``.
+    """Add the leaf command ``name``, run by ``run``, with ``--json``, ``--debug``,
+    ``--memory-mb MB`` (:class:`~stepframe.core.memory.MemoryOptions`) and, when ``plot`` (its
+    help) is given, ``--plot OUT.png``.
 
     ``run``'s docstring is the command's help: its summary is the line in the group's command
     list (with a lowercase first letter and no full stop, as argparse writes its own), its
@@ -90,6 +92,7 @@ def add_command(
         ("--json", bool, None, "print only JSON on stdout", argparse.SUPPRESS),
         ("--debug", bool, None, "show the traceback of an error", argparse.SUPPRESS),
     )
+    add_fields(parser, MemoryOptions)
     if plot is not None:
         add_options(parser, ("--plot", None, "OUT.png", plot))
     parser.set_defaults(run=run)
@@ -112,20 +115,23 @@ def _help_text(run: Run) -> tuple[str, str, str]:
 
 
 def execute(args: argparse.Namespace) -> CommandResult:
-    """Run the leaf command of ``args``: refuse a bad ``--plot`` path before any work, and draw
-    the result's figure to it after (the result gains ``plot`` and the line ``plot written to``).
+    """Run the leaf command of ``args`` within its memory budget (``--memory-mb``,
+    :mod:`stepframe.core.memory`): refuse a bad ``--plot`` path before any work, and draw the
+    result's figure to it after (the result gains ``plot`` and the line ``plot written to``).
     """
     plot = getattr(args, "plot", None)
     if plot is not None:
         from stepframe.core.figures import check_figure_path
 
         check_figure_path(plot)
-    done = args.run(args)
+    with options_from(args, MemoryOptions).applied():
+        done = args.run(args)
     if isinstance(done, CommandResult):
         result = done
     else:
         figure, exit_code = getattr(done, "figure", None), getattr(done, "exit_code", 0)
         result = CommandResult(done.to_dict(), done.describe(), figure, exit_code)
+    result = finite_or_failed(result)
     if plot is None or result.figure is None:
         return result
     from stepframe.core.figures import save_figure
@@ -133,6 +139,42 @@ def execute(args: argparse.Namespace) -> CommandResult:
     save_figure(result.figure(), plot)
     data = {**result.data, "plot": plot} if isinstance(result.data, dict) else result.data
     return CommandResult(data, f"{result.text}\nplot written to {plot}", exit_code=result.exit_code)
+
+
+#: Statuses (:data:`stepframe.core.results.STATUSES`) of a result that is not usable: the
+#: command exits 1 (its output printed, for the record of what happened).
+FAILED_STATUSES = ("nonfinite", "failed")
+
+
+def finite_or_failed(result: CommandResult) -> CommandResult:
+    """``result`` with an exit status that says whether its numbers are usable.
+
+    A result with a ``status`` (an object at the top) is never ``ok`` with a number that left
+    the finite range: such numbers are left out of the printed object (a key documented as a
+    number is a number or absent, never null), the status becomes ``nonfinite`` with a message
+    naming them, and the exit status 1; a result whose status is ``nonfinite`` or ``failed``
+    exits 1 too.
+    """
+    import math
+
+    data = result.data
+    if not isinstance(data, dict) or "status" not in data:
+        return result
+    bad = [
+        key for key, value in data.items() if isinstance(value, float) and not math.isfinite(value)
+    ]
+    status, exit_code = data["status"], result.exit_code
+    if bad:
+        data = {key: value for key, value in data.items() if key not in bad}
+        status = data["status"] = "nonfinite" if status in ("ok", "success") else status
+        note = f"not finite, left out: {', '.join(bad)}"
+        data["message"] = "; ".join(filter(None, [str(data.get("message") or ""), note]))
+    if status in FAILED_STATUSES:
+        exit_code = max(exit_code, 1)
+    if data is result.data and exit_code == result.exit_code:
+        return result
+    text = result.text + (f"\nstatus {status}: {data.get('message', '')}" if bad else "")
+    return CommandResult(data, text, result.figure, exit_code)
 
 
 def add_record_options(parser: argparse.ArgumentParser) -> None:

@@ -21,7 +21,7 @@ RECORDS = ("records", "t0", "record_format", "units", "site_name")
 FRAME = ("frame", "delta_star_m")
 ANALYSIS = (
     "alpha_reading", "xi0", "monte_carlo", "seed", "n_steps", "peak_intensity_m_s2",
-    "f_min_hz", "f_max_hz", "n_frequencies",
+    "f_min_hz", "f_max_hz", "n_frequencies", "grid_only", "band", "band_samples",
 )  # fmt: skip
 
 

@@ -13,12 +13,12 @@ from stepframe.core.options import (
     Once,
     add_fields,
     add_options,
-    fields_given,
     options_from,
 )
 from stepframe.pipeline.amplification.analysis import SITE_PARAMETERS, AmplifyOptions
 from stepframe.pipeline.amplification.study import AmplifyStudy, amplify_study
 from stepframe.pipeline.catalogue.fit_options import FitOptions
+from stepframe.pipeline.engine.run_options import RunOptions
 from stepframe.records.read_options import RecordSource
 from stepframe.stochastic.methods import SPECTRUM_METHOD_NAMES
 
@@ -55,8 +55,8 @@ def register(subparsers: Subparsers) -> None:
         features,
         ("--example", ("fema-p695",), None, "use the embedded example catalogue instead"),
         (("-o", "--output"), None, "OUT.csv", "CSV table", REQUIRED),
-        ("--jobs", int, "N", "processes"),
     )
+    add_fields(features, RunOptions, ["jobs"])
     add_fields(features, FitOptions, ESTIMATION)
     add_record_options(features)
     parser = add_command(
@@ -114,8 +114,8 @@ def run_features(args: argparse.Namespace) -> FeaturesFiles:
     from stepframe.pipeline.catalogue.fitted_files import features_to_file
 
     return features_to_file(
-        args.output, FitOptions(**fields_given(args, ESTIMATION)), folder=args.folder,
-        source=options_from(args, RecordSource), jobs=args.jobs,
+        args.output, options_from(args, FitOptions), folder=args.folder,
+        source=options_from(args, RecordSource), jobs=options_from(args, RunOptions).jobs,
         progress=not getattr(args, "json", False),
     )  # fmt: skip
 

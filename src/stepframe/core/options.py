@@ -60,10 +60,14 @@ class Range:
     also: tuple[float, ...] = ()
 
     def contains(self, value: float) -> bool:
-        """Whether ``value`` is accepted (NaN and infinities never are)."""
+        """Whether ``value`` is accepted (NaN and infinities never are, nor an integer past
+        the float range)."""
         if value in self.also:
             return True
-        if not math.isfinite(value):
+        try:
+            if not math.isfinite(value):
+                return False
+        except OverflowError:  # an integer of hundreds of digits
             return False
         if self.low is not None and (value <= self.low if self.low_open else value < self.low):
             return False
@@ -75,22 +79,56 @@ class Range:
         """The accepted values in words: ``in (0, 1)``, ``≥ 100``, ``0 or ≥ 2``."""
         if self.low is not None and self.high is not None:
             text = (
-                f"in {'(' if self.low_open else '['}{self.low:g}, {self.high:g}"
+                f"in {'(' if self.low_open else '['}{_number(self.low)}, {_number(self.high)}"
                 f"{')' if self.high_open else ']'}"
             )
         elif self.low is not None:
-            text = f"{'>' if self.low_open else '≥'} {self.low:g}"
+            text = f"{'>' if self.low_open else '≥'} {_number(self.low)}"
         elif self.high is not None:
-            text = f"{'<' if self.high_open else '≤'} {self.high:g}"
+            text = f"{'<' if self.high_open else '≤'} {_number(self.high)}"
         else:
             text = "a finite number"
-        return " or ".join([*(f"{value:g}" for value in self.also), text])
+        return " or ".join([*(_number(value) for value in self.also), text])
+
+
+def _number(value: float) -> str:
+    """A bound in words: integers and whole numbers below 10⁸ in full (``1000000``, a seed's
+    ``18446744073709551615``), others as ``%g``."""
+    if isinstance(value, int):
+        return str(value)
+    if float(value).is_integer() and abs(value) < 1e8:
+        return str(int(value))
+    return f"{value:g}"
+
+
+#: The seeds of random generators: numpy's take any integer ≥ 0; a seed is written into result
+#: files and TOML, so it is kept within 64 bits (:data:`stepframe.core.validation.MAX_SEED`).
+SEEDS = Range(0, 2**64 - 1)
+#: Worker processes a run may start (far above any machine's cores).
+JOBS = Range(1, 1024)
+
+#: Most points of a ``LO,HI,N`` option (kind ``range``): each is a run or an oscillator.
+MAX_RANGE_POINTS = 100_000
+#: Most values of a list option (kinds ``floats``, ``positive_floats``).
+MAX_LIST_VALUES = 10_000
+
+
+def _is_number(value: Any) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def _shown(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
 
 
 def check_fields(instance: Any) -> None:
     """Check every field of a dataclass ``instance`` declared with a ``valid`` range.
 
-    A field whose value is None passes when None is its default (not given).
+    A field whose value is None passes when None is its default (not given). A list field
+    (kinds ``floats``, ``positive_floats``) is checked value by value, with at most
+    :data:`MAX_LIST_VALUES` values; a ``LO,HI,N`` field (kind ``range``) has LO and HI in the
+    range, LO ≤ HI, and 1 ≤ N ≤ :data:`MAX_RANGE_POINTS`.
 
     Raises
     ------
@@ -108,9 +146,41 @@ def check_fields(instance: Any) -> None:
         value = getattr(instance, f.name)
         if value is None and f.default is None:
             continue
-        number = value if isinstance(value, (int, float)) and not isinstance(value, bool) else None
-        if number is None or not valid.contains(number):
-            raise InputError(f"{f.name} = {value!r}, expected {valid.describe()}", key=f.name)
+        problem = _field_problem(f.metadata.get("kind"), value, valid)
+        if problem is not None:
+            raise InputError(f"{f.name} = {_shown(value)}, expected {problem}", key=f.name)
+
+
+def accepted(kind: str | None, valid: Range) -> str:
+    """The values a field of ``kind`` checked by ``valid`` accepts, in words (the end of the
+    message of :func:`check_fields`, and the ranges table of docs/cli.md)."""
+    if kind == "range":
+        return f"LO,HI,N with LO ≤ HI each {valid.describe()} and N in [1, {MAX_RANGE_POINTS}]"
+    if kind in ("floats", "positive_floats"):
+        return f"1 to {MAX_LIST_VALUES} values, each {valid.describe()}"
+    return valid.describe()
+
+
+def _field_problem(kind: str | None, value: Any, valid: Range) -> str | None:
+    """What is wrong with ``value`` of a field of ``kind`` checked by ``valid``, or None."""
+    if kind == "range":
+        ok = (
+            isinstance(value, (list, tuple))
+            and len(value) == 3
+            and all(_is_number(v) and valid.contains(v) for v in value[:2])
+            and value[0] <= value[1]
+            and isinstance(value[2], int)
+            and 1 <= value[2] <= MAX_RANGE_POINTS
+        )
+    elif kind in ("floats", "positive_floats"):
+        ok = (
+            isinstance(value, (list, tuple))
+            and 0 < len(value) <= MAX_LIST_VALUES
+            and all(_is_number(v) and valid.contains(v) for v in value)
+        )
+    else:
+        ok = _is_number(value) and valid.contains(value)
+    return None if ok else accepted(kind, valid)
 
 
 def option(
@@ -461,12 +531,17 @@ def options_from(args: argparse.Namespace, cls: type[T]) -> T:
 
 
 __all__ = [
+    "JOBS",
     "KINDS",
     "KIND_TYPES",
+    "MAX_LIST_VALUES",
+    "MAX_RANGE_POINTS",
     "REQUIRED",
+    "SEEDS",
     "Once",
     "OptionRow",
     "Range",
+    "accepted",
     "add_fields",
     "add_options",
     "arguments_of",

@@ -20,10 +20,6 @@ from numpy.typing import ArrayLike, NDArray
 
 from stepframe.errors import InputError
 
-#: Default memory budget for one array a parameter implies [bytes] (a count asking for more is
-#: refused before the allocation; callers pass their own where they know better).
-MEMORY_BUDGET_BYTES = 4 * 1024**3
-
 #: Largest seed numpy's generators accept (``SeedSequence`` takes any non-negative integer, but a
 #: seed is written into result files and TOML, so it is kept within 64 bits).
 MAX_SEED = 2**64 - 1
@@ -171,7 +167,7 @@ def count(
     *,
     bytes_each: float,
     low: int = 1,
-    budget_bytes: float = MEMORY_BUDGET_BYTES,
+    budget_bytes: float | None = None,
 ) -> int:
     """A count whose memory (``value × bytes_each``) must fit the budget.
 
@@ -186,7 +182,8 @@ def count(
     low
         Smallest count accepted.
     budget_bytes
-        Largest memory accepted [bytes].
+        Largest memory accepted [bytes] (default: the run's memory budget,
+        :func:`stepframe.core.memory.budget_bytes`).
 
     Raises
     ------
@@ -194,12 +191,17 @@ def count(
         Not an integer, below ``low``, or needing more than the budget (the estimate is in the
         message).
     """
+    from stepframe.core.memory import budget_bytes as run_budget
+    from stepframe.core.memory import size_text
+
     number = integer(name, value, low=low)
     need = float(number) * float(bytes_each)
-    if need > budget_bytes:
+    budget = run_budget() if budget_bytes is None else budget_bytes
+    if need > budget:
         raise InputError(
-            f"{name} = {number} needs about {_size(need)} of memory, expected at most "
-            f"{_size(budget_bytes)} (at most {int(budget_bytes // max(bytes_each, 1.0))})"
+            f"{name} = {number} needs about {size_text(need)} of memory, expected at most "
+            f"{size_text(budget)}, the memory budget (at most "
+            f"{int(budget // max(bytes_each, 1.0))}; --memory-mb MB sets the budget)"
         )
     return number
 
@@ -232,10 +234,3 @@ def finite_array(
 def _short(values: Any) -> str:
     text = repr(values)
     return text if len(text) <= 60 else text[:57] + "..."
-
-
-def _size(n_bytes: float) -> str:
-    for unit, scale in (("TiB", 1024**4), ("GiB", 1024**3), ("MiB", 1024**2), ("KiB", 1024)):
-        if n_bytes >= scale:
-            return f"{n_bytes / scale:.3g} {unit}"
-    return f"{n_bytes:.0f} bytes"

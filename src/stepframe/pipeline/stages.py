@@ -36,11 +36,18 @@ def _check_units(units: str) -> object:
 
 @functools.cache
 def shipped_stages() -> StageTable:
-    """The stages shipped with stepframe: catalogue, site amplification, selection, dynamics."""
+    """The stages shipped with stepframe: catalogue (with the nightly job's measures, RotD50,
+    waveforms and arrivals summary), site amplification, selection, dynamics."""
     from stepframe.pipeline.amplification.stage import (
         AMPLIFICATION_REPORT_STAGE,
         AMPLIFICATION_STAGE,
         SITE_STAGE,
+    )
+    from stepframe.pipeline.catalogue.arrivals import ARRIVALS_REPORT_STAGE
+    from stepframe.pipeline.catalogue.measures_stage import (
+        MEASURES_STAGE,
+        ROTD50_STAGE,
+        WAVEFORMS_STAGE,
     )
     from stepframe.pipeline.catalogue.stage import FEATURES_STAGE, INVENTORY_STAGE
     from stepframe.pipeline.dynamics.stage import IDA_STAGE
@@ -50,6 +57,10 @@ def shipped_stages() -> StageTable:
         stages=(
             INVENTORY_STAGE,
             FEATURES_STAGE,
+            MEASURES_STAGE,
+            ROTD50_STAGE,
+            WAVEFORMS_STAGE,
+            ARRIVALS_REPORT_STAGE,
             SITE_STAGE,
             AMPLIFICATION_STAGE,
             SELECTION_STAGE,

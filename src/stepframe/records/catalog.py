@@ -10,7 +10,6 @@ files or the new ones, never half a file.
 from __future__ import annotations
 
 import contextlib
-import os
 import warnings
 from collections.abc import Iterable, Mapping
 from concurrent.futures import Executor
@@ -159,15 +158,16 @@ def is_record_file(name: str) -> bool:
 def record_files(
     path: str | PathLike[str], *, exclude: Iterable[str | PathLike[str]] = ()
 ) -> list[Path]:
-    """Record files under ``path`` (or ``path`` itself), recursively, sorted.
+    """Record files under ``path`` (or ``path`` itself), recursively, in walking order.
 
-    Symbolic links to folders are followed, each real folder walked once (a link back up the
-    tree, a loop, is not walked again). Skipped: hidden files and folders; anything that is not
-    a regular file (a FIFO or a device
-    would block or never end, a socket cannot be read); documentation, licences, inventories and
-    metadata tables beside records (:func:`is_record_file`); stepframe's own outputs and the
-    paths in ``exclude`` (a catalogue written inside the folder it scans must not be read back as
-    a record on the next run).
+    The folder is listed by :func:`stepframe.core.paths.walk_files`, the rule every records
+    folder follows: regular files only (a FIFO or a device would block or never end, a socket
+    cannot be read), hidden files and folders skipped, symbolic links followed (each real
+    folder walked once: a link back up the tree, a loop, is not walked again) except into
+    ``/proc``, ``/sys`` or ``/dev``, a folder there refused. Skipped too: documentation,
+    licences, inventories and metadata tables beside records (:func:`is_record_file`);
+    stepframe's own outputs and the paths in ``exclude`` (a catalogue written inside the folder
+    it scans must not be read back as a record on the next run).
 
     Parameters
     ----------
@@ -176,33 +176,17 @@ def record_files(
     exclude
         Files never listed (the outputs of the run).
     """
-    import stat
+    from stepframe.core.paths import walk_files
 
     root = Path(path)
-    excluded = {Path(p).resolve() for p in exclude}
     if root.is_file():
         return [root]
-    if not root.is_dir():
+    if not root.exists():
         raise InputError("no such file or folder, expected a folder of records", root)
-    files = []
-    walked: set[str] = set()
-    for folder, dirs, names in os.walk(root, followlinks=True):
-        real = os.path.realpath(folder)
-        if real in walked:  # a loop, or a folder reached twice through links: walked once
-            dirs[:] = []
-            continue
-        walked.add(real)
-        dirs[:] = sorted(d for d in dirs if not d.startswith("."))
-        for name in sorted(names):
-            file = Path(folder) / name
-            if not is_record_file(name):
-                continue
-            try:
-                regular = stat.S_ISREG(file.stat().st_mode)
-            except OSError:
-                regular = True  # let read() report a dangling link or a permission problem
-            if regular and file.resolve() not in excluded:
-                files.append(file)
+    excluded = {Path(p).resolve() for p in exclude}
+    files = [file for _, file in walk_files(root) if is_record_file(file.name)]
+    if excluded:
+        files = [file for file in files if file.resolve() not in excluded]
     return files
 
 

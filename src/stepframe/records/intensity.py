@@ -123,17 +123,19 @@ def intensity_measures(acc_m_s2: ArrayLike, dt_s: float) -> dict[str, float]:
         Keys of :data:`MEASURES` (unit in the name). Durations are NaN for an all-zero record.
     """
     acc = check_record(acc_m_s2, dt_s)
-    vel = velocity_m_s(acc, dt_s)
+    # One record-long array at a time beside the record (a long record's measures held five).
     pga = float(np.max(np.abs(acc)))
-    pgv = float(np.max(np.abs(vel)))
+    pgv = float(np.max(np.abs(velocity_m_s(acc, dt_s))))
     husid = cumulative_arias_m_s(acc, dt_s)
     total = float(husid[-1])
     if total > 0.0:
         time = np.arange(acc.size) * dt_s
         t5, t75, t95 = np.interp(np.array([0.05, 0.75, 0.95]) * total, husid, time)
         d5_75, d5_95 = float(t75 - t5), float(t95 - t5)
+        del time
     else:
         d5_75 = d5_95 = math.nan
+    del husid
     ratio = pgv / pga if pga > 0 else math.nan
     return {
         "pga_g": pga / STANDARD_GRAVITY_M_S2,

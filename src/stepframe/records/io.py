@@ -29,6 +29,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from stepframe.core.memory import check_memory
 from stepframe.errors import FormatError, InputError, StepframeError
 from stepframe.records.formats import (
     SNIFF_BYTES,
@@ -67,6 +68,13 @@ def _mib(size: int) -> str:
     """``size`` bytes in MiB, for messages (``--max-file-mb`` counts MiB)."""
     return f"{size / 1024**2:.4g} MiB"
 
+
+#: Peak memory of reading a file in one of the project's text formats, per byte of the file:
+#: its text, its lines and its values (2.9 measured on a 228 MB AT2, docs/benchmarks.md).
+TEXT_READ_BYTES_PER_BYTE = 3.5
+#: The same for a binary format read by obspy: compressed MiniSEED (Steim-2) packs up to 1.75
+#: samples in a byte, each then held as an integer and as float64 twice.
+BINARY_READ_BYTES_PER_BYTE = 24.0
 
 #: Seconds to wait for the next bytes from a pipe or device before giving up.
 STREAM_TIMEOUT_S = 10.0
@@ -205,6 +213,11 @@ def _file_kind(file: Path, max_bytes: int) -> str:
         raise InputError(
             "not a regular file (socket or block device), expected a record file", file
         )
+    from stepframe.core.paths import readable_file
+
+    problem = readable_file(file)
+    if problem is not None:
+        raise InputError(f"{problem}, expected a record file", file)
     if info.st_size > max_bytes:
         raise InputError(
             f"{info.st_size} bytes ({_mib(info.st_size)}), expected a record file of at most "
@@ -296,6 +309,13 @@ def _read_plain(file: Path, head: bytes, format: str | None, options: ReadOption
     if not head:
         raise InputError("empty file, expected an accelerogram", file)
     fmt = _by_name(format, file) if format is not None else _sniff(head, file)
+    size = file.stat().st_size
+    text = fmt.name in registered_formats()
+    check_memory(
+        size * (TEXT_READ_BYTES_PER_BYTE if text else BINARY_READ_BYTES_PER_BYTE),
+        f"reading {size} bytes ({_mib(size)}) as {fmt.name}",
+        "a smaller file",
+    )
     try:
         return fmt.read(file, options)
     except StepframeError:

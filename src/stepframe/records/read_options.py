@@ -13,15 +13,19 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from stepframe.core.options import option
+from stepframe.core.options import Range, check_fields, option
 from stepframe.errors import InputError
 from stepframe.records.formats import format_names_help
+from stepframe.records.formats._header import MAX_DT_S, MIN_DT_S
 
 if TYPE_CHECKING:
     from obspy import Stream
 
 #: Embedded example catalogues that ``--example`` names.
 EXAMPLE_NAMES = ("fema-p695",)
+#: Largest ``--max-file-mb`` [MiB]: 64 GiB, past any accelerogram file (the memory budget
+#: refuses a file whose reading would not fit long before).
+MAX_FILE_MB = 65536.0
 #: Record options that apply to files only, not to the embedded example catalogue.
 _FILE_ONLY = (
     "format",
@@ -69,7 +73,11 @@ class RecordReadOptions:
         metavar="UNIT",
     )
     dt_s: float | None = option(
-        None, "sampling interval [s] if the file does not say", kind="float", metavar="DT"
+        None,
+        "sampling interval [s] if the file does not say",
+        kind="float",
+        metavar="DT",
+        valid=Range(MIN_DT_S, MAX_DT_S),
     )
     inventory: str | None = option(None, "StationXML file for response removal", metavar="XML")
     component: str | None = option(None, "which channel of a multi-channel file", metavar="NAME")
@@ -78,12 +86,14 @@ class RecordReadOptions:
         "refuse a record whose peak exceeds G [g] (default 100: wrong units or damage)",
         kind="positive",
         metavar="G",
+        valid=Range(0, 1e4, low_open=True),
     )
     max_file_mb: float | None = option(
         None,
         "refuse a record file larger than MB [MiB] (default 256)",
         kind="positive",
         metavar="MB",
+        valid=Range(0, MAX_FILE_MB, low_open=True),
     )
 
     allow_short: bool = option(
@@ -92,6 +102,9 @@ class RecordReadOptions:
         "missing) with a warning, flagged in stats.stepframe.incomplete; default: refused",
         kind="flag",
     )
+
+    def __post_init__(self) -> None:
+        check_fields(self)
 
     def read_kwargs(self) -> dict[str, Any]:
         """The keyword arguments of :func:`stepframe.records.read` (the read limits only when
@@ -140,6 +153,7 @@ class RecordSource(RecordReadOptions):
     )
 
     def __post_init__(self) -> None:
+        super().__post_init__()
         # The embedded catalogue is not read from a file: of the record options only
         # ``component`` applies to it; any other would be silently ignored.
         if self.example is None:

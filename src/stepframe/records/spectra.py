@@ -26,6 +26,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from stepframe.core.memory import check_memory
 from stepframe.core.validation import damping_fraction, finite_array, in_range
 from stepframe.errors import InputError
 from stepframe.records.integration import check_record
@@ -250,6 +251,25 @@ def _groups(periods: NDArray[np.float64], dt_s: float, points_per_period: float)
         yield int(factor), np.flatnonzero(factors == factor)
 
 
+#: Peak memory of a response spectrum per sample of the upsampled record [bytes], by method:
+#: the record's spectrum padded, its inverse and the fine copy (measured 40 bytes for
+#: nigam_jennings and 64 for frequency_domain on 1.5·10⁶ samples upsampled 5 and 25 times).
+SPECTRUM_BYTES_PER_FINE_SAMPLE = {"nigam_jennings": 48.0, "frequency_domain": 80.0}
+
+
+def _check_spectrum_memory(
+    n_samples: int, factor: int, method: str, histories: int = 0, pad: int = 0
+) -> None:
+    """Refuse a response spectrum whose upsampled record (``factor`` times ``n_samples``, plus
+    the free-vibration ``pad``) and ``histories`` kept would pass the memory budget."""
+    fine = float(n_samples + pad) * factor
+    check_memory(
+        fine * (SPECTRUM_BYTES_PER_FINE_SAMPLE.get(method, 80.0) + 8.0 * histories),
+        f"the response spectrum of {n_samples} samples upsampled {factor} times ({method})",
+        "a shortest period nearer 10 dt (it sets the upsampling)",
+    )
+
+
 def peak_displacements_m(
     acc_m_s2: ArrayLike,
     dt_s: float,
@@ -263,6 +283,9 @@ def peak_displacements_m(
     acc = check_record(acc_m_s2, dt_s)
     periods = check_periods(period_s)
     zeta = check_damping(damping)
+    _check_spectrum_memory(
+        acc.size, int(upsampling_factors(periods, dt_s, points_per_period).max()), method
+    )
     if method == "nigam_jennings":
         peak, _ = _kernels()
         out = np.empty(periods.size)
@@ -286,7 +309,9 @@ def displacement_histories_m(
 ) -> NDArray[np.float64]:
     """Relative displacement histories [m], shape ((N-1)·factor+1, P), at step dt_s/factor."""
     _, histories = _kernels()
-    fine = upsample(check_record(acc_m_s2, dt_s), factor)
+    record = check_record(acc_m_s2, dt_s)
+    _check_spectrum_memory(record.size, factor, "nigam_jennings", histories=np.size(period_s))
+    fine = upsample(record, factor)
     coeffs = nigam_jennings_coefficients(
         2 * np.pi / period_s, check_damping(damping), dt_s / factor
     )
@@ -313,6 +338,7 @@ def _frequency_domain_peaks(
         omegas = 2 * np.pi / periods[index]
         # Zero padding holds the free vibration after the record (8 decay times ≈ e^-8).
         pad = math.ceil(8.0 / (zeta * omegas.min()) / dt_s)
+        _check_spectrum_memory(n, factor, "frequency_domain", pad=pad)
         nfft = next_fast_len(n + pad, real=True)
         spectrum = rfft(acc, nfft)
         nfine = nfft * factor

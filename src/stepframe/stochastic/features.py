@@ -47,7 +47,9 @@ strong-motion frames (I_g ≥ threshold · max). Degraded results are listed in 
 
 from __future__ import annotations
 
+import functools
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Literal, Protocol
 
@@ -55,6 +57,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from stepframe.core import validation
+from stepframe.core.memory import check_memory
 from stepframe.errors import InputError
 from stepframe.stochastic.envelope import DEFAULT_DURATION_THRESHOLD
 from stepframe.stochastic.methods import DEFAULT_FREQUENCY_METHOD, FrequencyMethod
@@ -66,7 +69,9 @@ from stepframe.stochastic.transforms import (
     crossing_positions,
     hann_kernel,
     record_samples,
+    stft_grid,
     stft_power,
+    stft_power_blocks,
 )
 
 if TYPE_CHECKING:
@@ -231,17 +236,52 @@ def smooth(values: NDArray[np.float64], kernel: NDArray[np.float64]) -> NDArray[
 def crossing_density(
     data: NDArray[np.float64], dt_s: float, frames: NDArray[np.float64], window_s: float
 ) -> NDArray[np.float64]:
-    """Zero crossings per second (both directions) at ``frames`` [s], Hann-smoothed."""
+    """Zero crossings per second (both directions) at ``frames`` [s], Hann-smoothed.
+
+    The crossings are binned on the samples and smoothed by :func:`smooth`'s kernel average,
+    linearly interpolated between samples at ``frames``; the average is evaluated at the
+    samples the frames need only (:func:`smooth_at`), so the work and the memory scale with
+    the frames, not with the samples times the kernel.
+    """
+    n = data.size
     position = crossing_positions(data)
-    idx = np.minimum(position.astype(np.int64), data.size - 2)  # a crossing at the last sample
+    idx = np.minimum(position.astype(np.int64), n - 2)  # a crossing at the last sample
     frac = position - idx
     # Split each crossing between the two neighbouring samples (linear binning): smooth, unbiased.
-    counts = np.zeros(data.size)
-    np.add.at(counts, idx, 1.0 - frac)
-    np.add.at(counts, idx + 1, frac)
+    counts = np.asarray(
+        np.bincount(idx, 1.0 - frac, minlength=n) + np.bincount(idx + 1, frac, minlength=n),
+        dtype=np.float64,
+    )
+    del position, idx, frac
     kernel = hann_kernel(window_s, dt_s)
-    rate = smooth(counts, kernel) / dt_s
-    return np.asarray(np.interp(frames, np.arange(data.size) * dt_s, rate))
+    # np.interp on the sample times: a frame on a sample takes that sample's value.
+    where = np.clip(np.asarray(frames, dtype=np.float64) / dt_s, 0.0, n - 1.0)
+    nearest = np.rint(where)
+    where = np.where(np.abs(where - nearest) < 1e-9, nearest, where)
+    low = np.minimum(np.floor(where).astype(np.int64), n - 2)
+    share = where - low
+    needed = np.unique(np.concatenate([low, low[share > 0] + 1]))
+    rate = smooth_at(counts, kernel, needed) / dt_s
+    at_low = rate[np.searchsorted(needed, low)]
+    at_high = rate[np.searchsorted(needed, np.where(share > 0, low + 1, low))]
+    return np.asarray(np.where(share > 0, at_low * (1.0 - share) + at_high * share, at_low))
+
+
+def smooth_at(
+    values: NDArray[np.float64], kernel: NDArray[np.float64], at: NDArray[np.int64]
+) -> NDArray[np.float64]:
+    """:func:`smooth` of ``values`` at the indices ``at`` only (odd, symmetric ``kernel``):
+    the kernel average over the samples inside the series, a block of indices at a time."""
+    half = kernel.size // 2
+    offsets = np.arange(-half, half + 1)
+    out = np.empty(at.size)
+    step = max(1, (1 << 21) // kernel.size)  # 16 MB of gathered values per block
+    for start in range(0, at.size, step):
+        where = at[start : start + step, None] + offsets[None, :]
+        inside = (where >= 0) & (where < values.size)
+        gathered = np.where(inside, values[np.clip(where, 0, values.size - 1)], 0.0)
+        out[start : start + step] = (gathered @ kernel) / (inside @ kernel)
+    return out
 
 
 def spectral_moments(
@@ -405,12 +445,16 @@ class FrameSpectra:
         Smoothing window and frame spacing [s].
     time_s
         Frame centres [s], shape ``(n,)``.
-    omega, psd
-        STFT frequencies ω ≥ 0 [rad/s] and two-sided PSD, shape ``(n, m)``.
+    omega
+        STFT frequencies ω ≥ 0 [rad/s], shape ``(m,)``.
     window
         The STFT window (samples).
     omega_moment_rad_s
         √(λ2/λ0 - σ_w²) per frame [rad/s] (NaN where undefined).
+    spectrum
+        Computes the two-sided PSD, shape ``(n, m)``: :attr:`psd`, computed when an estimator
+        first asks for it (frames × frequencies is the largest array of the features: on a
+        long record, several times the record's size).
     """
 
     data: NDArray[np.float64]
@@ -419,9 +463,14 @@ class FrameSpectra:
     hop_s: float
     time_s: NDArray[np.float64]
     omega: NDArray[np.float64]
-    psd: NDArray[np.float64]
     window: NDArray[np.float64]
     omega_moment_rad_s: NDArray[np.float64]
+    spectrum: Callable[[], NDArray[np.float64]] = field(repr=False, compare=False)
+
+    @functools.cached_property
+    def psd(self) -> NDArray[np.float64]:
+        """STFT two-sided PSD, shape ``(n, m)`` [(m/s²)²·s/rad] (computed on first use)."""
+        return self.spectrum()
 
 
 @dataclass(frozen=True)
@@ -517,6 +566,46 @@ def _estimator_name(frequency: str | FrequencyEstimator) -> str:
     return frequency if isinstance(frequency, str) else getattr(frequency, "__name__", "custom")
 
 
+#: Memory of the features beside the record [bytes per sample], per estimator, measured on
+#: records of 6·10⁵ and 3·10⁶ samples at dt = 5 ms (docs/benchmarks.md, "Memory"): the
+#: estimators that work on the samples hold a few record-long arrays at once; the multiwindow
+#: estimator's smoothing bank holds one per rung of its ladder.
+FEATURES_BYTES_PER_SAMPLE = {
+    "zero-crossing": 48.0,
+    "moment": 48.0,
+    "ridge": 48.0,
+    "multiwindow": 420.0,
+    "wavelet-ridge": 120.0,
+}
+#: Memory of the features whatever the record's length [bytes]: a block of STFT frames and
+#: the fit's small arrays.
+FEATURES_FIXED_BYTES = 64 * 1024**2
+
+
+def features_memory_bytes(
+    npts: int,
+    dt_s: float,
+    frequency: FrequencyMethod | FrequencyEstimator = DEFAULT_FREQUENCY_METHOD,
+    *,
+    window_s: float = DEFAULT_WINDOW_S,
+    hop_s: float = DEFAULT_HOP_S,
+) -> float:
+    """The peak memory :func:`record_features` needs beside the record [bytes] (an estimate:
+    :data:`FEATURES_BYTES_PER_SAMPLE` per sample; the whole PSD, frames × frequencies, for
+    the estimators that read it, and the Morlet bands for the wavelet ridge; a custom
+    estimator is counted as one that reads the PSD)."""
+    name = _estimator_name(frequency)
+    per_sample = FEATURES_BYTES_PER_SAMPLE.get(name, 48.0)
+    frames = npts * dt_s / max(hop_s, dt_s) + 1
+    bins = 2 ** max(math.ceil(math.log2(max(window_s / dt_s, 1.0))), 4) // 2 + 1
+    need = FEATURES_FIXED_BYTES + per_sample * npts
+    if name == "ridge" or name not in FEATURES_BYTES_PER_SAMPLE:
+        need += 2.2 * 8 * frames * bins  # the PSD and its power temporaries
+    if name == "wavelet-ridge":
+        need += 2 * 8 * frames * 160  # the bands' power, and the ridge's weighted copy
+    return need
+
+
 def record_features(
     record_or_array: Trace | ArrayLike,
     dt_s: float | None = None,
@@ -574,6 +663,16 @@ def record_features(
     # Finite and at most 10⁶ s (a window longer than the record is refused further on).
     validation.length("window_s", window_s)
     validation.length("hop_s", hop_s)
+    check_memory(
+        features_memory_bytes(data.size, dt, frequency, window_s=window_s, hop_s=hop_s),
+        f"computing the features of {data.size} samples ({_estimator_name(frequency)})",
+        "a shorter record"
+        + (
+            ""
+            if _estimator_name(frequency) == "zero-crossing"
+            else ", or --frequency zero-crossing"
+        ),
+    )
     if omega_max_rad_s is not None:
         validation.positive("omega_max_rad_s", omega_max_rad_s)
     nyquist = math.pi / dt
@@ -583,11 +682,16 @@ def record_features(
             f"band up to {omega_max_rad_s:.4g} rad/s, expected dt < π/omega_max"
         )
     flags: list[str] = []
-    time_s, omega, psd, window = stft_power(data, dt, window_s=window_s, hop_s=hop_s, fft=fft)
+    # The frames' spectral moments, a block of frames at a time: the PSD itself (frames ×
+    # frequencies) is computed whole only for an estimator that asks for it.
+    grid = stft_grid(data.size, dt, window_s=window_s, hop_s=hop_s)
+    time_s, omega, window = grid.time_s, grid.omega_rad_s, grid.window
+    lam0, lam1, lam2 = (np.empty(time_s.size) for _ in range(3))
+    for frames, block in stft_power_blocks(data, dt, grid, fft=fft):
+        lam0[frames], lam1[frames], lam2[frames] = spectral_moments(omega, block)
     hop = float(time_s[1] - time_s[0]) if time_s.size > 1 else dt
-    intensity = np.sqrt(np.maximum(np.trapezoid(psd, omega, axis=-1) / math.pi, 0.0))
+    intensity = np.sqrt(np.maximum(lam0 / math.pi, 0.0))
     peak = float(intensity.max())
-    lam0, lam1, lam2 = spectral_moments(omega, psd)
     spread2 = window_spread_rad_s(window, dt) ** 2
     with np.errstate(invalid="ignore", divide="ignore"):
         m2 = np.where(lam0 > 0, lam2 / lam0, np.nan) - spread2
@@ -596,8 +700,11 @@ def record_features(
         q = np.sqrt(np.clip(1.0 - m1**2 / m2, 0.0, 1.0))
     zeta = np.interp(q, _Q_TABLE, _ZETA_TABLE)
     estimate = _estimator(frequency)(
-        FrameSpectra(data, dt, window_s, hop, time_s, omega, psd, window, omega_moment)
-    )
+        FrameSpectra(
+            data, dt, window_s, hop, time_s, omega, window, omega_moment,
+            spectrum=functools.partial(_whole_psd, data, dt, window_s, hop_s, fft),
+        )
+    )  # fmt: skip
     omega_g, omega_kernel = estimate.omega_g_rad_s, estimate.kernel
     floor = (
         np.full(time_s.shape, fixed_window_floor(window_s))
@@ -678,6 +785,13 @@ def record_features(
         omega_floor_rad_s=floor,
         omega_window_s=estimate.window_s,
     )
+
+
+def _whole_psd(
+    data: NDArray[np.float64], dt_s: float, window_s: float, hop_s: float, fft: FftBackend
+) -> NDArray[np.float64]:
+    """The record's whole STFT PSD (:func:`~stepframe.stochastic.transforms.stft_power`)."""
+    return stft_power(data, dt_s, window_s=window_s, hop_s=hop_s, fft=fft)[2]
 
 
 #: Factor on the envelope fit's Jacobian standard error of t_max, so that the truth lies within

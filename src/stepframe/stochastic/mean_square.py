@@ -45,6 +45,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from stepframe.core import validation
 from stepframe.core.jit import njit
+from stepframe.core.memory import check_memory
 from stepframe.core.results import Status
 from stepframe.errors import InputError
 from stepframe.stochastic.correlation import r_g
@@ -796,6 +797,15 @@ def _monte_carlo(
     if not (math.isfinite(mc_dt_s) and mc_dt_s > 0):
         raise InputError(f"mc_dt_s = {mc_dt_s}, expected a positive number")
     sub = max(1, math.ceil(h_grid / mc_dt_s))  # substeps per grid step
+    n_fine = (grid.size - 1) * sub + 1
+    # x² of each oscillator and motion on the grid; the motions (and their white noise and
+    # forcing) and each oscillator's ω and step matrices on the fine grid.
+    check_memory(
+        8.0 * (omega_0.size * n_realisations * grid.size + n_fine * (3 * n_realisations + 12)),
+        f"a Monte Carlo of {n_realisations} motions of {n_fine} steps for {omega_0.size} "
+        "oscillator(s)",
+        "fewer motions, frequencies or time steps",
+    )
     h = h_grid / sub
     fine = grid[0] + h * np.arange((grid.size - 1) * sub + 1)
     duration = float(fine[-1] - fine[0])
@@ -976,6 +986,18 @@ METHODS: dict[str, MeanSquareMethodFunction] = {
 }
 
 
+def check_mean_square_memory(n_oscillators: int, n_steps: int) -> None:
+    """Refuse a deterministic mean square (covariance or scalar) of ``n_oscillators`` over
+    ``n_steps`` time steps that would need more than the memory budget
+    (:func:`stepframe.core.memory.check_memory`): E[x²] and ω at the grid and at the midpoints
+    per oscillator, and the filter's tables per step, float64 each."""
+    check_memory(
+        8.0 * (n_steps + 1) * (3 * n_oscillators + 20),
+        f"the mean square of {n_oscillators} oscillator(s) over {n_steps} time steps",
+        "fewer frequencies or time steps",
+    )
+
+
 def mean_square_response(
     model: GroundMotionModel,
     omega: OmegaSpec | float | Callable[[Floats], ArrayLike],
@@ -1047,6 +1069,7 @@ def mean_square_response(
         _FrameLaw(spec) if isinstance(spec, FrameDriven) else _Path(spec, model, grid)
     )
     env = _envelope_fn(model, envelope, peak_intensity)
+    check_mean_square_memory(np.atleast_1d(path.omega_0).size, grid.size - 1)
     problem = MeanSquareProblem(
         model, path, float(xi0), grid, env, n_realisations, seed, confidence, mc_dt_s, keep_samples
     )

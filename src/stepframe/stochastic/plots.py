@@ -215,40 +215,51 @@ def amplification_figure(
     return figure
 
 
-def mark_site_frequencies(ax: Axes, model: GroundMotionModel, *, axis: str = "x") -> None:
-    """Dotted lines at f_p, f_s, f_r [Hz], labelled at the top of the axes."""
+#: Least distance [in] between two labels of the site-frequency scale: a label, turned upright,
+#: is about 0.12 in wide at 8 pt; closer frequencies share one label.
+LABEL_ROOM_IN = 0.2
+
+
+def mark_site_frequencies(ax: Axes, model: GroundMotionModel) -> None:
+    """Dotted lines at f_p, f_s, f_r [Hz], labelled on a scale above the axes.
+
+    The labels sit outside the plotting area, upright, where no curve, legend or marker can
+    cover them (frequencies closer than :data:`LABEL_ROOM_IN` share one label), and the x range
+    is widened to include all three (a site's f_p of 15-20 Hz lies beyond a 0.1-10 Hz grid; it
+    is shown, not dropped).
+    """
     names = (
-        ("f_p", model.omega_p_rad_s),
-        ("f_s", model.omega_s_rad_s),
-        ("f_r", model.omega_r_rad_s),
+        ("f_r", model.omega_r_rad_s, "#0969da"),
+        ("f_s", model.omega_s_rad_s, "#bf3989"),
+        ("f_p", model.omega_p_rad_s, "#8250df"),
     )
-    for (name, omega), colour in zip(names, ("#8250df", "#bf3989", "#0969da"), strict=True):
-        f = omega / TWO_PI
-        if axis == "x":
-            ax.axvline(f, color=colour, ls=":", lw=1.2)
-            ax.annotate(
-                f"{name} = {f:.3g} Hz",
-                (f, 1.0),
-                xycoords=("data", "axes fraction"),
-                xytext=(2, -2),
-                textcoords="offset points",
-                rotation=90,
-                va="top",
-                fontsize=8,
-                color=colour,
-            )
-        else:
-            ax.axhline(f, color=colour, ls=":", lw=1.0)
-            ax.annotate(
-                f"{name} = {f:.3g} Hz",
-                (1.0, f),
-                xycoords=("axes fraction", "data"),
-                xytext=(-2, 2),
-                textcoords="offset points",
-                ha="right",
-                fontsize=8,
-                color=colour,
-            )
+    frequencies = [omega / TWO_PI for _, omega, _ in names]
+    low, high = ax.get_xlim()
+    low, high = min(low, min(frequencies) / 1.25), max(high, max(frequencies) * 1.25)
+    ax.set_xlim(low, high)
+    for (_, _, colour), f in zip(names, frequencies, strict=True):
+        ax.axvline(f, color=colour, ls=":", lw=1.2)
+    figure = ax.get_figure(root=True)
+    assert figure is not None  # the axes were made by a figure's add_subplot
+    # the axes' width before the layout engine runs, less what an outside legend may take
+    width_in = 0.5 * ax.get_position().width * figure.get_figwidth()
+    decades = math.log10(high / low)
+    ticks: list[float] = []
+    texts: list[str] = []
+    colours: list[str] = []
+    for (name, _, colour), f in zip(names, frequencies, strict=True):
+        if ticks and math.log10(f / ticks[-1]) / decades * width_in < LABEL_ROOM_IN:
+            texts[-1] = texts[-1].removesuffix(" Hz") + f", {name} {f:.3g} Hz"
+            continue
+        ticks.append(f)
+        texts.append(f"{name} {f:.3g} Hz")
+        colours.append(colour)
+    top = ax.secondary_xaxis("top")
+    top.set_xticks(ticks, texts)
+    top.minorticks_off()
+    top.tick_params(labelsize=8, length=3, labelrotation=90)
+    for label, colour in zip(top.get_xticklabels(), colours, strict=True):
+        label.set_color(colour)
 
 
 def omega_path_figure(
@@ -258,7 +269,9 @@ def omega_path_figure(
 
     The STFT spectrum S(ω, t) is the background (dB relative to its peak, 40 dB range); the
     zero-crossing estimate of ω_g(t)/2π is drawn where it entered the fit (strong motion) and
-    greyed outside, the fitted eq. 6.10 path over it, t_max and t_dur as vertical lines.
+    greyed outside, the fitted eq. 6.10 path over it, t_0 + t_max and t_0 + t_dur as vertical
+    lines (the axis is record time; the legend gives t_max and t_dur after t_0, as the fit's
+    table does).
     """
     from matplotlib.figure import Figure
 
@@ -285,22 +298,44 @@ def omega_path_figure(
     )
     t = np.linspace(features.t0_s, float(time[-1]), 400)
     ax.plot(t, fitted.omega_g(t) / TWO_PI, color="#58a6ff", lw=2.2, label="fitted path, eq. 6.10")
+    # drawn in record time, labelled as the parameter table states them (after t_0)
     for value, label, style in (
-        (features.t0_s + fitted.t_max_s, "t_max", "--"),
-        (features.t0_s + fitted.t_dur_s, "t_dur", ":"),
+        (fitted.t_max_s, "t_max", "--"),
+        (fitted.t_dur_s, "t_dur", ":"),
     ):
-        ax.axvline(value, color="white", ls=style, lw=1.2, label=f"{label} = {value:.3g} s")
+        ax.axvline(
+            features.t0_s + value,
+            color="white",
+            ls=style,
+            lw=1.2,
+            label=f"t_0 + {label}, {label} = {value:.3g} s",
+        )
     ax.set_ylim(0, top)
     ax.set_xlim(float(time[0]), float(time[-1]))
     ax.set_xlabel("time from record start [s]")
     ax.set_ylabel("frequency [Hz]")
-    ax.set_title(f"{name}: dominant frequency over the evolutionary spectrum")
+    ax.set_title(f"{name}: dominant frequency over the evolutionary spectrum", fontsize=10)
     ax.legend(loc="upper right", fontsize=8, framealpha=0.85)
     return fig
 
 
-def spectral_ratio_figure(model: GroundMotionModel, *, site: str) -> Figure:
-    """Eq. 6.18's spectral ratio over 0.1-10 Hz with eq. 6.19's two approximations (the paper's)."""
+def frequency_range_hz(
+    model: GroundMotionModel, low_hz: float = 0.1, high_hz: float = 10.0
+) -> tuple[float, float]:
+    """[low, high] widened to hold the site's f_r and f_p with a margin (a factor 1.25) [Hz]."""
+    f_r, f_p = model.omega_r_rad_s / TWO_PI, model.omega_p_rad_s / TWO_PI
+    return min(low_hz, f_r / 1.25), max(high_hz, f_p * 1.25)
+
+
+def spectral_ratio_figure(
+    model: GroundMotionModel, *, site: str, range_hz: tuple[float, float] = (0.1, 10.0)
+) -> Figure:
+    """Eq. 6.18's spectral ratio with eq. 6.19's two approximations (the paper's figure).
+
+    Drawn over ``range_hz`` widened to hold the site's f_r and f_p
+    (:func:`frequency_range_hz`): eq. 6.18 is closed-form, so it is drawn wherever the site's
+    frequencies are.
+    """
     from matplotlib.figure import Figure
 
     from stepframe.stochastic.amplification import (
@@ -309,9 +344,10 @@ def spectral_ratio_figure(model: GroundMotionModel, *, site: str) -> Figure:
         spectral_ratio_eq_6_18,
     )
 
-    f = np.geomspace(0.1, 10.0, 300)
+    low, high = frequency_range_hz(model, *range_hz)
+    f = np.geomspace(low, high, 400)
     ratio = spectral_ratio_eq_6_18(model, TWO_PI * f)
-    fig = Figure(figsize=(8.0, 4.6), layout="constrained")
+    fig = Figure(figsize=(9.5, 4.6), layout="constrained")
     ax = fig.add_subplot()
     ax.loglog(f, ratio, color="C0", lw=2, label="spectral ratio, eq. 6.18")
     first = approx_eq_6_19_first(model)
@@ -320,12 +356,14 @@ def spectral_ratio_figure(model: GroundMotionModel, *, site: str) -> Figure:
     ax.axhline(
         last, color="C1", ls="-.", label=f"eq. 6.19, last approximation (ω_p/ω_s)² = {last:.3g}"
     )
+    ax.set_xlim(low, high)
     mark_site_frequencies(ax, model)
     ax.set_xlabel("oscillator frequency f_0 [Hz]")
     ax.set_ylabel("ratio of spectral densities [-]")
-    ax.set_title(f"{site}: spectral ratio at t_max (α reading: {model.alpha_reading})")
+    ax.set_title(f"{site}: spectral ratio at t_max (α reading: {model.alpha_reading})", fontsize=10)
     ax.grid(True, which="both", lw=0.3)
-    ax.legend(fontsize=8, loc="lower left")
+    # outside the axes: the ratio spans decades, and a legend inside would cover some of them
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
     return fig
 
 
@@ -341,18 +379,27 @@ def response_amplification_figure(
     | None = None,
     band_hz: tuple[float, float] | None = None,
     frame_point: tuple[float, float, bool] | None = None,
+    parameter_band: tuple[NDArray[np.float64], NDArray[np.float64], str] | None = None,
+    on_grid: NDArray[np.bool_] | None = None,
 ) -> Figure:
-    """Response amplification against small-amplitude frequency, with Monte Carlo intervals.
+    """Response amplification against small-amplitude frequency, with its uncertainty.
 
     Parameters
     ----------
     monte_carlo
-        ``(frequencies [Hz], median ratio, (n, 2) interval, N)`` of the Monte Carlo check.
+        ``(frequencies [Hz], median ratio, (n, 2) interval, N)`` of the Monte Carlo check of
+        the covariance method (synthetic motions).
     band_hz
         The frame's band [f(A_max), f_1] [Hz], shaded.
     frame_point
         ``(f_1 [Hz], amplification, lower_bound)`` of the frame-driven run; a lower bound is an
         open marker with an upward arrow.
+    parameter_band
+        ``(low, high, label)`` at ``frequencies_hz``: the band from the site parameters'
+        standard errors, shaded along the whole curve.
+    on_grid
+        Which points are on the f0 grid asked for; the others (added past an edge to find a
+        maximum) are drawn thinner and the grid's edges marked.
     """
     from matplotlib.figure import Figure
 
@@ -360,12 +407,21 @@ def response_amplification_figure(
     ax = fig.add_subplot()
     if band_hz is not None:
         ax.axvspan(*band_hz, color="#ddf4ff", label="frame's band [f(A_max), f_1]")
+    if parameter_band is not None:
+        low, high, label = parameter_band
+        ax.fill_between(frequencies_hz, low, high, color="C3", alpha=0.18, lw=0, label=label)
     ax.semilogx(
         frequencies_hz, vs_fixed, color="C3", lw=2, label="vs fixed oscillator (covariance)"
     )
     ax.semilogx(
         frequencies_hz, vs_stationary, color="C3", ls="--", label="vs stationary RMS (covariance)"
     )
+    if on_grid is not None and not np.all(on_grid):
+        grid = frequencies_hz[on_grid]
+        for edge in (grid[0], grid[-1]):
+            ax.axvline(edge, color="0.35", lw=0.8, ls=(0, (6, 3)))
+        ax.plot([], [], color="0.35", lw=0.8, ls=(0, (6, 3)),
+                label="edges of the f0 grid asked (extended to find the maxima)")  # fmt: skip
     if monte_carlo is not None:
         f_mc, median, interval, count = monte_carlo
         ax.errorbar(
@@ -376,7 +432,7 @@ def response_amplification_figure(
             color="k",
             ms=4,
             capsize=3,
-            label=f"Monte Carlo vs fixed, N = {count} (95 % interval)",
+            label=f"Monte Carlo check, N = {count} motions (95 % interval)",
         )
     if frame_point is not None:
         f1, value, lower = frame_point
@@ -400,7 +456,10 @@ def response_amplification_figure(
     ax.axhline(1.0, color="0.4", lw=0.8)
     ax.set_xlabel("small-amplitude oscillator frequency f_0 [Hz]")
     ax.set_ylabel("peak-RMS ratio [-]")
-    ax.set_title(f"{site}: response amplification, tracking ω(t) = ω_0·ω_g(t)/ω_p, ξ_0 = {xi0:.3g}")
+    ax.set_title(
+        f"{site}: response amplification, tracking ω(t) = ω_0·ω_g(t)/ω_p, ξ_0 = {xi0:.3g}",
+        fontsize=10,
+    )
     ax.grid(True, which="both", lw=0.3)
     # outside the axes: the curves rise at both ends, where a legend inside would hide them
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
@@ -409,9 +468,11 @@ def response_amplification_figure(
 
 __all__ = [
     "ENERGY_SHARE",
+    "LABEL_ROOM_IN",
     "amplification_figure",
     "energy_band_hz",
     "fit_figure",
+    "frequency_range_hz",
     "mark_site_frequencies",
     "omega_path_figure",
     "response_amplification_figure",

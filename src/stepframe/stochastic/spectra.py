@@ -32,10 +32,12 @@ from typing import TYPE_CHECKING, Any, Protocol
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from stepframe.core.memory import check_memory
 from stepframe.errors import InputError
 from stepframe.stochastic.features import (
     FrequencyEstimator,
     TimeOrigin,
+    features_memory_bytes,
     fixed_window_floor,
     record_features,
 )
@@ -159,6 +161,27 @@ def _spectrum_method(method: str | SpectrumFunction) -> SpectrumFunction:
         ) from None
 
 
+def spectrum_memory_bytes(
+    npts: int,
+    dt_s: float,
+    method: SpectrumMethod | SpectrumFunction = "stft",
+    *,
+    window_s: float = DEFAULT_WINDOW_S,
+    hop_s: float = DEFAULT_HOP_S,
+) -> float:
+    """The peak memory of :func:`evolutionary_spectrum` [bytes] (an estimate): the spectrum,
+    frames × frequencies, three times over (its power, the array returned and the copy a
+    NetCDF file or a figure makes), and, for the parametric method, the features."""
+    frames = npts * dt_s / max(hop_s, dt_s) + 1
+    bins = 2 ** max(math.ceil(math.log2(max(window_s / dt_s, 1.0))), 4) // 2 + 1
+    if method == "wavelet":
+        bins = 96
+    need = 3.0 * 8 * frames * bins
+    if method == "parametric":
+        need += features_memory_bytes(npts, dt_s, window_s=window_s, hop_s=hop_s)
+    return float(need)
+
+
 def evolutionary_spectrum(
     record_or_array: Trace | ArrayLike,
     dt_s: float | None = None,
@@ -220,6 +243,11 @@ def evolutionary_spectrum(
         raise InputError(f"hop_s = {hop_s}, expected a positive number of seconds")
     data, dt = record_samples(record_or_array, dt_s)
     options = SpectrumOptions(window_s, hop_s, fft, omega_rad_s, morlet_q, t0, frequency)
+    check_memory(
+        spectrum_memory_bytes(data.size, dt, method, window_s=window_s, hop_s=hop_s),
+        f"computing the evolutionary spectrum of {data.size} samples (frames every {hop_s:g} s)",
+        "a shorter record or a longer hop_s",
+    )
     time_s, omega, psd, found = _spectrum_method(method)(data, dt, options)
     name = method if isinstance(method, str) else getattr(method, "__name__", "custom")
     found = dict(found)

@@ -10,7 +10,9 @@ this module and none of them imports another to reach a transform. Conventions (
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from contextlib import AbstractContextManager, nullcontext
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
@@ -102,6 +104,91 @@ def window_samples(window_s: float, dt_s: float, npts: int) -> int:
     return m
 
 
+#: Memory of one block of STFT frames in :func:`stft_power_blocks` [bytes]: the windowed
+#: frames, their complex spectra and the power of a block are about this much, whatever the
+#: record's length (a whole 1.5·10⁷-sample record's took 8 GB at once).
+STFT_BLOCK_BYTES = 32 * 1024**2
+
+
+@dataclass(frozen=True)
+class StftGrid:
+    """The frames of an STFT: their centres, the frequencies, the window and the blocks.
+
+    Attributes
+    ----------
+    time_s
+        Frame centres [s] from the record start (0, hop, ..., covering the record).
+    omega_rad_s
+        Frequencies 0 ... π/dt [rad/s].
+    window
+        The Hann window (samples).
+    hop
+        Frame spacing [samples].
+    mfft
+        FFT length [samples].
+    mid
+        Index of the window's centre sample.
+    """
+
+    time_s: NDArray[np.float64]
+    omega_rad_s: NDArray[np.float64]
+    window: NDArray[np.float64]
+    hop: int
+    mfft: int
+    mid: int
+
+    @property
+    def frames_per_block(self) -> int:
+        """Frames transformed at once (:data:`STFT_BLOCK_BYTES` of work)."""
+        per_frame = 8 * self.window.size + 16 * (self.mfft // 2 + 1) + 24 * self.omega_rad_s.size
+        return max(1, STFT_BLOCK_BYTES // per_frame)
+
+
+def stft_grid(npts: int, dt_s: float, *, window_s: float, hop_s: float) -> StftGrid:
+    """The frame grid of :func:`stft_power` for a record of ``npts`` samples at ``dt_s``."""
+    from scipy.signal import ShortTimeFFT
+    from scipy.signal.windows import hann
+
+    m = window_samples(window_s, dt_s, npts)
+    hop = max(1, round(hop_s / dt_s))
+    win = hann(m, sym=False) if m % 2 == 0 else hann(m, sym=True)
+    mfft = 1 << max(math.ceil(math.log2(m)), 4)
+    stft = ShortTimeFFT(win, hop, 1.0 / dt_s, fft_mode="onesided", mfft=mfft)
+    p1 = (npts - 1) // hop + 1
+    time_s = np.arange(p1, dtype=np.float64) * hop * dt_s
+    omega = 2 * math.pi * np.asarray(stft.f, dtype=np.float64)
+    return StftGrid(time_s, omega, np.asarray(win, dtype=np.float64), hop, mfft, stft.m_num_mid)
+
+
+def stft_power_blocks(
+    data: NDArray[np.float64], dt_s: float, grid: StftGrid, *, fft: FftBackend = "scipy"
+) -> Iterator[tuple[slice, NDArray[np.float64]]]:
+    """The STFT power of :func:`stft_power`, a block of frames at a time: ``(frames, psd)``
+    with ``psd`` of shape (frames, omega), each block holding :data:`STFT_BLOCK_BYTES` or so.
+
+    Frame p is centred on sample p·hop (zeros outside the record), as in scipy's
+    ``ShortTimeFFT``; each frame's values and FFT are those of the whole-record transform.
+    """
+    import scipy.fft as sfft
+
+    m, hop, win = grid.window.size, grid.hop, grid.window
+    scale = dt_s / float(np.sum(win**2))
+    n_frames, step = grid.time_s.size, grid.frames_per_block
+    with fft_backend(fft):
+        for p0 in range(0, n_frames, step):
+            p1 = min(n_frames, p0 + step)
+            # The samples of frames p0..p1-1: from p0·hop - mid, padded with zeros at the ends.
+            start = p0 * hop - grid.mid
+            stop = (p1 - 1) * hop - grid.mid + m
+            segment = np.zeros(stop - start)
+            lo, hi = max(start, 0), min(stop, data.size)
+            if hi > lo:
+                segment[lo - start : hi - start] = data[lo:hi]
+            frames = np.lib.stride_tricks.sliding_window_view(segment, m)[::hop][: p1 - p0]
+            spec = sfft.rfft(frames * win, n=grid.mfft, axis=-1)
+            yield slice(p0, p1), scale * (spec.real**2 + spec.imag**2)
+
+
 def stft_power(
     data: NDArray[np.float64],
     dt_s: float,
@@ -116,9 +203,11 @@ def stft_power(
     Both engines use the window, frequencies and slice positions of one scipy ``ShortTimeFFT``
     (slice p centred on sample p·hop, zeros outside the record) and FFTs through ``scipy.fft``
     (so pyFFTW or scipy's own per ``fft``). ``"shorttimefft"`` calls ``ShortTimeFFT.stft``,
-    which transforms one slice per Python call; ``"batched"`` (default) transforms all slices
-    in one ``scipy.fft.rfft`` call on a strided view, 5-10x faster on records of a few thousand
-    samples; the two agree to rounding (tests/stochastic/test_spectra.py).
+    which transforms one slice per Python call; ``"batched"`` (default) transforms the slices
+    a block at a time (:func:`stft_power_blocks`) in one ``scipy.fft.rfft`` call each on a
+    strided view, 5-10x faster on records of a few thousand samples; the two agree to
+    rounding (tests/stochastic/test_spectra.py). The whole PSD is (frames × frequencies):
+    what needs only a reduction of each frame (the features) reads the blocks instead.
 
     Returns
     -------
@@ -131,32 +220,21 @@ def stft_power(
     window : numpy.ndarray
         The Hann window used (for its known spectral spread).
     """
-    import scipy.fft as sfft
-    from scipy.signal import ShortTimeFFT
-    from scipy.signal.windows import hann
-
     if engine not in ("batched", "shorttimefft"):
         raise InputError(f"engine = {engine!r}, expected 'batched' or 'shorttimefft'")
-    npts = data.size
-    m = window_samples(window_s, dt_s, npts)
-    hop = max(1, round(hop_s / dt_s))
-    win = hann(m, sym=False) if m % 2 == 0 else hann(m, sym=True)
-    mfft = 1 << max(math.ceil(math.log2(m)), 4)
-    stft = ShortTimeFFT(win, hop, 1.0 / dt_s, fft_mode="onesided", mfft=mfft)
-    p1 = (npts - 1) // hop + 1
-    with fft_backend(fft):
-        if engine == "shorttimefft":
-            spec = stft.stft(data, p0=0, p1=p1).T
-        else:
-            mid = stft.m_num_mid
-            padded = np.zeros(npts + m + hop)
-            padded[mid : mid + npts] = data
-            frames = np.lib.stride_tricks.sliding_window_view(padded, m)[: p1 * hop : hop]
-            spec = sfft.rfft(frames * win, n=mfft, axis=-1)
-    psd = (dt_s / float(np.sum(win**2))) * (spec.real**2 + spec.imag**2)
-    time_s = np.arange(p1, dtype=np.float64) * hop * dt_s
-    omega = 2 * math.pi * np.asarray(stft.f, dtype=np.float64)
-    return time_s, omega, np.ascontiguousarray(psd), np.asarray(win, dtype=np.float64)
+    grid = stft_grid(data.size, dt_s, window_s=window_s, hop_s=hop_s)
+    psd = np.empty((grid.time_s.size, grid.omega_rad_s.size))
+    if engine == "shorttimefft":
+        from scipy.signal import ShortTimeFFT
+
+        stft = ShortTimeFFT(grid.window, grid.hop, 1.0 / dt_s, fft_mode="onesided", mfft=grid.mfft)
+        with fft_backend(fft):
+            spec = stft.stft(data, p0=0, p1=grid.time_s.size).T
+        psd[:] = (dt_s / float(np.sum(grid.window**2))) * (spec.real**2 + spec.imag**2)
+    else:
+        for frames, block in stft_power_blocks(data, dt_s, grid, fft=fft):
+            psd[frames] = block
+    return grid.time_s, grid.omega_rad_s, psd, grid.window
 
 
 def wavelet_power(
@@ -242,14 +320,18 @@ def crossing_positions(data: NDArray[np.float64]) -> NDArray[np.float64]:
 __all__ = [
     "DEFAULT_HOP_S",
     "DEFAULT_WINDOW_S",
+    "STFT_BLOCK_BYTES",
     "FftBackend",
     "StftEngine",
+    "StftGrid",
     "cone_of_influence",
     "crossing_positions",
     "fft_backend",
     "hann_kernel",
     "record_samples",
+    "stft_grid",
     "stft_power",
+    "stft_power_blocks",
     "wavelet_power",
     "window_samples",
 ]

@@ -24,12 +24,15 @@ from typing import Any
 
 BROWSER_NAMES = ("chromium", "chromium-browser", "google-chrome", "chrome")
 
-#: Checks run in the page: figure and table counts, figures' rendered sizes.
+#: Checks run in the page: figure and table counts, figures' rendered sizes, and the texts each
+#: figure's image says reach past its edges (``data-clipped``, from
+#: ``stepframe.pipeline.reports.document.texts_outside``: matplotlib drops a glyph that would
+#: cross the PNG's edge, so the cut cannot be told from the pixels).
 PAGE_CHECK = """(() => {
   const figures = Array.from(document.querySelectorAll('figure img')).map(img => {
     const box = img.getBoundingClientRect();
     return {alt: img.alt, complete: img.complete, natural: [img.naturalWidth, img.naturalHeight],
-            box: [box.width, box.height]};
+            box: [box.width, box.height], clipped: img.dataset.clipped || ''};
   });
   const tables = Array.from(document.querySelectorAll('table')).map(t => ({
     headers: t.tHead ? t.tHead.rows[0].cells.length : 0,

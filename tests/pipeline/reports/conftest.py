@@ -161,6 +161,28 @@ def records_amplification_html(
 
 
 @pytest.fixture(scope="session")
+def arrivals_html(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The arrivals summary of a workflow run over two records of the example catalogue and
+    RSN 8883's two AT2 files (three horizontal pairs), with their fits."""
+    from stepframe.pipeline.catalogue.example_files import write_example_files
+    from stepframe.pipeline.engine.runner import run_workflow
+    from stepframe.pipeline.stages import shipped_stages
+
+    folder = tmp_path_factory.mktemp("arrivals")
+    write_example_files(folder / "inbox", count=4)
+    for path in sorted((HERE.parents[1] / "data" / "peer_nga_west2").glob("*.AT2")):
+        shutil.copy(path, folder / "inbox" / path.name)
+    (folder / "wf.toml").write_text(
+        'name = "nightly inbox"\n[records]\nfolder = "inbox"\n[outputs]\nfeatures = true\n'
+        "measures = true\nrotd50 = true\narrivals_report = true\n",
+        encoding="utf-8",
+    )
+    report = run_workflow(folder / "wf.toml", shipped_stages(), jobs=1)
+    assert report.exit_code == 0, report.missing
+    return folder / "stepframe-work" / "outputs" / "arrivals_report.html"
+
+
+@pytest.fixture(scope="session")
 def selection_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """A selection output folder built from real example records (selection_fixture.py)."""
     return Path(

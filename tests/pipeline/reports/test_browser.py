@@ -1,8 +1,9 @@
 """Each report opened in headless Chromium, offline, from a file:// URL.
 
 Checks: no console errors, no failed requests (networking is off: anything fetched from the
-network would fail), every figure decoded and drawn with a non-zero size, every table present
-with its header, and a full-page screenshot saved (docs/reports.md says where and how to view it).
+network would fail), every figure decoded and drawn with a non-zero size and no text cut at its
+edges (each image states the texts that reach past them), every table present with its header,
+and a full-page screenshot saved (docs/reports.md says where and how to view it).
 """
 
 from __future__ import annotations
@@ -23,7 +24,9 @@ def _expected_tables(html: Path) -> list[Any]:
     return list(document.iter("table"))
 
 
-@pytest.mark.parametrize("which", ["amplification", "records_amplification", "selection"])
+@pytest.mark.parametrize(
+    "which", ["amplification", "records_amplification", "selection", "arrivals"]
+)
 def test_report_renders_offline_in_chromium(
     which: str,
     request: pytest.FixtureRequest,
@@ -43,6 +46,7 @@ def test_report_renders_offline_in_chromium(
         assert figure["complete"], figure["alt"]
         assert min(figure["natural"]) > 100, figure["alt"]  # the PNG decoded
         assert min(figure["box"]) > 100, figure["alt"]  # and was laid out with a size
+        assert figure["clipped"] == "", figure["alt"]  # no text cut at the PNG's edges
     tables = _expected_tables(html)
     assert len(seen.tables) == len(tables) >= 3
     assert all(t["headers"] >= 2 for t in seen.tables)
@@ -72,3 +76,36 @@ def test_the_check_sees_network_use_and_errors(
     assert len(seen.failed_requests) >= 2
     assert any("broken" in message for message in seen.console_errors)
     assert seen.figures and seen.figures[0]["natural"] == [0, 0]
+
+
+def test_the_check_sees_a_text_cut_at_the_edge(
+    tmp_path: Path, browser: str, check_page: Callable[..., Any]
+) -> None:
+    """A long title is wrapped to fit; an axis label too long for its figure is cut, and the
+    page says so on the image, where the browser reads it."""
+    from matplotlib.figure import Figure as MplFigure
+
+    from stepframe.pipeline.reports.document import (
+        Report,
+        Section,
+        figure_from_matplotlib,
+        write_report,
+    )
+    from stepframe.pipeline.reports.provenance import collect_provenance
+
+    def figure(title: str, xlabel: str) -> Any:
+        drawn = MplFigure(figsize=(4, 3), layout="constrained")
+        ax = drawn.add_subplot()
+        ax.plot([0, 1], [0, 1])
+        ax.set_title(title)
+        ax.set_xlabel(xlabel)
+        return figure_from_matplotlib(drawn, key=xlabel[:4], title="t", alt=xlabel[:4],
+                                      how_to_read="-")  # fmt: skip
+
+    long = "a text far too long for a figure of this width, cut at both edges " * 2
+    wrapped, cut = figure(long, "f [Hz]"), figure("short", long)
+    assert wrapped.clipped == () and cut.clipped == (long,)
+    report = Report("cut", "", [], [Section("s", [wrapped, cut])], collect_provenance("pytest"))
+    page = write_report(report, tmp_path / "cut.html")
+    seen = check_page(page, tmp_path / "cut.png", browser=browser)
+    assert [f["clipped"] for f in seen.figures] == ["", long]

@@ -36,8 +36,8 @@ def test_command_line_round_trips_through_the_shell() -> None:
         ({"parameters": SITE}, "missing --t-max-s, expected all of --fp-hz"),
         ({"parameters": {"fp_hz": 7.43}, "records": "dir"}, "--records with --fp-hz"),
         ({"parameters": TIMED, "xi0": 1.0}, r"xi0 = 1.0, expected in \(0, 1\)"),
-        ({"parameters": TIMED, "monte_carlo": 1}, "monte_carlo = 1, expected 0 or ≥ 2"),
-        ({"parameters": TIMED, "n_steps": 99}, "n_steps = 99, expected ≥ 100"),
+        ({"parameters": TIMED, "monte_carlo": 1}, r"monte_carlo = 1, expected 0 or in \[2, 100000"),
+        ({"parameters": TIMED, "n_steps": 99}, r"n_steps = 99, expected in \[100, 1000000\]"),
         (
             {"parameters": SITE | {"t_max_s": 5, "t_dur_s": 20}, "delta_star_m": 0.2},
             "--delta-star-m without --frame",

@@ -11,15 +11,17 @@ the dataclasses below, so each option has one name, one default and one check
 - :class:`AmplificationAnalysis`: the oscillator's damping, the time grid, the f0 grid, the
   Monte Carlo check and the frame-driven run's intensity;
 - :class:`AmplifyOptions` (``stochastic amplify``), :class:`AmplificationOptions` (a report's
-  choices) and :class:`AmplificationReportOptions` (``report amplification``) built from them.
+  choices: the site's name, the frame's δ*, the band from the parameters' standard errors, the
+  search for maxima beyond the grid) and :class:`AmplificationReportOptions` (``report
+  amplification``) built from them.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Literal
 
-from stepframe.core.options import Range, check_fields, option
+from stepframe.core.options import SEEDS, Range, check_fields, option
 
 if TYPE_CHECKING:
     from stepframe.pipeline.amplification.site import SiteStatistic
@@ -35,7 +37,24 @@ DEFAULT_XI0 = 0.05
 #: Monte Carlo motions per check frequency in a report when not given (a single f0: none).
 REPORT_MONTE_CARLO = 50
 
-_POSITIVE = Range(0, low_open=True)
+#: Frequencies of a site and of an oscillator [Hz]: 100 Hz is past any accelerograph's band
+#: and any structure's small-amplitude frequency.
+_HERTZ = Range(0, 100, low_open=True)
+#: Bandwidth ratios ξ_p, ξ_r: from a nearly pure tone to a spectrum ten times wider than its
+#: centre (the paper's site: 0.096 and 0.655).
+_BANDWIDTH = Range(1e-3, 10)
+#: Times of a site's envelope [s]: up to 10⁶ s, the longest record the features accept.
+_SECONDS = Range(0, 1e6, low_open=True)
+#: Lengths of a frame [m] (a design displacement).
+_METRES = Range(0, 100, low_open=True)
+#: Parameter sets of the Monte Carlo band when not given (scrambled Sobol points): at N = 512 the
+#: band's edges move between seeds by at most 7.3 % of its half-width (median 3.4 %) for RSN
+#: 8883's site and the example catalogue's; 256 sets: 12 % (docs/benchmarks.md, "Issue 30").
+BAND_SAMPLES = 512
+
+#: How the band from the parameters' standard errors is computed
+#: (:func:`stepframe.pipeline.amplification.band.parameter_band`).
+BandMethod = Literal["monte-carlo", "delta", "none"]
 
 
 @dataclass(frozen=True)
@@ -48,19 +67,19 @@ class SiteParameters:
         "P-wave dominant f_p [Hz] (omega_p_rad_s/2π; `stochastic fit` prints both)",
         kind="positive",
         metavar="F",
-        valid=_POSITIVE,
+        valid=_HERTZ,
     )
     fs_hz: float | None = option(
-        None, "S-wave dominant f_s [Hz]", kind="positive", metavar="F", valid=_POSITIVE
+        None, "S-wave dominant f_s [Hz]", kind="positive", metavar="F", valid=_HERTZ
     )
     fr_hz: float | None = option(
-        None, "surface-wave f_r [Hz]", kind="positive", metavar="F", valid=_POSITIVE
+        None, "surface-wave f_r [Hz]", kind="positive", metavar="F", valid=_HERTZ
     )
     xi_p: float | None = option(
-        None, "bandwidth ratio ξ_p", kind="positive", metavar="X", valid=_POSITIVE
+        None, "bandwidth ratio ξ_p", kind="positive", metavar="X", valid=_BANDWIDTH
     )
     xi_r: float | None = option(
-        None, "bandwidth ratio ξ_r", kind="positive", metavar="X", valid=_POSITIVE
+        None, "bandwidth ratio ξ_r", kind="positive", metavar="X", valid=_BANDWIDTH
     )
     t_max_s: float | None = option(
         None,
@@ -68,14 +87,14 @@ class SiteParameters:
         "needed for eqs. 6.18-6.19 alone with --alpha-at-tmax paper",
         kind="positive",
         metavar="T",
-        valid=_POSITIVE,
+        valid=_SECONDS,
     )
     t_dur_s: float | None = option(
         None,
         "strong duration [s] (`stochastic fit` prints t_dur_s; the paper's site: 20)",
         kind="positive",
         metavar="T",
-        valid=_POSITIVE,
+        valid=_SECONDS,
     )
 
     @property
@@ -123,16 +142,16 @@ class AmplificationAnalysis:
         "time steps of the mean-square (covariance) integration (default %(default)s)",
         kind="int",
         metavar="N",
-        valid=Range(100),
+        valid=Range(100, 1_000_000),
     )
     f_min_hz: float = option(
-        0.1, "lowest f0 of the curve [Hz]", kind="positive", metavar="F", valid=_POSITIVE
+        0.1, "lowest f0 of the curve [Hz]", kind="positive", metavar="F", valid=_HERTZ
     )
     f_max_hz: float = option(
-        10.0, "highest f0 of the curve [Hz]", kind="positive", metavar="F", valid=_POSITIVE
+        10.0, "highest f0 of the curve [Hz]", kind="positive", metavar="F", valid=_HERTZ
     )
     n_frequencies: int = option(
-        60, "f0 values of the curve, log-spaced", kind="int", metavar="N", valid=Range(2)
+        60, "f0 values of the curve, log-spaced", kind="int", metavar="N", valid=Range(2, 10_000)
     )
     monte_carlo: int | None = option(
         None,
@@ -140,16 +159,16 @@ class AmplificationAnalysis:
         f"{REPORT_MONTE_CARLO} in a report, none for one f0)",
         kind="int",
         metavar="N",
-        valid=Range(2, also=(0,)),
+        valid=Range(2, 100_000, also=(0,)),
     )
-    seed: int = option(1, "Monte Carlo seed (default 1)", kind="int", valid=Range(0))
+    seed: int = option(1, "Monte Carlo seed (default 1)", kind="int", valid=SEEDS)
     peak_intensity_m_s2: float | None = option(
         None,
         "peak I_g [m/s²] of a frame-driven run (default: the records', else 1); matters only "
         "for a frame",
         kind="positive",
         metavar="I",
-        valid=_POSITIVE,
+        valid=Range(0, 100, low_open=True),  # ten times the largest records' RMS
     )
 
     def __post_init__(self) -> None:
@@ -162,6 +181,11 @@ class AmplificationAnalysis:
                 "f_min_hz < f_max_hz",
                 key="f_min_hz",
             )
+        from stepframe.stochastic.mean_square import check_mean_square_memory
+
+        # The curve's oscillators over the grid, refused before any work (a workflow at its
+        # file's line); a single f0 or a frame is one oscillator and fits whenever this does.
+        check_mean_square_memory(self.n_frequencies, self.n_steps)
 
     @property
     def xi0_or_default(self) -> float:
@@ -187,7 +211,7 @@ class AmplifyOptions(SiteParameters, AmplificationAnalysis):
         choices=("auto", "start", "p-pick"),
     )
     f0_hz: float | None = option(
-        None, "small-amplitude f0 [Hz]", kind="positive", metavar="F", valid=_POSITIVE
+        None, "small-amplitude f0 [Hz]", kind="positive", metavar="F", valid=_HERTZ
     )
     frame: str | None = option(None, "frame file: ω(t) = 2π/T(A)", metavar="FRAME.toml")
 
@@ -202,7 +226,7 @@ class AmplificationOptions(AmplificationAnalysis):
         "the frame's design displacement δ* [m] (stepframe structure design)",
         kind="positive",
         metavar="D",
-        valid=_POSITIVE,
+        valid=_METRES,
     )
     t0: TimeOrigin = option(
         "auto",
@@ -210,6 +234,43 @@ class AmplificationOptions(AmplificationAnalysis):
         "start (auto, the default), or one of them",
         choices=("auto", "start", "p-pick"),
     )
+    band: BandMethod = option(
+        "monte-carlo",
+        "band of the response amplification from the site parameters' standard errors: "
+        "monte-carlo (the default: --band-samples parameter sets, one curve each), delta (the "
+        "delta method on ln A, 11 curves: cheap, blind to the curve's curvature) or none; a "
+        "site given by its parameters has no standard errors, so no band",
+        choices=("monte-carlo", "delta", "none"),
+    )
+    band_samples: int | None = option(
+        None,
+        f"with --band monte-carlo: parameter sets drawn (default {BAND_SAMPLES})",
+        kind="int",
+        metavar="N",
+        valid=Range(20, 100_000),  # one curve each: 10⁵ curves is hours of CPU
+    )
+    grid_only: bool = option(
+        False,
+        "keep the curve on the f0 grid: where the response amplification still rises at an "
+        "edge, say so ('at the edge, rising') instead of extending the grid past the edge (up "
+        "to a decade) until the curve turns",
+    )
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.band_samples is not None and self.band != "monte-carlo":
+            from stepframe.errors import InputError
+
+            raise InputError(
+                f"band_samples = {self.band_samples} with band = {self.band!r}, expected band = "
+                "'monte-carlo' with it (the delta method draws no samples)",
+                key="band_samples",
+            )
+
+    @property
+    def band_samples_or_default(self) -> int:
+        """Parameter sets of a Monte Carlo band (:data:`BAND_SAMPLES` when not given)."""
+        return BAND_SAMPLES if self.band_samples is None else self.band_samples
 
 
 @dataclass(frozen=True)

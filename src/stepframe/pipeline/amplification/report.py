@@ -14,7 +14,7 @@ densities, not of responses.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from os import PathLike
 from pathlib import Path
 from typing import Any
@@ -28,7 +28,10 @@ from stepframe.pipeline.amplification.analysis import (
     AmplificationOptions,
     AmplificationReportOptions,
 )
-from stepframe.pipeline.amplification.site import SiteFromRecords
+from stepframe.pipeline.amplification.band import ParameterBand
+from stepframe.pipeline.amplification.frame_section import FramePart, frame_part
+from stepframe.pipeline.amplification.headlines import CurveMaximum, ReportNumbers
+from stepframe.pipeline.amplification.site import SiteFromRecords, SiteModel
 from stepframe.pipeline.reports.document import (
     Figure,
     Note,
@@ -43,23 +46,32 @@ from stepframe.stochastic.model import GroundMotionModel
 
 TWO_PI = 2 * math.pi
 
-#: Default amplitude limit of the band without a design displacement: this fraction of the way
-#: from the uplift amplitude x_c to the overturning amplitude x* (below x_c the frame does not step
-#: and its period does not change, so a limit there would give an empty band).
-DEFAULT_A_MAX_FRACTION = 0.5
-
 #: Frequencies checked by Monte Carlo [Hz] (N synthetic motions each): four, with the default N,
 #: keep the report under 10 s (docs/benchmarks.md, Reports); more with ``monte_carlo``.
 MONTE_CARLO_HZ = np.geomspace(0.2, 8.0, 4)
 
 Items = list[Figure | Table | Note]
 
+#: What a report's site may be: given parameters, a site model (the workflow's ``site`` stage,
+#: with the standard errors of a site from records) or the fits of a folder of records.
+Site = GroundMotionModel | SiteModel | SiteFromRecords
+
+
+def model_of(site: Site) -> GroundMotionModel:
+    """The site's ground-motion model."""
+    return site if isinstance(site, GroundMotionModel) else site.model
+
+
+def stderr_of(site: Site) -> dict[str, float]:
+    """The standard errors of the site's combined parameters (none for given parameters)."""
+    return {} if isinstance(site, GroundMotionModel) else dict(site.stderr)
+
 
 def _hz(omega: float) -> float:
     return omega / TWO_PI
 
 
-def _parameter_table(site: GroundMotionModel | SiteFromRecords) -> pd.DataFrame:
+def _parameter_table(site: Site) -> pd.DataFrame:
     def row(name: str, values: Any, se: Any, extra: dict[str, Any]) -> dict[str, Any]:
         out: dict[str, Any] = {"record": name}
         for key, label in (
@@ -78,6 +90,10 @@ def _parameter_table(site: GroundMotionModel | SiteFromRecords) -> pd.DataFrame:
 
     if isinstance(site, GroundMotionModel):
         return pd.DataFrame([row("given parameters", site.to_dict(), {}, {"used": True})])
+    if isinstance(site, SiteModel):
+        name = "combined" if site.stderr else str(site.source.get("site", "site model"))
+        extra = {"peak_intensity_m_s2": site.peak_intensity_m_s2, "used": True}
+        return pd.DataFrame([row(name, site.model.to_dict(), site.stderr, extra)])
     used = set(site.combined.used.index)
     rows = [
         row(
@@ -120,35 +136,40 @@ for _key in ("f_p_hz", "f_s_hz", "f_r_hz", "xi_p", "xi_r"):
     PARAMETER_COLUMNS[_key + "_se"] = f"standard error of {_key} (same unit)"
 
 
-def _frame_band(frame: Any, a_max_m: float) -> tuple[float, float]:
-    """[ω(A_max), ω_1] of the frame [rad/s]."""
-    from stepframe.structure.period_amplitude import period_amplitude
-
-    period = float(period_amplitude(frame, a_max_m, beyond_x_star="inf"))
-    return TWO_PI / period, frame.omega_1_rad_s
-
-
-@dataclass
-class ReportNumbers:
-    """What the report states in its summary and ``numbers.json``, filled step by step."""
-
-    summary: list[tuple[str, str]] = field(default_factory=list)
-    numbers: dict[str, Any] = field(default_factory=dict)
-
-
 @dataclass(frozen=True)
 class ResponseCurve:
-    """The response amplification of tracking oscillators over the f0 grid (covariance method)."""
+    """The response amplification of tracking oscillators over f0 (covariance method): the grid
+    asked for, the points added past an edge where the curve still rose, its maxima and its band
+    from the parameters' standard errors.
+
+    Attributes
+    ----------
+    f0_hz
+        Every frequency computed [Hz], increasing.
+    table
+        One row per frequency: the table of the page.
+    vs_fixed, vs_stationary
+        The two response amplifications [-].
+    on_grid
+        Whether each point is on the grid asked for.
+    maxima
+        :func:`~stepframe.pipeline.amplification.headlines.curve_maxima` of ``vs_fixed``.
+    band
+        The band from the parameters' standard errors, or None.
+    """
 
     f0_hz: np.ndarray
     table: pd.DataFrame
     vs_fixed: np.ndarray
     vs_stationary: np.ndarray
+    on_grid: np.ndarray
+    maxima: list[CurveMaximum]
+    band: ParameterBand | None
 
     @property
-    def peak(self) -> int:
-        """Index of the largest amplification vs fixed."""
-        return int(np.argmax(self.vs_fixed))
+    def largest(self) -> CurveMaximum:
+        """The largest maximum (or rising edge) of the amplification vs fixed."""
+        return self.maxima[0]
 
 
 @dataclass(frozen=True)
@@ -159,35 +180,58 @@ class MonteCarloCheck:
     table: pd.DataFrame
 
 
-@dataclass(frozen=True)
-class FramePart:
-    """With a frame: its band [Hz], its frame-driven point (f_1, value, lower bound), its
-    section items."""
-
-    band_hz: tuple[float, float]
-    point: tuple[float, float, bool]
-    items: Items
-
-
-def response_curve(model: GroundMotionModel, opts: AmplificationOptions) -> ResponseCurve:
+def response_curve(
+    model: GroundMotionModel, opts: AmplificationOptions, stderr: dict[str, float] | None = None
+) -> ResponseCurve:
     """Eq. 6.18 and both response amplifications over the options' f0 grid (the same
-    composition as the workflow's ``amplification`` stage)."""
-    from stepframe.pipeline.amplification.amplify import amplification_curve
-    from stepframe.pipeline.amplification.site import SiteModel
+    composition as the workflow's ``amplification`` stage), continued past an edge where the
+    amplification still rises (unless ``grid_only``), with the band from ``stderr``."""
+    import xarray as xr
 
-    f0_hz = np.geomspace(opts.f_min_hz, opts.f_max_hz, opts.n_frequencies)
-    curve = amplification_curve(SiteModel(model), f0_hz, opts.xi0_or_default, n_steps=opts.n_steps)
+    from stepframe.pipeline.amplification.amplify import amplification_curve
+    from stepframe.pipeline.amplification.band import parameter_band
+    from stepframe.pipeline.amplification.headlines import (
+        ExtendedCurve,
+        curve_maxima,
+        extend_past_edges,
+    )
+
+    site = SiteModel(model)
+    xi0 = opts.xi0_or_default
+    f0_grid = np.geomspace(opts.f_min_hz, opts.f_max_hz, opts.n_frequencies)
+    parts = [amplification_curve(site, f0_grid, xi0, n_steps=opts.n_steps)]
+
+    def evaluate(f0_hz: np.ndarray) -> np.ndarray:
+        parts.append(amplification_curve(site, f0_hz, xi0, n_steps=opts.n_steps))
+        return np.asarray(parts[-1]["response_amplification_vs_fixed"].values)
+
+    grid_values = np.asarray(parts[0]["response_amplification_vs_fixed"].values)
+    if opts.grid_only:
+        extended = ExtendedCurve(f0_grid, grid_values, np.ones(f0_grid.size, dtype=bool))
+    else:
+        extended = extend_past_edges(f0_grid, grid_values, evaluate)
+    curve = xr.concat(parts, dim="frequency").sortby("frequency")
+    f0_hz = np.asarray(curve["frequency"].values)
     vs_fixed = np.asarray(curve["response_amplification_vs_fixed"].values)
     vs_stationary = np.asarray(curve["response_amplification_vs_stationary"].values)
+    band = parameter_band(
+        model, stderr or {}, f0_hz, xi0, n_steps=opts.n_steps, method=opts.band,
+        n_samples=opts.band_samples_or_default, seed=opts.seed, central=vs_fixed,
+    )  # fmt: skip
     table = pd.DataFrame(
         {
             "f0_hz": f0_hz,
+            "on_grid": extended.on_grid,
             "spectral_ratio_eq_6_18": np.asarray(curve["spectral_ratio_eq_6_18"].values),
             "response_vs_fixed": vs_fixed,
             "response_vs_stationary": vs_stationary,
         }
     )
-    return ResponseCurve(f0_hz, table, vs_fixed, vs_stationary)
+    if band is not None:
+        table["band_low"] = band.low
+        table["band_high"] = band.high
+    maxima = curve_maxima(f0_hz, vs_fixed)
+    return ResponseCurve(f0_hz, table, vs_fixed, vs_stationary, extended.on_grid, maxima, band)
 
 
 def monte_carlo_check(
@@ -222,16 +266,21 @@ def monte_carlo_check(
     return MonteCarloCheck((MONTE_CARLO_HZ, mc.vs_fixed, mc.vs_fixed_band, count), table)
 
 
-def site_section(site: GroundMotionModel | SiteFromRecords, opts: AmplificationOptions) -> Section:
+def site_section(site: Site, opts: AmplificationOptions) -> Section:
     """The site's parameters: per record and combined, with standard errors and flags; the
     choices that change them; the records that could not be used."""
-    model = site.model if isinstance(site, SiteFromRecords) else site
+    model = model_of(site)
     if isinstance(site, SiteFromRecords):
         source = site.combined.site.source
         origin = (
             f"from the records: the {source['statistic']} of the fits passing the plausibility "
             f"checks ({source['n_components']} of {len(site.features)}), time origin "
             f"'{site.options.t0}'"
+        )
+    elif isinstance(site, SiteModel) and site.stderr:
+        origin = (
+            f"from the workflow's records: the {site.source.get('statistic', 'median')} of "
+            f"{site.source.get('n_components', 0)} fits"
         )
     else:
         origin = "as given"
@@ -311,30 +360,35 @@ def record_paths_section(site: SiteFromRecords) -> Section:
     return Section("Dominant frequency ω_g(t) over each record's evolutionary spectrum", figures)
 
 
-def spectral_ratio_section(model: GroundMotionModel, name: str) -> Section:
-    """Eq. 6.18 over the f0 range with eq. 6.19's two approximations (the paper's figure)."""
+def spectral_ratio_section(
+    model: GroundMotionModel, name: str, opts: AmplificationOptions
+) -> Section:
+    """Eq. 6.18 with eq. 6.19's two approximations (the paper's figure), over the f0 grid's
+    range widened to hold the site's f_r and f_p."""
     from stepframe.stochastic import plots
     from stepframe.stochastic.amplification import approx_eq_6_19_first, approx_eq_6_19_last
 
     first, last = approx_eq_6_19_first(model), approx_eq_6_19_last(model)
+    low, high = plots.frequency_range_hz(model, opts.f_min_hz, opts.f_max_hz)
     return Section(
         "Spectral ratio, eq. 6.18 (the paper's figure)",
         [
             figure_from_matplotlib(
-                plots.spectral_ratio_figure(model, site=name),
+                plots.spectral_ratio_figure(model, site=name, range_hz=(low, high)),
                 key="spectral_ratio",
-                title="Spectral ratio against oscillator frequency, 0.1-10 Hz",
+                title=f"Spectral ratio against oscillator frequency, {low:.3g}-{high:.3g} Hz",
                 alt=(
-                    f"Log-log plot of the eq. 6.18 spectral ratio from 0.1 to 10 Hz with "
-                    f"horizontal lines at eq. 6.19's approximations {first:.3g} and {last:.3g} "
-                    "and the site's f_p, f_s, f_r marked"
+                    f"Log-log plot of the eq. 6.18 spectral ratio from {low:.3g} to {high:.3g} Hz "
+                    f"with horizontal lines at eq. 6.19's approximations {first:.3g} and "
+                    f"{last:.3g} and the site's f_p, f_s, f_r marked"
                 ),
                 how_to_read=(
                     "Eq. 6.18 compares the ground-motion spectral density at the moving "
                     "oscillator frequency with that at the fixed one, at t_max. It is a ratio "
                     "of spectral densities, not of responses, and it is not monotone in f_0; "
                     "eq. 6.19's approximations are the horizontal lines. Dotted verticals are "
-                    "the site's f_p, f_s, f_r."
+                    "the site's f_p, f_s, f_r, named on the scale above the plot; the range "
+                    "holds all three, beyond the f0 grid if need be."
                 ),
             ),
             Note(
@@ -345,150 +399,13 @@ def spectral_ratio_section(model: GroundMotionModel, name: str) -> Section:
     )
 
 
-def _frame_rows(frame: Any, band: tuple[float, float], a_max: float, intensity: float,
-                driven: Any) -> list[dict[str, Any]]:  # fmt: skip
-    lo, hi = band
-    return [
-        {"quantity": "small-amplitude frequency f_1", "value": _hz(hi), "unit": "Hz"},
-        {"quantity": "band lower edge f(A_max)", "value": _hz(lo), "unit": "Hz"},
-        {"quantity": "amplitude limit A_max", "value": a_max, "unit": "m"},
-        {"quantity": "uplift amplitude x_c", "value": frame.x_c_m, "unit": "m"},
-        {"quantity": "overturning amplitude x*", "value": frame.x_star_m, "unit": "m"},
-        {"quantity": "peak intensity of the run (× p_1)", "value": intensity * frame.p_1,
-         "unit": "m/s²"},
-        {"quantity": "frame-driven response amplification vs fixed",
-         "value": float(driven.vs_fixed[0]), "unit": "-"},
-        {"quantity": "status of the frame-driven run", "value": driven.moving.status,
-         "unit": ""},
-    ]  # fmt: skip
-
-
-def _amplitude_limit(frame: Any, opts: AmplificationOptions) -> float:
-    """A_max [m]: the design displacement δ*, else a fixed fraction of the way to x*."""
-    x_star = frame.x_star_m
-    if opts.delta_star_m is None:
-        return float(frame.x_c_m + DEFAULT_A_MAX_FRACTION * (x_star - frame.x_c_m))
-    if opts.delta_star_m >= x_star:
-        raise InputError(
-            f"delta_star_m = {opts.delta_star_m} m ≥ x* = {x_star:.4g} m, expected a design "
-            "displacement below x* (the frame overturns there)"
-        )
-    return opts.delta_star_m
-
-
-def frame_part(
-    frame: Any,
-    model: GroundMotionModel,
-    peak_intensity_m_s2: float,
-    opts: AmplificationOptions,
-    stated: ReportNumbers,
-) -> FramePart:
-    """The frame's band from its period-amplitude law, its frame-driven amplification (exact
-    covariance method) and, with δ*, the adjusted design displacement."""
-    from stepframe.stochastic.amplification import response_amplification
-    from stepframe.stochastic.mean_square import FrameDriven, analysis_grid
-    from stepframe.structure.period_amplitude import period_amplitude
-
-    a_max = _amplitude_limit(frame, opts)
-    lo, hi = _frame_band(frame, a_max)
-
-    def period_s(amplitude_m: float) -> float:
-        return float(period_amplitude(frame, amplitude_m, beyond_x_star="inf"))
-
-    intensity = opts.peak_intensity_m_s2 or peak_intensity_m_s2
-    driven = response_amplification(
-        model, None, frame.xi_1, frame=FrameDriven(period_s),
-        peak_intensity=intensity * frame.p_1, time_s=analysis_grid(model, n_steps=opts.n_steps),
-    )  # fmt: skip
-    lower = driven.moving.status != "ok"
-    rows = _frame_rows(frame, (lo, hi), a_max, intensity, driven)
-    stated.numbers["frame"] = {row["quantity"]: row["value"] for row in rows}
-    stated.numbers["frame_driven_lower_bound"] = lower
-    stated.summary.append(
-        ("Frame's band", f"{_hz(lo):.3g}-{_hz(hi):.3g} Hz (A_max = {a_max:.3g} m)")
-    )
-    stated.summary.append(
-        (
-            "Frame-driven response amplification",
-            ("≥ " if lower else "")
-            + f"{driven.vs_fixed[0]:.3g}"
-            + (" (lower bound: the frame overturned)" if lower else ""),
-        )
-    )
-    source = (
-        "the design displacement δ* given"
-        if opts.delta_star_m is not None
-        else f"x_c + {DEFAULT_A_MAX_FRACTION}·(x* - x_c) (no design displacement given)"
-    )
-    items: Items = [
-        Table(
-            "frame",
-            "The frame",
-            pd.DataFrame(rows),
-            "Band from the period-amplitude law, frame-driven amplification",
-            {"quantity": "what", "value": "the number", "unit": "its unit"},
-        ),
-        Note(
-            f"The band is [f(A_max), f_1] with A_max = {a_max:.3g} m from {source}. "
-            + (
-                "The frame-driven run overturned (reached x*) before the motion ended: its "
-                "amplification is only a lower bound and is drawn as an open marker with an "
-                "arrow."
-                if lower
-                else "The frame-driven run stayed below x*."
-            ),
-            "warning" if lower else "note",
-        ),
-    ]
-    if opts.delta_star_m is not None:
-        items.append(_adjusted_design(frame, model, opts, stated))
-    point = (_hz(frame.omega_1_rad_s), float(driven.vs_fixed[0]), lower)
-    return FramePart((_hz(lo), _hz(hi)), point, items)
-
-
-def _adjusted_design(
-    frame: Any, model: GroundMotionModel, opts: AmplificationOptions, stated: ReportNumbers
-) -> Table:
-    """The quasi-dynamic δ* adjusted for moving resonance by each amplification factor."""
-    from stepframe.stochastic.amplification import adjusted_fixed_point
-
-    assert opts.delta_star_m is not None
-    adjusted = []
-    for factor, meaning in (
-        ("eq-6-19-last", "√((ω_p/ω_s)²) · δ*"),
-        ("eq-6-19-first", "√(eq. 6.19 first) · δ*"),
-        ("eq-6-18", "√(eq. 6.18 at ω_1) · δ*"),
-        ("response-vs-fixed", "response amplification at ω_1 (covariance) · δ*"),
-    ):
-        value = adjusted_fixed_point(
-            opts.delta_star_m, model, factor=factor,  # type: ignore[arg-type]
-            omega_0_rad_s=frame.omega_1_rad_s,
-            xi0=frame.xi_1 if frame.xi_1 > 0 else opts.xi0_or_default,
-        )  # fmt: skip
-        adjusted.append({"factor": factor, "rule": meaning, "adjusted_delta_m": value})
-    table = pd.DataFrame(adjusted)
-    table.insert(2, "delta_star_m", opts.delta_star_m)
-    by = {row["factor"]: row["adjusted_delta_m"] for row in adjusted}
-    stated.numbers["adjusted_design_displacement_m"] = by
-    stated.summary.append(
-        (
-            "Adjusted design displacement",
-            f"δ* = {opts.delta_star_m:.3g} m → {by['eq-6-19-last']:.3g} m by (ω_p/ω_s)², "
-            f"{by['response-vs-fixed']:.3g} m by the response amplification at f_1",
-        )
-    )
-    return Table(
-        "adjusted_design_displacement",
-        "Adjusted design displacement",
-        table,
-        "The quasi-dynamic δ* adjusted for moving resonance, by each factor",
-        {
-            "factor": "which amplification",
-            "rule": "how it adjusts δ* (spectral factors are mean-square ratios)",
-            "delta_star_m": "the unadjusted design displacement δ* [m]",
-            "adjusted_delta_m": "δ* adjusted [m]",
-        },
-    )
+def _maxima_text(curve: ResponseCurve) -> str:
+    """The maxima of the curve in words, largest first, saying which are edges."""
+    interior = [m for m in curve.maxima if m.interior]
+    edges = [m for m in curve.maxima if not m.interior]
+    parts = [m.describe() for m in interior]
+    parts += [m.describe() for m in edges]
+    return "; ".join(parts)
 
 
 def response_section(
@@ -499,11 +416,20 @@ def response_section(
     frame: FramePart | None,
     opts: AmplificationOptions,
 ) -> Section:
-    """The response amplification against f0 (figure and table) and the Monte Carlo check."""
+    """The response amplification against f0 with its band (figure and table) and the Monte
+    Carlo check."""
     from stepframe.stochastic import plots
 
-    peak = curve.peak
     mc_arg = check.figure_arg if check is not None else None
+    band = curve.band
+    band_arg = None
+    if band is not None:
+        label = f"{100 * band.confidence:g} % band, parameters' standard errors " + (
+            "(delta method)" if band.method == "delta" else f"(N = {band.n_curves} sets)"
+        )
+        band_arg = (band.low, band.high, label)
+    grid = curve.f0_hz[curve.on_grid]
+    extended = not bool(np.all(curve.on_grid))
     items: Items = [
         figure_from_matplotlib(
             plots.response_amplification_figure(
@@ -516,13 +442,16 @@ def response_section(
                 monte_carlo=mc_arg,
                 band_hz=frame.band_hz if frame else None,
                 frame_point=frame.point if frame else None,
+                parameter_band=band_arg,
+                on_grid=curve.on_grid,
             ),
             key="response_amplification",
             title="Response amplification against frequency",
             alt=(
                 "Response amplification of a tracking oscillator against its small-amplitude "
-                f"frequency from {opts.f_min_hz:g} to {opts.f_max_hz:g} Hz; largest "
-                f"{curve.vs_fixed[peak]:.3g} at {curve.f0_hz[peak]:.3g} Hz"
+                f"frequency from {curve.f0_hz[0]:.3g} to {curve.f0_hz[-1]:.3g} Hz; maxima: "
+                + _maxima_text(curve)
+                + (", with its band from the parameters' standard errors" if band else "")
                 + (", with Monte Carlo intervals" if mc_arg else "")
                 + (", the frame's band shaded" if frame else "")
             ),
@@ -531,10 +460,26 @@ def response_section(
                 "falls with the ground's, divided by that of a fixed oscillator (exact covariance "
                 "method); dashed: divided by the stationary RMS. "
                 + (
-                    "Black squares with bars are the Monte Carlo median and 95 % interval from "
-                    "synthetic motions; they should sit on the solid line. "
+                    f"The shaded red band is where the solid line lies, with "
+                    f"{100 * band.confidence:g} % confidence, given the standard errors of the "
+                    "site's parameters (" + band.describe() + "): it is the uncertainty of the "
+                    "site, not of the method. "
+                    if band is not None
+                    else "No band: the site's parameters came without standard errors. "
+                )
+                + (
+                    "Black squares with bars check the method: the Monte Carlo median and 95 % "
+                    "interval of the same ratio from synthetic motions; they should sit on the "
+                    "solid line. "
                     if mc_arg
                     else "(No Monte Carlo check was asked for.) "
+                )
+                + (
+                    f"The grid asked for ({grid[0]:.3g}-{grid[-1]:.3g} Hz, thin dashed "
+                    "verticals) was extended where the curve still rose at an edge, until it "
+                    "turned or a decade past the edge. "
+                    if extended
+                    else ""
                 )
                 + "With a frame, its band is shaded and its frame-driven point drawn (open, "
                 "with an arrow up, when the run overturned and the value is only a lower bound)."
@@ -544,12 +489,17 @@ def response_section(
             "amplification",
             "Amplification by oscillator frequency",
             curve.table,
-            "Spectral ratio and response amplification (covariance method)",
+            "Spectral ratio and response amplification (covariance method)"
+            + (f", with the {100 * band.confidence:g} % band" if band else ""),
             {
                 "f0_hz": "small-amplitude oscillator frequency [Hz]",
+                "on_grid": "on the f0 grid asked for (no: added past an edge where the curve "
+                "still rose, to find its maximum)",
                 "spectral_ratio_eq_6_18": "eq. 6.18 ratio of spectral densities [-]",
                 "response_vs_fixed": "peak RMS, moving / fixed oscillator [-]",
                 "response_vs_stationary": "peak RMS, moving / stationary RMS [-]",
+                "band_low": "lower edge of the band from the parameters' standard errors [-]",
+                "band_high": "upper edge of the band from the parameters' standard errors [-]",
             },
             sortable=True,
         ),
@@ -561,7 +511,7 @@ def response_section(
                 "Monte Carlo check",
                 check.table,
                 f"Median and 95 % interval of N = {opts.report_monte_carlo} synthetic motions "
-                f"(seed {opts.seed})",
+                f"(seed {opts.seed}): a check of the covariance method",
                 {
                     "f0_hz": "oscillator frequency [Hz]",
                     "covariance_vs_fixed": "exact covariance method [-]",
@@ -575,25 +525,41 @@ def response_section(
     return Section("Response amplification", items)
 
 
+def _site_frequencies_text(model: GroundMotionModel, curve: ResponseCurve) -> str:
+    """f_p, f_s, f_r in Hz, each outside the computed f0 range said so."""
+    low, high = float(curve.f0_hz[0]), float(curve.f0_hz[-1])
+    words = []
+    for omega in (model.omega_p_rad_s, model.omega_s_rad_s, model.omega_r_rad_s):
+        f = _hz(omega)
+        where = " (above the f0 range)" if f > high else " (below the f0 range)" if f < low else ""
+        words.append(f"{f:.3g}{where}")
+    return ", ".join(words) + " Hz"
+
+
 def _site_statement(
-    site: GroundMotionModel | SiteFromRecords,
-    name: str,
-    curve: ResponseCurve,
-    opts: AmplificationOptions,
+    site: Site, name: str, curve: ResponseCurve, opts: AmplificationOptions
 ) -> ReportNumbers:
-    """The summary lines and numbers about the site and the curve."""
+    """The summary lines and numbers about the site and the curve: maxima only where they are
+    maxima, the band, the site's frequencies (said when outside the computed range)."""
     from stepframe.stochastic.amplification import approx_eq_6_19_first, approx_eq_6_19_last
 
-    model = site.model if isinstance(site, SiteFromRecords) else site
+    model = model_of(site)
     first, last = approx_eq_6_19_first(model), approx_eq_6_19_last(model)
-    peak = curve.peak
-    numbers = {
+    largest = curve.largest
+    grid = curve.f0_hz[curve.on_grid]
+    numbers: dict[str, Any] = {
         "site": name,
         "ground_motion_model": model.to_dict(),
         "approx_eq_6_19_first": first,
         "approx_eq_6_19_last": last,
-        "max_response_vs_fixed": float(curve.vs_fixed[peak]),
-        "max_response_vs_fixed_at_hz": float(curve.f0_hz[peak]),
+        "max_response_vs_fixed": largest.value,
+        "max_response_vs_fixed_at_hz": largest.f0_hz,
+        "max_response_vs_fixed_is_maximum": largest.interior,
+        "response_maxima": [
+            {"f0_hz": m.f0_hz, "value": m.value, "kind": m.kind} for m in curve.maxima
+        ],
+        "f0_grid_hz": [float(grid[0]), float(grid[-1])],
+        "f0_range_hz": [float(curve.f0_hz[0]), float(curve.f0_hz[-1])],
         "xi0": opts.xi0_or_default,
         "alpha_reading": model.alpha_reading,
     }
@@ -601,27 +567,66 @@ def _site_statement(
         used = site.combined.site.source["n_components"]
         source = f"{len(site.features)} record components, {used} used"
         numbers["site_statistic"] = site.combined.site.source["statistic"]
+    elif isinstance(site, SiteModel) and site.stderr:
+        source = f"the workflow's records, {site.source.get('n_components', 0)} components used"
+        numbers["site_statistic"] = site.source.get("statistic")
     else:
         source = "given parameters"
-    frequencies = (model.omega_p_rad_s, model.omega_s_rad_s, model.omega_r_rad_s)
+    extended = not bool(np.all(curve.on_grid))
     summary = [
         ("Site", name),
         ("Source", source),
-        ("f_p, f_s, f_r", ", ".join(f"{_hz(w):.3g}" for w in frequencies) + " Hz"),
+        ("f_p, f_s, f_r", _site_frequencies_text(model, curve)),
         ("ξ_p, ξ_r", f"{model.xi_p:.3g}, {model.xi_r:.3g}"),
         ("Eq. 6.19 first / last (ω_p/ω_s)²", f"{first:.3g} / {last:.3g}"),
         (
-            "Largest response amplification vs fixed",
-            f"{curve.vs_fixed[peak]:.3g} at f_0 = {curve.f0_hz[peak]:.3g} Hz "
-            f"(ξ_0 = {opts.xi0_or_default:.3g})",
+            "Response amplification vs fixed, maxima",
+            _maxima_text(curve)
+            + f" (ξ_0 = {opts.xi0_or_default:.3g}"
+            + (
+                f"; the grid {grid[0]:.3g}-{grid[-1]:.3g} Hz extended to "
+                f"{curve.f0_hz[0]:.3g}-{curve.f0_hz[-1]:.3g} Hz where the curve still rose)"
+                if extended
+                else ")"
+            ),
         ),
-        ("α_g(t_max) reading", _alpha_text(model.alpha_reading)),
     ]
+    band = curve.band
+    if band is not None:
+        at = int(np.argmin(np.abs(curve.f0_hz - largest.f0_hz)))
+        summary.append(
+            (
+                "Band from the parameters' standard errors",
+                f"{largest.value:.3g} [{band.low[at]:.3g}, {band.high[at]:.3g}] at "
+                f"{largest.f0_hz:.3g} Hz ({band.describe()})",
+            )
+        )
+        numbers["band"] = {
+            "method": band.method,
+            "confidence": band.confidence,
+            "varied": list(band.varied),
+            "n_curves": band.n_curves,
+            "n_rejected": band.n_rejected,
+            "at_largest": [float(band.low[at]), float(band.high[at])],
+        }
+    else:
+        summary.append(
+            (
+                "Band from the parameters' standard errors",
+                "none: "
+                + (
+                    "not asked for (band = none)"
+                    if opts.band == "none"
+                    else "the site's parameters came without standard errors"
+                ),
+            )
+        )
+    summary.append(("α_g(t_max) reading", _alpha_text(model.alpha_reading)))
     return ReportNumbers(summary, numbers)
 
 
 def amplification_report(
-    site: GroundMotionModel | SiteFromRecords,
+    site: Site,
     *,
     frame: Any = None,
     options: AmplificationOptions | None = None,
@@ -630,12 +635,14 @@ def amplification_report(
     """Compute everything an amplification report shows and assemble it (no file written).
 
     The steps of docs/reports.md: the site's parameters, each record's ω_g(t), eq. 6.18, the
-    response amplification with its Monte Carlo check, and the frame.
+    response amplification with its band and Monte Carlo check, and the frame.
 
     Parameters
     ----------
     site
-        The site: a ground-motion model (from parameters) or the fits of its records
+        The site: a ground-motion model (from parameters), a
+        :class:`~stepframe.pipeline.amplification.site.SiteModel` (the workflow's, with the
+        standard errors of a site from records) or the fits of its records
         (:func:`stepframe.pipeline.amplification.site.site_from_records`).
     frame
         A :class:`stepframe.structure.frame.PortalFrame`, or None.
@@ -644,25 +651,28 @@ def amplification_report(
     provenance
         How the report was made.
     """
+    from stepframe.pipeline.amplification.frame_section import check_design_displacement
+
     opts = options or AmplificationOptions()
-    from_records = isinstance(site, SiteFromRecords)
-    model = site.model if isinstance(site, SiteFromRecords) else site
+    if frame is not None:
+        check_design_displacement(frame, opts.delta_star_m)  # before the curves are computed
+    model = model_of(site)
     name = opts.site_name or "site"
-    curve = response_curve(model, opts)
+    curve = response_curve(model, opts, stderr_of(site))
     stated = _site_statement(site, name, curve, opts)
     frame_result = None
     if frame is not None:
-        intensity = site.peak_intensity_m_s2 if isinstance(site, SiteFromRecords) else 1.0
+        intensity = 1.0 if isinstance(site, GroundMotionModel) else site.peak_intensity_m_s2
         frame_result = frame_part(frame, model, intensity, opts, stated)
     sections = [site_section(site, opts)]
-    if from_records:
-        assert isinstance(site, SiteFromRecords)
+    if isinstance(site, SiteFromRecords):
         sections.append(record_paths_section(site))
-    sections.append(spectral_ratio_section(model, name))
+    sections.append(spectral_ratio_section(model, name, opts))
     check = monte_carlo_check(model, opts)
     sections.append(response_section(model, name, curve, check, frame_result, opts))
     if frame_result is not None:
         sections.append(Section("Frame", frame_result.items))
+    stated.numbers["warnings"] = list(stated.warnings)
     return Report(
         title=f"Site amplification report: {name}",
         subtitle="Moving resonance under the Beck-Papadimitriou ground-motion model "
@@ -671,6 +681,7 @@ def amplification_report(
         sections=sections,
         provenance=provenance,
         numbers=stated.numbers,
+        warnings=stated.warnings,
     )
 
 
@@ -681,7 +692,7 @@ def _alpha_text(reading: str) -> str:
 
 
 def write_amplification_report(
-    site: GroundMotionModel | SiteFromRecords,
+    site: Site,
     out_html: str | PathLike[str],
     *,
     frame: Any = None,
@@ -775,13 +786,15 @@ def make_amplification_report(out_html: str, options: AmplificationReportOptions
     o = options
     if o.frame is None and o.delta_star_m is not None:
         raise InputError("--delta-star-m without --frame, expected --frame FRAME.toml with it")
-    site, name = _site_of(o)
-    inputs = [path for path in (o.records, o.frame) if path is not None]
     portal = None
     if o.frame is not None:
+        from stepframe.pipeline.amplification.frame_section import check_design_displacement
         from stepframe.structure.frame_file import read_frame_file
 
         portal = read_frame_file(o.frame)
+        check_design_displacement(portal, o.delta_star_m)  # before the records are fitted
+    site, name = _site_of(o)
+    inputs = [path for path in (o.records, o.frame) if path is not None]
     analysis = AmplificationOptions(
         **{f.name: getattr(o, f.name) for f in fields(AmplificationOptions)}
     )

@@ -56,18 +56,24 @@ class SiteModel:
     source
         ``{"site": "parameters"}``, or ``record``, ``component``, ``fit_quality`` and ``flags``
         of the record it was fitted to.
+    stderr
+        Standard errors of the parameters of :data:`COMBINED` (rad/s or -) of a site combined
+        from records (:func:`site_from_features`); empty for a site given by its parameters.
     """
 
     model: GroundMotionModel
     peak_intensity_m_s2: float = 1.0
     source: dict[str, Any] = field(default_factory=lambda: {"site": "parameters"})
+    stderr: dict[str, float] = field(default_factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready form (the model's fields, the intensity, the source)."""
+        """JSON-ready form (the model's fields, the intensity, the source, standard errors)."""
         return {
             "ground_motion_model": self.model.to_dict(),
             "peak_intensity_m_s2": self.peak_intensity_m_s2,
             "source": dict(self.source),
+            # JSON has no NaN: a parameter without a standard error is left out
+            "stderr": {k: v for k, v in self.stderr.items() if math.isfinite(v)},
         }
 
     @classmethod
@@ -79,6 +85,7 @@ class SiteModel:
             GroundMotionModel.from_dict(data["ground_motion_model"]),
             float(data["peak_intensity_m_s2"]),
             dict(data["source"]),
+            {str(k): float(v) for k, v in data.get("stderr", {}).items()},
         )
 
 
@@ -212,7 +219,8 @@ def site_from_features(
         "plausible_only": plausible_only,
         "n_components": len(used),
     }
-    return CombinedSite(SiteModel(model, values["max_intensity_m_s2"], source), stderr, used)
+    site = SiteModel(model, values["max_intensity_m_s2"], source, stderr)
+    return CombinedSite(site, stderr, used)
 
 
 @dataclass(frozen=True)

@@ -30,7 +30,8 @@ from stepframe.pipeline.engine.stage import Context, Param, Stage, params_from_o
 from stepframe.pipeline.engine.store import make_key, write_output_table
 from stepframe.pipeline.reports.provenance import workflow_provenance
 
-SITE_VERSION = 2  # 2: site_from_features (one combination with the report)
+# 2: site_from_features (one combination with the report); 3: the combined standard errors
+SITE_VERSION = 3
 AMPLIFICATION_VERSION = 1
 
 #: The ``[site]`` table: where the site comes from, and the options of ``report amplification``
@@ -263,12 +264,14 @@ AMPLIFICATION_STAGE = Stage(
 )
 
 
-AMPLIFICATION_REPORT_VERSION = 2  # 2: one set of analysis options with the command
+# 2: one set of analysis options with the command; 3: maxima past the grid's edges, the band
+# from the parameters' standard errors, the frame's stepping and δ* against x_c and x*
+AMPLIFICATION_REPORT_VERSION = 3
 AMPLIFICATION_REPORT_HTML = "amplification_report.html"
 
 #: The ``[amplification_report]`` table: the report's own choices (its curve follows
 #: ``[amplification]``).
-REPORT_FIELDS = ("monte_carlo", "seed", "delta_star_m")
+REPORT_FIELDS = ("monte_carlo", "seed", "delta_star_m", "band", "band_samples", "grid_only")
 AMPLIFICATION_REPORT_PARAMS: dict[str, Param] = params_from_options(
     AmplificationOptions, REPORT_FIELDS
 )
@@ -292,6 +295,15 @@ def _amplification_report_check(workflow: Any) -> None:
             "amplification_report",
             "delta_star_m",
         )
+    if hasattr(workflow.frame, "x_star_m"):  # a frame that can overturn
+        from stepframe.pipeline.amplification.frame_section import check_design_displacement
+
+        try:
+            check_design_displacement(workflow.frame, options.delta_star_m)
+        except InputError as error:
+            raise workflow.lines.error(
+                f"[amplification_report] {error.what}", "amplification_report", "delta_star_m"
+            ) from None
 
 
 def _publish_report(folder: Path, outputs: Path) -> list[Path]:
@@ -323,7 +335,7 @@ def _amplification_report_run(context: Context, folder: Path) -> None:
     )
     parameters = {"site": site.to_dict(), **asdict(options)}
     write_amplification_report(
-        site.model,
+        site,
         folder / AMPLIFICATION_REPORT_HTML,
         frame=context.workflow.frame,
         options=options,

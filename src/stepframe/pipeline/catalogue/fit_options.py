@@ -9,7 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from stepframe.core.options import Range, check_fields, option
+from stepframe.core.options import SEEDS, Range, check_fields, option
 from stepframe.stochastic.methods import DEFAULT_FREQUENCY_METHOD, FREQUENCY_METHOD_NAMES
 
 if TYPE_CHECKING:
@@ -17,6 +17,11 @@ if TYPE_CHECKING:
     from stepframe.stochastic.methods import FrequencyMethod
     from stepframe.stochastic.model import AlphaReading
     from stepframe.stochastic.transforms import FftBackend
+
+
+#: Most bootstrap refits: each refits the record's features (about a second for a long record),
+#: and 1,000 already give percentile intervals to a few per cent.
+MAX_BOOTSTRAP = 10_000
 
 
 @dataclass(frozen=True)
@@ -50,7 +55,7 @@ class FitOptions:
         "highest frequency of interest [rad/s]: error if above the record's Nyquist",
         kind="positive",
         metavar="W",
-        valid=Range(0, low_open=True),
+        valid=Range(0, 1e6, low_open=True),
     )
     fft: FftBackend = option("scipy", "FFT backend (default scipy)", choices=("scipy", "pyfftw"))
     alpha_reading: AlphaReading = option(
@@ -59,8 +64,10 @@ class FitOptions:
         choices=("eq-6-11", "paper"),
         flag="--alpha-at-tmax",
     )
-    bootstrap: int = option(0, "bootstrap refits", kind="int", metavar="N", valid=Range(0))
-    seed: int | None = option(None, "seed of the bootstrap", kind="int")
+    bootstrap: int = option(
+        0, "bootstrap refits", kind="int", metavar="N", valid=Range(0, MAX_BOOTSTRAP)
+    )
+    seed: int | None = option(None, "seed of the bootstrap", kind="int", valid=SEEDS)
     corner: bool = option(
         False,
         "also estimate the source corner ω_c [rad/s] (indicative: biased 40-50 % low)",

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from os import PathLike
 from typing import TYPE_CHECKING, Any
 
-from stepframe.core.options import option
+from stepframe.core.options import Range, check_fields, option
 from stepframe.errors import InputError
 
 if TYPE_CHECKING:
@@ -77,11 +77,22 @@ class SpectrumOptions:
     """The oscillators of :func:`record_spectra` (its ``periods_s`` and ``damping``)."""
 
     periods_s: Sequence[float] | None = option(
-        None, "oscillator periods [s]", kind="floats", metavar="T1,T2,..."
+        None,
+        "oscillator periods [s]",
+        kind="floats",
+        metavar="T1,T2,...",
+        valid=Range(1e-3, 1e4),  # records.spectra.PERIOD_RANGE_S
     )
     damping: float = option(
-        0.05, "damping ratio as a fraction (default 0.05)", kind="float", metavar="ZETA"
+        0.05,
+        "damping ratio as a fraction (default 0.05)",
+        kind="float",
+        metavar="ZETA",
+        valid=Range(0, 1, high_open=True),
     )
+
+    def __post_init__(self) -> None:
+        check_fields(self)
 
 
 def record_spectra(

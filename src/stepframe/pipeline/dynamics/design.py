@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
 from stepframe.core.jsonable import to_jsonable
-from stepframe.core.options import option
+from stepframe.core.options import Range, check_fields, option
 from stepframe.errors import InputError
 
 if TYPE_CHECKING:
@@ -92,6 +92,14 @@ _TWINS = {
 }
 
 
+# Plausible ranges of a pier's values: those of a frame file's (structure.frame_file.PLAUSIBLE)
+# where the two name the same quantity.
+_WEIGHT = Range(1e2, 1e10)
+_LENGTH = Range(0, 300, low_open=True)
+_SPECTRAL_G = Range(0, 10, low_open=True)
+_SPECTRAL_SI = Range(0, 100, low_open=True)
+
+
 @dataclass(frozen=True)
 class DesignOptions:
     """The inputs of one design run (:func:`design_run`): a design file, values laid over its
@@ -103,40 +111,77 @@ class DesignOptions:
     """
 
     input: str | None = option(None, "design input file (see --template)", metavar="TOML")
-    weight_super_n: float | None = option(None, "W_s, seismic weight of the superstructure [N]")
-    weight_col_n: float | None = option(None, "W_col, weight of the column(s) [N]")
-    weight_total_n: float | None = option(None, "W_T, gross weight on the footing [N]")
+    weight_super_n: float | None = option(
+        None, "W_s, seismic weight of the superstructure [N]", valid=_WEIGHT
+    )
+    weight_col_n: float | None = option(
+        None, "W_col, weight of the column(s) [N]", valid=Range(0, _WEIGHT.high)
+    )
+    weight_total_n: float | None = option(
+        None, "W_T, gross weight on the footing [N]", valid=_WEIGHT
+    )
     footing_length_m: float | None = option(
-        None, "L_F, footing length in the rocking direction [m]"
+        None, "L_F, footing length in the rocking direction [m]", valid=_LENGTH
     )
-    height_m: float | None = option(None, "H_r, height of the centroid of the rocking mass [m]")
+    height_m: float | None = option(
+        None, "H_r, height of the centroid of the rocking mass [m]", valid=_LENGTH
+    )
     block_width_m: float | None = option(
-        None, "a, width of the compression block under the footing [m]"
+        None, "a, width of the compression block under the footing [m]", valid=_LENGTH
     )
-    footing_width_m: float | None = option(None, "B_F, footing width [m] (a = W_T/(B_F q_n))")
-    bearing_capacity_pa: float | None = option(None, "q_n, soil bearing capacity [Pa]")
+    footing_width_m: float | None = option(
+        None, "B_F, footing width [m] (a = W_T/(B_F q_n))", valid=_LENGTH
+    )
+    bearing_capacity_pa: float | None = option(
+        None, "q_n, soil bearing capacity [Pa]", valid=Range(1e3, 1e9)
+    )
     col_weight_factor: float | None = option(
-        None, "share of W_col in the effective mass (default 0.5)"
+        None, "share of W_col in the effective mass (default 0.5)", valid=Range(0, 1)
     )
-    g_m_s2: float | None = option(None, "gravity [m/s²] (default 9.81, as in the paper)")
-    s_ds_g: float | None = option(None, "S_DS [g]", kind="positive", flag="--sds-g")
-    s_ds_m_s2: float | None = option(None, "S_DS [m/s²]", kind="positive", flag="--sds-m-s2")
-    s_d1_g: float | None = option(None, "S_D1 [g]", kind="positive", flag="--sd1-g")
-    s_d1_m_s: float | None = option(None, "S_D1 [m/s]", kind="positive", flag="--sd1-m-s")
+    g_m_s2: float | None = option(
+        None, "gravity [m/s²] (default 9.81, as in the paper)", valid=Range(9.7, 9.9)
+    )
+    s_ds_g: float | None = option(
+        None, "S_DS [g]", kind="positive", flag="--sds-g", valid=_SPECTRAL_G
+    )
+    s_ds_m_s2: float | None = option(
+        None, "S_DS [m/s²]", kind="positive", flag="--sds-m-s2", valid=_SPECTRAL_SI
+    )
+    s_d1_g: float | None = option(
+        None, "S_D1 [g]", kind="positive", flag="--sd1-g", valid=_SPECTRAL_G
+    )
+    s_d1_m_s: float | None = option(
+        None, "S_D1 [m/s]", kind="positive", flag="--sd1-m-s", valid=_SPECTRAL_SI
+    )
     t_l_s: float | None = option(
-        None, "long-period transition T_L [s]", kind="positive", flag="--tl-s"
+        None,
+        "long-period transition T_L [s]",
+        kind="positive",
+        flag="--tl-s",
+        valid=Range(0, 100, low_open=True),
     )
-    beta: float | None = option(None, "spectral reduction factor β", kind="positive")
-    xi: float | None = option(None, "equivalent viscous damping ratio (fraction)")
-    c_r: float | None = option(None, "velocity ratio at impact; ξ = 0.48(1 - C_r²)")
+    beta: float | None = option(
+        None, "spectral reduction factor β", kind="positive", valid=Range(0, 10, low_open=True)
+    )
+    xi: float | None = option(
+        None, "equivalent viscous damping ratio (fraction)", valid=Range(0, 1, high_open=True)
+    )
+    c_r: float | None = option(
+        None, "velocity ratio at impact; ξ = 0.48(1 - C_r²)", valid=Range(0, 1)
+    )
     damping_method: Literal["ec8", "ec8-1998", "aashto-isolation"] | None = option(
         None,
         "damping-reduction formula with --xi/--c-r (default ec8)",
         choices=("ec8", "ec8-1998", "aashto-isolation"),
     )
-    w_per_m: float | None = option(None, "w of eq. 2.3 [1/m]", kind="positive")
+    w_per_m: float | None = option(
+        None, "w of eq. 2.3 [1/m]", kind="positive", valid=Range(0, 1e4, low_open=True)
+    )
     lambda_2_sqrt_m: float | None = option(
-        None, "λ_2 of eq. 2.5 [m^½] (needs S_D1)", kind="positive"
+        None,
+        "λ_2 of eq. 2.5 [m^½] (needs S_D1)",
+        kind="positive",
+        valid=Range(0, 1e4, low_open=True),
     )
     branch: BranchChoice = option(
         "auto",
@@ -145,7 +190,11 @@ class DesignOptions:
         choices=("auto", "short", "long", "very-long"),
     )
     delta0_m: list[float] | None = option(
-        None, "starts of the iteration [m]", kind="floats", metavar="D,..."
+        None,
+        "starts of the iteration [m]",
+        kind="floats",
+        metavar="D,...",
+        valid=Range(0, 100, low_open=True),
     )
     method: Literal["closed-form", "search"] | None = option(
         None,
@@ -153,7 +202,12 @@ class DesignOptions:
         "search for a tabulated one)",
         choices=("closed-form", "search"),
     )
-    max_iterations: int = option(200, "iteration limit (default 200)", kind="int")
+    max_iterations: int = option(
+        200, "iteration limit (default 200)", kind="int", valid=Range(1, 100_000)
+    )
+
+    def __post_init__(self) -> None:
+        check_fields(self)
 
 
 def design_run(options: DesignOptions) -> DesignRun:

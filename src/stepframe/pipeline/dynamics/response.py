@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from os import PathLike
 from typing import TYPE_CHECKING, Any
 
-from stepframe.core.options import option
+from stepframe.core.options import Range, check_fields, option
 from stepframe.errors import InputError
 
 if TYPE_CHECKING:
@@ -213,13 +213,23 @@ class SimulateOptions:
     """The frame file and the record's scaling of one simulation (:func:`simulate_file`)."""
 
     frame: str = option(help="frame file (see frame-template)", metavar="FRAME.toml")
-    scale: float = option(1.0, "record scale factor [-]", kind="positive", metavar="S")
+    scale: float = option(
+        1.0,
+        "record scale factor [-]",
+        kind="positive",
+        metavar="S",
+        valid=Range(0, 1e4, low_open=True),
+    )
     tail_s: float | None = option(
         None,
         "free vibration after the record [s] (default: the simulator's, 10 s)",
         kind="non_negative_seconds",
         metavar="T",
+        valid=Range(0, 3600),
     )
+
+    def __post_init__(self) -> None:
+        check_fields(self)
 
 
 def simulate_file(

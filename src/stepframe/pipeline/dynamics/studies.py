@@ -17,7 +17,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-from stepframe.core.options import Range, check_fields, option
+from stepframe.core.options import JOBS, Range, check_fields, option
 from stepframe.errors import InputError
 
 if TYPE_CHECKING:
@@ -68,11 +68,23 @@ class FrameSource:
         kind="positive_floats",
         metavar="B,H",
         flag="--block",
+        valid=Range(0, 100, low_open=True),  # structure.frame_file.PLAUSIBLE's [block]
     )
+
+    def __post_init__(self) -> None:
+        check_fields(self)
 
     def portal_frame(self) -> PortalFrame:
         """The frame (:func:`frame_or_block`)."""
         return frame_or_block(self.frame, self.block_m)
+
+
+#: Forcing frequencies accepted [rad/s]: 10⁴ rad/s (1.6 kHz) is far above any ground motion
+#: and any frame; the forcing period must stay a number a run can step through.
+FORCING_RAD_S = Range(0, 1e4, low_open=True)
+#: Forcing amplitudes accepted [g]: 100 g is past any ground motion (the largest recorded peak
+#: is about 4 g), and keeps every derived displacement finite.
+AMPLITUDES_G = Range(0, 100)
 
 
 # ------------------------------------------------------------------ harmonic
@@ -81,19 +93,36 @@ class HarmonicOptions:
     """The forcing A cos(ωt), the run's length and initial state, the orbit asked for."""
 
     amplitude_g: float = option(
-        help="amplitude A/g [-] (g = 9.81 m/s²)", kind="non_negative", metavar="R"
+        help="amplitude A/g [-] (g = 9.81 m/s²)",
+        kind="non_negative",
+        metavar="R",
+        valid=AMPLITUDES_G,
     )
     omega_rad_s: float = option(
-        help="forcing circular frequency [rad/s]", kind="positive", metavar="W"
+        help="forcing circular frequency [rad/s]",
+        kind="positive",
+        metavar="W",
+        valid=FORCING_RAD_S,
     )
     periods: int = option(
-        100, "forcing periods simulated (default 100)", kind="positive_int", metavar="N"
+        100,
+        "forcing periods simulated (default 100)",
+        kind="positive_int",
+        metavar="N",
+        valid=Range(1, 10_000_000),
     )
-    x0_m: float = option(0.0, "initial x [m]")
-    v0_m_s: float = option(0.0, "initial ẋ [m/s]")
+    x0_m: float = option(0.0, "initial x [m]", valid=Range(-100, 100))
+    v0_m_s: float = option(0.0, "initial ẋ [m/s]", valid=Range(-100, 100))
     orbit: int | None = option(
-        None, "find the period-N orbit from the final state", kind="positive_int", metavar="N"
+        None,
+        "find the period-N orbit from the final state",
+        kind="positive_int",
+        metavar="N",
+        valid=Range(1, 64),
     )
+
+    def __post_init__(self) -> None:
+        check_fields(self)
 
 
 @dataclass(frozen=True)
@@ -129,9 +158,10 @@ class HarmonicStudy:
             "x_c_m": self.frame.x_c_m,
             "x_star_m": self.frame.x_star_m,
             **self.run.to_dict(),
-            "x_end_m": float(self.run.x_m[-1]),
-            "v_end_m_s": float(self.run.v_m_s[-1]),
         }
+        if not self.run.overturned:  # an overturned frame has no final state (x left x_cap)
+            data["x_end_m"] = float(self.run.x_m[-1])
+            data["v_end_m_s"] = float(self.run.v_m_s[-1])
         if self.orbit is not None:
             data["orbit"] = self.orbit.to_dict()
         return data
@@ -215,26 +245,45 @@ class BifurcationOptions:
         "forcing circular frequency [rad/s] (sweeping --amplitudes-g)",
         kind="positive",
         metavar="W",
+        valid=FORCING_RAD_S,
     )
     amplitudes_g: tuple[float, float, int] | None = option(
-        None, "N amplitudes from LO to HI [g]", kind="range", metavar="LO,HI,N"
+        None, "N amplitudes from LO to HI [g]", kind="range", metavar="LO,HI,N", valid=AMPLITUDES_G
     )
     amplitude_g: float | None = option(
-        None, "forcing amplitude [g] (sweeping --omegas-rad-s)", kind="non_negative", metavar="R"
+        None,
+        "forcing amplitude [g] (sweeping --omegas-rad-s)",
+        kind="non_negative",
+        metavar="R",
+        valid=AMPLITUDES_G,
     )
     omegas_rad_s: tuple[float, float, int] | None = option(
-        None, "N circular frequencies from LO to HI [rad/s]", kind="range", metavar="LO,HI,N"
+        None,
+        "N circular frequencies from LO to HI [rad/s]",
+        kind="range",
+        metavar="LO,HI,N",
+        valid=FORCING_RAD_S,
     )
     initial: int = option(
         50,
         "initial states (seeded, spread over |x| < x*; default 50)",
         kind="positive_int",
         metavar="N",
+        valid=Range(1, 100_000),
     )
     periods: int = option(
-        100, "forcing periods per run (default 100)", kind="positive_int", metavar="N"
+        100,
+        "forcing periods per run (default 100)",
+        kind="positive_int",
+        metavar="N",
+        valid=Range(1, 10_000_000),
     )
-    jobs: int | None = option(None, "worker processes (default: all cores)", kind="positive_int")
+    jobs: int | None = option(
+        None, "worker processes (default: all cores)", kind="positive_int", valid=JOBS
+    )
+
+    def __post_init__(self) -> None:
+        check_fields(self)
 
 
 @dataclass(frozen=True)
@@ -378,6 +427,7 @@ class IdaOptions:
         "use the first N of the embedded FEMA P695 components",
         kind="positive_int",
         metavar="N",
+        valid=Range(1, 100),  # the catalogue's 100 components
     )
     pulse: str | None = option(None, "one-cycle pulse instead", choices=("cosine", "sine"))
     omegas_rad_s: tuple[float, ...] | None = option(
@@ -386,6 +436,7 @@ class IdaOptions:
         kind="positive_floats",
         metavar="W1,W2",
         flag="--omega-rad-s",
+        valid=FORCING_RAD_S,
     )
     resolution_g: float = option(
         0.01,

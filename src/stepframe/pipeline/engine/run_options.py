@@ -7,7 +7,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from stepframe.core.options import option
+from stepframe.core.options import JOBS, Range, check_fields, option
 
 if TYPE_CHECKING:
     from stepframe.pipeline.engine.runner import RunReport
@@ -20,7 +20,9 @@ class RunOptions:
     :func:`~stepframe.pipeline.engine.runner.run_workflow`)."""
 
     dry_run: bool = option(False, "print the plan: items to compute and cached")
-    jobs: int | None = option(None, "worker processes (default: all CPUs)", kind="int", metavar="N")
+    jobs: int | None = option(
+        None, "worker processes (default: all CPUs)", kind="int", metavar="N", valid=JOBS
+    )
     scheduler: str | None = option(
         None,
         "dask-local (a local Dask cluster) or tcp://HOST:PORT (an existing one); needs pip "
@@ -41,7 +43,11 @@ class RunOptions:
         "at most one batch",
         kind="int",
         metavar="N",
+        valid=Range(1, 10_000_000),
     )
+
+    def __post_init__(self) -> None:
+        check_fields(self)
 
 
 def run_with_options(

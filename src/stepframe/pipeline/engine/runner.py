@@ -31,6 +31,7 @@ import errno
 import operator
 import shutil
 import time
+import warnings
 from collections.abc import Callable
 from concurrent.futures import Executor
 from dataclasses import dataclass, field
@@ -201,7 +202,11 @@ def _prepare(workflow: Workflow, forced: list[str], stages: StageTable) -> list[
                 workflow.path,
             )
         if records.folder is not None:
-            workflow.record_files()
+            # listed here for its errors only (exit 2 before any work): its warnings (links
+            # skipped) come once, from the listing the catalogue stage makes
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                workflow.record_files()
     _check_writable(workflow.workspace)
     _check_writable(workflow.outputs_folder)
     store = workflow.workspace / "store"
@@ -327,7 +332,8 @@ def run_workflow(
         )
         store.prepare()
         _remove_temporaries(workflow.outputs_folder)
-        context = Context(workflow, {}, {}, {}, {}, execution.jobs, execution.executor, progress)
+        context = Context(workflow, {}, {}, {}, {}, execution.jobs, execution.executor, progress,
+                          started_utc=started_utc)  # fmt: skip
         batch = batch_items or max(DEFAULT_BATCH_ITEMS, BATCH_ITEMS_PER_WORKER * execution.jobs)
         for name in planned:
             stage = stages[name]
@@ -503,6 +509,8 @@ def _run_set(
                                                      error).message  # fmt: skip
             return
         store.commit_set(stage.name, key, temporary)
+        if stage.latest_set_only:
+            store.drop_other_sets(stage.name, key)
     context.set_keys[stage.name] = key
     context.set_dirs[stage.name] = target
 
@@ -576,7 +584,7 @@ def _dry_run(
 ) -> RunReport:
     """What a run would do: per stage, items to compute and cached (nothing written)."""
     report = RunReport(str(workflow.path), str(workflow.workspace), "dry run", True)
-    context = Context(workflow, {}, {}, {}, {}, None, None, False)
+    context = Context(workflow, {}, {}, {}, {}, None, None, False, started_utc=utc_now())
     import pandas as pd
 
     for name in planned:

@@ -116,6 +116,9 @@ class Context:
     facts: dict[str, Any] = field(default_factory=dict)
     #: The tasks of each per-item stage in this run (one per key).
     item_tasks: dict[str, list[Task]] = field(default_factory=dict)
+    #: The run's start (UTC, ISO 8601, :func:`~stepframe.pipeline.engine.run_log.utc_now`): the
+    #: seen time of the history and the stamp of the rows a stage dates by their run.
+    started_utc: str = ""
 
 
 @dataclass(frozen=True)
@@ -132,7 +135,10 @@ class Stage:
     ``atomic_write``). ``publish`` copies a result to the outputs folder and returns the written
     paths. ``prepare`` (optional) makes a stage's inputs exist before its tasks are listed in a
     real run (the inventory writes the embedded example's files); ``tasks`` itself writes
-    nothing, so a dry run lists the same tasks with no special case.
+    nothing, so a dry run lists the same tasks with no special case. With ``latest_set_only``
+    a whole-set stage keeps only its latest result in the store (a result made for the records
+    folder as it is now, such as the folder's processed waveforms, which a scheduled run over a
+    trickle would otherwise store again, whole, each time a file arrives).
     """
 
     name: str
@@ -152,6 +158,7 @@ class Stage:
     check: Callable[[Workflow], None] | None = None
     free_params: bool = False
     prepare: Callable[[Context], None] | None = None
+    latest_set_only: bool = False
 
     def parameters(self, workflow: Workflow) -> dict[str, Any]:
         """The stage's parameters in ``workflow`` (defaults filled in)."""

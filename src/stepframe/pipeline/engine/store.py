@@ -423,6 +423,21 @@ class Store:
         self._save(stage, state)
         return target
 
+    def drop_other_sets(self, stage: str, key: str) -> list[str]:
+        """Remove every whole-set result of ``stage`` but ``key`` (the index first: a run killed
+        between leaves only unreachable folders, which ``verify`` removes); returns them
+        (relative to the store)."""
+        state = self._stage(stage)
+        others = [other for other in state.sets if other != key]
+        if not others:
+            return []
+        for other in others:
+            del state.sets[other]
+        self._save(stage, state)
+        for other in others:
+            shutil.rmtree(self.set_dir(stage, other), ignore_errors=True)
+        return [f"{stage}/sets/{other}" for other in others]
+
     def check_published(self, stage: str, key: str, paths: Iterable[Path]) -> str:
         """The first published copy of a stored file that differs from it ("" if none).
 

@@ -168,16 +168,7 @@ class Workflow:
                 "records",
                 "folder",
             )
-        pattern = folder.rglob(records.glob) if records.recursive else folder.glob(records.glob)
-        workspace = self.workspace.resolve()
-        files = []
-        for file in pattern:
-            relative = file.relative_to(folder)
-            if any(part.startswith(".") for part in relative.parts) or not file.is_file():
-                continue
-            if file.resolve().is_relative_to(workspace):
-                continue  # the workspace may sit inside the records folder
-            files.append(file)
+        files = self._listed(folder, records)
         if not files:
             raise self.lines.error(
                 f"[records] folder {str(folder)!r} has no file matching {records.glob!r}, "
@@ -186,6 +177,21 @@ class Workflow:
                 "folder",
             )
         return sorted(files, key=lambda p: p.relative_to(folder).as_posix())
+
+    def _listed(self, folder: Path, records: Records) -> list[Path]:
+        """The files of ``folder`` matching the glob, by the records-folder rule of
+        :mod:`stepframe.core.paths` (regular files, links inside the folder, no pseudo-file
+        system), the workspace left out (it may sit inside the records folder)."""
+        from stepframe.core.paths import walk_files
+
+        try:
+            listed = walk_files(
+                folder, records.glob, recursive=records.recursive, exclude=self.workspace
+            )
+            return [file for _, file in listed]
+        except InputError as error:
+            what = f"[records] folder: {error.one_line()}"
+            raise self.lines.error(what, "records", "folder") from None
 
 
 def _suggest(name: str, valid: list[str]) -> str:
@@ -339,6 +345,13 @@ def _records(table: Any, folder: Path, lines: Lines, scene: Scene) -> Records | 
             scene.check_units(given["units"])
         except InputError as error:
             raise lines.error(f"[records] units: {error.what}", "records", "units") from None
+    if "glob" in given:
+        from stepframe.core.paths import check_glob
+
+        try:
+            check_glob(given["glob"])
+        except InputError as error:
+            raise lines.error(f"[records] {error.what}", "records", "glob") from None
     return Records(
         folder=_inside(folder, given["folder"], "records", "folder", lines)
         if "folder" in given

@@ -36,13 +36,19 @@ FIGURE_DPI = 110
 
 @dataclass(frozen=True)
 class Figure:
-    """One figure: PNG bytes, alt text and a short "how to read this" paragraph."""
+    """One figure: PNG bytes, alt text and a short "how to read this" paragraph.
+
+    ``clipped`` lists the texts that reach past the PNG's edges (:func:`texts_outside`, after
+    :func:`fit_titles`): empty for a figure that shows all its words; the page carries it on
+    the image (``data-clipped``), where the browser test reads it.
+    """
 
     key: str
     title: str
     png: bytes
     alt: str
     how_to_read: str
+    clipped: tuple[str, ...] = ()
 
     @property
     def data_uri(self) -> str:
@@ -96,6 +102,9 @@ class Report:
         How the report was made.
     numbers
         JSON-ready dictionary of every headline number (written as ``numbers.json``).
+    warnings
+        What a reader must not miss (a design value beyond failure, say), shown above the
+        summary.
     """
 
     title: str
@@ -104,6 +113,7 @@ class Report:
     sections: Sequence[Section]
     provenance: Provenance
     numbers: Mapping[str, Any] = field(default_factory=dict)
+    warnings: Sequence[str] = ()
 
     def tables(self) -> list[Table]:
         """Every table of the report (on the page or CSV only), in page order."""
@@ -118,14 +128,90 @@ class Report:
         return [item for s in self.sections for item in s.items if isinstance(item, Figure)]
 
 
+def _undrawn_tick_labels(figure: MplFigure) -> set[int]:
+    """Ids of the tick labels matplotlib keeps but does not draw (ticks outside the view)."""
+    hidden: set[int] = set()
+    axes = [ax for parent in figure.axes for ax in (parent, *parent.child_axes)]
+    for ax in axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            low, high = sorted(axis.get_view_interval())
+            span = (high - low) * 1e-9
+            for tick in (*axis.get_major_ticks(), *axis.get_minor_ticks()):
+                if not low - span <= tick.get_loc() <= high + span:
+                    hidden.update((id(tick.label1), id(tick.label2)))
+    return hidden
+
+
+def texts_outside(figure: MplFigure) -> list[str]:
+    """The drawn texts of a figure (titles, labels, tick labels, legends) that reach past its
+    edges: clipped in the PNG. Empty for a figure that shows all its words."""
+    from matplotlib.text import Text
+
+    figure.canvas.draw()  # the layout engine places the texts at draw time
+    renderer = figure.canvas.get_renderer()  # type: ignore[attr-defined]
+    width, height = figure.bbox.width, figure.bbox.height
+    hidden = _undrawn_tick_labels(figure)
+    out = []
+    for text in figure.findobj(Text):
+        if id(text) in hidden or not text.get_visible() or not text.get_text().strip():
+            continue
+        box = text.get_window_extent(renderer)
+        if box.x0 < -0.5 or box.y0 < -0.5 or box.x1 > width + 0.5 or box.y1 > height + 0.5:
+            out.append(text.get_text())
+    return out
+
+
+#: Characters per line below which a title is not wrapped further.
+MIN_TITLE_CHARACTERS = 24
+
+
+def fit_titles(figure: MplFigure) -> None:
+    """Wrap each axes title that reaches past the figure's edges onto more lines (a long site
+    or file name would otherwise be cut at both edges of the PNG). A title is centred over its
+    axes, which need not be centred in the figure: the room is twice the distance from the
+    title's centre to the nearer edge."""
+    import textwrap
+
+    for _ in range(4):
+        figure.canvas.draw()
+        renderer = figure.canvas.get_renderer()  # type: ignore[attr-defined]
+        width = figure.bbox.width
+        wrapped = False
+        for ax in figure.axes:
+            title = ax.title
+            text = title.get_text()
+            box = title.get_window_extent(renderer)
+            if not text or (box.x0 >= 0 and box.x1 <= width):
+                continue
+            centre = (box.x0 + box.x1) / 2
+            room = 2 * min(centre, width - centre) * 0.95
+            longest = max(len(line) for line in text.split("\n"))
+            fits = max(MIN_TITLE_CHARACTERS, int(longest * room / box.width))
+            new = "\n".join(textwrap.wrap(text.replace("\n", " "), fits))
+            if new != text:
+                title.set_text(new)
+                wrapped = True
+        if not wrapped:
+            return
+
+
 def figure_from_matplotlib(
     figure: MplFigure, *, key: str, title: str, alt: str, how_to_read: str
 ) -> Figure:
-    """Render a matplotlib figure to PNG bytes and close it."""
+    """Render a matplotlib figure to PNG bytes (titles wrapped to fit: :func:`fit_titles`; texts
+    still past its edges listed: :func:`texts_outside`) and close it."""
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    if type(figure.canvas) is FigureCanvasBase:  # a Figure made without pyplot: draw with Agg
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+        FigureCanvasAgg(figure)
+    fit_titles(figure)
+    clipped = tuple(texts_outside(figure))
     buffer = io.BytesIO()
     figure.savefig(buffer, format="png", dpi=FIGURE_DPI)
     figure.clear()
-    return Figure(key, title, buffer.getvalue(), alt, how_to_read)
+    return Figure(key, title, buffer.getvalue(), alt, how_to_read, clipped)
 
 
 def format_value(value: Any) -> str:
@@ -178,12 +264,17 @@ def render(report: Report, data_folder: str) -> str:
         table.key: [list(row) for row in table.frame.itertuples(index=False, name=None)]
         for table in report.tables()
     }
+    provenance = _jsonable(report.provenance.to_dict())
     return str(
         template.render(
             report=report,
             rows=rows,
             data_folder=data_folder,
-            provenance=_jsonable(report.provenance.to_dict()),
+            provenance=provenance,
+            # escaped as text by the template: "paper's site", not jinja's tojson "\u0027"
+            parameters_json=json.dumps(
+                provenance["parameters"], indent=2, sort_keys=True, ensure_ascii=False
+            ),
         )
     )
 

@@ -38,6 +38,13 @@ from stepframe.pipeline.selection.names import (
     Unit,
 )
 
+#: Amplitude limits accepted [m]: a frame's overturning displacement is a few metres.
+_METRES = Range(0, 100, low_open=True)
+#: Design spectral accelerations accepted [g] (ASCE 7-22 S_DS and S_D1 stay below 5 g).
+_DESIGN_G = Range(0, 10, low_open=True)
+#: Scale factors accepted: a record scaled 100 times is another record.
+_SCALES = Range(0, 100, low_open=True)
+
 
 @dataclass(frozen=True)
 class SelectionOptions:
@@ -139,14 +146,22 @@ class SelectionOptions:
         SIMULATED_RESPONSE, "ranking (default: %(default)s)", choices=RANK_BY_CHOICES
     )
     spectral_weight: float = 0.0
-    a_max_m: float | None = option(None, "amplitude limit A_max [m]", kind="positive")
+    a_max_m: float | None = option(
+        None, "amplitude limit A_max [m]", kind="positive", valid=_METRES
+    )
     design_displacement_m: float | None = None
     x_star_fraction: float = option(
-        0.8, "A_max = fraction·x* otherwise (default: %(default)s)", kind="positive"
+        0.8,
+        "A_max = fraction·x* otherwise (default: %(default)s)",
+        kind="positive",
+        valid=Range(0, 1, low_open=True, high_open=True),
     )
     n_levels: int = 6
     strong_motion_fraction: float = option(
-        0.3, "strong motion: I_g ≥ fraction of its peak (default: %(default)s)", kind="positive"
+        0.3,
+        "strong motion: I_g ≥ fraction of its peak (default: %(default)s)",
+        kind="positive",
+        valid=Range(0.1, 1, low_open=True, high_open=True),
     )
     n_bootstrap: int = 10
     seed: int = 0
@@ -170,16 +185,25 @@ class SelectionOptions:
     exclude: tuple[str, ...] = ()
     max_per_event: int | None = None
     max_per_station: int | None = None
-    target_s_ds_g: float | None = option(None, "two-period S_DS [g]", kind="positive")
-    target_s_d1_g: float | None = option(None, "two-period S_D1 [g]", kind="positive")
+    target_s_ds_g: float | None = option(
+        None, "two-period S_DS [g]", kind="positive", valid=_DESIGN_G
+    )
+    target_s_d1_g: float | None = option(
+        None, "two-period S_D1 [g]", kind="positive", valid=_DESIGN_G
+    )
     target_csv: str | None = option(None, "tabulated target: period_s,sa_g", metavar="CSV")
-    target_periods_s: tuple[float, float] | None = option(None, kind="floats", metavar="LOW,HIGH")
+    target_periods_s: tuple[float, float] | None = option(
+        None, kind="floats", metavar="LOW,HIGH", valid=Range(0.001, 100)
+    )
     scale: ScalePolicy = option("none", "scaling policy (default: %(default)s)")
-    scale_min: float = option(0.25, kind="positive")
-    scale_max: float = option(4.0, kind="positive")
+    scale_min: float = option(0.25, kind="positive", valid=_SCALES)
+    scale_max: float = option(4.0, kind="positive", valid=_SCALES)
     confirm: bool = option(False, "confirm by simulation")
     confirm_onset_ratio: float = option(
-        1.0, "equal intensity: P_1·SD(T_1)/x_c of every record (default 1)", kind="positive"
+        1.0,
+        "equal intensity: P_1·SD(T_1)/x_c of every record (default 1)",
+        kind="positive",
+        valid=Range(0, 100, low_open=True),
     )
     # What goes in and out (issue 25): records, filters computed from the records, code targets.
     verticals: bool = option(False, "keep vertical components (default: horizontals only)")
@@ -289,21 +313,13 @@ class SelectionOptions:
         for name in ("spectral_weight",):
             if getattr(self, name) < 0:
                 raise bad(name, "≥ 0")
-        for name in ("a_max_m", "design_displacement_m", "target_s_ds_g", "target_s_d1_g"):
-            value = getattr(self, name)
-            if value is not None and not value > 0:
-                raise bad(name, "a positive number or None")
-        if not 0 < self.x_star_fraction < 1:
-            raise bad("x_star_fraction", "0 < fraction < 1")
-        if not 0.1 < self.strong_motion_fraction < 1:
-            raise bad("strong_motion_fraction", "0.1 < fraction < 1")
+        if self.design_displacement_m is not None and not self.design_displacement_m > 0:
+            raise bad("design_displacement_m", "a positive number or None")
         if not 0 < self.scale_min <= 1 <= self.scale_max:
             raise InputError(
                 f"scale_min = {self.scale_min}, scale_max = {self.scale_max}, expected "
                 "0 < scale_min ≤ 1 ≤ scale_max"
             )
-        if not self.confirm_onset_ratio > 0:
-            raise bad("confirm_onset_ratio", "a positive number")
         if (self.target_s_ds_g is None) != (self.target_s_d1_g is None):
             raise InputError(
                 "target_s_ds_g and target_s_d1_g: only one given, expected both or neither"

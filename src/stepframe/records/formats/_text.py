@@ -55,6 +55,9 @@ def read_lines(path: Path, what: str, *, allow_short: bool = False) -> list[str]
     except UnicodeDecodeError:
         # Latin-1 station names occur in real headers; numbers are ASCII in every text format.
         text = raw.decode("latin-1")
+    # The bytes and the text of a long record each hold the file's size: never both with the
+    # lines too (the reading peak of a 228 MB file was 1.7 GB with them, docs/benchmarks.md).
+    del raw
     return text.splitlines()
 
 
@@ -147,27 +150,56 @@ def numbers(
     return np.asarray(values, dtype=np.float64), index
 
 
+#: Values converted at once by the vectorised path: the words of a block are Python strings
+#: (about 60 bytes each), so a block holds a few MB whatever the record's length.
+_BLOCK_VALUES = 1 << 16
+
+
 def _blank_separated(
     lines: list[str], first: int, count: int | None
 ) -> tuple[np.ndarray, int] | None:
-    """:func:`numbers` for blank-separated values in one vectorised conversion, or None when
-    any value needs the line-by-line path (not a plain number, not finite and below
-    ``MAX_VALUE``, or more values than ``count`` on the last line). A record's few thousand
-    lines parse about three times faster this way."""
+    """:func:`numbers` for blank-separated values, converted a block of
+    :data:`_BLOCK_VALUES` at a time (vectorised, in bounded memory: the words of a whole long
+    record would take eight times its values), or None when any value needs the line-by-line
+    path (not a plain number, not finite and below ``MAX_VALUE``, or more values than
+    ``count`` on the last line). A record's few thousand lines parse about three times faster
+    this way."""
+    blocks: list[np.ndarray] = []
+    converted = 0
     words: list[str] = []
     index = first
-    while index < len(lines) and (count is None or len(words) < count):
+    while index < len(lines) and (count is None or converted + len(words) < count):
         words += lines[index].split()
         index += 1
-    if count is not None and len(words) > count:
+        if len(words) >= _BLOCK_VALUES or index == len(lines):
+            block = _converted(words)
+            if block is None:
+                return None
+            blocks.append(block)
+            converted += block.size
+            words = []
+    if words:
+        block = _converted(words)
+        if block is None:
+            return None
+        blocks.append(block)
+        converted += block.size
+    if count is not None and converted > count:
         return None
+    if len(blocks) == 1:
+        return blocks[0], index
+    return (np.concatenate(blocks) if blocks else np.empty(0, dtype=np.float64)), index
+
+
+def _converted(words: list[str]) -> np.ndarray | None:
+    """``words`` as float64 if each is a plain finite number below ``MAX_VALUE``, else None."""
     try:
         values = np.array(words, dtype=np.float64)
     except ValueError:
         return None
     if not np.all(np.abs(values) <= MAX_VALUE):  # also false for NaN
         return None
-    return values, index
+    return values
 
 
 #: A Fortran data format such as ``(8F10.5)``, ``(1E15.6)``, ``(10I8)``.

@@ -1,0 +1,168 @@
+"""Cost and stability of the response amplification's band from the site parameters' errors.
+
+Run: ``python bench/bench_band.py [--seeds 4] [--sizes 64,128,256,512,1024] [--n-steps 1000]``.
+
+Two sites from records, combined as the report combines them (the median of the plausible fits,
+its standard error 1.2533·s/√n): RSN 8883's two horizontal components (tests/data, large
+standard errors from two records) and the plausible components of the embedded example
+catalogue (100 FEMA P695 components, small standard errors), each over the report's default f0
+grid (0.1-10 Hz, 60 points, ξ_0 = 0.05).
+
+Measured, in one process (CPU time of this thread, medians of 3):
+
+- the cost of one curve, of the delta band (1 + 2k curves, k = 5 parameters) and of a Monte
+  Carlo band per parameter set, at ``--n-steps`` and at the report's 4,000 steps;
+- the Monte Carlo band's stability in N, for scrambled Sobol points (the default sampler) and
+  independent draws: over ``--seeds`` seeds at each N, the seed-to-seed standard deviation of
+  each edge (2.5 % and 97.5 %) as a fraction of the band's half-width, median and largest over
+  f0;
+- the delta band against the Sobol band of all seeds' sets pooled at the largest N: the
+  median and largest relative difference of each edge over f0;
+- how far the curve at ``--n-steps`` is from the curve at 4,000 steps (the stability study runs
+  at ``--n-steps`` to keep its 20,000 curves affordable).
+
+Prints Markdown tables for docs/benchmarks.md ("Issue 30").
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from stepframe.pipeline.amplification.band import (
+    VARIED,
+    monte_carlo_curves,
+    parameter_band,
+    vs_fixed_curve,
+)
+from stepframe.pipeline.amplification.site import (
+    site_from_features,
+    site_from_records,
+)
+from timing import median_cpu_seconds
+
+ROOT = Path(__file__).resolve().parents[1]
+XI0 = 0.05
+
+
+def _sites() -> list[tuple[str, object, dict[str, float]]]:
+    rsn = site_from_records(ROOT / "tests" / "data" / "peer_nga_west2")
+    from stepframe.pipeline.catalogue.example_files import write_example_files
+    from stepframe.stochastic.catalog_features import catalog_features
+
+    with tempfile.TemporaryDirectory() as tmp:
+        write_example_files(Path(tmp))
+        table, _ = catalog_features(Path(tmp), n_jobs=1)
+    catalogue = site_from_features(table)
+    n = catalogue.site.source["n_components"]
+    return [
+        ("RSN 8883 (2 components)", rsn.model, rsn.stderr),
+        (f"example catalogue ({n} plausible components)", catalogue.model, catalogue.stderr),
+    ]
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seeds", type=int, default=4)
+    parser.add_argument("--sizes", default="64,128,256,512,1024")
+    parser.add_argument("--n-steps", type=int, default=1000)
+    args = parser.parse_args()
+    sizes = [int(n) for n in args.sizes.split(",")]
+    f0 = np.geomspace(0.1, 10.0, 60)
+    vs_fixed_curve(*_sites()[0][1:2], f0, XI0, 200)  # type: ignore[arg-type]  # compile first
+    cost_rows, stability_rows, agreement_rows = [], [], []
+    for name, model, stderr in _sites():
+        relative = {k: v / float(getattr(model, k)) for k, v in stderr.items()}
+        for steps in (args.n_steps, 4000):
+            curve = median_cpu_seconds(lambda: vs_fixed_curve(model, f0, XI0, steps), 3)  # noqa: B023
+            delta = median_cpu_seconds(
+                lambda: parameter_band(model, stderr, f0, XI0, n_steps=steps),  # noqa: B023
+                3,
+            )
+            cost_rows.append((name, steps, curve, delta))
+        centre = vs_fixed_curve(model, f0, XI0, args.n_steps)
+        varied = tuple(k for k in VARIED if stderr.get(k, 0) > 0)
+        fine = vs_fixed_curve(model, f0, XI0, 4000)
+        steps_error = float(np.max(np.abs(centre / fine - 1)))
+        pooled: list[np.ndarray] = []
+        for sampler in ("sobol", "random"):
+            for n in sizes:
+                edges = []
+                seconds = []
+                for seed in range(1, args.seeds + 1):
+                    start = time.thread_time()
+                    # the draws and percentiles of parameter_band(method="monte-carlo")
+                    curves, _ = monte_carlo_curves(
+                        model, stderr, varied, f0, XI0, args.n_steps, n, seed, sampler=sampler
+                    )
+                    edges.append(np.percentile(curves, [2.5, 97.5], axis=0))
+                    seconds.append(time.thread_time() - start)
+                    if n == sizes[-1] and sampler == "sobol":
+                        pooled.append(curves)
+                lows = np.vstack([e[0] for e in edges])
+                highs = np.vstack([e[1] for e in edges])
+                half = (highs.mean(axis=0) - lows.mean(axis=0)) / 2
+                scatter_low = lows.std(axis=0, ddof=1) / half
+                scatter_high = highs.std(axis=0, ddof=1) / half
+                stability_rows.append(
+                    (name, sampler, n, statistics.median(seconds),
+                     float(np.median(scatter_low)), float(scatter_low.max()),
+                     float(np.median(scatter_high)), float(scatter_high.max()))
+                )  # fmt: skip
+        # the largest N's sets of every seed, pooled: the reference band
+        stack = np.vstack(pooled)
+        ref_low, ref_high = np.percentile(stack, [2.5, 97.5], axis=0)
+        delta = parameter_band(model, stderr, f0, XI0, n_steps=args.n_steps, central=centre)
+        assert delta is not None
+        agreement_rows.append(
+            (name, relative, len(stack), steps_error,
+             float(np.max(np.abs(delta.low / ref_low - 1))),
+             float(np.max(np.abs(delta.high / ref_high - 1))),
+             float(np.median(np.abs(delta.low / ref_low - 1))),
+             float(np.median(np.abs(delta.high / ref_high - 1))))
+        )  # fmt: skip
+    print("| site | n_steps | one curve (60 f0) [s] | delta band, 11 curves [s] |")
+    print("|---|---|---|---|")
+    for name, steps, curve, delta_s in cost_rows:
+        print(f"| {name} | {steps} | {curve:.3f} | {delta_s:.2f} |")
+    print()
+    print(
+        f"| site | sampler | N | Monte Carlo band at {args.n_steps} steps [s] | low edge scatter "
+        "/ half-width, median (max) | high edge scatter / half-width, median (max) |"
+    )
+    print("|---|---|---|---|---|---|")
+    for name, sampler, n, seconds, lm, lx, hm, hx in stability_rows:
+        print(
+            f"| {name} | {sampler} | {n} | {seconds:.1f} | {lm:.3f} ({lx:.3f}) "
+            f"| {hm:.3f} ({hx:.3f}) |"
+        )
+    print()
+    print(
+        "| site | relative standard errors | pooled Sobol sets | curve at n_steps vs 4,000 "
+        "steps, largest relative difference | delta vs pooled Monte Carlo, low edge: median "
+        "(max) | high edge: median (max) |"
+    )
+    print("|---|---|---|---|---|---|")
+    for name, relative, count, steps_error, low_max, high_max, low_med, high_med in agreement_rows:
+        rel = ", ".join(f"{k.removesuffix('_rad_s')} {v:.2f}" for k, v in relative.items())
+        print(
+            f"| {name} | {rel} | {count} | {steps_error:.1e} | {low_med:.3f} ({low_max:.3f}) "
+            f"| {high_med:.3f} ({high_max:.3f}) |"
+        )
+    print(f"\nmachine: {_machine()}")
+
+
+def _machine() -> str:
+    import os
+    import platform
+
+    return f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores (shared)"
+
+
+if __name__ == "__main__":
+    main()
