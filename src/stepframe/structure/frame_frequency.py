@@ -52,7 +52,10 @@ sample interval, with ẍ_g linear and x known with ẋ at both ends,
     ∫ ẍ_g ẋ dt = Δx·(a_i + a_{i+1})/2 + (a_{i+1} - a_i)(ẋ_{i+1} - ẋ_i)·Δt/12,
 
 exact for a cubic x(t) (integration by parts, then the trapezoid rule with its end correction
-for ∫x dt). An interval holding a lift-off or touchdown takes the mean of the two ends' P.
+for ∫x dt). An interval holding a lift-off or a touchdown takes the mean of the two ends' P and
+is approximate (ẍ jumps there, and ẋ at an impact): the energy balance of a run with ten
+stepping episodes closes within 0.12 % (tests/structure/test_frame_frequency.py), and to 1e-7
+between switches.
 """
 
 from __future__ import annotations

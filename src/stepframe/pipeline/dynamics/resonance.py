@@ -5,7 +5,7 @@ The steps of docs/selection.md, "Moving resonance, measured":
 
 1. the record's Morlet spectrum S(ω, t) over the frame's band widened by a third of an octave
    either side (:func:`band_spectrum`: the ground acceleration the frame felt, record then the
-   tail's zeros, eight bands per octave);
+   tail's zeros, twelve bands per octave);
 2. the frame's instantaneous frequency ω_f(t) and the ground's work per sample interval from the
    exact simulation's history (:mod:`stepframe.structure.frame_frequency`);
 3. at each sample, the **closeness** c(t) = the largest S within a third of an octave of
@@ -47,8 +47,9 @@ Floats = NDArray[np.float64]
 
 #: Morlet relative bandwidth ω/σ of the band spectrum (the project's wavelet default).
 MORLET_Q = 6.0
-#: Bands per octave of the band spectrum: a tone's band power falls by 2 % between two bands.
-BANDS_PER_OCTAVE = 8
+#: Bands per octave of the band spectrum: four bands make :data:`NEAR_LN`, so the window of
+#: "near ω_f" is whole bands; a tone's density falls by 3 % (q = 6) between two bands.
+BANDS_PER_OCTAVE = 12
 #: Spacing of the band spectrum's frames [s].
 HOP_S = 0.1
 #: Half-width of "near ω_f" in ln ω: a third of an octave either side. The phase-locked frame of
@@ -59,14 +60,15 @@ NEAR_LN = math.log(2.0) / 3.0
 
 
 def band_grid_rad_s(band_rad_s: Sequence[float]) -> Floats:
-    """Log-spaced band centres over the frame's band widened by :data:`NEAR_LN` at both ends
-    (every frequency "near" a frequency of the band) [rad/s], eight per octave, ends included."""
+    """Band centres twelve per octave from the bottom of the frame's band widened by
+    :data:`NEAR_LN` (every frequency "near" a frequency of the band) up to the first at or above
+    its widened top [rad/s]."""
     low, high = float(band_rad_s[0]), float(band_rad_s[1])
     if not (math.isfinite(low) and math.isfinite(high) and 0 < low < high):
         raise InputError(f"band_rad_s = {tuple(band_rad_s)}, expected 0 < low < high [rad/s]")
-    low, high = low * math.exp(-NEAR_LN), high * math.exp(NEAR_LN)
-    count = max(2, math.ceil(BANDS_PER_OCTAVE * math.log2(high / low)) + 1)
-    return np.geomspace(low, high, count)
+    octaves = math.log2(high / low) + 2 * NEAR_LN / math.log(2.0)
+    count = max(2, math.ceil(BANDS_PER_OCTAVE * octaves - 1e-9) + 1)
+    return low * math.exp(-NEAR_LN) * 2.0 ** (np.arange(count) / BANDS_PER_OCTAVE)
 
 
 def band_spectrum(
@@ -196,7 +198,7 @@ def closeness(
     peak = psd.max(axis=1)
     log_omega = np.log(omega)
     log_step = (log_omega[-1] - log_omega[0]) / (omega.size - 1)
-    reach = math.floor(NEAR_LN / log_step + 1e-9)
+    reach = round(NEAR_LN / log_step)
     near = psd.copy()
     for shift in range(1, reach + 1):
         np.maximum(near[:, shift:], psd[:, :-shift], out=near[:, shift:])

@@ -1,0 +1,138 @@
+"""The moving-resonance index on motions whose frequency path is known: a chirp that leads the
+frame down its backbone, one that runs the other way, a sine at ω_1; the closeness against the
+Morlet spectrum of a tone; the picture."""
+
+from __future__ import annotations
+
+import math
+import tomllib
+
+import numpy as np
+import pytest
+from matplotlib.figure import Figure
+
+from stepframe.pipeline.dynamics.resonance import (
+    NEAR_LN,
+    band_spectrum,
+    closeness,
+    moving_resonance,
+    resonance_index,
+)
+from stepframe.pipeline.selection.band import frame_band
+from stepframe.structure.frame import PortalFrame
+from stepframe.structure.frame_file import FRAME_TEMPLATE, frame_from_mapping
+from stepframe.structure.period_amplitude import period_amplitude
+from stepframe.structure.simulator import simulate
+
+DT = 0.02
+DURATION = 200.0
+AMPLITUDE_M_S2 = 1.5
+
+
+def wide_frame() -> PortalFrame:
+    """The frame template's physical inputs with l = L_F/2: x* = 34 x_c, room to step."""
+    tables = tomllib.loads(FRAME_TEMPLATE)
+    del tables["constants"]
+    return frame_from_mapping(tables)
+
+
+def path_motion(omega_rad_s: np.ndarray) -> np.ndarray:
+    """A sine of AMPLITUDE_M_S2 whose frequency follows ``omega_rad_s``, with 3-s ramps."""
+    t = np.arange(omega_rad_s.size) * DT
+    ramp = np.clip(t / 3, 0, 1) * np.clip((t[-1] - t) / 3, 0, 1)
+    return AMPLITUDE_M_S2 * ramp * np.sin(np.cumsum(omega_rad_s) * DT)
+
+
+@pytest.fixture(scope="module")
+def indices() -> dict[str, float]:
+    frame = wide_frame()
+    band = frame_band(frame)
+    low, high = band.omega_low_rad_s, band.omega_1_rad_s
+    t = np.arange(0, DURATION, DT)
+    # Down the backbone: ω(A(t)) with A rising from x_c to x*/2 after 10 s at ω_1.
+    amplitude = frame.x_c_m + (0.5 * frame.x_star_m - frame.x_c_m) * np.clip(
+        (t - 10) / (DURATION - 15), 0, 1
+    )
+    follow = 2 * math.pi / period_amplitude(frame, amplitude)
+    # Up through the band: from its bottom to 2 ω_1 at a constant rate in ln ω.
+    opposite = np.exp(np.log(low) + np.log(2 * high / low) * t / DURATION)
+    stationary = np.full(t.size, frame.omega_1_rad_s)
+    out = {}
+    for name, path in (("follow", follow), ("opposite", opposite), ("stationary", stationary)):
+        run = moving_resonance(frame, path_motion(path), DT)
+        assert run.measures.status == "ok"
+        out[name] = run.measures.moving_resonance_index
+        out[name + " share"] = run.measures.moving_resonance_share
+        out[name + " depth"] = run.measures.work_depth
+    return out
+
+
+def test_a_chirp_down_the_backbone_scores_near_the_maximum(indices: dict[str, float]) -> None:
+    # The frame is captured and led down its band: the record's energy is where the frame is.
+    assert indices["follow"] >= 0.95
+    assert indices["follow depth"] >= 0.4
+
+
+def test_a_chirp_the_other_way_scores_near_the_minimum(indices: dict[str, float]) -> None:
+    assert indices["opposite"] <= 0.3
+    assert indices["opposite share"] <= 0.01
+
+
+def test_a_sine_at_omega_1_scores_in_between(indices: dict[str, float]) -> None:
+    # Entrained near ω_1, the frame rarely moves down its band (depth ≈ 0.001), and when it does
+    # the sine's energy is partly within reach; the share of all the work that arrived by moving
+    # resonance is nil, as for the chirp the other way.
+    assert indices["opposite"] + 0.2 <= indices["stationary"] <= 0.85
+    assert indices["stationary depth"] <= 0.01
+    assert indices["stationary share"] <= 0.01
+
+
+def test_closeness_of_a_tone_follows_the_morlet_band_power() -> None:
+    # A tone at ω₀ has the Morlet density S_j ∝ exp(-q²(1 - ω₀/ω_j)²)/ω_j; the closeness at ω_f
+    # is that of the band nearest ω₀ within a third of an octave of ω_f.
+    omega_0, q, band = 3.0, 6.0, (0.5, 6.0)
+    t = np.arange(0, 120, 0.01)
+    spectrum = band_spectrum(np.sin(omega_0 * t), 0.01, band)
+    frames = spectrum["time"].values
+    mid = (frames > 40) & (frames < 80)
+    for omega_f, expected in ((3.0, 1.0), (3.0 * math.exp(0.9 * NEAR_LN), 1.0)):
+        near, ridge = closeness(spectrum, frames[mid], np.full(mid.sum(), omega_f))
+        assert np.allclose(near, expected, atol=0.03)
+        assert np.allclose(ridge, omega_0, rtol=0.05)
+    far = 3.0 * math.exp(2 * NEAR_LN)
+    reach = far * math.exp(-NEAR_LN)
+
+    def density(w: float) -> float:
+        return math.exp(-(q**2) * (1 - omega_0 / w) ** 2) / w
+
+    peak = max(density(w) for w in np.geomspace(2.5, 3.5, 2001))
+    near, _ = closeness(spectrum, frames[mid], np.full(mid.sum(), far))
+    assert np.allclose(near, density(reach) / peak, rtol=0.1)
+
+
+def test_without_history_or_with_a_failed_run_the_index_says_why() -> None:
+    frame = wide_frame()
+    acc = np.sin(np.arange(0, 20, 0.01))
+    result = simulate(frame, acc, 0.01, record_history=False)
+    spectrum = band_spectrum(acc, 0.01, (1.0, 6.0), n_samples=2000 + 1000)
+    measures = resonance_index(result, spectrum, (1.0, 6.0))
+    assert measures.status == "failed"
+    assert "record_history" in measures.message
+    assert math.isnan(measures.moving_resonance_index)
+
+
+def test_the_picture_draws_the_spectrum_the_path_and_the_work() -> None:
+    frame = wide_frame()
+    t = np.arange(0, 60, DT)
+    run = moving_resonance(frame, 3.0 * np.sin(frame.omega_1_rad_s * t), DT, title="sine")
+    figure = run.figure()
+    assert isinstance(figure, Figure)
+    top, below = figure.axes[0], figure.axes[1]  # the colour bar is axes[2]
+    assert top.get_yscale() == "log"
+    omega_f = run.result.frame_frequency
+    work = run.result.input_energy
+    assert omega_f is not None and work is not None
+    drawn = [line for line in top.get_lines() if line.get_label() == "frame's ω_f(t)"][0]
+    assert np.allclose(drawn.get_ydata(), omega_f.values / (2 * math.pi), equal_nan=True)
+    assert np.allclose(below.get_lines()[0].get_ydata(), work.values)
+    assert "R_m" in top.get_title()
