@@ -132,7 +132,7 @@ def test_the_picture_draws_the_spectrum_the_path_and_the_work() -> None:
     omega_f = run.result.frame_frequency
     work = run.result.input_energy
     assert omega_f is not None and work is not None
-    drawn = [line for line in top.get_lines() if line.get_label() == "frame's ω_f(t)"][0]
+    drawn = next(line for line in top.get_lines() if line.get_label() == "frame's ω_f(t)")
     assert np.allclose(drawn.get_ydata(), omega_f.values / (2 * math.pi), equal_nan=True)
     assert np.allclose(below.get_lines()[0].get_ydata(), work.values)
     assert "R_m" in top.get_title()
