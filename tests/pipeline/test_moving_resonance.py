@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 import tomllib
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -136,3 +137,21 @@ def test_the_picture_draws_the_spectrum_the_path_and_the_work() -> None:
     assert np.allclose(drawn.get_ydata(), omega_f.values / (2 * math.pi), equal_nan=True)
     assert np.allclose(below.get_lines()[0].get_ydata(), work.values)
     assert "R_m" in top.get_title()
+
+
+def test_simulate_plot_lines_up_the_response_and_the_spectrum(data_dir: Path) -> None:
+    # `structure simulate --plot`: x(t) above, the record's band spectrum with ω_f(t) below, on
+    # one time axis (the record plus the tail).
+    from stepframe.pipeline.dynamics.response import simulate_component
+    from stepframe.records import read
+
+    stream = read(data_dir / "peer_nga_west2/RSN8883_14383980_13849360.AT2")
+    simulated = simulate_component(wide_frame(), stream, name="rec.AT2", scale=6.0, tail_s=5.0)
+    figure = simulated.figure()
+    run = simulated.response.resonance
+    end_s = float(run.spectrum["time"].values[-1])
+    (spectrum_axes,) = [ax for ax in figure.axes if ax.get_yscale() == "log"]
+    (x_axes,) = [ax for ax in figure.axes if ax.get_ylabel() == "x [m]"]
+    assert x_axes.get_xlim() == pytest.approx((0.0, end_s))
+    assert end_s == pytest.approx((run.result.raw.hist_x.size - 1) * run.result.dt_s, abs=0.1)
+    assert "R_m" in spectrum_axes.get_title()

@@ -10,6 +10,8 @@ import numpy as np
 import pytest
 
 from stepframe.cli import main
+from stepframe.pipeline.dynamics.resonance import moving_resonance
+from stepframe.pipeline.selection.band import frame_band
 from stepframe.records import read
 from stepframe.structure.frame_file import FRAME_TEMPLATE, read_frame_file
 from stepframe.structure.simulator import simulate
@@ -62,6 +64,19 @@ def test_simulate_json_matches_the_library(
     assert summary["pga_m_s2"] == pytest.approx(6 * np.max(np.abs(trace.data)))
     assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["FRAME.toml", "response.png"]
+    # The moving-resonance measures are the library's on the same run, over the frame's band.
+    frame = read_frame_file(frame_file)
+    measured = moving_resonance(frame, trace.data, trace.stats.delta, scale=6.0, tail_s=5.0)
+    resonance = summary["moving_resonance"]
+    for key, value in measured.to_dict().items():
+        assert resonance[key] == (pytest.approx(value) if isinstance(value, float) else value), key
+    band = frame_band(frame)
+    assert resonance["band_rad_s"] == [band.omega_low_rad_s, frame.omega_1_rad_s]
+    # One stepping excursion: one half-cycle stepped, ω_f left ω_1 for a moment only, so nearly
+    # none of the ground's work arrived by moving resonance.
+    assert resonance["n_stepping_half_cycles"] == 1
+    assert resonance["lowest_omega_f_rad_s"] < frame.omega_1_rad_s / 2
+    assert resonance["work_depth"] < 0.01 and resonance["moving_resonance_share"] < 0.01
 
 
 def test_simulate_text_reports_overturning(
@@ -73,6 +88,7 @@ def test_simulate_text_reports_overturning(
     )  # fmt: skip
     assert status == 0
     assert "OVERTURNED at" in out
+    assert "moving resonance: R_m " in out and "ω_f down to 0 rad/s" in out
 
 
 @pytest.mark.parametrize(

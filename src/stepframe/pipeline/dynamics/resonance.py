@@ -38,7 +38,7 @@ from stepframe.errors import InputError
 
 if TYPE_CHECKING:
     import xarray as xr
-    from matplotlib.figure import Figure
+    from matplotlib.figure import Figure, SubFigure
 
     from stepframe.structure.frame import PortalFrame
     from stepframe.structure.simulator import SimulationResult
@@ -318,15 +318,33 @@ def resonance_figure(
     """The picture of moving resonance for one simulation with history: the record's spectrum
     over the band as a heat map (log frequency, band shaded), ω_f(t) drawn over it, and the
     accumulated work of the ground below, with R_m in the title."""
-    from stepframe.stochastic.plots import time_frequency_figure
+    from matplotlib.figure import Figure
+
+    figure = Figure(figsize=(9.0, 5.6), layout="constrained")
+    draw_resonance(figure, result, spectrum, measures, title=title)
+    return figure
+
+
+def draw_resonance(
+    target: Figure | SubFigure,
+    result: SimulationResult,
+    spectrum: xr.DataArray,
+    measures: MovingResonance,
+    *,
+    title: str = "",
+) -> None:
+    """:func:`resonance_figure` drawn into ``target`` (a figure or a subfigure)."""
+    from stepframe.stochastic.plots import draw_time_frequency
 
     omega_f, energy = result.frame_frequency, result.input_energy
     if omega_f is None or energy is None:
         raise ValueError("the simulation kept no history, expected record_history=True")
     index = measures.moving_resonance_index
-    summary = "R_m = " + ("n/a (no stepping)" if math.isnan(index) else f"{index:.2f}")
+    summary = "R_m = " + ("n/a: ω_f stayed near ω_1" if math.isnan(index) else f"{index:.2f}")
+    summary += f", M = {measures.moving_resonance_share:.2f}"
     overturn = result.summary.overturn_time_s if result.summary.overturned else None
-    return time_frequency_figure(
+    draw_time_frequency(
+        target,
         spectrum,
         band_rad_s=measures.band_rad_s,
         path=(omega_f["time"].values, omega_f.values),
@@ -337,6 +355,29 @@ def resonance_figure(
         marker_label="overturned",
         title=f"{title}  ({summary})" if title else summary,
     )
+
+
+def default_band(frame: PortalFrame) -> tuple[float, float]:
+    """The frame's band of the selection, [ω(0.8 x*), ω_1] [rad/s]
+    (:func:`stepframe.pipeline.selection.band.frame_band`)."""
+    from stepframe.pipeline.selection.band import frame_band
+
+    found = frame_band(frame)
+    return (found.omega_low_rad_s, found.omega_1_rad_s)
+
+
+def measure_run(
+    result: SimulationResult,
+    ground_acc_m_s2: ArrayLike,
+    dt_s: float,
+    band_rad_s: Sequence[float],
+    *,
+    title: str = "",
+) -> ResonanceRun:
+    """The band spectrum of the record a simulation ran under (any scale) and the run's
+    moving-resonance measures."""
+    spectrum = band_spectrum(ground_acc_m_s2, dt_s, band_rad_s, n_samples=result.raw.hist_x.size)
+    return ResonanceRun(result, spectrum, resonance_index(result, spectrum, band_rad_s), title)
 
 
 def moving_resonance(
@@ -362,21 +403,16 @@ def moving_resonance(
     tail_s
         Free vibration after the record [s] (default the simulator's).
     band_rad_s
-        The band (low, high) [rad/s]; default the frame's band of the selection,
-        [ω(0.8 x*), ω_1] (:func:`stepframe.pipeline.selection.band.frame_band`).
+        The band (low, high) [rad/s]; default :func:`default_band`.
     title
         The figure's title.
     """
-    from stepframe.pipeline.selection.band import frame_band
     from stepframe.structure.simulator import DEFAULT_TAIL_S, simulate
 
-    if band_rad_s is None:
-        found = frame_band(frame)
-        band_rad_s = (found.omega_low_rad_s, found.omega_1_rad_s)
+    band = default_band(frame) if band_rad_s is None else band_rad_s
     tail = DEFAULT_TAIL_S if tail_s is None else float(tail_s)
     result = simulate(frame, ground_acc_m_s2, dt_s, scale=scale, tail_s=tail)
-    spectrum = band_spectrum(ground_acc_m_s2, dt_s, band_rad_s, n_samples=result.raw.hist_x.size)
-    return ResonanceRun(result, spectrum, resonance_index(result, spectrum, band_rad_s), title)
+    return measure_run(result, ground_acc_m_s2, dt_s, band, title=title)
 
 
 __all__ = [
@@ -388,6 +424,9 @@ __all__ = [
     "band_grid_rad_s",
     "band_spectrum",
     "closeness",
+    "default_band",
+    "draw_resonance",
+    "measure_run",
     "moving_resonance",
     "resonance_figure",
     "resonance_index",
