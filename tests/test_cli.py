@@ -218,6 +218,7 @@ def test_the_command_tree_builds_whatever_module_is_imported_first() -> None:
     for first in (
         "stepframe.commands.records",
         "stepframe.commands.stochastic",
+        "stepframe.commands.store",
         "stepframe.commands.structure",
     ):
         probe = (
@@ -228,5 +229,5 @@ def test_the_command_tree_builds_whatever_module_is_imported_first() -> None:
             [sys.executable, "-c", probe], capture_output=True, text=True, check=True
         )
         assert done.stdout.strip() == (
-            "['demo', 'records', 'report', 'run', 'select', 'stochastic', 'structure']"
+            "['demo', 'records', 'report', 'run', 'select', 'stochastic', 'store', 'structure']"
         )

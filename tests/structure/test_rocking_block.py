@@ -15,13 +15,9 @@ from stepframe.errors import InputError
 from stepframe.structure.frame import RockingBlock
 from stepframe.structure.harmonic import simulate_harmonic, simulate_pulse
 from stepframe.structure.ida import IdaSettings, ida_pulse
-from stepframe.structure.rocking_block import (
-    block_harmonic,
-    block_pulse,
-    simulate_block,
-    small_angle_note,
-)
+from stepframe.structure.rocking_block import block_harmonic, block_pulse, simulate_block
 from stepframe.structure.simulator import simulate
+from stepframe.structure.status import small_angle_note
 
 from .block_reference import block_pulse_reference
 

@@ -161,7 +161,9 @@ def record_files(
 ) -> list[Path]:
     """Record files under ``path`` (or ``path`` itself), recursively, sorted.
 
-    Skipped: hidden files and folders; anything that is not a regular file (a FIFO or a device
+    Symbolic links to folders are followed, each real folder walked once (a link back up the
+    tree, a loop, is not walked again). Skipped: hidden files and folders; anything that is not
+    a regular file (a FIFO or a device
     would block or never end, a socket cannot be read); documentation, licences, inventories and
     metadata tables beside records (:func:`is_record_file`); stepframe's own outputs and the
     paths in ``exclude`` (a catalogue written inside the folder it scans must not be read back as
@@ -183,7 +185,13 @@ def record_files(
     if not root.is_dir():
         raise InputError("no such file or folder, expected a folder of records", root)
     files = []
-    for folder, dirs, names in os.walk(root):
+    walked: set[str] = set()
+    for folder, dirs, names in os.walk(root, followlinks=True):
+        real = os.path.realpath(folder)
+        if real in walked:  # a loop, or a folder reached twice through links: walked once
+            dirs[:] = []
+            continue
+        walked.add(real)
         dirs[:] = sorted(d for d in dirs if not d.startswith("."))
         for name in sorted(names):
             file = Path(folder) / name

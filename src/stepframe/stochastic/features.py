@@ -63,6 +63,8 @@ from stepframe.stochastic.transforms import (
     DEFAULT_HOP_S,
     DEFAULT_WINDOW_S,
     FftBackend,
+    crossing_positions,
+    hann_kernel,
     record_samples,
     stft_power,
 )
@@ -219,28 +221,11 @@ def fixed_window_floor(window_s: float) -> float:
     return 2 * math.pi / window_s
 
 
-def hann_kernel(length_s: float, spacing_s: float) -> NDArray[np.float64]:
-    """Unit-sum Hann kernel of ``length_s`` sampled every ``spacing_s`` (odd length ≥ 3)."""
-    half = max(1, round(length_s / spacing_s / 2))
-    x = np.arange(-half, half + 1) / (half + 1)
-    k = np.cos(0.5 * math.pi * x) ** 2
-    return np.asarray(k / k.sum())
-
-
 def smooth(values: NDArray[np.float64], kernel: NDArray[np.float64]) -> NDArray[np.float64]:
     """Kernel average normalised by the kernel's mass inside the series (no edge loss)."""
     num = np.convolve(values, kernel, mode="same")
     den = np.convolve(np.ones_like(values), kernel, mode="same")
     return np.asarray(num / den)
-
-
-def crossing_positions(data: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Zero crossings (both directions) in samples from the first, interpolated linearly
-    between the two samples either side."""
-    sign = data >= 0
-    idx = np.flatnonzero(sign[:-1] != sign[1:])
-    a, b = data[idx], data[idx + 1]
-    return np.asarray(idx + a / (a - b))
 
 
 def crossing_density(

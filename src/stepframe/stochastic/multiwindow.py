@@ -9,7 +9,7 @@ of T seconds where it is slow.
 Method (all sums on the frame grid, every window a unit-sum Hann kernel of length L):
 
 1. Each frame's bin collects its samples: the count, the zero crossings (the crossing positions of
-   :func:`stepframe.stochastic.features.crossing_positions`), Σx² and Σẋ², ẋ the FFT derivative
+   :func:`stepframe.stochastic.transforms.crossing_positions`), Σx² and Σẋ², ẋ the FFT derivative
    of the record extended by its mirror image (exact up to Nyquist, and no step at the ends).
 2. A ladder of window lengths L_k = ``window_s``·2^(k/4) up to the record length: every bin series
    is smoothed by every window in one batched FFT convolution.
@@ -45,7 +45,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from stepframe.stochastic.features import crossing_positions, hann_kernel
+from stepframe.stochastic.transforms import crossing_positions, hann_kernel
 
 #: Cycles of the local frequency in each frame's window (constant Q). Three: fewer raise the
 #: ratio bias and the spread at low frequency (two: +10 % and 0.39 on a stationary ξ = 0.3

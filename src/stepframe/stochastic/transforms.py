@@ -242,13 +242,32 @@ def cone_of_influence(
         return np.asarray(math.sqrt(2.0) * morlet_q / edge)
 
 
+def hann_kernel(length_s: float, spacing_s: float) -> NDArray[np.float64]:
+    """Unit-sum Hann kernel of ``length_s`` sampled every ``spacing_s`` (odd length ≥ 3)."""
+    half = max(1, round(length_s / spacing_s / 2))
+    x = np.arange(-half, half + 1) / (half + 1)
+    k = np.cos(0.5 * math.pi * x) ** 2
+    return np.asarray(k / k.sum())
+
+
+def crossing_positions(data: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Zero crossings (both directions) in samples from the first, interpolated linearly
+    between the two samples either side."""
+    sign = data >= 0
+    idx = np.flatnonzero(sign[:-1] != sign[1:])
+    a, b = data[idx], data[idx + 1]
+    return np.asarray(idx + a / (a - b))
+
+
 __all__ = [
     "DEFAULT_HOP_S",
     "DEFAULT_WINDOW_S",
     "FftBackend",
     "StftEngine",
     "cone_of_influence",
+    "crossing_positions",
     "fft_backend",
+    "hann_kernel",
     "record_samples",
     "stft_power",
     "wavelet_power",

@@ -97,7 +97,7 @@ def check_harmonic_work(
 
 def _small_angle(frame: FrameLike, prm: np.ndarray, peak_m: float) -> str:
     """The note of a linearised rigid block that rotated beyond small angles ("" else)."""
-    from stepframe.structure.rocking_block import small_angle_note
+    from stepframe.structure.status import small_angle_note
 
     return small_angle_note(prm[7], prm[4] / prm[1] ** 2, getattr(frame, "h_r_m", None), peak_m)
 

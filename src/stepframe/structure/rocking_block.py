@@ -52,11 +52,6 @@ if TYPE_CHECKING:
 #: Default relative tolerance of the Runge-Kutta steps.
 DEFAULT_RTOL = 1e-10
 
-#: Error of the small-angle model's cos(αs - θ) ≈ 1 beyond which a linearised block's result
-#: carries a note (its sin(u) ≈ u errs by a third as much); docs/structure-dynamics.md measures
-#: what it does to peaks and overturning.
-SMALL_ANGLE_TOLERANCE = 0.01
-
 #: Forcing kinds of a kernel interval: linear between samples, or A cos(ωt + φ).
 _LINEAR = 0
 _HARMONIC = 1
@@ -141,41 +136,6 @@ class BlockRun:
         }
 
 
-def small_angle_note(
-    x_c_m: float, x_star_m: float, height_m: float | None, peak_abs_x_m: float
-) -> str:
-    """One line when a linearised rigid block (x_c = 0, x = hθ) rotated beyond small angles.
-
-    The linearisation replaces sin(αs - θ) by αs - θ and cos(αs - θ) by 1 (α = x*/h). Over a
-    motion up to |θ| = θ_max the angle u = αs - θ reaches max(α, θ_max - α), and cos u ≈ 1 errs
-    by 1 - cos u. The note gives θ_max, θ_max/α and that error when it passes
-    :data:`SMALL_ANGLE_TOLERANCE` ("" otherwise, for a frame that is not a rigid block, or for
-    one that never rocked).
-
-    Parameters
-    ----------
-    x_c_m, x_star_m
-        The model's x_c and x* [m].
-    height_m
-        h, with x = hθ [m] (None: not known, no note).
-    peak_abs_x_m
-        Largest |x| reached [m].
-    """
-    if x_c_m != 0.0 or not height_m or not peak_abs_x_m > 0.0:
-        return ""
-    alpha = x_star_m / height_m
-    theta = peak_abs_x_m / height_m
-    error = 1.0 - math.cos(max(alpha, theta - alpha))
-    if error <= SMALL_ANGLE_TOLERANCE:
-        return ""
-    return (
-        f"linearised rocking block: peak rotation {theta:.3g} rad = {theta / alpha:.3g} α, "
-        f"where cos(α - θ) ≈ 1 errs by {100 * error:.2g} % (the full equation: "
-        "stepframe.structure.rocking_block)"
-    )
-
-
-# ----------------------------------------------------------------------------- kernel
 @njit(cache=True)
 def _ground(kind: int, t: float, t_a: float, a0: float, slope: float, amp: float, om: float,
             phi: float) -> float:  # fmt: skip

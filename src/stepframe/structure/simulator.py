@@ -103,7 +103,7 @@ class SimulationSummary:
         verdict); see ``message``.
     message
         One line saying what went wrong; with "ok", "" or a note (a linearised rigid block that
-        rotated beyond small angles: :func:`stepframe.structure.rocking_block.small_angle_note`).
+        rotated beyond small angles: :func:`stepframe.structure.status.small_angle_note`).
     """
 
     peak_abs_x_m: float
@@ -491,7 +491,7 @@ def _result(
     raw: RawRun, dt_s: float, height: float | None, units: str, status: int, model: Model,
     ag: np.ndarray,
 ) -> SimulationResult:  # fmt: skip
-    from stepframe.structure.rocking_block import small_angle_note
+    from stepframe.structure.status import small_angle_note
 
     message = STATUS_MESSAGES.get(status, f"unknown status code {status}")
     if status == STATUS_OK:

@@ -64,6 +64,7 @@ def test_filters_report_what_each_dropped(example4: PortalFrame) -> None:
     assert dropped.tolist() == ["magnitude", "", "distance", "exclude", "fit_quality"]
     assert [(r.name, r.dropped, r.left) for r in reports] == [
         ("path", 0, 5),
+        ("vertical", 0, 5),
         ("fit_quality", 1, 4),
         ("exclude", 1, 3),
         ("magnitude", 1, 2),

@@ -128,6 +128,8 @@ def test_write_and_read_back(run: Any, tmp_path: Path) -> None:
             "candidates.csv",
             "confirmation.csv",
             "failures.csv",
+            "spectra.csv",
+            "manifest.csv",
             "columns.csv",
             "selection.json",
         ]
@@ -154,7 +156,7 @@ def test_too_many_asked_names_each_filter(example_inputs: Any, example4: PortalF
     plausible = int(table["plausible"].astype(bool).sum())
     assert error.value.one_line() == (
         f"n = 80 but only {plausible} candidates left (100 candidates, path → 100, "
-        f"fit_quality → {plausible}), expected n ≤ {plausible}"
+        f"vertical → 100, fit_quality → {plausible}), expected n ≤ {plausible}"
     )
 
 
@@ -167,8 +169,9 @@ def test_default_score_without_records_says_why(example_inputs: Any, example4: P
         select_records(table, example4, SelectionOptions(n=3, n_bootstrap=0), jobs=1)
     line = error.value.one_line()
     assert line.startswith(
-        f"no candidate could be computed (100 candidates, path → 100, fit_quality → {plausible}, "
-        "computed → 0; first failure: fema_p695/"
+        f"no candidate could be computed (100 candidates, path → 100, vertical → 100, "
+        f"fit_quality → {plausible}, "
+        "computed → 0; first failure: RSN"
     )
     assert line.endswith(
         "expected readable records for substitute_demand_ratio (records= or the files by path), "

@@ -80,8 +80,10 @@ def test_select_json_and_outputs(
             "columns.csv",
             "confirmation.csv",
             "failures.csv",
+            "motions",
             "selection.csv",
             "selection.json",
+            "spectra.csv",
         ]
     )
 
@@ -106,7 +108,7 @@ def test_too_many_asked(
     )
     assert _error(capsys) == (
         "stepframe: error: n = 3 but only 2 candidates left (2 candidates, path → 2, "
-        "fit_quality → 2), expected n ≤ 2"
+        "vertical → 2, fit_quality → 2), expected n ≤ 2"
     )
 
 
@@ -136,7 +138,7 @@ def test_filter_removing_everything_with_metadata(
     )
     assert _error(capsys) == (
         "stepframe: error: every candidate was filtered out (2 candidates, path → 2, "
-        "fit_quality → 2, magnitude → 0), expected some left"
+        "vertical → 2, fit_quality → 2, magnitude → 0), expected some left"
     )
 
 

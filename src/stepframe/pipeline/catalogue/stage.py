@@ -15,6 +15,7 @@ from typing import Any
 
 from stepframe.errors import InputError
 from stepframe.pipeline.catalogue.fit_options import ESTIMATION_FIELDS, FitOptions
+from stepframe.pipeline.engine.same_content import NAME_SEPARATOR
 from stepframe.pipeline.engine.stage import Context, Param, Stage, Task, params_from_options
 from stepframe.pipeline.engine.store import file_sha256, make_key
 
@@ -26,6 +27,10 @@ FEATURES_VERSION = 3
 #: Column dictionary of the inventory table: name → (unit, meaning).
 INVENTORY_COLUMNS: dict[str, tuple[str, str]] = {
     "file": ("", "record file, relative to the records folder"),
+    "duplicates": (
+        "",
+        "other files with the same bytes, '; '-separated (one item, computed once; empty: none)",
+    ),
     "content_sha256": ("", "sha256 of the file's bytes (the cache key's root)"),
     "channel_index": ("", "position of the component in the file"),
     "station": ("", "station name"),
@@ -81,35 +86,45 @@ def _record_contents(context: Context) -> list[tuple[Path, str]]:
 
 
 def _inventory_tasks(context: Context) -> list[Task]:
+    """One task per distinct content: files with the same bytes are one item, named by the first
+    (in sorted order) with the others in its ``duplicates`` column and the run's summary."""
     folder = record_folder(context)
     options = _record_options(context)
-    tasks = []
+    names: dict[str, list[Path]] = {}
     for path, sha in _record_contents(context):
+        names.setdefault(sha, []).append(path)
+    tasks = []
+    for sha, paths in names.items():
         key = make_key("inventory", INVENTORY_VERSION, options, sha)
-        relative = path.relative_to(folder).as_posix()
+        first, *others = [path.relative_to(folder).as_posix() for path in paths]
         tasks.append(
             Task(
                 key=key,
-                name=relative,
+                name=first,
                 # absolute: a Dask worker's current folder is not this process's
-                payload=(str(path.absolute()), options),
-                context={"file": relative, "content_sha256": sha},
+                payload=(str(paths[0].absolute()), options, first),
+                context={
+                    "file": first,
+                    "duplicates": NAME_SEPARATOR.join(others),
+                    "content_sha256": sha,
+                },
+                aliases=tuple(others),
             )
         )
     return tasks
 
 
-def read_components(payload: tuple[str, dict[str, Any]]) -> list[dict[str, Any]]:
+def read_components(payload: tuple[str, dict[str, Any], str]) -> list[dict[str, Any]]:
     """Inventory of one file: a row per component (worker side)."""
     import numpy as np
 
     from stepframe.records import read
 
-    path, options = payload
+    path, options, name = payload
     try:
-        stream = read(path, **options)
+        stream = read(path, **read_kwargs(options))
     except Exception as error:  # a reader may raise anything on a foreign file: recorded
-        raise ItemFailure(f"read: {_one_line(error)}") from None
+        raise ItemFailure(f"read: {_one_line(error, path, name)}") from None
     if len(stream) == 0:
         raise ItemFailure("read: no traces in the file")
     rows = []
@@ -131,12 +146,25 @@ def read_components(payload: tuple[str, dict[str, Any]]) -> list[dict[str, Any]]
     return rows
 
 
-def _one_line(error: BaseException) -> str:
+def read_kwargs(options: dict[str, Any]) -> dict[str, Any]:
+    """The keyword arguments of :func:`stepframe.records.read` for a workflow's record options
+    (``[records] dt_s`` is read's ``dt``)."""
+    from stepframe.records.read_options import RecordReadOptions
+
+    given = RecordReadOptions(**options).read_kwargs()
+    return {name: value for name, value in given.items() if value is not None}
+
+
+def _one_line(error: BaseException, path: str = "", name: str = "") -> str:
+    """The error as one line; the file's absolute ``path`` written as its ``name`` in the
+    records folder, so that a stored failure reads the same wherever the workspace is."""
     from stepframe.errors import InputError
 
     if isinstance(error, InputError):
-        return error.one_line()
-    return f"{type(error).__name__}: {error}".replace("\n", " ")
+        line = error.one_line()
+    else:
+        line = f"{type(error).__name__}: {error}".replace("\n", " ")
+    return line.replace(path, name) if path else line
 
 
 #: The ``[features]`` table: the estimation options of ``stepframe stochastic features``, with
@@ -180,9 +208,10 @@ def _features_tasks(context: Context) -> list[Task]:
             Task(
                 key=key,
                 name=f"{row['file']} [{row['component']}]",
-                payload=(path, options, index, params, low),
+                payload=(path, options, index, params, low, str(row["file"])),
                 context={
                     "file": row["file"],
+                    "duplicates": row["duplicates"],
                     "station": row["station"],
                     "component": row["component"],
                 },
@@ -192,7 +221,7 @@ def _features_tasks(context: Context) -> list[Task]:
 
 
 def component_features(
-    payload: tuple[str, dict[str, Any], int, dict[str, Any], float | None],
+    payload: tuple[str, dict[str, Any], int, dict[str, Any], float | None, str],
 ) -> list[dict[str, Any]]:
     """Features and fitted parameters of one component (worker side): one row.
 
@@ -204,11 +233,11 @@ def component_features(
     from stepframe.records import read
     from stepframe.stochastic.catalog_features import Options, component_row
 
-    path, record_options, index, params, lowest_usable_hz = payload
+    path, record_options, index, params, lowest_usable_hz, name = payload
     try:
-        trace = read(path, **record_options)[index]
+        trace = read(path, **read_kwargs(record_options))[index]
     except Exception as error:  # recorded as this item's failure
-        raise ItemFailure(f"read: {_one_line(error)}") from None
+        raise ItemFailure(f"read: {_one_line(error, path, name)}") from None
     options = Options(**params, record_options=tuple(sorted(record_options.items())))
     try:
         row = component_row(
@@ -227,7 +256,8 @@ def component_features(
 def _features_columns() -> dict[str, tuple[str, str]]:
     from stepframe.stochastic.catalog_features import COLUMNS
 
-    return dict(COLUMNS)
+    first, *rest = COLUMNS.items()  # the file, then its other names, then the features
+    return dict([first, ("duplicates", INVENTORY_COLUMNS["duplicates"]), *rest])
 
 
 INVENTORY_STAGE = Stage(

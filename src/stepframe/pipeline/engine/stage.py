@@ -87,12 +87,17 @@ class Task:
         What the worker needs (plain, picklable data: paths and options, never records).
     context
         Columns the output table gets from the current run (the file's path now), not stored.
+    aliases
+        Names of other inputs with the same key (the same bytes under other names): one item,
+        computed once, its other names listed in the run's summary
+        (:mod:`stepframe.pipeline.engine.same_content`).
     """
 
     key: str
     name: str
     payload: Any
     context: Mapping[str, Any] = field(default_factory=dict)
+    aliases: tuple[str, ...] = ()
 
 
 @dataclass
@@ -107,6 +112,10 @@ class Context:
     jobs: int | None
     executor: Any
     progress: bool
+    #: Facts of this run a stage reports (timings): kept in the run log, not in the outputs.
+    facts: dict[str, Any] = field(default_factory=dict)
+    #: The tasks of each per-item stage in this run (one per key).
+    item_tasks: dict[str, list[Task]] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)

@@ -11,8 +11,20 @@ import math
 from dataclasses import asdict, dataclass, fields
 from typing import Any
 
-from stepframe.core.options import option
+from stepframe.core.options import Range, check_fields, option
 from stepframe.errors import InputError
+from stepframe.pipeline.selection.io_names import (
+    CODES,
+    EC8_GROUNDS,
+    EC8_TYPES,
+    PAIR_SPECTRA,
+    UNMATCHED,
+    Code,
+    Ec8Ground,
+    Ec8Type,
+    PairSpectrum,
+    Unmatched,
+)
 from stepframe.pipeline.selection.names import (
     DISTANCE_METRICS,
     RANKABLE,
@@ -77,6 +89,28 @@ class SelectionOptions:
     confirm_onset_ratio
         Common intensity of the confirmation: every record scaled so that the linear frame's
         peak P_1·SD(T_1, ξ_1) is this multiple of x_c (equal PSA at T_1).
+    verticals
+        Keep vertical components (default: horizontals only; never with ``unit="record"``).
+    exclude_unmatched
+        An exclusion entry that matches no candidate: ``"error"`` (default) or ``"warn"``.
+    pgv_min_m_s, pgv_max_m_s, psa_t1_min_g, psa_t1_max_g, arias_min_m_s, arias_max_m_s
+        Amplitude filters, with ``pga_*`` and ``d5_95_*``: from the metadata where it gives
+        the value, else computed from the records (PSA(T_1) at 5 % damping).
+    pair_spectrum
+        How a record's two horizontal components make one spectrum (``unit="record"``):
+        ``"rotd50"`` (default), ``"geomean"`` or ``"rotd100"`` (maximum direction).
+    target_t_l_s
+        ASCE 7-22 two-period spectrum: the long-period transition T_L [s] (None: none).
+    target_code
+        The code whose suite rule checks a ``target_csv`` spectrum (``"asce7-22"``: its
+        multi-period spectrum; ``"ec8"``); the built-in spectra name their own.
+    target_ec8, target_ground, target_ag_g, target_importance
+        Eurocode 8 (EN 1998-1 §3.2.2.2) elastic spectrum: ``"type1"`` or ``"type2"``, ground
+        type A-E, the reference peak ground acceleration a_gR [g] and the importance factor
+        γ_I (a_g = γ_I a_gR).
+    target_damping
+        Damping ratio of the target spectrum and of the records' spectra compared with it in
+        the code check (Eurocode 8's η; ASCE 7-22 spectra are for 0.05).
     """
 
     n: int = 10
@@ -125,8 +159,43 @@ class SelectionOptions:
     confirm_onset_ratio: float = option(
         1.0, "equal intensity: P_1·SD(T_1)/x_c of every record (default 1)", kind="positive"
     )
+    # What goes in and out (issue 25): records, filters computed from the records, code targets.
+    verticals: bool = option(False, "keep vertical components (default: horizontals only)")
+    exclude_unmatched: Unmatched = option(
+        "error", "an --exclude entry matching nothing: error or warn (default: %(default)s)"
+    )
+    pgv_min_m_s: float | None = option(None, "PGV at least [m/s]", valid=Range(0))
+    pgv_max_m_s: float | None = option(None, "PGV at most [m/s]", valid=Range(0))
+    psa_t1_min_g: float | None = option(None, "PSA(T_1, 5 %) at least [g]", valid=Range(0))
+    psa_t1_max_g: float | None = option(None, "PSA(T_1, 5 %) at most [g]", valid=Range(0))
+    arias_min_m_s: float | None = option(None, "Arias intensity at least [m/s]", valid=Range(0))
+    arias_max_m_s: float | None = option(None, "Arias intensity at most [m/s]", valid=Range(0))
+    pair_spectrum: PairSpectrum = option(
+        "rotd50", "one spectrum of a record's two horizontals (default: %(default)s)"
+    )
+    target_t_l_s: float | None = option(
+        None, "ASCE 7-22 two-period: long-period transition T_L [s]", valid=Range(0, low_open=True)
+    )
+    target_code: Code | None = option(
+        None, "the code whose suite rule checks --target-csv (asce7-22: multi-period)"
+    )
+    target_ec8: Ec8Type | None = option(None, "Eurocode 8 elastic spectrum type")
+    target_ground: Ec8Ground | None = option(None, "Eurocode 8 ground type")
+    target_ag_g: float | None = option(
+        None, "Eurocode 8 reference a_gR [g]", valid=Range(0, low_open=True)
+    )
+    target_importance: float = option(
+        1.0, "Eurocode 8 importance factor γ_I (default 1)", valid=Range(0, low_open=True)
+    )
+    target_damping: float = option(
+        0.05, "damping ratio of the target and the code check (default 0.05)",
+        valid=Range(0, 1, low_open=True, high_open=True),
+    )  # fmt: skip
 
     def __post_init__(self) -> None:
+        check_fields(self)
+        self._check_inputs_and_targets()
+
         def bad(name: str, expected: str) -> InputError:
             return InputError(f"{name} = {getattr(self, name)!r}, expected {expected}")
 
@@ -176,8 +245,6 @@ class SelectionOptions:
             raise InputError(
                 "target_s_ds_g and target_s_d1_g: only one given, expected both or neither"
             )
-        if self.target_csv is not None and self.target_s_ds_g is not None:
-            raise InputError("target_csv and target_s_ds_g both given, expected one target")
         if self.target_periods_s is not None:
             low, high = self.target_periods_s
             if not 0 < low < high:
@@ -191,7 +258,86 @@ class SelectionOptions:
     @property
     def has_target(self) -> bool:
         """Whether a target spectrum is given."""
-        return self.target_csv is not None or self.target_s_ds_g is not None
+        return (
+            self.target_csv is not None
+            or self.target_s_ds_g is not None
+            or self.target_ec8 is not None
+        )
+
+    def amplitude_range(self, name: str) -> tuple[float | None, float | None]:
+        """(low, high) of the amplitude filter ``name`` (``pga``, ``pgv``, ``psa_t1``,
+        ``d5_95``, ``arias``)."""
+        suffix = {"pga": "_g", "pgv": "_m_s", "psa_t1": "_g", "d5_95": "_s", "arias": "_m_s"}
+        unit = suffix[name]
+        return getattr(self, f"{name}_min{unit}"), getattr(self, f"{name}_max{unit}")
+
+    def _check_inputs_and_targets(self) -> None:
+        """The rules between the fields of the inputs and targets block."""
+        if self.verticals and self.unit == "record":
+            raise InputError(
+                "verticals = true with unit = 'record', expected unit = 'component' (a record "
+                "is its two horizontal components)"
+            )
+        if self.exclude_unmatched not in UNMATCHED:
+            raise InputError(
+                f"exclude_unmatched = {self.exclude_unmatched!r}, expected {UNMATCHED}"
+            )
+        if self.pair_spectrum not in PAIR_SPECTRA:
+            raise InputError(f"pair_spectrum = {self.pair_spectrum!r}, expected {PAIR_SPECTRA}")
+        for name in ("pgv", "psa_t1", "arias", "pga", "d5_95"):
+            low, high = self.amplitude_range(name)
+            if low is not None and high is not None and not low <= high:
+                raise InputError(f"{name} range {low} to {high}, expected min ≤ max")
+        ec8 = (self.target_ec8, self.target_ground, self.target_ag_g)
+        if any(v is not None for v in ec8) and any(v is None for v in ec8):
+            raise InputError(
+                "target_ec8, target_ground and target_ag_g: only some given, expected all three "
+                "for a Eurocode 8 spectrum"
+            )
+        if self.target_ec8 is not None and self.target_ec8 not in EC8_TYPES:
+            raise InputError(f"target_ec8 = {self.target_ec8!r}, expected one of {EC8_TYPES}")
+        if self.target_ground is not None and self.target_ground not in EC8_GROUNDS:
+            raise InputError(
+                f"target_ground = {self.target_ground!r}, expected one of {EC8_GROUNDS}"
+            )
+        kinds = [
+            name
+            for name, given in (
+                ("target_csv", self.target_csv is not None),
+                ("target_s_ds_g", self.target_s_ds_g is not None),
+                ("target_ec8", self.target_ec8 is not None),
+            )
+            if given
+        ]
+        if len(kinds) > 1:
+            raise InputError(f"{' and '.join(kinds)} both given, expected one target spectrum")
+        if self.target_t_l_s is not None and self.target_s_ds_g is None:
+            raise InputError(
+                "target_t_l_s without target_s_ds_g/target_s_d1_g, expected T_L only for the "
+                "ASCE 7-22 two-period spectrum"
+            )
+        if self.target_code is not None:
+            if self.target_code not in CODES:
+                raise InputError(f"target_code = {self.target_code!r}, expected one of {CODES}")
+            if self.target_csv is None:
+                raise InputError(
+                    f"target_code = {self.target_code!r} without target_csv, expected it only "
+                    "for a tabulated target (the built-in spectra name their code)"
+                )
+        if self.target_damping != 0.05 and (
+            self.target_s_ds_g is not None or self.target_code == "asce7-22"
+        ):
+            raise InputError(
+                f"target_damping = {self.target_damping} with an ASCE 7-22 spectrum, expected "
+                "0.05 (its spectra are for 5 % damping)"
+            )
+        if self.target_damping != 0.05 and (self.scale != "none" or self.spectral_weight > 0):
+            raise InputError(
+                f"target_damping = {self.target_damping} with scale = {self.scale!r} and "
+                f"spectral_weight = {self.spectral_weight}, expected target_damping = 0.05, or "
+                "scale = 'none' and spectral_weight = 0 (scaling and the misfit compare the "
+                "records' 5 % spectra)"
+            )
 
     def to_dict(self) -> dict[str, Any]:
         """Plain dictionary (TOML/JSON ready: tuples become lists, None stays None)."""

@@ -112,7 +112,14 @@ def _band(summary: dict[str, Any], frame: Any, where: Path) -> tuple[float, floa
 
 
 def load_record(row: dict[str, Any], folder: Path) -> Any:
-    """The selected component as a Trace: a file beside the folder, or the example catalogue."""
+    """The selected component as a Trace: by its identity when the selection records it
+    (:func:`~stepframe.pipeline.selection.identity.find_record`: gone or changed is an error);
+    else a file beside the folder, or the example catalogue."""
+    from stepframe.pipeline.selection.identity import find_record, records_identity
+
+    records = records_identity(folder)
+    if records is not None and isinstance(row.get("content_sha256"), str):
+        return find_record(row, folder, records)
     file = str(row["file"])
     component = row.get("component")
     component = None if component is None or pd.isna(component) else str(component)
@@ -123,16 +130,16 @@ def load_record(row: dict[str, Any], folder: Path) -> Any:
 
             stream = read(path, component=component)
             return stream[0]
-    if file.startswith("fema_p695/") or ("/" in file and not Path(file).is_absolute()):
-        return _example_trace(file, component)
-    return None
+    return _example_trace(file, component)
 
 
 def _example_trace(file: str, component: str | None) -> Any:
+    """The example component named ``file`` (its one name, ``RSN174_IMPVALL_H-E11230.AT2``,
+    bare or under a folder), or None."""
     from stepframe.records.examples import fema_p695
 
     stream, _ = _examples_cache(fema_p695)
-    key = file if file.startswith("fema_p695/") else f"fema_p695/{file}"
+    key = Path(file).name
     for trace in stream:
         if trace.stats.stepframe.source_file == key and (
             component is None or trace.stats.channel == component
@@ -237,7 +244,7 @@ def _stated_correlations(summary: dict[str, Any], rank_by: str) -> str:
 
 
 def _confirmation(
-    table: pd.DataFrame, summary: dict[str, Any], selected_files: set[str]
+    table: pd.DataFrame, summary: dict[str, Any], selected: set[tuple[str, str]]
 ) -> tuple[list[Figure | Table | Note], dict[str, Any]]:
     from scipy.stats import spearmanr
 
@@ -249,10 +256,10 @@ def _confirmation(
     )
     if score is None or response is None:
         return [Note("The confirmation table has no score or peak-response column to compare.")], {}
-    if "group" in table.columns:
-        chosen = table["group"].astype(str).str.lower().eq("selected").to_numpy()
-    else:
-        chosen = table["file"].astype(str).isin(selected_files).to_numpy()
+    # the chosen set is the selection's (file, component): the equal-intensity rows are all
+    # group "candidate"
+    keys = zip(table["file"].astype(str), _components(table), strict=True)
+    chosen = np.array([key in selected for key in keys], dtype=bool)
     ok = np.isfinite(table[score].to_numpy(float)) & np.isfinite(table[response].to_numpy(float))
     x = table[score].to_numpy(float)[ok]
     y = table[response].to_numpy(float)[ok]
@@ -263,6 +270,16 @@ def _confirmation(
         "selected": float(np.median(y[chosen[ok]])) if chosen[ok].any() else math.nan,
         "controls": float(np.median(y[~chosen[ok]])) if (~chosen[ok]).any() else math.nan,
     }
+    stated = summary.get("medians") or {}
+    if response == "peak_drift_ratio" and "peak_abs_x_m" in table.columns:
+        response = "peak_abs_x_m"  # the response the command prints (m)
+        y = table[response].to_numpy(float)[ok]
+    if stated.get("equal_psa_t1_peak_x_m_selected") is not None and response == "peak_abs_x_m":
+        # the numbers the command printed (selected against the controls)
+        medians = {
+            "selected": float(stated["equal_psa_t1_peak_x_m_selected"]),
+            "controls": float(stated["equal_psa_t1_peak_x_m_control"]),
+        }
     numbers = {
         "score": score,
         "response": response,
@@ -280,7 +297,7 @@ def _confirmation(
             title="Score against simulated peak response at equal intensity",
             alt=(
                 f"Scatter of {score} against {response} for {x.size} records, selected in red, "
-                f"Spearman rank correlation {rho:.2f}"
+                f"Spearman rank correlation {_or_not_run(rho, '.2f')}"
             ),
             how_to_read=(
                 "Each dot is one record simulated at the same intensity, so frequency content is "
@@ -294,12 +311,15 @@ def _confirmation(
             "Selected against controls",
             pd.DataFrame(
                 [
-                    {"group": "selected", f"median_{response}": medians["selected"]},
-                    {"group": "controls / others", f"median_{response}": medians["controls"]},
+                    {"group": "selected", f"median_{response}": _or_not_run(medians["selected"])},
+                    {
+                        "group": "controls" if stated else "controls / others",
+                        f"median_{response}": _or_not_run(medians["controls"]),
+                    },
                 ]
             ),
-            f"Median simulated {response}; Spearman ρ({score}, {response}) = {rho:.3g}, "
-            f"n = {x.size}",
+            f"Median simulated {response} at equal PSA(T_1); Spearman ρ({score}, {response}) "
+            f"= {_or_not_run(rho, '.3g')}, n = {x.size}",
             {"group": "which records", f"median_{response}": "median of the simulated response"},
         ),
     ]
@@ -319,6 +339,13 @@ def _confirmation(
 
 
 Items = list[Figure | Table | Note]
+
+
+def _or_not_run(value: Any, spec: str | None = None) -> Any:
+    """A number, or "not run" for a value the run did not compute (NaN, None)."""
+    if value is None or (isinstance(value, float) and not math.isfinite(value)):
+        return "not run"
+    return format(value, spec) if spec else value
 
 
 def band_section(summary: dict[str, Any], frame: Any, band: tuple[float, float]) -> Section:
@@ -468,15 +495,19 @@ def confirmation_section(
 ) -> Section:
     """The simulated response of the selected records against the controls and the candidates
     at equal intensity, and the stated correlations (or a note that it was not run)."""
-    if "confirmation" not in outputs.tables:
+    table = outputs.tables.get("confirmation")
+    if table is None or table.empty:
+        numbers["confirmation"] = "not run"
+        summary_lines.append(("Confirmation", "not run (the run had no --confirm)"))
         return Section(
             "Confirmation by simulation",
-            [Note("This run was not confirmed by simulation (no confirmation.csv).")],
+            [Note("Not run: this selection was not confirmed by simulation (--confirm runs it).")],
         )
     summary = outputs.summary
-    files = {str(f) for f in outputs.tables["selection"]["file"]}
-    equal = _equal_intensity(outputs.tables["confirmation"], candidates, rank_by)
-    items, confirmation_numbers = _confirmation(equal, summary, files)
+    selection = outputs.tables["selection"]
+    chosen = set(zip(selection["file"].astype(str), _components(selection), strict=True))
+    equal = _equal_intensity(table, candidates, rank_by)
+    items, confirmation_numbers = _confirmation(equal, summary, chosen)
     items.append(
         Table(
             "confirmation",
@@ -495,7 +526,7 @@ def confirmation_section(
         summary_lines.append(
             (
                 "Confirmation",
-                f"Spearman ρ = {confirmation_numbers['spearman_rho']:.2f} "
+                f"Spearman ρ = {_or_not_run(confirmation_numbers['spearman_rho'], '.2f')} "
                 f"({confirmation_numbers['score']} vs {confirmation_numbers['response']}, "
                 f"n = {confirmation_numbers['n']})",
             )
@@ -508,7 +539,17 @@ def filters_section(
 ) -> Section:
     """What each filter dropped, and the records the run could not process."""
     dropped, column = _dropped(candidates)
+    grouping = outputs.summary.get("grouping")
+    intro: Items = []
+    if isinstance(grouping, dict):
+        from stepframe.pipeline.selection.grouping import grouping_line
+
+        intro.append(Note(grouping_line(grouping).replace("records: ", "Records: ", 1) + "."))
+        numbers["grouping"] = grouping
+    warned = [r["warning"] for r in outputs.summary.get("filters", []) if "warning" in r]
+    intro += [Note(str(text), "warning") for text in warned]
     items: Items = [
+        *intro,
         Table(
             "filters",
             "What each filter dropped",
@@ -519,7 +560,7 @@ def filters_section(
                 "dropped": "candidates it dropped",
                 "examples": "the first few",
             },
-        )
+        ),
     ]
     failures = outputs.tables.get("failures")
     if failures is not None:
@@ -583,10 +624,8 @@ def selection_report(
             _accelerogram_items(best, names, folder, record_loader, numbers),
         ),
         scores_section(outputs, candidates, rank_by),
-        Section(
-            "Spectra of the selected set",
-            _spectra_items(rows, names, folder, summary, band, record_loader, numbers),
-        ),
+        spectra_section(outputs, rows, names, band, record_loader, numbers, summary_lines),
+        chosen_scale_section(summary, numbers, summary_lines),
         confirmation_section(outputs, candidates, rank_by, numbers, summary_lines),
         filters_section(outputs, candidates, numbers),
     ]
@@ -600,6 +639,189 @@ def selection_report(
         provenance=provenance,
         numbers=numbers,
     )
+
+
+def spectra_section(
+    outputs: SelectionOutputs,
+    rows: list[dict[str, Any]],
+    names: list[str],
+    band: tuple[float, float],
+    record_loader: RecordLoader,
+    numbers: dict[str, Any],
+    summary_lines: list[tuple[str, str]],
+) -> Section:
+    """The set's scaled spectra against the target and the code's check: the run's own
+    ``spectra.csv`` when it wrote one (the numbers the command printed), else recomputed from
+    the records."""
+    summary = outputs.summary
+    target = summary.get("target")
+    if isinstance(target, dict):
+        summary_lines.append(("Target", str(target.get("describe", target.get("kind")))))
+    check = summary.get("code_check")
+    if isinstance(check, dict) and "line" in check:
+        summary_lines.append(("Code check", str(check["line"])))
+        numbers["code_check"] = {k: check[k] for k in ("passes", "lowest_ratio", "lowest_at_s")}
+    elif isinstance(check, dict) and "not_run" in check:
+        summary_lines.append(("Code check", f"not run ({check['not_run']})"))
+        numbers["code_check"] = "not run"
+    spectra = outputs.tables.get("spectra")
+    if spectra is not None and not spectra.empty:
+        items = _run_spectra_items(spectra, summary, band, numbers)
+    else:
+        items = _spectra_items(rows, names, outputs.folder, summary, band, record_loader, numbers)
+    return Section("Spectra of the selected set", items)
+
+
+def _run_spectra_items(
+    spectra: pd.DataFrame,
+    summary: dict[str, Any],
+    band: tuple[float, float],
+    numbers: dict[str, Any],
+) -> Items:
+    """The figure and tables of ``spectra.csv``: the units' scaled spectra, their mean, the
+    target and, with a code target, its suite check."""
+    periods = spectra["period_s"].to_numpy(float)
+    units = [c for c in spectra.columns if c not in ("period_s", "target_g", "mean_g")]
+    psa = spectra[units].to_numpy(float).T
+    target = (periods, spectra["target_g"].to_numpy(float)) if "target_g" in spectra else None
+    described = summary.get("set_spectra") or {}
+    damping = float(described.get("damping", 0.05))
+    stated = summary.get("code_check")
+    check: dict[str, Any] = stated if isinstance(stated, dict) and "line" in stated else {}
+    has_check = bool(check)
+    fraction_range = None
+    if has_check:
+        low, high = (float(t) for t in check["period_range_s"])
+        fraction_range = (float(check["fraction"]), (low, high))
+    measure = described.get("measure", "component")
+    items: Items = [
+        figure_from_matplotlib(
+            figures.spectra_figure(
+                periods,
+                psa,
+                units,
+                target=target,
+                band_period_s=(TWO_PI / band[1], TWO_PI / band[0]),
+                damping=damping,
+                mean_g=spectra["mean_g"].to_numpy(float),
+                check=fraction_range,
+            ),
+            key="spectra",
+            title="Scaled spectra against the target",
+            alt=(
+                f"Pseudo-spectral acceleration of {len(units)} scaled {measure} spectra with "
+                "their median, ±σ and mean" + (" and the target spectrum" if target else "")
+            ),
+            how_to_read=(
+                f"Grey lines are the chosen set's spectra after scaling ({measure}: "
+                + ("each component" if measure == "component" else "one per record, its pair")
+                + "); black is their median and dashed the median times e^±σ, blue their mean "
+                "(the average the codes check). "
+                + (
+                    str((summary.get("target") or {}).get("describe", "The target"))
+                    + " is red"
+                    + (
+                        "; the dotted red line is the share of it the mean must reach over the "
+                        "code's period range."
+                        if fraction_range
+                        else "."
+                    )
+                    if target is not None
+                    else "The run had no target spectrum."
+                )
+                + " The shaded periods correspond to the frame's band."
+            ),
+        ),
+        Table(
+            "scale_factors",
+            "Scale factors",
+            pd.DataFrame(
+                {
+                    "unit": list((summary.get("scale_factors") or {}).keys()),
+                    "scale_factor": list((summary.get("scale_factors") or {}).values()),
+                }
+            ),
+            str(
+                summary.get("scale_rule", "The factor each record's acceleration was multiplied by")
+            ),
+            {"unit": "record or component", "scale_factor": "amplitude scale factor [-]"},
+        ),
+        Table(
+            "spectra",
+            "Spectra of each unit",
+            spectra,
+            f"scaled PSA [g] at {damping:.0%} damping (spectra.csv of the run)",
+            {
+                "period_s": "oscillator period [s]",
+                "target_g": "target [g]",
+                "mean_g": "mean of the set [g]",
+            }
+            | dict.fromkeys(units, "scaled PSA [g]"),
+            on_page=False,
+        ),
+    ]
+    if summary.get("set_misfit") is not None:
+        items.append(
+            Note(
+                f"Set misfit {float(summary['set_misfit']):.3g}: RMS over the misfit periods of "
+                "ln(geometric mean of the scaled spectra / target)."
+            )
+        )
+    if has_check:
+        items.append(Note(str(check["line"]), "note" if check["passes"] else "warning"))
+        items += [Note(str(note)) for note in check.get("notes", [])]
+        items.append(
+            Table(
+                "code_check",
+                "The code's check, period by period",
+                pd.DataFrame({"period_s": check["periods_s"], "mean_over_target": check["ratio"]}),
+                f"{check['clause']}: the mean must reach {float(check['fraction']):.0%} of the "
+                "target at every period of the range",
+                {"period_s": "period [s]", "mean_over_target": "mean of the set / target"},
+            )
+        )
+    numbers["spectra_records"] = units
+    return items
+
+
+def chosen_scale_section(
+    summary: dict[str, Any], numbers: dict[str, Any], summary_lines: list[tuple[str, str]]
+) -> Section:
+    """What the chosen set does to the frame at the chosen scale (the simulator on each chosen
+    component), and the run's warnings."""
+    response = summary.get("chosen_response")
+    title = "The chosen set at its scale"
+    if not isinstance(response, dict) or not response.get("n"):
+        numbers["chosen_response"] = "not run"
+        return Section(title, [Note("Not run: this selection folder has no chosen_response.")])
+    counts = (
+        f"of {response['n']} components, {response['linear']} stay linear, "
+        f"{response['steps']} step, {response['overturns']} overturn the frame"
+    )
+    summary_lines.append(("At the chosen scale", counts))
+    numbers["chosen_response"] = {k: response[k] for k in ("n", "linear", "steps", "overturns")}
+    items: Items = [
+        Note(
+            f"Simulated at the chosen scale ({summary.get('scale_rule', 'as recorded')}): "
+            f"{counts} (x_c = {float(response['x_c_m']):.3g} m)."
+        ),
+        Table(
+            "chosen_response",
+            "Each chosen component at its scale factor",
+            pd.DataFrame(response["rows"]),
+            "The exact simulator on each chosen component as it will be used",
+            {
+                "file": "record file",
+                "component": "component",
+                "record": "record",
+                "scale": "scale factor [-]",
+                "peak_abs_x_m": "peak |x| of the frame [m]",
+                "state": "linear (no lift-off), steps, or overturns",
+            },
+        ),
+    ]
+    items += [Note(str(text), "warning") for text in summary.get("warnings", [])]
+    return Section(title, items)
 
 
 def _scale_of(row: dict[str, Any]) -> float:

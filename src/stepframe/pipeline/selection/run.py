@@ -18,15 +18,20 @@ from stepframe.pipeline.selection import confirm as confirmation
 from stepframe.pipeline.selection import scores as sc
 from stepframe.pipeline.selection.band import FrameBand, frame_band
 from stepframe.pipeline.selection.choose import Units, choose, percentile_scores
+from stepframe.pipeline.selection.chosen import ChosenSet, chosen_set
 from stepframe.pipeline.selection.filters import FilterReport, apply_filters, filter_summary
+from stepframe.pipeline.selection.grouping import COLUMNS as GROUPING_COLUMNS
+from stepframe.pipeline.selection.grouping import grouping_summary
 from stepframe.pipeline.selection.names import PHYSICS_SCORES, RECORD_SCORES
 from stepframe.pipeline.selection.options import SelectionOptions
 from stepframe.pipeline.selection.path import MODEL_COLUMNS, strong_motion_paths
 from stepframe.pipeline.selection.result import SelectionResult, column_dictionary
+from stepframe.pipeline.selection.samples import read_samples as _read_samples
 from stepframe.pipeline.selection.spectral import (
     G_M_S2,
     SpectraItem,
     misfit_periods_s,
+    record_scales,
     record_spectra,
     scale_factors,
     spectral_misfit,
@@ -51,6 +56,7 @@ CANDIDATE_COLUMNS: dict[str, tuple[str, str]] = {
     "omega_window_start_rad_s": ("rad/s", "fitted omega_g at the start of strong motion"),
     "omega_window_end_rad_s": ("rad/s", "fitted omega_g at the end of strong motion"),
     "enters_from_above": ("", "omega_g starts strong motion above omega_1 and ends below it"),
+    **GROUPING_COLUMNS,
     **sc.SCORES,
     "substitute_overturn_ratio": (
         "",
@@ -225,12 +231,11 @@ def _units(
     import pandas as pd
 
     rows = np.asarray(rows, dtype=np.int64)
-    columns = set(table.columns)
-    files = table["file"].astype(str).to_numpy()
-    events = table["event"].astype(str).to_numpy() if "event" in columns else files
-    stations = table["station"].astype(str).to_numpy() if "station" in columns else files
+    # the grouping's keys (filters.add_grouping): a record without an event is its own event
+    events = table["event_key"].astype(str).to_numpy()
+    stations = table["station_key"].astype(str).to_numpy()
     if unit == "record":
-        codes, _ = pd.factorize(pd.Series(events[rows]) + "\x1f" + pd.Series(stations[rows]))
+        codes, _ = pd.factorize(pd.Series(table["record"].astype(str).to_numpy()[rows]))
     else:
         codes = np.arange(rows.size)
     n_units = int(codes.max()) + 1 if rows.size else 0
@@ -262,58 +267,23 @@ def _units(
 def _drop_single_components(
     table: Any, dropped_by: NDArray[np.object_], reports: list[FilterReport]
 ) -> None:
-    """``unit="record"``: drop components whose record (event, station) has no other component
-    left, so that every chosen record has both horizontal components."""
+    """``unit="record"``: keep only records (:mod:`.grouping`) with exactly two horizontal
+    components left, so that every chosen record is a pair; one left is ``one_component``, more
+    than two (the same record in several files) ``not_a_pair``."""
     import pandas as pd
 
-    files = table["file"].astype(str)
-    events = table["event"].astype(str) if "event" in table.columns else files
-    stations = table["station"].astype(str) if "station" in table.columns else files
-    key = pd.Series(events.to_numpy() + "\x1f" + stations.to_numpy())
+    key = pd.Series(table["record"].astype(str).to_numpy())
     alive = dropped_by == ""
-    sizes = key[alive].value_counts()
-    single = alive & (key.map(sizes).fillna(0).to_numpy() < 2)
-    dropped_by[single] = "one_component"
-    reports.append(
-        FilterReport(
-            "one_component",
-            "both components of the record passed",
-            int(single.sum()),
-            int((dropped_by == "").sum()),
-        )
-    )
-
-
-def _read_samples(
-    table: Any,
-    rows: NDArray[np.int64],
-    records: Mapping[RecordKey, Samples] | None,
-    record_options: Mapping[str, Any] | None,
-) -> tuple[dict[int, Samples], list[Failure]]:
-    out: dict[int, Samples] = {}
-    failures: list[Failure] = []
-    cache: dict[str, Any] = {}
-    for i in rows:
-        file, component = str(table["file"].iat[i]), str(table["component"].iat[i])
-        name = f"{file} [{component}]"
-        try:
-            if records is not None:
-                if (file, component) not in records:
-                    raise InputError(f"no samples for {name}, expected them in records")
-                acc, dt = records[(file, component)]
-            else:
-                from stepframe.records import read
-
-                if file not in cache:
-                    cache[file] = read(file, **dict(record_options or {}))
-                traces = [t for t in cache[file] if str(t.stats.channel) == component]
-                if not traces:
-                    raise InputError(f"no channel {component!r} in the file", file)
-                acc, dt = np.asarray(traces[0].data, float), float(traces[0].stats.delta)
-            out[int(i)] = (np.asarray(acc, dtype=np.float64), float(dt))
-        except Exception as error:  # a batch goes on: the record lands in failures.csv
-            failures.append(Failure.from_exception(name, "samples", error))
-    return out, failures
+    sizes = key.map(key[alive].value_counts()).fillna(0).to_numpy()
+    for name, rule, bad in (
+        ("one_component", "both horizontal components of the record passed", sizes < 2),
+        ("not_a_pair", "the record has two horizontal components, not more", sizes > 2),
+    ):
+        drop = alive & bad
+        if name == "not_a_pair" and not drop.any():
+            continue
+        dropped_by[drop] = name
+        reports.append(FilterReport(name, rule, int(drop.sum()), int((dropped_by == "").sum())))
 
 
 def _spectra(
@@ -419,9 +389,14 @@ class Choice:
     log_target: Floats | None
 
 
-def filtered_candidates(features: Any, frame: PortalFrame, options: SelectionOptions) -> Candidates:
+def filtered_candidates(
+    features: Any,
+    frame: PortalFrame,
+    options: SelectionOptions,
+    sources: tuple[Mapping[RecordKey, Samples] | None, Mapping[str, Any] | None] = (None, None),
+) -> Candidates:
     """Step 1: the frame's band, each record's path through it and the cheap scores, then the
-    filters (docs/selection.md, "Candidates")."""
+    records (components grouped) and the filters (docs/selection.md, "Candidates")."""
     table = features.reset_index(drop=True).copy()
     band = frame_band(
         frame,
@@ -439,7 +414,7 @@ def filtered_candidates(features: Any, frame: PortalFrame, options: SelectionOpt
     for name in ("enters_from_above", "band_coverage", "spectral_ratio_eq_6_18",
                  "omega_p_over_s_sq"):  # fmt: skip
         table[name] = cheap[name]
-    dropped_by, reports = apply_filters(table, options, band, paths)
+    dropped_by, reports = apply_filters(table, options, band, paths, sources)
     candidates = Candidates(table, band, paths, dropped_by, reports)
     if candidates.passing.size == 0:
         raise InputError(
@@ -713,14 +688,18 @@ def select_records(
     _check_table(features)
     target = target_spectrum(options)  # an unreadable target fails before any work
     parallel = (jobs, executor)
-    candidates = filtered_candidates(features, frame, options)
+    candidates = filtered_candidates(features, frame, options, (records, record_options))
     physics_scores(candidates, frame, options, parallel)
     spectra = spectra_and_substitute(candidates, options, (records, record_options), parallel)
     z, log_psa, log_target = rank_and_scale(candidates, spectra, options, target)
+    if options.unit == "record":
+        log_psa = scale_records(candidates, spectra, options, target, log_psa)
     choice = choose_set(candidates, z, log_psa, log_target, options)
     rank_stability(candidates, frame, choice, options, parallel)
     _mark_choice(candidates, choice)
-    return _result(candidates, spectra, choice, frame, options)
+    chosen = chosen_outcome(candidates, spectra, choice, frame, options, target,
+                            (records, record_options))  # fmt: skip
+    return with_chosen(_result(candidates, spectra, choice, frame, options), chosen)
 
 
 def _result(
@@ -763,7 +742,11 @@ def _result(
         "options": options.to_dict(),
     }
     selection_columns = {
-        "rank": ("", "rank in the set (1 best)"),
+        "rank": (
+            "",
+            "order in which the choice picked it (1 first: greedy under the caps and the "
+            "spectral objective; the score's own rank among the candidates may differ)",
+        ),
         "score": ("", f"the ranking score ({options.rank_by})"),
         **CANDIDATE_COLUMNS,
     }
@@ -867,3 +850,77 @@ OVER_RANGE_TOP = confirmation.OVERTURN_RATIO_RANGE[1] * 2.0
 def _median(values: Floats, mask: NDArray[np.bool_]) -> float:
     """Median of ``values[mask]``; NaN for an empty selection."""
     return float(np.median(values[mask])) if mask.any() else math.nan
+
+
+# What goes in and out (issue 25): one scale factor per record, and the chosen set's outcome.
+
+
+def scale_records(
+    candidates: Candidates,
+    spectra: Spectra,
+    options: SelectionOptions,
+    target: Any,
+    log_psa: Floats | None,
+) -> Floats | None:
+    """Step 4b (``unit="record"``): one scale factor per record from its pair's spectrum
+    (``pair_spectrum``), written over both components' ``scale_factor``, ``scale_clipped``
+    and ``spectral_misfit``; returns the rows' ln scaled PSA (the pair's) for the choice."""
+    table = candidates.table
+    if options.scale == "none" and target is None:
+        return log_psa
+    records = table["record"].astype(str).to_numpy()
+    members: dict[str, list[int]] = {}
+    for i in candidates.passing:
+        members.setdefault(records[i], []).append(int(i))
+    groups = list(members.values())
+    scales, clipped, misfit, pair_log = record_scales(
+        groups,
+        spectra.samples,
+        spectra.periods_s,
+        candidates.band.period_1_s,
+        options.scale,
+        target,
+        (options.scale_min, options.scale_max),
+        options.pair_spectrum,
+    )
+    out = None if log_psa is None else log_psa.copy()
+    for k, rows in enumerate(groups):
+        table.loc[rows, "scale_factor"] = scales[k]
+        table.loc[rows, "scale_clipped"] = bool(clipped[k])
+        table.loc[rows, "spectral_misfit"] = misfit[k]
+        if out is not None:
+            out[rows] = pair_log[k]
+    return out
+
+
+def chosen_outcome(
+    candidates: Candidates,
+    spectra: Spectra,
+    choice: Choice,
+    frame: PortalFrame,
+    options: SelectionOptions,
+    target: Any,
+    sources: tuple[Mapping[RecordKey, Samples] | None, Mapping[str, Any] | None],
+) -> ChosenSet:
+    """Step 8: the chosen set's scaled spectra, the code's check, what it does to the frame at
+    the chosen scale, and its motions (:func:`.chosen.chosen_set`)."""
+    table = candidates.table
+    samples = dict(spectra.samples)
+    missing = np.array([i for i in choice.chosen_rows if i not in samples], dtype=np.int64)
+    if missing.size:  # none read yet (ranked by a score of the fit, no scaling or target)
+        more, _ = _read_samples(table, missing, *sources)  # unread: chosen_set says so
+        samples.update(more)
+    return chosen_set(
+        table, choice.chosen_rows, samples, frame, candidates.band, options, target,
+        spectra.periods_s,
+    )  # fmt: skip
+
+
+def with_chosen(result: SelectionResult, chosen: ChosenSet) -> SelectionResult:
+    """The result with the chosen set's outcome: its summary keys, ``spectra.csv``, the
+    motions to export, the grouping of the files, and the warnings."""
+    result.summary.update(chosen.summary)
+    result.summary["grouping"] = grouping_summary(result.candidates)
+    result.spectra = chosen.spectra
+    result.motions = chosen.motions
+    return result

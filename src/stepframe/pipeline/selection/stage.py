@@ -18,8 +18,12 @@ from stepframe.pipeline.engine.stage import Context, Stage
 from stepframe.pipeline.engine.store import make_key
 from stepframe.pipeline.reports.provenance import workflow_provenance
 
-SELECTION_VERSION = 2  # 2: default rank_by substitute_demand_ratio
-SELECTION_REPORT_VERSION = 3  # 2: the best records' accelerograms; 3: stated correlations
+# 2: default rank_by substitute_demand_ratio; 3: records grouped, verticals left out, the
+# chosen set's spectra, code check, response and motions; 4: records by identity
+SELECTION_VERSION = 4
+# 2: the best records' accelerograms; 3: stated correlations; 4: the run's spectra and check,
+# the chosen set at its scale, chosen records marked, "not run"; 5: records by identity
+SELECTION_REPORT_VERSION = 5
 SELECTION_REPORT_HTML = "selection_report.html"
 
 
@@ -74,7 +78,29 @@ def _selection_run(context: Context, folder: Path) -> None:
     result = select_records(
         features, context.workflow.frame, _selection_options(context.workflow), **kwargs
     )
+    # a timing is a fact of this run, not of the selection: the run log keeps it (byte-stable
+    # outputs, docs/workflows.md)
+    throughput = result.summary.pop("confirmation_samples_per_s", None)
+    context.facts["selection"] = {"confirmation_samples_per_s": throughput}
+    hashes = dict(zip(inventory["file"], inventory["content_sha256"], strict=True))
+    result = result.with_record_identity(folder_of_records, hashes, _records_identity(context))
     result.write(folder)
+
+
+def _records_identity(context: Context) -> dict[str, Any]:
+    """Where the records are, as the workflow names them (its folder relative to the workflow
+    file's, or the example), and the options they are read with."""
+    records = context.workflow.records
+    assert records is not None  # checked before the run
+    options = dict(records.options)
+    if records.example is not None:
+        return {"example": records.example, "options": options}
+    assert records.folder is not None
+    try:
+        folder = records.folder.relative_to(context.workflow.path.parent).as_posix()
+    except ValueError:  # an absolute folder elsewhere: as the user gave it
+        folder = records.folder.as_posix()
+    return {"folder": folder, "options": options}
 
 
 def _join_new_columns(table: Any, extra: Any) -> Any:

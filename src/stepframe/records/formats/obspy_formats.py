@@ -367,10 +367,28 @@ def read_with_obspy(path: Path, options: ReadOptions, name: str) -> Stream:
                 magnitude=_magnitude(trace),
                 processing=steps,
                 incomplete=incomplete,
+                **_nied_event(trace),
             )
         )
     mark_incomplete(traces, cut)
     return Stream(traces)
+
+
+def _nied_event(trace: Trace) -> dict[str, Any]:
+    """K-NET/KiK-net headers: the event as its origin time (UTC, ISO 8601: the one event key
+    of NIED's files) and the epicentral distance [km] from the event's and station's
+    coordinates (WGS84 geodesic)."""
+    header = trace.stats.get("knet")
+    if header is None or header.get("evot") is None:
+        return {}
+    out: dict[str, Any] = {"event": header["evot"].isoformat()}
+    coordinates = [header.get(k) for k in ("evla", "evlo", "stla", "stlo")]
+    if all(isinstance(v, int | float) for v in coordinates):
+        from obspy.geodetics import gps2dist_azimuth
+
+        distance_m = gps2dist_azimuth(*coordinates)[0]
+        out["repi_km"] = float(distance_m) / 1000.0
+    return out
 
 
 def _magnitude(trace: Trace) -> float | None:
