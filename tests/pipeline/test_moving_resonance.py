@@ -155,3 +155,42 @@ def test_simulate_plot_lines_up_the_response_and_the_spectrum(data_dir: Path) ->
     assert x_axes.get_xlim() == pytest.approx((0.0, end_s))
     assert end_s == pytest.approx((run.result.raw.hist_x.size - 1) * run.result.dt_s, abs=0.1)
     assert "R_m" in spectrum_axes.get_title()
+
+
+def test_site_band_spectrum_is_eq_6_12_under_the_envelope_and_draws_the_frame_path() -> None:
+    # At ω = ω_g(t) eq. 6.12 is 4αω²I²/(4ω²α²) = I_g(t)²/α_g(t): place t where ω_g(t) is a node
+    # of the band grid (eq. 6.10 inverted) and compare with the closed form.
+    from stepframe.pipeline.amplification.time_frequency import (
+        model_band_spectrum,
+        site_band_figure,
+    )
+    from stepframe.pipeline.dynamics.resonance import band_grid_rad_s
+    from stepframe.stochastic.amplification import response_amplification
+    from stepframe.stochastic.envelope import default_envelope
+    from stepframe.stochastic.mean_square import FrameDriven, analysis_grid
+    from stepframe.stochastic.model import GroundMotionModel
+
+    model = GroundMotionModel(30.0, 8.0, 1.0, 0.3, 0.4, 6.0, 25.0)
+    frame = wide_frame()
+    band = (frame_band(frame).omega_low_rad_s, frame.omega_1_rad_s)
+    node = band_grid_rad_s(band)[20]
+    p, s, r = 30.0, 8.0, 1.0
+    t_node = 6.0 * math.log((node - r) / (p - r)) / math.log((s - r) / (p - r))
+    spectrum = model_band_spectrum(model, band, np.array([t_node - 1.0, t_node]))
+    intensity = default_envelope(np.array([t_node]), 6.0, 25.0, 1.0)[0]
+    expected = intensity**2 / float(model.alpha_g(t_node))
+    assert float(spectrum.isel(time=1, omega=20)) == pytest.approx(expected, rel=1e-12)
+    assert float(model.omega_g(t_node)) == pytest.approx(node, rel=1e-12)
+
+    driven = response_amplification(
+        model, None, frame.xi_1,
+        frame=FrameDriven(lambda a: float(period_amplitude(frame, a, beyond_x_star="inf"))),
+        peak_intensity=2.0 * frame.p_1, time_s=analysis_grid(model, n_steps=400),
+    )  # fmt: skip
+    figure = site_band_figure(model, band, driven.moving, title="site")
+    top, below = figure.axes[0], figure.axes[1]
+    drawn = next(ln for ln in top.get_lines() if str(ln.get_label()).startswith("frame's ω"))
+    omega = np.asarray(driven.moving.omega_rad_s).reshape(-1)
+    assert np.allclose(drawn.get_ydata(), omega / (2 * math.pi), equal_nan=True)
+    sigma = np.sqrt(np.asarray(driven.moving.mean_square_m2).reshape(-1))
+    assert np.allclose(below.get_lines()[0].get_ydata(), sigma, equal_nan=True)
