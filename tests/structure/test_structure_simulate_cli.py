@@ -164,3 +164,23 @@ def test_multi_component_file_needs_component(
     period_s = 2 * np.pi / frame.omega_1_rad_s
     sd_m = peak_displacements_m(trace.data, trace.stats.delta, [period_s], frame.xi_1)[0]
     assert summary["peak_abs_x_m"] == pytest.approx(frame.p_1 * sd_m, rel=1e-2)
+
+
+def test_a_motion_too_short_for_the_band_spectrum_is_simulated_and_says_so(
+    capsys: pytest.CaptureFixture[str], frame_file: Path, tmp_path: Path
+) -> None:
+    # 5 samples and a one-step tail: the simulation runs; the moving-resonance measures say why
+    # they are missing (the wavelet spectrum needs 8 samples), and --plot draws x(t) alone.
+    record = tmp_path / "acc.txt"
+    record.write_text("0.0\n0.1\n0.2\n0.1\n0.0\n", encoding="utf-8")
+    plot = tmp_path / "short.png"
+    args = ("structure", "simulate", "--frame", str(frame_file), str(record), "--format", "text",
+            "--units", "g", "--dt-s", "0.01", "--tail-s", "0.01")  # fmt: skip
+    status, out, err = run(capsys, *args, "--json", "--plot", str(plot))
+    assert (status, err) == (0, "")
+    resonance = json.loads(out)["moving_resonance"]
+    assert resonance["status"] == "failed"
+    assert "no band spectrum" in resonance["message"] and "expected ≥ 8" in resonance["message"]
+    assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    status, out, _ = run(capsys, *args)
+    assert status == 0 and "moving resonance: not measured (no band spectrum" in out

@@ -294,7 +294,7 @@ class ResonanceRun:
     needs: :meth:`figure`)."""
 
     result: SimulationResult = field(repr=False)
-    spectrum: xr.DataArray = field(repr=False)
+    spectrum: xr.DataArray | None = field(repr=False)
     measures: MovingResonance
     title: str = ""
 
@@ -305,6 +305,8 @@ class ResonanceRun:
     def figure(self) -> Figure:
         """The record's band spectrum with ω_f(t) over it, and the ground's work below
         (:func:`stepframe.stochastic.plots.time_frequency_figure`)."""
+        if self.spectrum is None:
+            raise ValueError(f"no picture: {self.measures.message}")
         return resonance_figure(self.result, self.spectrum, self.measures, title=self.title)
 
 
@@ -375,8 +377,15 @@ def measure_run(
     title: str = "",
 ) -> ResonanceRun:
     """The band spectrum of the record a simulation ran under (any scale) and the run's
-    moving-resonance measures."""
-    spectrum = band_spectrum(ground_acc_m_s2, dt_s, band_rad_s, n_samples=result.raw.hist_x.size)
+    moving-resonance measures; a motion too short for the spectrum gives measures "failed" with
+    the reason and no spectrum (the simulation stands without them)."""
+    try:
+        spectrum = band_spectrum(
+            ground_acc_m_s2, dt_s, band_rad_s, n_samples=result.raw.hist_x.size
+        )
+    except InputError as error:
+        band = (float(band_rad_s[0]), float(band_rad_s[1]))
+        return ResonanceRun(result, None, _failed(band, f"no band spectrum: {error}"), title)
     return ResonanceRun(result, spectrum, resonance_index(result, spectrum, band_rad_s), title)
 
 

@@ -76,7 +76,9 @@ class RecordResponse:
             + ("" if ok else f"; numerical status: {data['status']}"),
         ]
         resonance = data["moving_resonance"]
-        if resonance["status"] == "ok":
+        if resonance["status"] != "ok":
+            lines.append(f"moving resonance: not measured ({resonance['message']})")
+        else:
             index = resonance["moving_resonance_index"]
             lines.append(
                 "moving resonance: "
@@ -182,6 +184,14 @@ class SimulatedComponent:
         from stepframe.structure.plots import draw_response
 
         name = self.response.summary["record"]
+        run = self.response.resonance
+        if run.spectrum is None:  # a motion too short for the spectrum: the response alone
+            from stepframe.structure.plots import response_figure
+
+            return response_figure(
+                run.result, self.frame, title=f"{os.path.basename(name)} × {self.scale:g}",
+                ground_acc_m_s2=self.trace.data, scale=self.scale,
+            )  # fmt: skip
         figure = Figure(figsize=(9.0, 11.0), layout="constrained")
         grid = figure.add_gridspec(2, 1, height_ratios=(6.2, 5.2))
         top, bottom = figure.add_subfigure(grid[0]), figure.add_subfigure(grid[1])
@@ -190,7 +200,6 @@ class SimulatedComponent:
             title=f"{os.path.basename(name)} × {self.scale:g}", ground_acc_m_s2=self.trace.data,
             scale=self.scale,
         )  # fmt: skip
-        run = self.response.resonance
         draw_resonance(bottom, run.result, run.spectrum, run.measures, title="moving resonance")
         end = float(run.spectrum["time"].values[-1])
         for axes in top.axes:

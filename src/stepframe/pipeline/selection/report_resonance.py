@@ -76,6 +76,9 @@ def resonance_section(
             title=f"{name} × {scale:.3g}",
         )  # fmt: skip
         data = run.measures.to_dict()
+        if run.spectrum is None:
+            items.append(Note(f"{name}: {run.measures.message}", "warning"))
+            continue
         measured.append(
             {"record": name, "scale": scale}
             | {key: data[key] for key in COLUMNS if key in data}
