@@ -143,9 +143,10 @@ def test_moving_resonance_of_the_best_records(selection_dir: Path, selection_htm
         band_rad_s=numbers["band_rad_s"],
     )  # fmt: skip
     assert drawn[0]["scale"] == pytest.approx(first["scale_factor"])
-    for key in ("moving_resonance_share", "work_depth", "input_energy_m2_s2"):
-        assert drawn[0][key] == pytest.approx(getattr(run.measures, key), rel=1e-12), key
-    assert drawn[0]["n_stepping_half_cycles"] == run.measures.n_stepping_half_cycles
+    for column, key in (("M", "moving_resonance_share"), ("depth", "work_depth"),
+                        ("work_m2_s2", "input_energy_m2_s2")):  # fmt: skip
+        assert drawn[0][column] == pytest.approx(getattr(run.measures, key), rel=1e-12), key
+    assert drawn[0]["stepped_half_cycles"] == run.measures.n_stepping_half_cycles
     table = pd.read_csv(data_folder_of(selection_html) / "moving_resonance.csv")
     assert table["record"].tolist() == [row["record"] for row in drawn]
     html = selection_html.read_text(encoding="utf-8")

@@ -17,18 +17,22 @@ from stepframe.pipeline.reports.document import Figure, Note, Section, Table, fi
 
 TITLE = "Moving resonance in the best records' simulations"
 
-#: The measures shown per record, with their column dictionary.
+#: The measures shown per record: (column, the measure's field, its column dictionary entry);
+#: short column names so that the table fits the page.
+SHOWN = (
+    ("R_m", "moving_resonance_index", "R_m: share of the work while stepped down the band that "
+     "arrived while the record's energy lay near ω_f [0-1]"),
+    ("M", "moving_resonance_share", "M: share of all the ground's positive work that arrived by "
+     "moving resonance [0-1]"),
+    ("depth", "work_depth", "how far down its band the frame was when the ground pumped it [0-1]"),
+    ("stepped_half_cycles", "n_stepping_half_cycles", "half-cycles in which the frame stepped"),
+    ("lowest_omega_f_rad_s", "lowest_omega_f_rad_s", "lowest ω_f before overturning [rad/s]"),
+    ("work_m2_s2", "input_energy_m2_s2", "net work of the ground on the frame [m²/s²]"),
+)  # fmt: skip
 COLUMNS = {
     "record": "record",
     "scale": "scale factor of the selection [-]",
-    "moving_resonance_index": "R_m: share of the work while stepped down the band that arrived "
-    "while the record's energy lay near ω_f [0-1]",
-    "moving_resonance_share": "M: share of all the ground's positive work that arrived by "
-    "moving resonance [0-1]",
-    "work_depth": "how far down its band the frame was when the ground pumped it [0-1]",
-    "n_stepping_half_cycles": "half-cycles in which the frame stepped",
-    "lowest_omega_f_rad_s": "lowest ω_f before overturning [rad/s]",
-    "input_energy_m2_s2": "net work of the ground on the frame [m²/s²]",
+    **{column: meaning for column, _, meaning in SHOWN},
     "overturned": "the frame overturned",
 }
 
@@ -81,7 +85,7 @@ def resonance_section(
             continue
         measured.append(
             {"record": name, "scale": scale}
-            | {key: data[key] for key in COLUMNS if key in data}
+            | {column: data[key] for column, key, _ in SHOWN}
             | {"overturned": bool(run.result.summary.overturned)}
         )
         items.append(
