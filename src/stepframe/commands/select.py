@@ -41,8 +41,7 @@ FIELDS: dict[str | None, tuple[str | OptionRow, ...]] = {
             ("magnitude", ""), ("distance", "_km"), ("vs30", "_m_s"), ("d5_95", "_s"),
             ("pga", "_g"), ("pgv", "_m_s"), ("psa_t1", "_g"), ("arias", "_m_s"),
         ) for end in ("min", "max")),
-        "distance_metric", "lowest_usable_below_band",
-        ("--keep-implausible", bool, None, "rank fits that fail the plausibility checks too"),
+        "distance_metric", "lowest_usable_below_band", "require_plausible",
         ("--exclude", list, "RECORD", "leave out a record (RSN174 or 174), file name or path "
          "(repeat, or comma-separated)"),
         "exclude_unmatched", "max_per_event", "max_per_station",
@@ -53,6 +52,9 @@ FIELDS: dict[str | None, tuple[str | OptionRow, ...]] = {
         "pair_spectrum", "target_periods_s", "spectral_weight", "scale_min", "scale_max",
     ),
     "uncertainty and confirmation": ("n_bootstrap", "seed", "confirm_onset_ratio"),
+    "ranking (docs/selection.md)": (
+        "rank_onset_ratio", "rank_psa_t1_g", "prefilter", "prefilter_k", "exact_budget_s", "scores",
+    ),
 }  # fmt: skip
 
 
@@ -90,8 +92,6 @@ def options_from_args(args: argparse.Namespace) -> SelectionOptions:
     values = {"n": args.n}
     for rows in FIELDS.values():
         values.update(fields_given(args, rows))
-    if args.keep_implausible:
-        values["require_plausible"] = False
     exclude = [word.strip() for item in args.exclude for word in item.split(",") if word.strip()]
     if exclude:
         values["exclude"] = exclude

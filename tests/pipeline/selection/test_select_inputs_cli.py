@@ -53,7 +53,7 @@ def test_two_folders_pair_peer_and_knet_files(
     out = tmp_path / "picks"
     code, payload = _run(
         capsys, "--frame", str(frame), str(peer), str(knet), "-n", "2", "--unit", "record",
-        "--keep-implausible", "-o", str(out),
+        "-o", str(out),
     )  # fmt: skip
     assert code == 0
     grouping = payload["grouping"]
@@ -77,7 +77,7 @@ def test_symlinked_folders_are_followed_once(
     os.symlink(peer, peer / "loop")  # a link back up: a loop, walked once
     os.symlink(knet, peer / "knet-again")  # the same folder twice: its files once
     code, payload = _run(
-        capsys, "--frame", str(frame), str(peer), "-n", "1", "--keep-implausible",
+        capsys, "--frame", str(frame), str(peer), "-n", "1",
         "-o", str(tmp_path / "o"), "--rank-by", "band_coverage",
     )  # fmt: skip
     assert code == 0
@@ -99,7 +99,7 @@ def test_a_folder_beside_the_example(
     frame, peer, _ = folders
     code, payload = _run(
         capsys, "--frame", str(frame), "--example", "fema-p695", str(peer), "-n", "2",
-        "--keep-implausible", "-o", str(tmp_path / "o"), "--exclude", "RSN953",
+        "-o", str(tmp_path / "o"), "--exclude", "RSN953",
     )  # fmt: skip
     assert code == 0
     assert payload["n_candidates"] == 6
@@ -160,7 +160,7 @@ def test_bad_input_is_one_line(
         (Path(source) / "acc.txt").write_text("".join(f"{v:.9e}\n" for v in values))
     line = _error(
         capsys, "--frame", str(frame), source, "-n", "1", "-o", str(tmp_path / "o"),
-        "--keep-implausible", "--rank-by", "band_coverage", *extra,
+        "--rank-by", "band_coverage", *extra,
     )  # fmt: skip
     assert line.startswith(expected), line
 

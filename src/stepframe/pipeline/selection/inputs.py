@@ -325,11 +325,11 @@ def select_to_folder(
         As :func:`select_from_catalogue`.
     """
     from stepframe.errors import InputError
-    from stepframe.pipeline.selection.spectral import target_spectrum
+    from stepframe.pipeline.selection.intensity import checked_target
     from stepframe.structure.frame_file import read_frame_file
 
     frame = read_frame_file(frame_path)
-    target_spectrum(options)  # an unreadable target is reported before the features are run
+    checked_target(options, frame)  # a bad target is reported before the features are run
     folder = Path(out_dir)
     if folder.exists() and not folder.is_dir():
         raise InputError("exists and is not a directory, expected an output folder", folder)

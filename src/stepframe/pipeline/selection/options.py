@@ -27,8 +27,11 @@ from stepframe.pipeline.selection.io_names import (
 )
 from stepframe.pipeline.selection.names import (
     DISTANCE_METRICS,
-    RANKABLE,
+    PREFILTER_CHOICES,
+    RANK_BY_CHOICES,
     SCALE_POLICIES,
+    SIMULATED_RESPONSE,
+    TIERS,
     UNITS,
     DistanceMetric,
     ScalePolicy,
@@ -48,9 +51,10 @@ class SelectionOptions:
     unit
         ``"component"`` or ``"record"``.
     rank_by
-        The ranking score (:data:`stepframe.pipeline.selection.names.RANKABLE`); default
-        ``substitute_demand_ratio``, the score the confirmation supports (docs/selection.md),
-        which reads the records' samples.
+        The ranking (:data:`stepframe.pipeline.selection.names.RANK_BY_CHOICES`): default
+        ``simulated_response``, the frame's own simulated response at the ranking intensity
+        (docs/selection.md); or a tier (a score of the project or a standard intensity measure)
+        at the same intensity.
     spectral_weight
         Weight of the spectral misfit (target spectrum) against the ranking score in the
         combined objective (0: rank only).
@@ -68,7 +72,8 @@ class SelectionOptions:
         the bottom of the band.
     require_plausible
         Drop fits that fail the features table's plausibility checks (ω_p at its bound, ω_r at
-        its floor, a clipped ξ): not a usable path.
+        its floor, a clipped ξ). Off by default: a record needs no fitted model to be simulated,
+        so the flag is information (column ``plausible``), a gate only when asked.
     exclude
         Files or RSNs to leave out.
     max_per_event, max_per_station
@@ -111,12 +116,27 @@ class SelectionOptions:
     target_damping
         Damping ratio of the target spectrum and of the records' spectra compared with it in
         the code check (Eurocode 8's η; ASCE 7-22 spectra are for 0.05).
+    rank_onset_ratio, rank_psa_t1_g
+        The ranking intensity (:mod:`stepframe.pipeline.selection.intensity`): every record at
+        equal PSA(T_1), given as a multiple of the onset of stepping or in g (5 % damping); at
+        most one. Neither (default): the records as they will be used (their scale factors;
+        ``scale = "none"``: as recorded).
+    prefilter, prefilter_k, exact_budget_s
+        ``"auto"`` (default) simulates every candidate while the estimated cost stays under
+        ``exact_budget_s`` [s], else ranks by the measured best tier first and simulates its
+        best ``prefilter_k`` (default: the share of the candidates that kept the exact top 10
+        in every case measured, :mod:`stepframe.pipeline.selection.tiers`); ``"none"`` always
+        simulates every candidate; a tier name always prefilters by that tier.
+    scores
+        Scores to compute and compare besides the defaults (the dominated ones of
+        :data:`stepframe.pipeline.selection.names.DOMINATED` are computed only when named here,
+        by ``rank_by`` or by ``prefilter``).
     """
 
     n: int = 10
     unit: Unit = option("component", "select components, or records with both components")
     rank_by: str = option(
-        "substitute_demand_ratio", "ranking score (default: %(default)s)", choices=RANKABLE
+        SIMULATED_RESPONSE, "ranking (default: %(default)s)", choices=RANK_BY_CHOICES
     )
     spectral_weight: float = 0.0
     a_max_m: float | None = option(None, "amplitude limit A_max [m]", kind="positive")
@@ -144,7 +164,9 @@ class SelectionOptions:
     lowest_usable_below_band: bool = option(
         False, "drop records whose lowest usable frequency is above the band"
     )
-    require_plausible: bool = True
+    require_plausible: bool = option(
+        False, "drop records whose fit fails the plausibility checks (default: rank them)"
+    )
     exclude: tuple[str, ...] = ()
     max_per_event: int | None = None
     max_per_station: int | None = None
@@ -191,6 +213,47 @@ class SelectionOptions:
         0.05, "damping ratio of the target and the code check (default 0.05)",
         valid=Range(0, 1, low_open=True, high_open=True),
     )  # fmt: skip
+    # The ranking: its intensity, its prefilter and the scores it reports (the ranking's own
+    # block; docs/selection.md, "Ranking by the simulated response").
+    rank_onset_ratio: float | None = option(
+        None,
+        "rank at equal PSA(T_1): P_1·SD(T_1, xi_1) = this multiple of x_c (default: the "
+        "records as used)",
+        kind="positive",
+        metavar="R",
+        valid=Range(0.0, 20.0, low_open=True),
+    )
+    rank_psa_t1_g: float | None = option(
+        None,
+        "rank at equal PSA(T_1) of this many g, 5 % damping (default: the records as used)",
+        kind="positive",
+        metavar="G",
+        valid=Range(0.0, 20.0, low_open=True),
+    )
+    prefilter: str = option(
+        "auto",
+        "simulate only the best prefilter_k by this tier: auto (when over the budget), none, "
+        "or a tier (default: %(default)s)",
+        choices=PREFILTER_CHOICES,
+    )
+    prefilter_k: int | None = option(
+        None,
+        "candidates the prefilter keeps (≥ n)",
+        kind="positive_int",
+        metavar="K",
+        valid=Range(1.0),
+    )
+    exact_budget_s: float = option(
+        600.0,
+        "auto prefilter: simulate every candidate while the estimate is under this [s] "
+        "(default: %(default)s)",
+        kind="positive",
+        metavar="S",
+        valid=Range(0.0, low_open=True),
+    )
+    scores: tuple[str, ...] = option(
+        (), "also compute and compare this tier (repeat)", kind="repeated", metavar="TIER"
+    )
 
     def __post_init__(self) -> None:
         check_fields(self)
@@ -203,8 +266,8 @@ class SelectionOptions:
             raise bad("n", "an integer ≥ 1")
         if self.unit not in UNITS:
             raise bad("unit", f"one of {UNITS}")
-        if self.rank_by not in RANKABLE:
-            raise bad("rank_by", f"one of {RANKABLE}")
+        if self.rank_by not in RANK_BY_CHOICES:
+            raise bad("rank_by", f"one of {RANK_BY_CHOICES}")
         if self.scale not in SCALE_POLICIES:
             raise bad("scale", f"one of {SCALE_POLICIES}")
         if self.distance_metric not in DISTANCE_METRICS:
@@ -249,10 +312,51 @@ class SelectionOptions:
             low, high = self.target_periods_s
             if not 0 < low < high:
                 raise bad("target_periods_s", "(low, high) with 0 < low < high")
+        self._check_ranking()
         if self.scale == "target-mse" and not self.has_target:
             raise InputError(
                 "scale = 'target-mse' without a target spectrum, expected target_s_ds_g and "
                 "target_s_d1_g, or target_csv"
+            )
+
+    def _check_ranking(self) -> None:
+        """The ranking's options: their ranges, then the rules between them."""
+        check_fields(self)
+        object.__setattr__(self, "scores", tuple(str(name) for name in self.scores))
+        if self.rank_onset_ratio is not None and self.rank_psa_t1_g is not None:
+            raise InputError(
+                "rank_onset_ratio and rank_psa_t1_g both given, expected at most one ranking "
+                "intensity"
+            )
+        if self.prefilter not in PREFILTER_CHOICES:
+            raise InputError(
+                f"prefilter = {self.prefilter!r}, expected one of {', '.join(PREFILTER_CHOICES)}",
+                key="prefilter",
+            )
+        if self.rank_by != SIMULATED_RESPONSE and (
+            self.prefilter != "auto" or self.prefilter_k is not None
+        ):
+            raise InputError(
+                f"prefilter options with rank_by = {self.rank_by!r}, expected them only with "
+                f"rank_by = {SIMULATED_RESPONSE!r} (a tier ranks alone, nothing to prefilter)",
+                key="prefilter",
+            )
+        if self.prefilter_k is not None:
+            if self.prefilter_k < self.n:
+                raise InputError(
+                    f"prefilter_k = {self.prefilter_k} < n = {self.n}, expected at least n",
+                    key="prefilter_k",
+                )
+            if self.prefilter == "none":
+                raise InputError(
+                    "prefilter_k given with prefilter = 'none', expected a tier or 'auto'",
+                    key="prefilter_k",
+                )
+        unknown = [name for name in self.scores if name not in TIERS]
+        if unknown:
+            raise InputError(
+                f"scores = {list(self.scores)}, expected names among {', '.join(TIERS)}",
+                key="scores",
             )
 
     @property
@@ -343,6 +447,7 @@ class SelectionOptions:
         """Plain dictionary (TOML/JSON ready: tuples become lists, None stays None)."""
         data = asdict(self)
         data["exclude"] = list(self.exclude)
+        data["scores"] = list(self.scores)
         if self.target_periods_s is not None:
             data["target_periods_s"] = list(self.target_periods_s)
         return data
@@ -358,6 +463,8 @@ class SelectionOptions:
         values = dict(data)
         if "exclude" in values:
             values["exclude"] = tuple(str(v) for v in values["exclude"])
+        if "scores" in values:
+            values["scores"] = tuple(str(v) for v in values["scores"])
         if values.get("target_periods_s") is not None:
             pair = tuple(float(v) for v in values["target_periods_s"])
             if len(pair) != 2:

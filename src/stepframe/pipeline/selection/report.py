@@ -329,11 +329,24 @@ def _confirmation(
         items.append(
             Table(
                 "correlations",
-                "Rank correlations reported by the selection run",
+                "Each ranking and standard intensity measure against the simulated response",
                 pd.DataFrame(stated),
-                "Spearman ρ of each score against each simulated response, with its bootstrap "
-                "interval (selection.json)",
-                {"spearman": "Spearman rank correlation", "low": "interval low", "high": "high"},
+                "Spearman ρ of each ranking (the run's own, the scores it computed, the standard "
+                "intensity measures at the same equal PSA(T_1)) with each simulated response, "
+                "with its bootstrap interval, the paired difference Δρ from the run's ranking, "
+                "and the efficiency (selection.json). The run's own simulated ranking is judged "
+                "here on the frame it was ranked with; docs/selection.md judges every ranking "
+                "against perturbed frames.",
+                {
+                    "spearman": "Spearman rank correlation",
+                    "low": "interval low",
+                    "high": "high",
+                    "delta": "ρ minus the run's ranking's ρ, same candidates (paired bootstrap "
+                    "interval: delta_low, delta_high)",
+                    "efficiency": "dispersion of ln response given ln value (smaller: more "
+                    "efficient); peaks of runs that stand, overturning ratios of runs that "
+                    "overturn",
+                },
             )
         )
     return items, numbers
@@ -463,28 +476,79 @@ def _marked_candidates(outputs: SelectionOutputs) -> pd.DataFrame:
 
 
 def scores_section(outputs: SelectionOutputs, candidates: pd.DataFrame, rank_by: str) -> Section:
-    """The chosen set and every candidate with its scores, as sortable tables."""
-    return Section(
-        "Scores",
-        [
+    """The ranking (its stated intensity, what was simulated, the chosen set against the rest
+    at that intensity, the tiers against the run's exact ranking), then the chosen set and
+    every candidate with its scores and peers, as sortable tables."""
+    from stepframe.pipeline.selection.ranking import ranking_lines
+
+    summary = outputs.summary
+    items: Items = [Note(line) for line in ranking_lines(summary)[:3]]
+    versus = (summary.get("ranking") or {}).get("chosen_vs_rest")
+    if isinstance(versus, dict) and versus:
+        items.append(
             Table(
-                "selection",
-                "Selected records",
-                outputs.tables["selection"],
-                f"The chosen set, ranked by {rank_by}",
-                outputs.columns.get("selection", {}),
-                sortable=True,
-            ),
+                "chosen_vs_rest",
+                "The chosen set against the rest, simulated at the ranking intensity",
+                pd.DataFrame(
+                    [
+                        {
+                            "group": group,
+                            "candidates": versus[f"n_{key}"],
+                            "median_simulated_response_m": versus[f"simulated_response_m_{key}"],
+                            "median_peak_x_m": versus[f"peak_x_m_{key}"],
+                            "overturned": versus[f"overturned_{key}"],
+                        }
+                        for group, key in (("chosen", "chosen"), ("the rest", "rest"))
+                    ]
+                ),
+                "The same simulations that ranked them (candidates.csv: simulated_response, "
+                "ranking_peak_x_m, ranking_overturned)",
+                {
+                    "median_simulated_response_m": "median over the group of the ladder's "
+                    "geometric-mean peak |x| [m]",
+                    "median_peak_x_m": "median peak |x| at the ranking intensity itself [m]",
+                    "overturned": "how many overturn the frame at the ranking intensity",
+                },
+            )
+        )
+    tiers = summary.get("tiers")
+    if isinstance(tiers, list) and tiers:
+        items.append(
             Table(
-                "candidates",
-                "Every candidate and its scores",
-                candidates,
-                "All candidates with every score and the filter that dropped them",
-                outputs.columns.get("candidates", {}),
-                sortable=True,
-            ),
-        ],
-    )
+                "tiers",
+                "The cheaper rankings (tiers) against this run's exact ranking",
+                pd.DataFrame(tiers),
+                "Spearman ρ of each tier with the simulated ranking, and the share of its top n "
+                "found in each tier's top K (K = n, 2n, 5n, 10n); docs/selection.md publishes "
+                "the same for a family of frames",
+                {
+                    "spearman": "Spearman ρ with the exact ranking (95 % bootstrap interval: "
+                    "low, high)",
+                    "recall_at_1n": "share of the exact top n in the tier's top n",
+                    "recall_at_10n": "share of the exact top n in the tier's top 10n",
+                },
+            )
+        )
+    items += [
+        Table(
+            "selection",
+            "Selected records",
+            outputs.tables["selection"],
+            f"The chosen set, ranked by {rank_by}",
+            outputs.columns.get("selection", {}),
+            sortable=True,
+        ),
+        Table(
+            "candidates",
+            "Every candidate and its scores",
+            candidates,
+            "All candidates with the simulated response, every score and standard intensity "
+            "measure, and the filter that dropped them",
+            outputs.columns.get("candidates", {}),
+            sortable=True,
+        ),
+    ]
+    return Section("Ranking and scores", items)
 
 
 def confirmation_section(

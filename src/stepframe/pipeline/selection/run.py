@@ -22,20 +22,26 @@ from stepframe.pipeline.selection.chosen import ChosenSet, chosen_set
 from stepframe.pipeline.selection.filters import FilterReport, apply_filters, filter_summary
 from stepframe.pipeline.selection.grouping import COLUMNS as GROUPING_COLUMNS
 from stepframe.pipeline.selection.grouping import grouping_summary
-from stepframe.pipeline.selection.names import PHYSICS_SCORES, RECORD_SCORES
+from stepframe.pipeline.selection.intensity import checked_target
+from stepframe.pipeline.selection.names import (
+    DOMINATED,
+    PEER_NAMES,
+    PHYSICS_SCORES,
+    SIMULATED_RESPONSE,
+    TIERS,
+)
 from stepframe.pipeline.selection.options import SelectionOptions
 from stepframe.pipeline.selection.path import MODEL_COLUMNS, strong_motion_paths
+from stepframe.pipeline.selection.peers import PEERS, PeerPeriods, spectra_and_peers
+from stepframe.pipeline.selection.ranking import RANKING_COLUMNS, Ranking, rank_candidates
 from stepframe.pipeline.selection.result import SelectionResult, column_dictionary
 from stepframe.pipeline.selection.samples import read_samples as _read_samples
 from stepframe.pipeline.selection.spectral import (
     G_M_S2,
-    SpectraItem,
     misfit_periods_s,
     record_scales,
-    record_spectra,
     scale_factors,
     spectral_misfit,
-    target_spectrum,
     target_values,
 )
 from stepframe.pipeline.selection.substitute import (
@@ -44,6 +50,7 @@ from stepframe.pipeline.selection.substitute import (
     substitute_demand_ratio,
     substitute_levels,
 )
+from stepframe.pipeline.selection.tiers import FIT_TIERS
 from stepframe.structure.frame import PortalFrame
 
 Floats = NDArray[np.float64]
@@ -75,6 +82,8 @@ CANDIDATE_COLUMNS: dict[str, tuple[str, str]] = {
     "selected": ("", "in the chosen set"),
     "control": ("", "a control of the confirmation (passed the filters, ranked lowest)"),
     "dropped_by": ("", "the filter that dropped the row (empty: passed every filter)"),
+    # the ranking's columns (ranking.py)
+    **RANKING_COLUMNS,
 }
 CONFIRMATION_COLUMNS: dict[str, tuple[str, str]] = {
     "file": ("", "record file"),
@@ -134,7 +143,7 @@ def _item_name(item: PhysicsItem) -> str:
     return item[0]
 
 
-def _spectrum_name(item: SpectraItem) -> str:
+def _spectrum_name(item: tuple[Any, ...]) -> str:
     return f"record of {item[0].size} samples, dt {item[1]:g} s"
 
 
@@ -290,17 +299,18 @@ def _spectra(
     table: Any,
     dropped_by: NDArray[np.object_],
     band: FrameBand,
-    levels: SubstituteLevels,
+    levels: SubstituteLevels | None,
     periods: Floats,
-    out: tuple[Floats, Floats],
+    out: tuple[Floats, Floats, Floats],
     sources: tuple[Mapping[RecordKey, Samples] | None, Mapping[str, Any] | None],
     parallel: tuple[int | None, Executor | None],
 ) -> tuple[dict[int, Samples], list[Failure]]:
     """Read the passing candidates' samples and run their one spectra pass: PSA (5 %) at T_1
-    and the misfit periods into ``table["psa_t1_g"]`` and ``out[0]``, SD at the substitute
-    structure's levels into ``out[1]`` (SD(T_1, ξ_1) first). Rows without samples or spectra
-    get their ``dropped_by`` reason."""
-    psa, sd_levels = out
+    and the misfit periods into ``table["psa_t1_g"]`` and ``out[0]``, SD(T_1, ξ_1) into
+    ``out[1]``, SD at the substitute structure's levels into ``out[2]`` (when ``levels`` is
+    given), and the peers (:mod:`~stepframe.pipeline.selection.peers`) into the table. Rows
+    without samples or spectra get their ``dropped_by`` reason."""
+    psa, sd_t1, sd_levels = out
     jobs, executor = parallel
     passing = np.flatnonzero(dropped_by == "")
     samples, failures = _read_samples(table, passing, *sources)
@@ -308,21 +318,35 @@ def _spectra(
     for i in set(passing.tolist()) - set(have.tolist()):
         dropped_by[i] = "samples_failed"
     with_t1 = np.concatenate([[band.period_1_s], periods])
-    groups = ((with_t1, 0.05), *levels.spectrum_groups())
+    frame = band.frame
+    groups = (
+        (with_t1, 0.05),
+        (np.array([band.period_1_s]), frame.xi_1),
+        *(levels.spectrum_groups() if levels is not None else ()),
+    )
+    peer_periods = PeerPeriods(band.period_1_s, 2.0 * math.pi / band.omega_low_rad_s)
     outcome = map_items(
-        record_spectra,
-        [(samples[i][0], samples[i][1], groups) for i in have],
+        spectra_and_peers,
+        [(samples[i][0], samples[i][1], groups, peer_periods) for i in have],
         jobs=_workers(jobs, executor, have.size * SPECTRUM_S),
         executor=executor,
         stage="spectra",
         name_of=_spectrum_name,
     )
     omega_sq = (2.0 * math.pi / with_t1) ** 2
-    for k, (sd_5, *by_group) in zip(outcome.indices, outcome.results, strict=True):
+    peer_values = {name: np.full(len(table), np.nan) for name in PEERS}
+    for k, ((sd_5, sd_1, *by_group), peers) in zip(outcome.indices, outcome.results, strict=True):
+        row = int(have[k])
         values = omega_sq * sd_5
-        table.loc[int(have[k]), "psa_t1_g"] = values[0] / G_M_S2
-        psa[have[k]] = values[1:]
-        sd_levels[have[k]] = levels.gather(by_group)
+        table.loc[row, "psa_t1_g"] = values[0] / G_M_S2
+        psa[row] = values[1:]
+        sd_t1[row] = sd_1[0]
+        if levels is not None:
+            sd_levels[row] = levels.gather(by_group)
+        for name, value in peers.items():
+            peer_values[name][row] = value
+    for name, values in peer_values.items():
+        table[name] = values
     missing = np.flatnonzero((dropped_by == "") & ~np.isfinite(table["psa_t1_g"].to_numpy()))
     dropped_by[missing] = "spectra_failed"
     return samples, failures + outcome.failures
@@ -368,14 +392,16 @@ class Candidates:
 
 @dataclass(frozen=True)
 class Spectra:
-    """The record spectra of the passing candidates: PSA at the misfit periods, SD at the
-    substitute structure's levels, and the samples they came from."""
+    """The record spectra of the passing candidates: PSA at the misfit periods, SD(T_1, ξ_1),
+    SD at the substitute structure's levels (NaN unless the substitute score is asked for), and
+    the samples they came from."""
 
     periods_s: Floats
     psa: Floats
     sd_levels: Floats
     levels: SubstituteLevels
     samples: dict[int, Samples]
+    sd_t1_m: Floats
 
 
 @dataclass(frozen=True)
@@ -423,19 +449,24 @@ def filtered_candidates(
     return candidates
 
 
+def _named(options: SelectionOptions) -> set[str]:
+    """The tiers a run names: its ranking, its prefilter and its extra scores."""
+    return {options.rank_by, options.prefilter, *options.scores}
+
+
 def physics_scores(
     candidates: Candidates,
     frame: PortalFrame,
     options: SelectionOptions,
     parallel: tuple[int | None, Executor | None],
 ) -> None:
-    """Step 2 (when ranked by them or confirmed): the fitted model's backbone and descent
-    amplifications."""
+    """Step 2 (when the run names them: they are dominated, docs/selection.md): the fitted
+    model's backbone and descent amplifications."""
     table = candidates.table
+    if not _named(options) & set(PHYSICS_SCORES):
+        return
     table["backbone_amplification"] = np.nan
     table["descent_amplification"] = np.nan
-    if options.rank_by not in PHYSICS_SCORES and not options.confirm:
-        return
     backbone, descent, fails, failed_rows = _physics(
         table, candidates.passing, candidates.band, frame, candidates.paths, *parallel
     )
@@ -452,34 +483,40 @@ def spectra_and_substitute(
     parallel: tuple[int | None, Executor | None],
 ) -> Spectra:
     """Step 3: read the passing records and run their one spectra pass (PSA at T_1 and the
-    misfit periods, SD at the substitute levels); the substitute structure's scores."""
+    misfit periods, SD(T_1, ξ_1), the peers, and SD at the substitute levels when the
+    substitute score is named); the substitute structure's scores."""
     table, band = candidates.table, candidates.band
+    fit_only = {options.rank_by, options.prefilter} <= {*FIT_TIERS, "none", "auto"}
     needs_samples = (
         options.confirm
         or options.scale != "none"
         or options.has_target
-        or options.rank_by in RECORD_SCORES
+        or not fit_only
+        or options.rank_by == SIMULATED_RESPONSE
     )
+    substitute = "substitute_demand_ratio" in _named(options)
     periods = misfit_periods_s(options, band)
     levels = substitute_levels(band)
     table["psa_t1_g"] = np.nan
     psa = np.full((len(table), periods.size), np.nan)
+    sd_t1 = np.full(len(table), np.nan)
     sd_levels = np.full((len(table), levels.periods_s.size), np.nan)
     samples: dict[int, Samples] = {}
     if needs_samples:
         samples, fails = _spectra(
-            table, candidates.dropped_by, band, levels, periods, (psa, sd_levels), sources,
-            parallel,
+            table, candidates.dropped_by, band, levels if substitute else None, periods,
+            (psa, sd_t1, sd_levels), sources, parallel,
         )  # fmt: skip
         candidates.failures += fails
-    table["substitute_demand_ratio"] = substitute_demand_ratio(sd_levels, levels)
-    table["substitute_overturn_ratio"] = predicted_overturn_ratio(
-        table["substitute_demand_ratio"].to_numpy()
-    )
+    if substitute:
+        table["substitute_demand_ratio"] = substitute_demand_ratio(sd_levels, levels)
+        table["substitute_overturn_ratio"] = predicted_overturn_ratio(
+            table["substitute_demand_ratio"].to_numpy()
+        )
     _count_compute_failures(candidates, options)
     if options.unit == "record":
         _drop_single_components(table, candidates.dropped_by, candidates.reports)
-    return Spectra(periods, psa, sd_levels, levels, samples)
+    return Spectra(periods, psa, sd_levels, levels, samples, sd_t1)
 
 
 def _count_compute_failures(candidates: Candidates, options: SelectionOptions) -> None:
@@ -502,16 +539,18 @@ def _count_compute_failures(candidates: Candidates, options: SelectionOptions) -
 
 
 def rank_and_scale(
-    candidates: Candidates, spectra: Spectra, options: SelectionOptions, target: Any
-) -> tuple[Floats, Floats | None, Floats | None]:
-    """Step 4: each passing candidate's percentile of the ranking score, its scale factor by
-    the scaling policy and its misfit to the target; returns the percentiles and the log
-    spectra the choice matches (None without a target)."""
-    table, band, passing = candidates.table, candidates.band, candidates.passing
-    score = np.asarray(table[options.rank_by], dtype=np.float64)
-    z = np.full(len(table), np.nan)
-    z[passing] = percentile_scores(score[passing])
-    table["rank_score_percentile"] = z
+    candidates: Candidates,
+    spectra: Spectra,
+    frame: PortalFrame,
+    options: SelectionOptions,
+    target: Any,
+) -> tuple[Floats, Floats | None, Floats | None, Ranking]:
+    """Step 4: each passing candidate's scale factor by the scaling policy and its misfit to
+    the target (one factor per record with ``unit="record"``: :func:`scale_records`), then the
+    ranking at the stated intensity (:mod:`.ranking`: the simulated
+    response by default); returns the ranking's percentiles (1 best), the log spectra the
+    choice matches (None without a target) and the ranking."""
+    table, band = candidates.table, candidates.band
     psa = spectra.psa
     psa_t1 = table["psa_t1_g"].to_numpy() * G_M_S2
     target_t1 = None if target is None else target.sa_m_s2(band.period_1_s)
@@ -524,11 +563,39 @@ def rank_and_scale(
     table["spectral_misfit"] = (
         spectral_misfit(psa, scales, target_psa) if target_psa is not None else np.nan
     )
-    if target_psa is None:
-        return z, None, None
-    with np.errstate(divide="ignore", invalid="ignore"):
-        log_psa = np.log(scales[:, None] * psa)
-    return z, log_psa, np.log(target_psa)
+    log_psa = None
+    if target_psa is not None:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            log_psa = np.log(scales[:, None] * psa)
+    if options.unit == "record":  # one factor per record, before the ranking uses it
+        log_psa = scale_records(candidates, spectra, options, target, log_psa)
+    ranking = _rank(candidates, spectra, frame, options)
+    z = ranking.z
+    table["rank_score_percentile"] = z
+    return z, log_psa, None if target_psa is None else np.log(target_psa), ranking
+
+
+def _rank(
+    candidates: Candidates, spectra: Spectra, frame: PortalFrame, options: SelectionOptions
+) -> Ranking:
+    """The ranking at the stated intensity; rows whose simulation failed are dropped (and in
+    failures.csv)."""
+    ranking, failures, failed = rank_candidates(
+        candidates.table, candidates.passing, spectra.samples, spectra.sd_t1_m, frame, options
+    )
+    candidates.failures += failures
+    if failed:
+        candidates.dropped_by[failed] = "simulation_failed"
+        left = int((candidates.dropped_by == "").sum())
+        rule = "simulated at the ranking intensity (the rest in failures.csv)"
+        candidates.reports.append(FilterReport("simulated", rule, len(failed), left))
+        if left == 0:
+            raise InputError(
+                f"no candidate could be simulated ({candidates.summary_line}; first failure: "
+                f"{failures[0].item}: {failures[0].message}), expected records the frame's "
+                "simulator accepts"
+            )
+    return ranking
 
 
 def _picker(options: SelectionOptions, log_target: Floats | None) -> Callable[[Units], list[int]]:
@@ -592,9 +659,10 @@ def rank_stability(
     ]
     if replicates:
         drawn = pd.concat(replicates, ignore_index=True)
-        if options.rank_by in RECORD_SCORES:
-            # The record's spectrum does not depend on the fit: every replicate ranks alike.
-            score = np.asarray(table[options.rank_by], dtype=np.float64)
+        if options.rank_by not in FIT_TIERS:
+            # The record's response and spectrum do not depend on the fit: every replicate
+            # ranks alike.
+            score = np.asarray(table["rank_score_percentile"], dtype=np.float64)
             all_values = np.tile(score[passing], options.n_bootstrap)
         elif options.rank_by in PHYSICS_SCORES:
             paths = strong_motion_paths(drawn, options.strong_motion_fraction)
@@ -633,7 +701,9 @@ def _selection_table(table: Any, chosen_rows: list[int], rank_by: str) -> Any:
     selection.insert(1, "score", selection[rank_by].to_numpy())
     keep_first = [
         "rank", "file", "component", "station", "score", "scale_factor",
-        "selection_probability", "rank_score_percentile", *sc.SCORES, "enters_from_above",
+        "selection_probability", "rank_score_percentile", "ranking_scale", SIMULATED_RESPONSE,
+        "ranking_peak_x_m", "ranking_overturned", "ladder_overturns", *PEERS, *sc.SCORES,
+        "enters_from_above",
         "psa_t1_g", "spectral_misfit",
     ]  # fmt: skip
     keep = [c for c in keep_first if c in selection.columns]
@@ -686,20 +756,18 @@ def select_records(
         candidates left than ``options.n`` (the message says how many passed each filter).
     """
     _check_table(features)
-    target = target_spectrum(options)  # an unreadable target fails before any work
+    target = checked_target(options, frame)  # an unreadable target fails before any work
     parallel = (jobs, executor)
     candidates = filtered_candidates(features, frame, options, (records, record_options))
     physics_scores(candidates, frame, options, parallel)
     spectra = spectra_and_substitute(candidates, options, (records, record_options), parallel)
-    z, log_psa, log_target = rank_and_scale(candidates, spectra, options, target)
-    if options.unit == "record":
-        log_psa = scale_records(candidates, spectra, options, target, log_psa)
+    z, log_psa, log_target, ranking = rank_and_scale(candidates, spectra, frame, options, target)
     choice = choose_set(candidates, z, log_psa, log_target, options)
     rank_stability(candidates, frame, choice, options, parallel)
     _mark_choice(candidates, choice)
     chosen = chosen_outcome(candidates, spectra, choice, frame, options, target,
                             (records, record_options))  # fmt: skip
-    return with_chosen(_result(candidates, spectra, choice, frame, options), chosen)
+    return with_chosen(_result(candidates, spectra, choice, frame, options, ranking), chosen)
 
 
 def _result(
@@ -708,12 +776,19 @@ def _result(
     choice: Choice,
     frame: PortalFrame,
     options: SelectionOptions,
+    ranking: Ranking,
 ) -> SelectionResult:
     """Step 7: the confirmation by simulation (when asked) and the result's tables."""
     import pandas as pd
 
     table, band, failures = candidates.table, candidates.band, candidates.failures
-    status, message = "ok", f"{len(choice.chosen_rows)} components chosen by {options.rank_by}"
+    status, message = (
+        "ok",
+        (
+            f"{len(choice.chosen_rows)} components chosen by {options.rank_by} at "
+            f"{ranking.intensity.describe()}"
+        ),
+    )
     if choice.n_units < options.n:
         status = "degraded"
         message = f"only {choice.n_units} of {options.n} could be chosen under the caps"
@@ -725,7 +800,7 @@ def _result(
     medians: dict[str, Any] = {}
     throughput = math.nan
     if options.confirm:
-        sd_t1 = spectra.sd_levels[:, 0]  # SD(T_1, ξ_1), the confirmation's intensity measure
+        sd_t1 = spectra.sd_t1_m  # SD(T_1, ξ_1), the confirmation's intensity measure
         confirm_table, correlations, medians, throughput = _confirm(
             table, frame, spectra.samples, choice.chosen_rows, choice.control_rows, sd_t1, options
         )
@@ -740,6 +815,7 @@ def _result(
         "medians": medians,
         "confirmation_samples_per_s": throughput,
         "options": options.to_dict(),
+        **ranking_summary(table, candidates.passing, choice.chosen_rows, ranking, options),
     }
     selection_columns = {
         "rank": (
@@ -762,6 +838,54 @@ def _result(
         message,
         summary,
     )
+
+
+def ranking_summary(
+    table: Any,
+    passing: NDArray[np.int64],
+    chosen: list[int],
+    ranking: Ranking,
+    options: SelectionOptions,
+) -> dict[str, Any]:
+    """``ranking_intensity`` (the stated intensity), ``ranking`` (what was simulated, and the
+    chosen set's simulated response against the rest at that intensity) and ``tiers`` (each
+    tier against this run's exact ranking, when every candidate was simulated)."""
+    from stepframe.pipeline.selection.tiers import agreement, tier_values
+
+    out = ranking.summary()
+    if ranking.plan.method == "tier":
+        out["tiers"] = []
+        return out
+    simulated = table["simulated"].to_numpy(dtype=bool)
+    in_set = np.zeros(len(table), dtype=bool)
+    in_set[chosen] = True
+    rest = simulated & ~in_set
+    response = table[SIMULATED_RESPONSE].to_numpy(dtype=np.float64)
+    peak = table["ranking_peak_x_m"].to_numpy(dtype=np.float64)
+    over = table["ranking_overturned"].to_numpy(dtype=bool)
+    out["ranking"]["chosen_vs_rest"] = {
+        "simulated_response_m_chosen": _median(response, in_set & simulated),
+        "simulated_response_m_rest": _median(response, rest),
+        "peak_x_m_chosen": _median(peak, in_set & simulated),
+        "peak_x_m_rest": _median(peak, rest),
+        "overturned_chosen": int((over & in_set).sum()),
+        "overturned_rest": int((over & rest).sum()),
+        "n_chosen": int((in_set & simulated).sum()),
+        "n_rest": int(rest.sum()),
+    }
+    rows = np.asarray([i for i in passing if simulated[i]], dtype=np.int64)
+    if ranking.plan.method != "exact" or rows.size < 4:
+        out["tiers"] = []
+        return out
+    base = table["ranking_scale"].to_numpy(dtype=np.float64)
+    named = _named(options)
+    tiers = {
+        name: tier_values(table, name, base)[rows]
+        for name in TIERS
+        if name in table.columns and (name not in DOMINATED or name in named)
+    }
+    out["tiers"] = agreement(ranking.z[rows], tiers, options.n)
+    return out
 
 
 def _confirm(
@@ -810,21 +934,14 @@ def _confirm(
     result = result[[c for c in CONFIRMATION_COLUMNS if c in result.columns]]
     peak = equal_rows["peak_abs_x_m"].to_numpy(dtype=np.float64)
     margin = -np.where(np.isnan(onset), OVER_RANGE_TOP, onset)
-    correlations = []
-    for k, name in enumerate([*sc.SCORES, "psa_t1_g"]):
-        values = table[name].to_numpy(dtype=np.float64)[candidates]
-        for response, y in (("peak_drift", peak), ("overturn_margin", margin)):
-            rho, low, high, n = confirmation.spearman_interval(values, y, options.seed + k)
-            correlations.append(
-                {
-                    "score": name,
-                    "response": response,
-                    "spearman": rho,
-                    "low": low,
-                    "high": high,
-                    "n": n,
-                }
-            )
+    over_equal = equal_rows["overturned"].to_numpy(dtype=bool)
+    correlations = compared_rankings(
+        _compared_values(table, candidates, equal, options),
+        {"peak_drift": peak, "overturn_margin": margin},
+        {"peak_drift": np.where(over_equal, np.nan, peak), "overturn_margin": onset},
+        options.rank_by,
+        options.seed,
+    )
     is_chosen = np.isin(candidates, chosen)
     is_control = np.isin(candidates, controls)
     overturned = run_equal.table["overturned"].to_numpy(dtype=bool)
@@ -845,6 +962,58 @@ def _confirm(
 
 
 OVER_RANGE_TOP = confirmation.OVERTURN_RATIO_RANGE[1] * 2.0
+
+
+def _compared_values(
+    table: Any, rows: list[int], scales: Floats, options: SelectionOptions
+) -> dict[str, Floats]:
+    """The rankings the confirmation compares, on ``rows`` at the confirmation's intensity
+    (``scales``), larger more severe: the run's ranking, the scores it computed (the dominated
+    ones only when named) and every peer (scaled: S_a(T_1) is then the same for all)."""
+    from stepframe.pipeline.selection.peers import at_intensity
+
+    named = _named(options)
+    out: dict[str, Floats] = {}
+    for name in (SIMULATED_RESPONSE, *TIERS):
+        if name not in table.columns or (name in DOMINATED and name not in named):
+            continue
+        values = table[name].to_numpy(dtype=np.float64)[rows]
+        if name in PEER_NAMES:
+            values = at_intensity(name, values, scales)
+        if np.isfinite(values).any():
+            out[name] = values
+    return out
+
+
+def compared_rankings(
+    values: dict[str, Floats],
+    responses: dict[str, Floats],
+    efficiency_responses: dict[str, Floats],
+    reference: str,
+    seed: int,
+) -> list[dict[str, Any]]:
+    """Each ranking against each simulated response: Spearman ρ with its bootstrap interval,
+    the paired difference Δρ from the ``reference`` ranking with its interval, and the
+    efficiency (the dispersion of ln response given ln |value|, :func:`confirm.efficiency`,
+    over ``efficiency_responses``: peaks of the runs that stay up, overturning ratios of those
+    that overturn)."""
+    out = []
+    base = values.get(reference)
+    for k, (name, x) in enumerate(values.items()):
+        for response, y in responses.items():
+            rho, low, high, n = confirmation.spearman_interval(x, y, seed + k)
+            entry: dict[str, Any] = {
+                "score": name, "response": response, "spearman": rho, "low": low,
+                "high": high, "n": n,
+            }  # fmt: skip
+            if base is not None and name != reference:
+                delta = confirmation.paired_delta_rho(x, base, y, seed + k)
+                entry.update(delta_vs=reference, delta=delta[0], delta_low=delta[1])
+                entry["delta_high"] = delta[2]
+            sigma, count = confirmation.efficiency(np.abs(x), efficiency_responses[response])
+            entry.update(efficiency=sigma, efficiency_n=count)
+            out.append(entry)
+    return out
 
 
 def _median(values: Floats, mask: NDArray[np.bool_]) -> float:

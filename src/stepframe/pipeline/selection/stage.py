@@ -19,11 +19,13 @@ from stepframe.pipeline.engine.store import make_key
 from stepframe.pipeline.reports.provenance import workflow_provenance
 
 # 2: default rank_by substitute_demand_ratio; 3: records grouped, verticals left out, the
-# chosen set's spectra, code check, response and motions; 4: records by identity
-SELECTION_VERSION = 4
+# chosen set's spectra, code check, response and motions; 4: records by identity; 5: ranked by
+# the simulated response at a stated intensity
+SELECTION_VERSION = 5
 # 2: the best records' accelerograms; 3: stated correlations; 4: the run's spectra and check,
-# the chosen set at its scale, chosen records marked, "not run"; 5: records by identity
-SELECTION_REPORT_VERSION = 5
+# the chosen set at its scale, chosen records marked, "not run"; 5: records by identity; 6: the
+# ranking's sections
+SELECTION_REPORT_VERSION = 6
 SELECTION_REPORT_HTML = "selection_report.html"
 
 
@@ -81,7 +83,11 @@ def _selection_run(context: Context, folder: Path) -> None:
     # a timing is a fact of this run, not of the selection: the run log keeps it (byte-stable
     # outputs, docs/workflows.md)
     throughput = result.summary.pop("confirmation_samples_per_s", None)
-    context.facts["selection"] = {"confirmation_samples_per_s": throughput}
+    simulation_s = (result.summary.get("ranking") or {}).pop("simulation_s", None)
+    context.facts["selection"] = {
+        "confirmation_samples_per_s": throughput,
+        "ranking_simulation_s": simulation_s,
+    }
     hashes = dict(zip(inventory["file"], inventory["content_sha256"], strict=True))
     result = result.with_record_identity(folder_of_records, hashes, _records_identity(context))
     result.write(folder)
