@@ -678,6 +678,12 @@ def selection_report(
             f"{band[0] / TWO_PI:.3g}-{band[1] / TWO_PI:.3g} Hz ({band[0]:.3g}-{band[1]:.3g} rad/s)",
         ),
         ("Ranked by", rank_by),
+        *(
+            [("Ranked at", str(intensity["text"]))]
+            if isinstance(intensity := summary.get("ranking_intensity"), dict)
+            and intensity.get("text")
+            else []
+        ),
         ("Selected", f"{len(rows)} of {len(candidates)} candidates"),
         ("Scaling", str(summary.get("scale", summary.get("scaling", "none")))),
     ]

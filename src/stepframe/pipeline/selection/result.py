@@ -160,7 +160,8 @@ class SelectionResult:
         if summary.get("scale_rule"):
             lines.append(f"scale: {summary['scale_rule']}")
         intensity = summary.get("ranking_intensity")
-        if intensity is not None:
+        if intensity is not None and not isinstance(intensity, dict):
+            # a stated intensity (a table with its text) is in the message and "ranked at"
             lines.append(f"ranking intensity: {_intensity_text(intensity)}")
         return lines
 
@@ -188,7 +189,7 @@ class SelectionResult:
             rank_text = f" (rank {place[0]} of {place[1]})" if place else ""
             clipped = " clipped" if bool(getattr(row, "scale_clipped", False)) else ""
             text = (
-                f"  pick {row.rank:2d}. {name} [{row.component}]  score {row.score:.4g}"
+                f"  pick {row.rank:2d}. {name} [{row.component}]  {_score_text(row, rank_by)}"
                 f"{rank_text}  scale {row.scale_factor:.3g}{clipped}"
             )
             if key in response:
@@ -346,6 +347,20 @@ def _number(value: Any, spec: str) -> str:
     return format(value, spec)
 
 
+def _score_text(row: Any, rank_by: str) -> str:
+    """A chosen row's score as the ranking orders it: for the simulated response, the lowest
+    factor on the ranking scale found to overturn the frame (those come first), else the
+    response [m]; any other score by its value."""
+    from stepframe.pipeline.selection.names import SIMULATED_RESPONSE
+
+    if rank_by != SIMULATED_RESPONSE:
+        return f"score {row.score:.4g}"
+    factor = float(getattr(row, "overturn_factor", math.nan))
+    if math.isfinite(factor):
+        return f"overturns from ×{factor:.3g} of the ranking scale"
+    return f"response {row.score:.3g} m"
+
+
 def _intensity_text(value: Any) -> str:
     """The ranking intensity as ``selection.json`` gives it (a number in g, or a table)."""
     if isinstance(value, dict):
@@ -354,12 +369,15 @@ def _intensity_text(value: Any) -> str:
 
 
 def _score_ranks(candidates: Any, rank_by: str) -> dict[tuple[str, str], tuple[int, int]]:
-    """(file, component) → (rank of the ranking score among the candidates that passed the
-    filters, 1 best; how many)."""
-    if rank_by not in candidates.columns or "dropped_by" not in candidates.columns:
+    """(file, component) → (rank of the ranking among the candidates that passed the filters,
+    1 best; how many): by ``rank_score_percentile`` where the run has it (the simulated
+    response orders the overturning candidates by their factor, not by the score), else by
+    the score."""
+    column = "rank_score_percentile" if "rank_score_percentile" in candidates.columns else rank_by
+    if column not in candidates.columns or "dropped_by" not in candidates.columns:
         return {}
     passing = candidates[candidates["dropped_by"].astype(str) == ""]
-    score = passing[rank_by].astype(float)
+    score = passing[column].astype(float)
     order = score.rank(ascending=False, method="min")
     return {
         (str(f), str(c)): (int(r), len(passing))

@@ -24,8 +24,8 @@ from stepframe.pipeline.reports.provenance import workflow_provenance
 SELECTION_VERSION = 5
 # 2: the best records' accelerograms; 3: stated correlations; 4: the run's spectra and check,
 # the chosen set at its scale, chosen records marked, "not run"; 5: records by identity; 6: the
-# ranking's sections
-SELECTION_REPORT_VERSION = 6
+# ranking's sections; 7: the ranking intensity in the summary box
+SELECTION_REPORT_VERSION = 7
 SELECTION_REPORT_HTML = "selection_report.html"
 
 
