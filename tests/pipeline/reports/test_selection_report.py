@@ -120,3 +120,34 @@ def test_candidates_mark_the_selected(selection_dir: Path, selection_html: Path)
     chosen = pd.read_csv(selection_dir / "selection.csv")
     assert set(shown[shown["selected"]]["file"]) == set(chosen["file"])
     assert shown["selected"].sum() == len(chosen)
+
+
+def test_moving_resonance_of_the_best_records(selection_dir: Path, selection_html: Path) -> None:
+    # Each drawn record is the selection's record at its scale factor, simulated with the index
+    # over the report's band: the numbers are those of the library on the same record.
+    from stepframe.pipeline.dynamics.resonance import moving_resonance
+    from stepframe.records.examples import fema_p695
+    from stepframe.structure.frame_file import read_frame_file
+
+    numbers = json.loads((data_folder_of(selection_html) / "numbers.json").read_text())
+    drawn = numbers["moving_resonance"]
+    selection = pd.read_csv(selection_dir / "selection.csv")
+    assert len(drawn) == min(3, len(selection))
+    first = selection.iloc[0]
+    stream, _ = fema_p695()
+    trace = next(t for t in stream if t.stats.stepframe.source_file == first["file"])
+    summary = json.loads((selection_dir / "selection.json").read_text())
+    frame = read_frame_file(selection_dir / summary["frame_file"])
+    run = moving_resonance(
+        frame, trace.data, trace.stats.delta, scale=float(first["scale_factor"]),
+        band_rad_s=numbers["band_rad_s"],
+    )  # fmt: skip
+    assert drawn[0]["scale"] == pytest.approx(first["scale_factor"])
+    for column, key in (("M", "moving_resonance_share"), ("depth", "work_depth"),
+                        ("work_m2_s2", "input_energy_m2_s2")):  # fmt: skip
+        assert drawn[0][column] == pytest.approx(getattr(run.measures, key), rel=1e-12), key
+    assert drawn[0]["stepped_half_cycles"] == run.measures.n_stepping_half_cycles
+    table = pd.read_csv(data_folder_of(selection_html) / "moving_resonance.csv")
+    assert table["record"].tolist() == [row["record"] for row in drawn]
+    html = selection_html.read_text(encoding="utf-8")
+    assert "Moving resonance in the best records" in html

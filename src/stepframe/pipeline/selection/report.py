@@ -34,6 +34,7 @@ from stepframe.pipeline.reports.document import (
 )
 from stepframe.pipeline.reports.provenance import Provenance, collect_provenance, command_line
 from stepframe.pipeline.selection.report_folder import SelectionOutputs, read_selection_folder
+from stepframe.pipeline.selection.report_resonance import resonance_section
 from stepframe.stochastic.model import MODEL_FIELDS, GroundMotionModel
 
 TWO_PI = 2 * math.pi
@@ -651,7 +652,8 @@ def selection_report(
 
     Its sections in order (docs/reports.md): the frame's band, the selected records'
     ω_g(t) paths, the best records' accelerograms, the scores, the spectra of the set, the
-    confirmation by simulation, the filters and failures.
+    confirmation by simulation, moving resonance in the best records' simulations, the filters
+    and failures.
     """
     summary = outputs.summary
     folder = outputs.folder
@@ -686,6 +688,11 @@ def selection_report(
         ("Scaling", str(summary.get("scale", summary.get("scaling", "none")))),
     ]
     best = rows[:N_ACCELEROGRAMS]
+    scales = [_scale_of(row) for row in best]
+
+    def load(row: dict[str, Any]) -> Any:
+        return record_loader(row, folder)
+
     sections = [
         band_section(summary, frame, band),
         paths_section(rows, names, band),
@@ -697,6 +704,7 @@ def selection_report(
         spectra_section(outputs, rows, names, band, record_loader, numbers, summary_lines),
         chosen_scale_section(summary, numbers, summary_lines),
         confirmation_section(outputs, candidates, rank_by, numbers, summary_lines),
+        resonance_section(best, names, scales, frame, band, load, numbers),
         filters_section(outputs, candidates, numbers),
     ]
     return Report(
