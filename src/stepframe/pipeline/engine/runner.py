@@ -51,6 +51,9 @@ DEFAULT_BATCH_ITEMS = 1024
 BATCH_ITEMS_PER_WORKER = 32
 #: A batch of at most this many items per worker runs in this process (no pool to start).
 SMALL_BATCH_PER_WORKER = 2
+#: Helper columns of the table assembly (task position, row position in the store).
+_TASK = "_task"
+_ROW = "_row"
 
 
 @dataclass
@@ -377,27 +380,7 @@ def _run_items(
             zip([t.key for t in failed_tasks], outcome.failures, strict=True),
         )
     keys = [task.key for task in tasks]
-    stored = store.rows(stage.name, keys)
-    parts = []
-    for task in tasks:
-        rows_of = stored.get(task.key)
-        if rows_of is None:
-            continue
-        part = rows_of.drop(columns=[KEY_COLUMN])
-        for column, value in task.context.items():
-            part[column] = value
-        part[KEY_COLUMN] = task.key
-        parts.append(part)
-    columns = [*stage.columns(), KEY_COLUMN]
-    table = pd.concat(parts, ignore_index=True) if parts else pd.DataFrame(columns=columns)
-    table = table[[c for c in columns if c in table.columns]]
-    set_column_dictionary(
-        table,
-        pd.DataFrame(
-            [(name, unit, meaning) for name, (unit, meaning) in stage.columns().items()],
-            columns=["column", "unit", "meaning"],
-        ),
-    )
+    table = _stored_table(stage, tasks, store)
     context.tables[stage.name] = table
     failures = store.failures(stage.name, keys)
     stage_failures = [failures[t.key] for t in tasks if t.key in failures]
@@ -407,6 +390,43 @@ def _run_items(
     if table.empty:
         summary.status = "failed"
         summary.message = f"no item computed ({summary.failed} failed of {summary.items})"
+
+
+def _stored_table(stage: Stage, tasks: list[Task], store: Store) -> pd.DataFrame:
+    """The stage's table: each task's stored rows in task order, with the task's context
+    columns (the current file path) and ``_key``, and the stage's column dictionary.
+
+    One pass over the store's segments and one join, whatever the number of items (a
+    per-item loop of row assignments cost about 3 ms an item).
+    """
+    import numpy as np
+    import pandas as pd
+
+    stored = store.table(stage.name, [task.key for task in tasks])
+    context_names = list(dict.fromkeys(name for task in tasks for name in task.context))
+    order = pd.DataFrame(
+        {
+            KEY_COLUMN: [task.key for task in tasks],
+            _TASK: np.arange(len(tasks)),
+            **{name: [task.context.get(name) for task in tasks] for name in context_names},
+        }
+    )
+    stored = stored.drop(columns=[c for c in context_names if c in stored.columns])
+    stored[_ROW] = np.arange(len(stored))
+    table = order.merge(stored, on=KEY_COLUMN, how="inner", sort=False)
+    table = table.sort_values([_TASK, _ROW], kind="stable", ignore_index=True)
+    columns = [*stage.columns(), KEY_COLUMN]
+    table = table[[c for c in columns if c in table.columns]]
+    if table.empty:
+        table = pd.DataFrame(columns=columns)
+    set_column_dictionary(
+        table,
+        pd.DataFrame(
+            [(name, unit, meaning) for name, (unit, meaning) in stage.columns().items()],
+            columns=["column", "unit", "meaning"],
+        ),
+    )
+    return table
 
 
 def _run_set(
@@ -476,8 +496,6 @@ def _dry_run(
     """What a run would do: per stage, items to compute and cached (nothing written)."""
     report = RunReport(str(workflow.path), str(workflow.workspace), "dry run", True)
     context = Context(workflow, {}, {}, {}, {}, None, None, False)
-    import pandas as pd
-
     for name in planned:
         stage = stages[name]
         summary = StageSummary(name, stage.kind)
@@ -500,15 +518,7 @@ def _dry_run(
                 summary.status = "pending"
                 summary.message = f"{len(todo)} item(s) to compute"
             else:
-                stored = store.rows(name, [t.key for t in tasks])
-                parts = []
-                for task in tasks:
-                    if task.key in stored:
-                        part = stored[task.key].copy()
-                        for column, value in task.context.items():
-                            part[column] = value
-                        parts.append(part)
-                context.tables[name] = pd.concat(parts) if parts else pd.DataFrame()
+                context.tables[name] = _stored_table(stage, tasks, store)
         else:
             assert stage.set_key is not None
             key = stage.set_key(context)

@@ -189,6 +189,26 @@ class Store:
                 out[str(group_key)] = group.reset_index(drop=True)
         return out
 
+    def table(self, stage: str, keys: Iterable[str]) -> pd.DataFrame:
+        """The stored rows of every successful key among ``keys`` as one table (with ``_key``),
+        each segment read once; rows of a key keep their stored order, keys come in no
+        particular order (the runner orders them)."""
+        import pandas as pd
+
+        wanted: dict[Path, set[str]] = {}
+        index = self.index(stage)
+        for key in keys:
+            entry = index.get(key)
+            if entry is not None and not entry.failed:
+                wanted.setdefault(entry.segment, set()).add(key)
+        parts = []
+        for segment, segment_keys in wanted.items():
+            table = pd.read_parquet(segment)
+            parts.append(table[table[KEY_COLUMN].isin(segment_keys)])
+        if not parts:
+            return pd.DataFrame(columns=[KEY_COLUMN])
+        return pd.concat(parts, ignore_index=True) if len(parts) > 1 else parts[0]
+
     def failures(self, stage: str, keys: Iterable[str]) -> dict[str, Failure]:
         """The stored failure of each key whose latest entry is a failure."""
         import pandas as pd
