@@ -45,12 +45,10 @@ if TYPE_CHECKING:
     import pandas as pd
 
 #: Items computed per stored segment by default: a killed run loses at most one batch, and
-#: each batch starts its worker processes (about 1 s of CPU each), so batches are not small.
+#: each batch waits for its slowest chunk, so batches are not small.
 DEFAULT_BATCH_ITEMS = 1024
 #: With many workers, at least this many items per worker in a batch.
 BATCH_ITEMS_PER_WORKER = 32
-#: A batch of at most this many items per worker runs in this process (no pool to start).
-SMALL_BATCH_PER_WORKER = 2
 #: Helper columns of the table assembly (task position, row position in the store).
 _TASK = "_task"
 _ROW = "_row"
@@ -357,13 +355,11 @@ def _run_items(
         label = stage.name
         if len(todo) > batch_items:
             label = f"{stage.name} {start + 1}-{start + len(batch)}/{len(todo)}"
-        # A few items cost less here than starting worker processes (each imports obspy, scipy
-        # and pandas: about a second) would: run them in this process.
-        jobs = execution.jobs if len(batch) > SMALL_BATCH_PER_WORKER * execution.jobs else 1
+        # map_items keeps a batch in this process when that costs less than the workers would
         outcome = map_items(
             _compute,
             [(stage.compute, task.payload, task.name) for task in batch],
-            jobs=jobs if execution.executor is None else None,
+            jobs=execution.jobs,
             executor=execution.executor,
             stage=stage.name,
             name_of=operator.itemgetter(2),

@@ -108,20 +108,6 @@ PhysicsItem = tuple[str, dict[str, float], FrameBand, float, float, tuple[float,
 COMPUTE_FAILURES = ("physics_failed", "samples_failed", "spectra_failed")
 COMPUTED_RULE = "samples read, spectra and scores computed (the rest in failures.csv)"
 
-#: Rough cost of one item on one core [s]: the physics score, one record's spectrum.
-PHYSICS_S = 0.005
-SPECTRUM_S = 0.01
-#: Below this much work a process pool costs more than it saves (each worker imports numpy,
-#: scipy and loads the numba kernels: about a second of CPU).
-POOL_WORTH_S = 3.0
-
-
-def _workers(jobs: int | None, executor: Executor | None, work_s: float) -> int | None:
-    """``jobs``, or 1 (run in this process) for a small batch when no executor is given."""
-    if executor is None and jobs is None and work_s < POOL_WORTH_S:
-        return 1
-    return jobs
-
 
 def _item_name(item: PhysicsItem) -> str:
     return item[0]
@@ -181,7 +167,7 @@ def _physics(
     outcome = map_items(
         _physics_item,
         items,
-        jobs=_workers(jobs, executor, len(items) * PHYSICS_S),
+        jobs=jobs,
         executor=executor,
         stage="physics",
         name_of=_item_name,
@@ -341,7 +327,7 @@ def _spectra(
     outcome = map_items(
         record_spectra,
         [(samples[i][0], samples[i][1], groups) for i in have],
-        jobs=_workers(jobs, executor, have.size * SPECTRUM_S),
+        jobs=jobs,
         executor=executor,
         stage="spectra",
         name_of=_spectrum_name,
