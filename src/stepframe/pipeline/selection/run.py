@@ -10,10 +10,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from stepframe.core.execution import map_items
+from stepframe.core.execution import default_jobs, map_items
 from stepframe.core.results import Failure, failures_table, set_column_dictionary
 from stepframe.errors import InputError
 from stepframe.pipeline.selection import confirm as confirmation
+from stepframe.pipeline.selection import record_pass
 from stepframe.pipeline.selection import scores as sc
 from stepframe.pipeline.selection.band import FrameBand, frame_band
 from stepframe.pipeline.selection.choose import Units, choose, percentile_scores
@@ -21,12 +22,11 @@ from stepframe.pipeline.selection.filters import FilterReport, apply_filters, fi
 from stepframe.pipeline.selection.names import PHYSICS_SCORES, RECORD_SCORES
 from stepframe.pipeline.selection.options import SelectionOptions
 from stepframe.pipeline.selection.path import MODEL_COLUMNS, strong_motion_paths
+from stepframe.pipeline.selection.record_pass import RecordKey, Samples
 from stepframe.pipeline.selection.result import SelectionResult, column_dictionary
 from stepframe.pipeline.selection.spectral import (
     G_M_S2,
-    SpectraItem,
     misfit_periods_s,
-    record_spectra,
     scale_factors,
     spectral_misfit,
     target_spectrum,
@@ -41,8 +41,6 @@ from stepframe.pipeline.selection.substitute import (
 from stepframe.structure.frame import PortalFrame
 
 Floats = NDArray[np.float64]
-Samples = tuple[Floats, float]
-RecordKey = tuple[str, str]
 
 CANDIDATE_COLUMNS: dict[str, tuple[str, str]] = {
     "window_start_s": ("s", "start of strong motion after t0 (I_g ≥ fraction of its peak)"),
@@ -111,10 +109,6 @@ COMPUTED_RULE = "samples read, spectra and scores computed (the rest in failures
 
 def _item_name(item: PhysicsItem) -> str:
     return item[0]
-
-
-def _spectrum_name(item: SpectraItem) -> str:
-    return f"record of {item[0].size} samples, dt {item[1]:g} s"
 
 
 def _physics_item(item: PhysicsItem) -> tuple[float, float]:
@@ -269,38 +263,6 @@ def _drop_single_components(
     )
 
 
-def _read_samples(
-    table: Any,
-    rows: NDArray[np.int64],
-    records: Mapping[RecordKey, Samples] | None,
-    record_options: Mapping[str, Any] | None,
-) -> tuple[dict[int, Samples], list[Failure]]:
-    out: dict[int, Samples] = {}
-    failures: list[Failure] = []
-    cache: dict[str, Any] = {}
-    for i in rows:
-        file, component = str(table["file"].iat[i]), str(table["component"].iat[i])
-        name = f"{file} [{component}]"
-        try:
-            if records is not None:
-                if (file, component) not in records:
-                    raise InputError(f"no samples for {name}, expected them in records")
-                acc, dt = records[(file, component)]
-            else:
-                from stepframe.records import read
-
-                if file not in cache:
-                    cache[file] = read(file, **dict(record_options or {}))
-                traces = [t for t in cache[file] if str(t.stats.channel) == component]
-                if not traces:
-                    raise InputError(f"no channel {component!r} in the file", file)
-                acc, dt = np.asarray(traces[0].data, float), float(traces[0].stats.delta)
-            out[int(i)] = (np.asarray(acc, dtype=np.float64), float(dt))
-        except Exception as error:  # a batch goes on: the record lands in failures.csv
-            failures.append(Failure.from_exception(name, "samples", error))
-    return out, failures
-
-
 def _spectra(
     table: Any,
     dropped_by: NDArray[np.object_],
@@ -310,37 +272,60 @@ def _spectra(
     out: tuple[Floats, Floats],
     sources: tuple[Mapping[RecordKey, Samples] | None, Mapping[str, Any] | None],
     parallel: tuple[int | None, Executor | None],
-) -> tuple[dict[int, Samples], list[Failure]]:
-    """Read the passing candidates' samples and run their one spectra pass: PSA (5 %) at T_1
-    and the misfit periods into ``table["psa_t1_g"]`` and ``out[0]``, SD at the substitute
-    structure's levels into ``out[1]`` (SD(T_1, ξ_1) first). Rows without samples or spectra
-    get their ``dropped_by`` reason."""
+    confirm: tuple[PortalFrame, float] | None,
+) -> tuple[dict[int, dict[str, Any]], tuple[int, float], list[Failure]]:
+    """The passing candidates' records, read in the workers (:mod:`.record_pass`), and their one
+    spectra pass: PSA (5 %) at T_1 and the misfit periods into ``table["psa_t1_g"]`` and
+    ``out[0]``, SD at the substitute structure's levels into ``out[1]`` (SD(T_1, ξ_1) first).
+    Rows without samples or spectra get their ``dropped_by`` reason. With ``confirm`` (frame,
+    onset ratio) also each candidate's simulation at equal intensity: returned by row, with the
+    samples simulated and the seconds it took (summed over workers)."""
     psa, sd_levels = out
     jobs, executor = parallel
+    records, record_options = sources
     passing = np.flatnonzero(dropped_by == "")
-    samples, failures = _read_samples(table, passing, *sources)
-    have = np.array(sorted(samples), dtype=np.int64)
-    for i in set(passing.tolist()) - set(have.tolist()):
-        dropped_by[i] = "samples_failed"
     with_t1 = np.concatenate([[band.period_1_s], periods])
-    groups = ((with_t1, 0.05), *levels.spectrum_groups())
+    spec = record_pass.PassSpec(
+        ((with_t1, 0.05), *levels.spectrum_groups()),
+        levels,
+        tuple(sorted((record_options or {}).items())),
+        *(confirm or (None, 1.0)),
+    )
+    workers = jobs or default_jobs()
     outcome = map_items(
-        record_spectra,
-        [(samples[i][0], samples[i][1], groups) for i in have],
+        record_pass.record_pass,
+        record_pass.items(table, passing.tolist(), records, spec, workers),
         jobs=jobs,
         executor=executor,
+        chunk_size=1,
         stage="spectra",
-        name_of=_spectrum_name,
+        name_of=record_pass.item_name,
     )
     omega_sq = (2.0 * math.pi / with_t1) ** 2
-    for k, (sd_5, *by_group) in zip(outcome.indices, outcome.results, strict=True):
-        values = omega_sq * sd_5
-        table.loc[int(have[k]), "psa_t1_g"] = values[0] / G_M_S2
-        psa[have[k]] = values[1:]
-        sd_levels[have[k]] = levels.gather(by_group)
-    missing = np.flatnonzero((dropped_by == "") & ~np.isfinite(table["psa_t1_g"].to_numpy()))
+    psa_t1 = np.full(len(table), np.nan)
+    lost: dict[str, list[Failure]] = {"samples": [], "spectra": []}
+    equal: dict[int, dict[str, Any]] = {}
+    simulated = (
+        sum(cost[0] for _, cost in outcome.results),
+        sum(cost[1] for _, cost in outcome.results),
+    )
+    for result in (entry for entries, _ in outcome.results for entry in entries):
+        if result.failure is not None:
+            lost[result.failure.stage].append(result.failure)
+            dropped_by[result.row] = f"{result.failure.stage}_failed"
+            continue
+        assert result.sd_5 is not None and result.sd_levels is not None
+        values = omega_sq * result.sd_5
+        psa_t1[result.row] = values[0] / G_M_S2
+        psa[result.row] = values[1:]
+        sd_levels[result.row] = result.sd_levels
+        if result.equal is not None:
+            equal[result.row] = result.equal
+    table["psa_t1_g"] = psa_t1
+    missing = np.flatnonzero((dropped_by == "") & ~np.isfinite(psa_t1))
     dropped_by[missing] = "spectra_failed"
-    return samples, failures + outcome.failures
+    failures = [*lost["samples"], *lost["spectra"], *outcome.failures]
+    return equal, simulated, failures
 
 
 def select_records(
@@ -436,9 +421,10 @@ def select_records(
     table["psa_t1_g"] = np.nan
     psa = np.full((len(table), periods.size), np.nan)
     sd_levels = np.full((len(table), levels.periods_s.size), np.nan)
-    samples: dict[int, Samples] = {}
+    equal: dict[int, dict[str, Any]] = {}
+    simulated = (0, 0.0)
     if needs_samples:
-        samples, fails = _spectra(
+        equal, simulated, fails = _spectra(
             table,
             dropped_by,
             band,
@@ -447,6 +433,7 @@ def select_records(
             (psa, sd_levels),
             (records, record_options),
             (jobs, executor),
+            (frame, options.confirm_onset_ratio) if options.confirm else None,
         )
         failures += fails
     table["substitute_demand_ratio"] = substitute_demand_ratio(sd_levels, levels)
@@ -594,7 +581,14 @@ def select_records(
     throughput = math.nan
     if options.confirm:
         confirm_table, correlations, medians, throughput = _confirm(
-            table, frame, samples, chosen_rows, control_rows, sd_t1, options
+            table,
+            frame,
+            (records, record_options),
+            (equal, simulated),
+            chosen_rows,
+            control_rows,
+            sd_t1,
+            options,
         )
     summary = {
         "rank_by": options.rank_by,
@@ -630,18 +624,23 @@ def select_records(
 def _confirm(
     table: Any,
     frame: PortalFrame,
-    samples: dict[int, Samples],
+    sources: tuple[Mapping[RecordKey, Samples] | None, Mapping[str, Any] | None],
+    candidate_runs: tuple[dict[int, dict[str, Any]], tuple[int, float]],
     chosen: list[int],
     controls: list[int],
     sd_t1: Floats,
     options: SelectionOptions,
 ) -> tuple[Any, list[dict[str, Any]], dict[str, Any], float]:
+    """The confirmation: the chosen set and its controls simulated here at their chosen scale
+    (their records read again: 2n of them), every candidate's equal-intensity run as the record
+    pass computed it (``candidate_runs``: rows by table row, and samples and seconds simulated),
+    then the correlations and medians."""
     import pandas as pd
 
     frames = []
 
     def rows_of(indices: list[int], group: str, case: str, scales: Floats, run: Any) -> Any:
-        out = run.table.drop(columns=["record", "scale"]).copy()
+        out = run.drop(columns=["record", "scale"]).copy()
         out.insert(0, "file", table["file"].to_numpy()[indices])
         out.insert(1, "component", table["component"].to_numpy()[indices])
         out.insert(2, "group", group)
@@ -651,8 +650,8 @@ def _confirm(
 
     pair = chosen + controls
     scales = table["scale_factor"].to_numpy()[pair]
-    run = confirmation.run_batch(frame, [samples[i] for i in pair], scales)
-    chosen_run = rows_of(pair, "selected", "chosen-scale", scales, run)
+    run = confirmation.run_batch(frame, _load(table, pair, *sources), scales)
+    chosen_run = rows_of(pair, "selected", "chosen-scale", scales, run.table)
     chosen_run.loc[len(chosen) :, "group"] = "control"
     frames.append(chosen_run)
     candidates = [
@@ -660,13 +659,13 @@ def _confirm(
         for i in np.flatnonzero(table["dropped_by"].to_numpy() == "")
         if np.isfinite(sd_t1[i]) and sd_t1[i] > 0
     ]
-    records = [samples[i] for i in candidates]
-    equal = confirmation.equal_intensity_scales(
-        sd_t1[candidates], frame, options.confirm_onset_ratio
-    )
-    run_equal = confirmation.run_batch(frame, records, equal)
+    if not candidates:
+        raise InputError("no candidate has a positive SD(T_1), expected one to confirm")
+    by_row, (samples, seconds) = candidate_runs
+    run_equal = pd.DataFrame([by_row[i] for i in candidates])
+    equal = run_equal["scale"].to_numpy(dtype=np.float64)
+    onset = run_equal.pop("overturn_onset_ratio").to_numpy(dtype=np.float64)
     equal_rows = rows_of(candidates, "candidate", "equal-psa-t1", equal, run_equal)
-    onset = confirmation.overturn_onset_ratios(frame, records, sd_t1[candidates])
     equal_rows["overturn_onset_ratio"] = onset
     frames.append(equal_rows)
     result = pd.concat(frames, ignore_index=True)
@@ -690,7 +689,7 @@ def _confirm(
             )
     is_chosen = np.isin(candidates, chosen)
     is_control = np.isin(candidates, controls)
-    overturned = run_equal.table["overturned"].to_numpy(dtype=bool)
+    overturned = run_equal["overturned"].to_numpy(dtype=bool)
     chosen_peak = run.table["peak_abs_x_m"].to_numpy(dtype=np.float64)
     in_set = np.arange(len(pair)) < len(chosen)
     medians = {
@@ -704,10 +703,29 @@ def _confirm(
         "n_control": len(controls),
         "n_equal_intensity": len(candidates),
     }
-    return result, correlations, medians, run_equal.samples_per_s
+    return result, correlations, medians, samples / seconds if seconds > 0 else math.inf
 
 
 OVER_RANGE_TOP = confirmation.OVERTURN_RATIO_RANGE[1] * 2.0
+
+
+def _load(
+    table: Any,
+    rows: list[int],
+    records: Mapping[RecordKey, Samples] | None,
+    record_options: Mapping[str, Any] | None,
+) -> list[Samples]:
+    """The samples of a few rows, in this process (from ``records``, else their files)."""
+    cache: dict[str, Any] = {}
+    out = []
+    for row in rows:
+        file, component = str(table["file"].iat[row]), str(table["component"].iat[row])
+        if records is not None:
+            acc, dt = records[(file, component)]
+        else:
+            acc, dt = record_pass.read_samples(file, component, record_options or {}, cache)
+        out.append((np.asarray(acc, dtype=np.float64), float(dt)))
+    return out
 
 
 def _median(values: Floats, mask: NDArray[np.bool_]) -> float:
