@@ -10,14 +10,17 @@ created once for the call (its workers die with this process, even on SIGKILL, o
 ``concurrent.futures.Executor`` the caller owns (a Dask client's ``get_executor()``, a thread
 pool, a :class:`WorkerPool` shared by the batches of a run), which is used and left open.
 
-Parallel work pays only when there is enough of it: :func:`map_items` runs the first item in this
-process and times it, and runs the rest here too when they would take less than starting the
-workers costs (:data:`POOL_WORTH_S`; :data:`WARM_POOL_WORTH_S` once they run). So ``jobs=2`` is
-never much slower than ``jobs=1`` on a small batch, and the probe item is work that needed doing.
+Parallel work pays only when there is enough of it: before workers are started, :func:`map_items`
+runs the first item in this process and times it, and runs the rest here too when they would take
+less than starting the workers costs (:data:`POOL_WORTH_S`). So ``jobs=2`` is never much slower
+than ``jobs=1`` on a small batch, and the probe item is work that needed doing. An executor whose
+workers run (a started :class:`WorkerPool`, a Dask cluster) gets every batch, with no probe: the
+main process stays free (its time is the serial part of a run).
 """
 
 from __future__ import annotations
 
+import contextlib
 import math
 import multiprocessing
 import multiprocessing.context
@@ -38,13 +41,10 @@ Result = TypeVar("Result")
 Value = TypeVar("Value")
 Params = ParamSpec("Params")
 
-#: A batch whose remaining items would take less than this in this process [s] is run here:
-#: starting worker processes costs about this much (fork, then what a worker imports on its
-#: first item).
+#: A batch whose remaining items would take less than this in this process [s] is run here
+#: while the workers are not started: starting them costs about this much (fork, then what a
+#: worker imports on its first item).
 POOL_WORTH_S = 1.0
-#: The same once the executor's workers run (a started :class:`WorkerPool`, a Dask cluster):
-#: what handing a batch over costs (pickling, one round trip per chunk).
-WARM_POOL_WORTH_S = 0.05
 
 
 @dataclass(frozen=True)
@@ -192,6 +192,16 @@ class WorkerPool(Executor):
             self._pool = None
 
 
+def worker_pool(jobs: int | None) -> contextlib.AbstractContextManager[WorkerPool | None]:
+    """A :class:`WorkerPool` of ``jobs`` workers (default: the CPUs available) for the batches of
+    one run or command, shut down when the ``with`` block ends; None for ``jobs=1`` (all in
+    this process)."""
+    workers = default_jobs() if jobs is None else jobs
+    if workers == 1:
+        return contextlib.nullcontext(None)
+    return WorkerPool(workers)
+
+
 def _run_chunk(
     function: Callable[[Any], Any],
     chunk: Sequence[tuple[int, Any]],
@@ -255,7 +265,7 @@ def map_items(
 ) -> MapOutcome[Result]:
     """Apply ``function`` to every item, in parallel, recording failures instead of stopping.
 
-    With workers to use, the first item runs in this process and is timed; the others run here
+    With workers to start, the first item runs in this process and is timed; the others run here
     too when they would take less than ``worth_s``, else on the workers (see the module
     docstring).
 
@@ -283,9 +293,8 @@ def map_items(
         False: silent. True or a label: a bar with count, rate and ETA on stderr when it is a
         terminal, and one summary line at the end either way.
     worth_s
-        Least work [s] worth handing to the workers (default :data:`POOL_WORTH_S`, or
-        :data:`WARM_POOL_WORTH_S` for an executor whose workers run); 0 hands every item to them,
-        with no probe.
+        Least work [s] worth starting the workers for (default :data:`POOL_WORTH_S`; none for an
+        executor whose workers run); 0 hands every item to them, with no probe.
 
     Returns
     -------
@@ -344,10 +353,11 @@ def map_items(
 
 
 def _worth_s(executor: Executor | None) -> float:
-    """Least work [s] that is worth handing to ``executor`` (None: a pool to start)."""
+    """Least work [s] worth handing to ``executor`` (None: a pool to start); 0 when its workers
+    run."""
     if executor is None or not getattr(executor, "started", True):
         return POOL_WORTH_S
-    return WARM_POOL_WORTH_S
+    return 0.0
 
 
 def _gather(

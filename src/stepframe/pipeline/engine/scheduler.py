@@ -74,7 +74,7 @@ def open_execution(
         An unknown scheduler, Dask missing (naming ``pip install 'stepframe[dask]'``), or a
         scheduler address that does not answer.
     """
-    from stepframe.core.execution import WorkerPool, default_jobs
+    from stepframe.core.execution import default_jobs, worker_pool
 
     if jobs is not None and jobs < 1:
         raise InputError(f"--jobs {jobs}, expected ≥ 1")
@@ -84,12 +84,9 @@ def open_execution(
         return
     if scheduler is None:
         workers = default_jobs() if jobs is None else jobs
-        if workers == 1:
-            yield Execution(None, 1, "this process (1 worker)")
-            return
         # One pool for the whole run, started by the first batch worth it: each batch used to
         # start its own (about a second of worker start-up per batch and stage).
-        with WorkerPool(workers) as pool:
+        with worker_pool(workers) as pool:
             yield Execution(pool, workers, f"process pool, {workers} worker(s)")
         return
     if scheduler == "dask-local":

@@ -37,8 +37,11 @@ def join_metadata(features: Any, metadata: Any, on: str = "file") -> Any:
     return joined
 
 
-def example_catalogue(jobs: int | None = None) -> tuple[Any, dict[tuple[str, str], Any], Any]:
-    """The embedded FEMA P695 catalogue as selection inputs.
+def example_catalogue(
+    jobs: int | None = None, executor: Any = None
+) -> tuple[Any, dict[tuple[str, str], Any], Any]:
+    """The embedded FEMA P695 catalogue as selection inputs (features computed with ``jobs``
+    workers or on ``executor``).
 
     Returns
     -------
@@ -53,7 +56,7 @@ def example_catalogue(jobs: int | None = None) -> tuple[Any, dict[tuple[str, str
     from stepframe.stochastic.catalog_features import catalog_features
 
     stream, metadata = fema_p695()
-    features, failures = catalog_features(stream, n_jobs=jobs)
+    features, failures = catalog_features(stream, n_jobs=jobs, executor=executor)
     meta = metadata.assign(
         file="fema_p695/" + metadata["file"].astype(str),
         event=metadata["event"].astype(str) + " " + metadata["year"].astype(str),
@@ -98,6 +101,22 @@ def select_from_catalogue(
     SelectionResult
         With the features' failures joined to the selection's (status ``degraded`` then).
     """
+    from stepframe.core.execution import worker_pool
+
+    with worker_pool(jobs) as pool:  # one pool for the features and the selection
+        return _select(frame, options, example, catalogue, metadata, record_options, jobs, pool)
+
+
+def _select(
+    frame: Any,
+    options: Any,
+    example: bool,
+    catalogue: str | None,
+    metadata: str | None,
+    record_options: dict[str, Any] | None,
+    jobs: int | None,
+    pool: Any,
+) -> Any:
     import pandas as pd
 
     from stepframe.core.results import Failure, failures_table
@@ -107,11 +126,11 @@ def select_from_catalogue(
 
     records = None
     if example:
-        table, records, feature_failures = example_catalogue(jobs)
+        table, records, feature_failures = example_catalogue(jobs, pool)
     else:
         assert catalogue is not None
         table, feature_failures = catalog_features(
-            catalogue, n_jobs=jobs, record_options=record_options
+            catalogue, n_jobs=jobs, executor=pool, record_options=record_options
         )
         if metadata is not None:
             try:
@@ -126,7 +145,13 @@ def select_from_catalogue(
             f"no component gave features ({len(feature_failures)} failed), expected records"
         )
     result = select_records(
-        table, frame, options, records=records, jobs=jobs, record_options=record_options
+        table,
+        frame,
+        options,
+        records=records,
+        jobs=jobs,
+        executor=pool,
+        record_options=record_options,
     )
     if len(feature_failures):
         # Feature failures already have the one failure layout (item, stage, error type, message).
