@@ -31,6 +31,8 @@ OVERTURN_RATIO_RANGE = (0.5, 4.0)
 #: Onset ratios scanned for overturning (log-spaced, 1.0 is the 6th).
 SCAN_LEVELS = np.geomspace(OVERTURN_RATIO_RANGE[0], OVERTURN_RATIO_RANGE[1], 16)
 N_RESAMPLES = 1000
+#: Values drawn per block of bootstrap resamples (memory: a few arrays of this many floats).
+BOOTSTRAP_BLOCK = 1 << 21
 
 
 @dataclass(frozen=True)
@@ -120,8 +122,14 @@ def spearman_interval(
 
     value = float(rho(xs, ys))
     rng = np.random.default_rng(seed)
-    picks = rng.integers(0, n, size=(n_resamples, n))
-    samples = rho(xs[picks], ys[picks])
+    # Resamples in blocks of about BOOTSTRAP_BLOCK values: 1,000 resamples of 43,000 pairs at
+    # once took several GB; the generator gives the same draws in blocks as in one call.
+    block = max(1, BOOTSTRAP_BLOCK // n)
+    parts = []
+    for start in range(0, n_resamples, block):
+        picks = rng.integers(0, n, size=(min(block, n_resamples - start), n))
+        parts.append(rho(xs[picks], ys[picks]))
+    samples = np.concatenate(parts)
     samples = samples[np.isfinite(samples)]
     if samples.size == 0:
         return value, math.nan, math.nan, n
