@@ -13,10 +13,12 @@ confirmation, the HTML report) with its records folder replaced by the synthetic
    PSS, sampled every 0.5 s: shared pages counted once), CPU time of the run's main process and
    of all its processes, store and output sizes, the report's size and its largest table;
 2. the no-op re-run (twice);
-3. the same run on a Dask cluster on loopback (``dask scheduler`` and two ``dask worker``
+3. the re-run after adding 1 % new records (the catalogue's ``extra`` records), and its no-op;
+4. the run of part 1 on a Dask cluster on loopback (``dask scheduler`` and two ``dask worker``
    processes of one thread each, started here): outputs compared byte for byte with part 1, CPU
-   of the main process against the workers' (the serial fraction), and the overhead;
-4. the re-run after adding 1 % new records (the catalogue's ``extra`` records), and its no-op.
+   of the main process against the workers' (the serial fraction), and the overhead.
+
+Results are written after each part.
 
 The 1-minute load average is recorded beside every number (the 2 cores are shared). Results go
 to ``bench/out/nga/<name>-results.json``; Markdown tables for docs/benchmarks.md and
@@ -232,7 +234,7 @@ def _folder(name: str, count: int, default: int) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--records", type=int, default=21_500, help="records (two files each)")
-    parser.add_argument("--extra", type=int, default=215, help="records added for part 4")
+    parser.add_argument("--extra", type=int, default=215, help="records added for part 3")
     parser.add_argument("--name", default="nga", help="name of the run's folders")
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--skip-dask", action="store_true")
@@ -248,39 +250,45 @@ def main() -> None:
     workflow = _scene(root, records)
     jobs = ["--jobs", str(args.jobs)]
 
-    results["first"] = first = _run(workflow, *jobs)
+    path = OUT / f"{args.name}-results.json"
+
+    def save(part: str, value: Any) -> None:
+        results[part] = value
+        path.write_text(json.dumps(results, indent=1), encoding="utf-8")
+        print(part, json.dumps(value, indent=1), flush=True)
+
+    first = _run(workflow, *jobs)
     outputs = root / "work" / "outputs"
-    results["first"]["store_mb"] = _size_mb(root / "work" / "store")
-    results["first"]["outputs_mb"] = _size_mb(outputs)
-    results["first"]["records_mb"] = _size_mb(root / "records")
-    results["first"]["report"] = _report_page(outputs)
-    reference = _hashes(root)
-    print(json.dumps(first, indent=1), flush=True)
-    results["noop"] = [_run(workflow, *jobs) for _ in range(2)]
+    first["store_mb"] = _size_mb(root / "work" / "store")
+    first["outputs_mb"] = _size_mb(outputs)
+    first["records_mb"] = _size_mb(root / "records")
+    first["report"] = _report_page(outputs)
+    first["hashes"] = reference = _hashes(root)
+    save("first", first)
+    save("noop", [_run(workflow, *jobs) for _ in range(2)])
+
+    for file in sorted(extra.glob("*.AT2")):
+        os.link(file, root / "records" / file.name)
+    incremental = _run(workflow, *jobs)
+    incremental["store_mb"] = _size_mb(root / "work" / "store")
+    save("incremental", incremental)
+    save("incremental_noop", _run(workflow, *jobs))
 
     if not args.skip_dask:
         dask_root = OUT / "runs" / f"{args.name}-dask"
         dask_workflow = _scene(dask_root, records)
         address, processes, pids = _dask_cluster(args.jobs)
         try:
-            results["dask"] = _run(dask_workflow, "--scheduler", address, watch=pids)
+            dask = _run(dask_workflow, "--scheduler", address, watch=pids)
         finally:
             for process in reversed(processes):
                 process.terminate()
             for process in processes:
                 process.wait(timeout=60)
         dask_hashes = _hashes(dask_root)
-        results["dask"]["identical"] = {n: dask_hashes[n] == reference[n] for n in COMPARED}
-        print(json.dumps(results["dask"], indent=1), flush=True)
+        dask["identical"] = {n: dask_hashes[n] == reference[n] for n in COMPARED}
+        save("dask", dask)
         shutil.rmtree(dask_root / "work" / "store", ignore_errors=True)
-
-    for file in sorted(extra.glob("*.AT2")):
-        os.link(file, root / "records" / file.name)
-    results["incremental"] = _run(workflow, *jobs)
-    results["incremental_noop"] = _run(workflow, *jobs)
-    results["store_mb_after"] = _size_mb(root / "work" / "store")
-    path = OUT / f"{args.name}-results.json"
-    path.write_text(json.dumps(results, indent=1), encoding="utf-8")
     print(f"results: {path}")
 
 
