@@ -32,11 +32,13 @@ from stepframe.core.io import TEMPORARY_SUFFIX
 from stepframe.core.results import Failure, failures_path, failures_table, set_column_dictionary
 from stepframe.errors import InputError
 from stepframe.pipeline.engine.chain import (
-    Followed,
+    Computed,
     Follower,
-    compute_item,
+    Group,
+    compute_group,
     followers_of,
-    item_name,
+    group_name,
+    groups,
 )
 from stepframe.pipeline.engine.lock import workspace_lock
 from stepframe.pipeline.engine.plan import check_forced, plan_stages
@@ -309,8 +311,8 @@ def run_workflow(
 
 
 def _available(context: Context, name: str) -> bool:
-    if name in context.tables:
-        return len(context.tables[name]) > 0
+    if name in context.tables:  # a stage with no item at all is not missing anything
+        return len(context.tables[name]) > 0 or not context.item_keys.get(name)
     return name in context.set_dirs
 
 
@@ -334,7 +336,7 @@ def _run_items(
     batch_items: int,
     followers: tuple[Follower, ...] = (),
 ) -> None:
-    assert stage.tasks is not None and stage.compute is not None
+    assert stage.tasks is not None and (stage.compute or stage.compute_many) is not None
     if stage.prepare is not None:
         stage.prepare(context)
     tasks = stage.tasks(context)
@@ -352,20 +354,22 @@ def _run_items(
     summary.cached = len(tasks) - summary.computed
     for start in range(0, len(todo), batch_items):
         batch = todo[start : start + batch_items]
-        label = "+".join([stage.name, *(f.name for f in followers)])
+        label = "+".join([stage.name, *(f.work.name for f in followers)])
         if len(todo) > batch_items:
             label = f"{label} {start + 1}-{start + len(batch)}/{len(todo)}"
         # map_items keeps a batch in this process when that costs less than the workers would
+        work = groups(stage, batch, followers, execution.jobs)
         outcome = map_items(
-            compute_item,
-            [(stage.compute, task, followers) for task in batch],
+            compute_group,
+            work,
             jobs=execution.jobs,
             executor=execution.executor,
+            chunk_size=1,
             stage=stage.name,
-            name_of=item_name,
+            name_of=group_name,
             progress=label if context.progress else False,
         )
-        _store_batch(stage.name, batch, outcome, store, context)
+        _store_batch(stage.name, work, outcome, store, context)
     keys = [task.key for task in tasks]
     table = _stored_table(stage, tasks, store)
     context.tables[stage.name] = table
@@ -374,37 +378,42 @@ def _run_items(
     summary.failed = len(stage_failures)
     report.failures += stage_failures
     context.item_keys[stage.name] = keys
-    if table.empty:
+    if table.empty and tasks:
         summary.status = "failed"
         summary.message = f"no item computed ({summary.failed} failed of {summary.items})"
 
 
 def _store_batch(
     name: str,
-    batch: list[Task],
-    outcome: MapOutcome[tuple[list[dict[str, Any]], Followed]],
+    work: list[Group],
+    outcome: MapOutcome[Computed],
     store: Store,
     context: Context,
 ) -> None:
     """Store a computed batch as one segment per stage: its rows and failures, and those of the
-    followers' items computed with it (remembered in ``context.chained``)."""
+    followers' items computed with it (remembered in ``context.chained``). A group whose worker
+    failed as a whole (it died, say) fails each of its items."""
     import pandas as pd
 
+    computed: Computed = [entry for entries in outcome.results for entry in entries]
+    done = set(outcome.indices)
+    lost = [group for i, group in enumerate(work) if i not in done]
+    for group, failure in zip(lost, outcome.failures, strict=True):
+        computed += [
+            (name, task.key, Failure(task.name, name, failure.error_type, failure.message))
+            for task in group[1]
+        ]
     rows: dict[str, list[dict[str, Any]]] = {name: []}
     failed: dict[str, list[tuple[str, Failure]]] = {name: []}
-    for position, (result, followed) in zip(outcome.indices, outcome.results, strict=True):
-        rows[name] += [{KEY_COLUMN: batch[position].key, **row} for row in result]
-        for stage, key, value in followed:
-            rows.setdefault(stage, [])
-            failed.setdefault(stage, [])
-            if isinstance(value, Failure):
-                failed[stage].append((key, value))
-            else:
-                rows[stage] += [{KEY_COLUMN: key, **row} for row in value]
+    for stage, key, value in computed:
+        rows.setdefault(stage, [])
+        failed.setdefault(stage, [])
+        if isinstance(value, Failure):
+            failed[stage].append((key, value))
+        else:
+            rows[stage] += [{KEY_COLUMN: key, **row} for row in value]
+        if stage != name:
             context.chained.setdefault(stage, set()).add(key)
-    done = set(outcome.indices)
-    failed_tasks = [task for i, task in enumerate(batch) if i not in done]
-    failed[name] += zip([t.key for t in failed_tasks], outcome.failures, strict=True)
     for stage in rows:
         store.add_rows(stage, pd.DataFrame(rows[stage]), failed[stage])
 

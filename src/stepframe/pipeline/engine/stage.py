@@ -99,7 +99,9 @@ class Stage:
     """A registered stage (see the module docstring).
 
     Per-item stages give ``tasks`` (the items and their keys, from the context) and ``compute``
-    (module-level, run on workers: payload → list of row dicts; raises to fail the item).
+    (module-level, run on workers: payload → list of row dicts; raises to fail the item), or
+    ``compute_many`` (payloads → per payload its rows or the exception that failed it: for work
+    that costs less done together, such as simulations in one batch of the simulator).
     ``columns`` gives the column dictionary of a per-item stage's table (name → unit, meaning).
     ``check`` validates the stage's table beyond types (errors with file:line) before anything
     runs; with ``free_params`` the stage's table is passed through unchecked by the reader and
@@ -138,6 +140,7 @@ class Stage:
     prepare: Callable[[Context], None] | None = None
     expand: Callable[[Any, Task, list[dict[str, Any]]], list[Task]] | None = None
     expand_args: Callable[[Context], Any] | None = None
+    compute_many: Callable[[list[Any]], list[list[dict[str, Any]] | Exception]] | None = None
 
     def parameters(self, workflow: Workflow) -> dict[str, Any]:
         """The stage's parameters in ``workflow`` (defaults filled in)."""
