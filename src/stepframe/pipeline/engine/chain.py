@@ -128,10 +128,13 @@ def compute_group(group: Group) -> Computed:
     work, tasks, followers = group
     out: Computed = []
     pending: dict[str, tuple[Follower, list[Task]]] = {}
-    for task, value in _compute(work, list(tasks)):
-        out.append((work.name, task.key, value))
-        if not isinstance(value, Failure):
-            _follow(task, value, followers, out, pending)
+    # One item and its followers at a time (what the item read is at hand), or all at once.
+    batches = [list(tasks)] if work.compute_many is not None else [[task] for task in tasks]
+    for batch in batches:
+        for task, value in _compute(work, batch):
+            out.append((work.name, task.key, value))
+            if not isinstance(value, Failure):
+                _follow(task, value, followers, out, pending)
     while pending:  # the followers computed many at a time, once the group has given them all
         follower, subs = pending.pop(next(iter(pending)))
         for sub, value in _compute(follower.work, subs):
