@@ -98,12 +98,14 @@ def test_outputs_are_identical_in_this_process_on_a_pool_and_on_dask(
     assert (confirmation["case"] == "equal-psa-t1").sum() >= 3  # every candidate simulated
 
 
-def test_each_record_file_is_read_once_by_the_catalogue_stages(
+def test_each_record_file_is_read_once_per_run(
     selection_scene: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """The inventory reads a file and the features of its components follow in the same call,
-    from the record it read; the selection reads each candidate once more (in its record pass)
-    and the chosen ones and their controls again for the confirmation at their scale."""
+    """The inventory reads a file; the features of its components follow in the same call, and
+    the selection's responses at the end of the call's group, from the records it read; the
+    selection itself reads only the chosen records and their controls again, for the
+    confirmation at their scale. A run with nothing new reads nothing, and one new file is
+    read once."""
     import stepframe.records
 
     reads: Counter[str] = Counter()
@@ -118,20 +120,34 @@ def test_each_record_file_is_read_once_by_the_catalogue_stages(
     report = run_workflow(workflow, shipped_stages(), jobs=1)
     assert report.exit_code == 0
     outputs = selection_scene / "work" / "outputs" / "selection"
-    candidates = pd.read_csv(outputs / "candidates.csv")
-    passing = {Path(f).name for f in candidates.loc[candidates["dropped_by"].isna(), "file"]}
     confirmation = pd.read_csv(outputs / "confirmation.csv")
     chosen_scale = confirmation.loc[confirmation["case"] == "chosen-scale", "file"]
     at_scale = Counter(Path(f).name for f in chosen_scale)
     files = sorted(p.name for p in (selection_scene / "records").iterdir())
-    assert len(files) == 12 and 0 < len(passing) < 12
-    assert dict(reads) == {f: 1 + (f in passing) + at_scale[f] for f in files}
-    features = next(s for s in report.stages if s.name == "features")
-    assert (features.computed, features.cached) == (12, 0)  # computed with the inventory
-    # A run with nothing new reads no record
+    assert len(files) == 12 and len(at_scale) == 6  # 3 chosen and 3 controls
+    assert dict(reads) == {f: 1 + at_scale[f] for f in files}
+    counts = {s.name: (s.computed, s.cached) for s in report.stages}
+    # the features and responses were computed with the inventory, in the same calls
+    assert counts == {
+        "inventory": (12, 0),
+        "features": (12, 0),
+        "responses": (12, 0),
+        "selection": (1, 0),
+    }
     reads.clear()
     again = run_workflow(workflow, shipped_stages(), jobs=1)
-    assert [s.computed for s in again.stages] == [0, 0, 0] and not reads
+    assert [s.computed for s in again.stages] == [0, 0, 0, 0] and not reads
+    # One new file: its own pass, and the selection again (its chosen records read again).
+    write_example_files(selection_scene / "new", count=13)
+    new = sorted({p.name for p in (selection_scene / "new").iterdir()} - set(files))[0]
+    shutil.move(selection_scene / "new" / new, selection_scene / "records" / new)
+    reads.clear()
+    added = run_workflow(workflow, shipped_stages(), jobs=1)
+    assert [s.computed for s in added.stages] == [1, 1, 1, 1]
+    confirmation = pd.read_csv(outputs / "confirmation.csv")
+    chosen_scale = confirmation.loc[confirmation["case"] == "chosen-scale", "file"]
+    at_scale = Counter(Path(f).name for f in chosen_scale)
+    assert dict(reads) == {f: (f == new) + at_scale[f] for f in {new, *at_scale}}
 
 
 def test_record_hashes_are_remembered_while_a_file_is_unchanged(

@@ -44,7 +44,11 @@ def shipped_stages() -> StageTable:
     )
     from stepframe.pipeline.catalogue.stage import FEATURES_STAGE, INVENTORY_STAGE
     from stepframe.pipeline.dynamics.stage import IDA_STAGE
-    from stepframe.pipeline.selection.stage import SELECTION_REPORT_STAGE, SELECTION_STAGE
+    from stepframe.pipeline.selection.stage import (
+        RESPONSES_STAGE,
+        SELECTION_REPORT_STAGE,
+        SELECTION_STAGE,
+    )
 
     return StageTable(
         stages=(
@@ -52,6 +56,7 @@ def shipped_stages() -> StageTable:
             FEATURES_STAGE,
             SITE_STAGE,
             AMPLIFICATION_STAGE,
+            RESPONSES_STAGE,
             SELECTION_STAGE,
             SELECTION_REPORT_STAGE,
             AMPLIFICATION_REPORT_STAGE,

@@ -9,7 +9,7 @@ plausibility checks. Workers read the record from its path (workers share the fi
 
 ``features`` follows ``inventory`` (:attr:`~stepframe.pipeline.engine.stage.Stage.expand`): a
 file's components are computed in the worker call that read it, from the record it read (a
-worker keeps the last file it read, keyed by its content hash), so a run reads each file once.
+worker keeps the last files it read, keyed by their content hash), so a run reads each file once.
 """
 
 from __future__ import annotations
@@ -109,10 +109,13 @@ def _inventory_tasks(context: Context) -> list[Task]:
     return tasks
 
 
-#: The last file a process read: (path, record options, content sha256) → its Stream. The
-#: ``features`` items of a file follow its ``inventory`` item in the same worker call and take
-#: the record from here; one file at a time, so memory holds one record whatever the catalogue.
+#: The last files a process read: (path, record options, content sha256) → its Stream. The
+#: ``features`` items of a file follow its ``inventory`` item in the same worker call, and the
+#: selection's ``responses`` follow at the end of the call's group of files
+#: (:data:`stepframe.pipeline.engine.chain.MAX_GROUP`): they take the records from here. A few
+#: dozen records at a time, whatever the catalogue.
 _LAST_READ: dict[tuple[str, str, str], Any] = {}
+LAST_READ_FILES = 64
 
 
 def read_record(path: str, options: dict[str, Any], sha: str) -> Any:
@@ -121,11 +124,12 @@ def read_record(path: str, options: dict[str, Any], sha: str) -> Any:
     from stepframe.records import read
 
     key = (path, repr(sorted(options.items())), sha)
-    stream = _LAST_READ.get(key)
+    stream = _LAST_READ.pop(key, None)
     if stream is None:
         stream = read(path, **options)
-        _LAST_READ.clear()
-        _LAST_READ[key] = stream
+        while len(_LAST_READ) >= LAST_READ_FILES:
+            _LAST_READ.pop(next(iter(_LAST_READ)))  # the least recently used
+    _LAST_READ[key] = stream
     return stream
 
 

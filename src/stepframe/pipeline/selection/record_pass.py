@@ -10,11 +10,18 @@ at equal intensity with its overturning scan (:mod:`~stepframe.pipeline.selectio
 candidate's scale comes from its own SD(T_1, ξ_1), so nothing waits for the others). The main
 process gets numbers back: its memory holds no record, whatever the size of the catalogue, and
 the records are read by as many workers as there are (a Dask cluster's too).
+
+In a workflow the pass runs per component as the ``responses`` stage
+(:mod:`stepframe.pipeline.selection.stage`), right after each file's features, and is stored:
+:func:`stored` and :func:`from_stored` are its outcome as a table row and back, and
+:func:`spec_digest` says which pass a stored outcome belongs to.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import hashlib
+import json
 import math
 import time
 from collections.abc import Mapping, Sequence
@@ -27,8 +34,11 @@ from numpy.typing import NDArray
 from stepframe.core.results import Failure
 from stepframe.errors import InputError
 from stepframe.pipeline.selection import confirm as confirmation
-from stepframe.pipeline.selection.spectral import record_spectra
-from stepframe.pipeline.selection.substitute import SubstituteLevels
+from stepframe.pipeline.selection.band import FrameBand, frame_band
+from stepframe.pipeline.selection.names import RECORD_SCORES
+from stepframe.pipeline.selection.options import SelectionOptions
+from stepframe.pipeline.selection.spectral import misfit_periods_s, record_spectra
+from stepframe.pipeline.selection.substitute import SubstituteLevels, substitute_levels
 
 Floats = NDArray[np.float64]
 Samples = tuple[Floats, float]
@@ -59,6 +69,59 @@ class PassSpec:
     record_options: tuple[tuple[str, Any], ...] = ()
     frame: Any = None
     onset_ratio: float = 1.0
+
+
+def selection_inputs(
+    frame: Any, options: SelectionOptions, record_options: Mapping[str, Any] | None
+) -> tuple[FrameBand, Floats, SubstituteLevels, PassSpec | None]:
+    """The frame's band, the misfit periods, the substitute levels and the pass a selection with
+    ``options`` needs (None: it reads no record: a score of the fit, no scaling, target or
+    confirmation)."""
+    band = frame_band(
+        frame,
+        a_max_m=options.a_max_m,
+        design_displacement_m=options.design_displacement_m,
+        x_star_fraction=options.x_star_fraction,
+        n_levels=options.n_levels,
+    )
+    periods = misfit_periods_s(options, band)
+    levels = substitute_levels(band)
+    needs = (
+        options.confirm
+        or options.scale != "none"
+        or options.has_target
+        or options.rank_by in RECORD_SCORES
+    )
+    if not needs:
+        return band, periods, levels, None
+    with_t1 = np.concatenate([[band.period_1_s], periods])
+    spec = PassSpec(
+        ((with_t1, 0.05), *levels.spectrum_groups()),
+        levels,
+        tuple(sorted((record_options or {}).items())),
+        frame if options.confirm else None,
+        options.confirm_onset_ratio if options.confirm else 1.0,
+    )
+    return band, periods, levels, spec
+
+
+def spec_digest(spec: PassSpec) -> str:
+    """sha256 of everything the pass computes from (groups, levels, record options, frame,
+    onset ratio): equal digests, equal outcomes for the same record."""
+    frame = spec.frame
+    data = {
+        "groups": [[periods.tolist(), damping] for periods, damping in spec.groups],
+        "levels": spec.levels.to_dict(),
+        "record_options": [list(pair) for pair in spec.record_options],
+        "frame": (
+            dataclasses.asdict(frame)
+            if dataclasses.is_dataclass(frame) and not isinstance(frame, type)
+            else repr(frame)
+        ),
+        "onset_ratio": spec.onset_ratio,
+    }
+    text = json.dumps(data, sort_keys=True, separators=(",", ":"), default=str)
+    return hashlib.sha256(text.encode()).hexdigest()
 
 
 @dataclass(frozen=True)
@@ -142,8 +205,8 @@ def item_name(item: Item) -> str:
 def read_samples(
     file: str, component: str, options: Mapping[str, Any], cache: dict[str, Any]
 ) -> Samples:
-    """The samples of ``component`` of ``file`` (the first trace of that channel), reading the
-    file once per ``cache``.
+    """The samples of ``component`` of ``file`` (:func:`component_samples`), reading the file
+    once per ``cache``.
 
     Raises
     ------
@@ -154,7 +217,19 @@ def read_samples(
 
     if file not in cache:
         cache[file] = read(file, **dict(options))
-    traces = [t for t in cache[file] if str(t.stats.channel) == component]
+    return component_samples(cache[file], file, component)
+
+
+def component_samples(stream: Any, file: str, component: str) -> Samples:
+    """The samples of the first trace of channel ``component`` in ``stream`` (read from
+    ``file``): acceleration [m/s²] and dt [s].
+
+    Raises
+    ------
+    InputError
+        No trace of that channel.
+    """
+    traces = [t for t in stream if str(t.stats.channel) == component]
     if not traces:
         raise InputError(f"no channel {component!r} in the file", file)
     return np.asarray(traces[0].data, dtype=np.float64), float(traces[0].stats.delta)
@@ -216,3 +291,42 @@ def _confirmed(outcomes: list[Outcome], samples: dict[int, Samples], spec: PassS
         equal = {**rows[j], "scale": float(scales[j]), "overturn_onset_ratio": float(onset[j])}
         out[k] = dataclasses.replace(outcomes[k], equal=equal)
     return out, (sum(acc.size for acc, _ in records), seconds)
+
+
+def shares(outcomes: list[Outcome], samples: dict[int, Samples], cost: tuple[int, float]) -> Floats:
+    """Each outcome's share of its item's simulation time [s] (in proportion to its samples)."""
+    sizes = np.array([samples[o.row][0].size if o.equal is not None else 0 for o in outcomes])
+    total = sizes.sum()
+    return sizes * (cost[1] / total) if total else np.zeros(len(outcomes))
+
+
+def stored(outcome: Outcome, digest: str, simulated: tuple[int, float]) -> dict[str, Any]:
+    """A successful outcome as a table row: its spectra as lists, its equal-intensity run as
+    JSON (Python's float text reads back to the same double), and the samples it simulated in
+    how many seconds."""
+    assert outcome.sd_5 is not None and outcome.sd_levels is not None
+    equal = ""
+    if outcome.equal is not None:
+        plain = {k: v.item() if hasattr(v, "item") else v for k, v in outcome.equal.items()}
+        equal = json.dumps(plain)
+    return {
+        "spec": digest,
+        "sd_5": outcome.sd_5.tolist(),
+        "sd_levels": outcome.sd_levels.tolist(),
+        "equal": equal,
+        "simulated_samples": int(simulated[0]),
+        "simulated_s": float(simulated[1]),
+    }
+
+
+def from_stored(row: int, values: Mapping[str, Any]) -> tuple[Outcome, tuple[int, float]]:
+    """The outcome of table row ``row`` from its stored form, and what its simulation cost."""
+    equal = json.loads(values["equal"]) if values["equal"] else None
+    outcome = Outcome(
+        row,
+        np.asarray(values["sd_5"], dtype=np.float64),
+        np.asarray(values["sd_levels"], dtype=np.float64),
+        None,
+        equal,
+    )
+    return outcome, (int(values["simulated_samples"]), float(values["simulated_s"]))

@@ -16,7 +16,7 @@ from stepframe.errors import InputError
 from stepframe.pipeline.selection import confirm as confirmation
 from stepframe.pipeline.selection import record_pass
 from stepframe.pipeline.selection import scores as sc
-from stepframe.pipeline.selection.band import FrameBand, frame_band
+from stepframe.pipeline.selection.band import FrameBand
 from stepframe.pipeline.selection.choose import Units, choose, percentile_scores
 from stepframe.pipeline.selection.filters import FilterReport, apply_filters, filter_summary
 from stepframe.pipeline.selection.names import PHYSICS_SCORES, RECORD_SCORES
@@ -26,17 +26,14 @@ from stepframe.pipeline.selection.record_pass import RecordKey, Samples
 from stepframe.pipeline.selection.result import SelectionResult, column_dictionary
 from stepframe.pipeline.selection.spectral import (
     G_M_S2,
-    misfit_periods_s,
     scale_factors,
     spectral_misfit,
     target_spectrum,
     target_values,
 )
 from stepframe.pipeline.selection.substitute import (
-    SubstituteLevels,
     predicted_overturn_ratio,
     substitute_demand_ratio,
-    substitute_levels,
 )
 from stepframe.structure.frame import PortalFrame
 
@@ -266,50 +263,53 @@ def _drop_single_components(
 def _spectra(
     table: Any,
     dropped_by: NDArray[np.object_],
-    band: FrameBand,
-    levels: SubstituteLevels,
-    periods: Floats,
+    spec: record_pass.PassSpec,
     out: tuple[Floats, Floats],
-    sources: tuple[Mapping[RecordKey, Samples] | None, Mapping[str, Any] | None],
+    records: Mapping[RecordKey, Samples] | None,
     parallel: tuple[int | None, Executor | None],
-    confirm: tuple[PortalFrame, float] | None,
+    responses: Mapping[RecordKey, Mapping[str, Any]] | None,
 ) -> tuple[dict[int, dict[str, Any]], tuple[int, float], list[Failure]]:
-    """The passing candidates' records, read in the workers (:mod:`.record_pass`), and their one
-    spectra pass: PSA (5 %) at T_1 and the misfit periods into ``table["psa_t1_g"]`` and
-    ``out[0]``, SD at the substitute structure's levels into ``out[1]`` (SD(T_1, ξ_1) first).
-    Rows without samples or spectra get their ``dropped_by`` reason. With ``confirm`` (frame,
-    onset ratio) also each candidate's simulation at equal intensity: returned by row, with the
-    samples simulated and the seconds it took (summed over workers)."""
+    """The passing candidates' record pass (:mod:`.record_pass`: in the workers, or stored by the
+    ``responses`` stage for this very pass): PSA (5 %) at T_1 and the misfit periods into
+    ``table["psa_t1_g"]`` and ``out[0]``, SD at the substitute structure's levels into
+    ``out[1]`` (SD(T_1, ξ_1) first). Rows without samples or spectra get their ``dropped_by``
+    reason. With confirmation also each candidate's simulation at equal intensity: returned by
+    row, with the samples simulated and the seconds it took (summed over workers)."""
     psa, sd_levels = out
     jobs, executor = parallel
-    records, record_options = sources
     passing = np.flatnonzero(dropped_by == "")
-    with_t1 = np.concatenate([[band.period_1_s], periods])
-    spec = record_pass.PassSpec(
-        ((with_t1, 0.05), *levels.spectrum_groups()),
-        levels,
-        tuple(sorted((record_options or {}).items())),
-        *(confirm or (None, 1.0)),
-    )
+    digest = record_pass.spec_digest(spec) if responses else ""
+    files = table["file"].astype(str).to_numpy()
+    components = table["component"].astype(str).to_numpy()
+    known: list[record_pass.Outcome] = []
+    costs: list[tuple[int, float]] = []
+    todo = []
+    for row in passing.tolist():
+        entry = responses.get((files[row], components[row])) if responses else None
+        if entry is not None and entry["spec"] == digest:
+            outcome, cost = record_pass.from_stored(row, entry)
+            known.append(outcome)
+            costs.append(cost)
+        else:
+            todo.append(row)
     workers = jobs or default_jobs()
-    outcome = map_items(
+    computed = map_items(
         record_pass.record_pass,
-        record_pass.items(table, passing.tolist(), records, spec, workers),
+        record_pass.items(table, todo, records, spec, workers),
         jobs=jobs,
         executor=executor,
         chunk_size=1,
         stage="spectra",
         name_of=record_pass.item_name,
     )
+    costs += [cost for _, cost in computed.results]
+    with_t1 = spec.groups[0][0]
     omega_sq = (2.0 * math.pi / with_t1) ** 2
     psa_t1 = np.full(len(table), np.nan)
     lost: dict[str, list[Failure]] = {"samples": [], "spectra": []}
     equal: dict[int, dict[str, Any]] = {}
-    simulated = (
-        sum(cost[0] for _, cost in outcome.results),
-        sum(cost[1] for _, cost in outcome.results),
-    )
-    for result in (entry for entries, _ in outcome.results for entry in entries):
+    simulated = (sum(cost[0] for cost in costs), sum(cost[1] for cost in costs))
+    for result in [*known, *(entry for entries, _ in computed.results for entry in entries)]:
         if result.failure is not None:
             lost[result.failure.stage].append(result.failure)
             dropped_by[result.row] = f"{result.failure.stage}_failed"
@@ -324,7 +324,7 @@ def _spectra(
     table["psa_t1_g"] = psa_t1
     missing = np.flatnonzero((dropped_by == "") & ~np.isfinite(psa_t1))
     dropped_by[missing] = "spectra_failed"
-    failures = [*lost["samples"], *lost["spectra"], *outcome.failures]
+    failures = [*lost["samples"], *lost["spectra"], *computed.failures]
     return equal, simulated, failures
 
 
@@ -337,6 +337,7 @@ def select_records(
     jobs: int | None = None,
     executor: Executor | None = None,
     record_options: Mapping[str, Any] | None = None,
+    responses: Mapping[RecordKey, Mapping[str, Any]] | None = None,
 ) -> SelectionResult:
     """Select records by moving resonance for ``frame`` (docs/selection.md).
 
@@ -357,6 +358,10 @@ def select_records(
         confirmation is asked for.
     jobs, executor
         Parallelism of the per-candidate stages (:func:`stepframe.core.execution.map_items`).
+    responses
+        (file, component) → the stored outcome of the record pass
+        (:func:`.record_pass.stored`), as the workflow's ``responses`` stage computed it; a
+        candidate without one, or with one of another pass, is computed here.
 
     Returns
     -------
@@ -373,13 +378,7 @@ def select_records(
     _check_table(features)
     target = target_spectrum(options)  # an unreadable target fails before any work
     table = features.reset_index(drop=True).copy()
-    band = frame_band(
-        frame,
-        a_max_m=options.a_max_m,
-        design_displacement_m=options.design_displacement_m,
-        x_star_fraction=options.x_star_fraction,
-        n_levels=options.n_levels,
-    )
+    band, periods, levels, spec = record_pass.selection_inputs(frame, options, record_options)
     cheap = _cheap_scores(table, band, options.strong_motion_fraction)
     paths = cheap["paths"]
     table["window_start_s"] = paths.start_s
@@ -410,30 +409,20 @@ def select_records(
         table["descent_amplification"] = descent
         failures += fails
         dropped_by[failed_rows] = "physics_failed"
-    needs_samples = (
-        options.confirm
-        or options.scale != "none"
-        or options.has_target
-        or options.rank_by in RECORD_SCORES
-    )
-    periods = misfit_periods_s(options, band)
-    levels = substitute_levels(band)
     table["psa_t1_g"] = np.nan
     psa = np.full((len(table), periods.size), np.nan)
     sd_levels = np.full((len(table), levels.periods_s.size), np.nan)
     equal: dict[int, dict[str, Any]] = {}
     simulated = (0, 0.0)
-    if needs_samples:
+    if spec is not None:
         equal, simulated, fails = _spectra(
             table,
             dropped_by,
-            band,
-            levels,
-            periods,
+            spec,
             (psa, sd_levels),
-            (records, record_options),
+            records,
             (jobs, executor),
-            (frame, options.confirm_onset_ratio) if options.confirm else None,
+            responses,
         )
         failures += fails
     table["substitute_demand_ratio"] = substitute_demand_ratio(sd_levels, levels)

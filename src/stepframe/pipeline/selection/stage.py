@@ -1,9 +1,14 @@
-"""The selection job's stages: ``selection`` and ``selection_report``.
+"""The selection job's stages: ``responses``, ``selection`` and ``selection_report``.
 
-``selection`` calls :func:`stepframe.pipeline.selection.run.select_records` on the ``features``
-table (joined with the inventory's event and magnitude, and the example catalogue's metadata);
-``selection_report`` writes the report of that selection (docs/reports.md) into the stage's
-folder, keyed by the selection's key, so it is rebuilt only when what it shows changes.
+``responses`` is the selection's work on each record (:mod:`.record_pass`: the spectra at the
+frame's periods and, with confirmation, the simulation at equal intensity), per component and
+stored, so a new record costs its own pass only; it follows ``features``
+(:attr:`~stepframe.pipeline.engine.stage.Stage.expand`), a group of files at a time, on the
+records the worker has just read. ``selection`` calls
+:func:`stepframe.pipeline.selection.run.select_records` on the ``features`` table (joined with
+the inventory's event and magnitude, and the example catalogue's metadata) and the stored
+responses; ``selection_report`` writes the report of that selection (docs/reports.md) into the
+stage's folder, keyed by the selection's key, so it is rebuilt only when what it shows changes.
 """
 
 from __future__ import annotations
@@ -15,11 +20,12 @@ from typing import Any
 from stepframe.core.io import copy_files
 from stepframe.errors import InputError
 from stepframe.pipeline.catalogue.stage import record_folder
-from stepframe.pipeline.engine.stage import Context, Stage
+from stepframe.pipeline.engine.stage import Context, Stage, Task
 from stepframe.pipeline.engine.store import make_key
 from stepframe.pipeline.reports.provenance import workflow_provenance
 
 SELECTION_VERSION = 2  # 2: default rank_by substitute_demand_ratio
+RESPONSES_VERSION = 1
 SELECTION_REPORT_VERSION = 3  # 2: the best records' accelerograms; 3: stated correlations
 SELECTION_REPORT_HTML = "selection_report.html"
 
@@ -41,7 +47,6 @@ def _selection_check(workflow: Any) -> None:
 
 
 def _selection_key(context: Context) -> str:
-    table = context.tables["features"]
     return make_key(
         "selection",
         SELECTION_VERSION,
@@ -49,7 +54,8 @@ def _selection_key(context: Context) -> str:
             "options": context.workflow.tables.get("selection", {}),
             "frame": context.workflow.frame_source,
         },
-        *map(str, table["_key"]),
+        *map(str, context.tables["features"]["_key"]),
+        *map(str, context.tables["responses"]["_key"]),
     )
 
 
@@ -70,7 +76,13 @@ def _selection_run(context: Context, folder: Path) -> None:
         from stepframe.pipeline.catalogue.example_files import example_metadata
 
         features = _join_new_columns(features, example_metadata(folder_of_records))
-    kwargs: dict[str, Any] = {"jobs": context.jobs, "executor": context.executor}
+    responses = context.tables["responses"]
+    stored = responses.drop(columns=["_key"]).to_dict(orient="records")
+    kwargs: dict[str, Any] = {
+        "jobs": context.jobs,
+        "executor": context.executor,
+        "responses": {(prefix + str(r["file"]), str(r["component"])): r for r in stored},
+    }
     if records is not None and records.options:
         kwargs["record_options"] = dict(records.options)
     result = select_records(
@@ -89,13 +101,125 @@ def _selection_publish(folder: Path, outputs: Path) -> list[Path]:
     return copy_files(folder, outputs / "selection")
 
 
+def _responses_args(context: Context) -> tuple[Any, str, dict[str, Any], str]:
+    """The pass the workflow's selection needs (None: none), its digest, the record options and
+    the records folder (absolute)."""
+    from stepframe.pipeline.selection import record_pass
+
+    workflow = context.workflow
+    records = dict(workflow.records.options) if workflow.records is not None else {}
+    spec = record_pass.selection_inputs(workflow.frame, _selection_options(workflow), records)[3]
+    digest = record_pass.spec_digest(spec) if spec is not None else ""
+    return spec, digest, records, str(record_folder(context).absolute())
+
+
+def _response_task(
+    args: tuple[Any, str, dict[str, Any], str],
+    features_key: str,
+    file: str,
+    component: str,
+    sha: str,
+) -> Task:
+    spec, digest, options, folder = args
+    return Task(
+        key=make_key("responses", RESPONSES_VERSION, {"spec": digest}, features_key),
+        name=f"{file} [{component}]",
+        payload=(f"{folder}{os.sep}{file}", options, component, sha, spec, digest),
+        context={"file": file, "component": component},
+    )
+
+
+def _responses_tasks(context: Context) -> list[Task]:
+    args = _responses_args(context)
+    if args[0] is None:
+        return []
+    features = context.tables["features"]
+    inventory = context.tables["inventory"]
+    sha = dict(zip(inventory["file"], inventory["content_sha256"], strict=True))
+    return [
+        _response_task(args, str(key), str(file), str(component), str(sha[file]))
+        for key, file, component in zip(
+            features["_key"], features["file"], features["component"], strict=True
+        )
+    ]
+
+
+def expand_responses(
+    args: tuple[Any, str, dict[str, Any], str], features: Task, rows: list[dict[str, Any]]
+) -> list[Task]:
+    """The responses task of one component, from its features task (worker side)."""
+    if args[0] is None or not rows:
+        return []
+    file, component = str(features.context["file"]), str(features.context["component"])
+    return [_response_task(args, features.key, file, component, str(features.payload[4]))]
+
+
+def compute_responses(payloads: list[Any]) -> list[list[dict[str, Any]] | Exception]:
+    """The record pass of a group of components (worker side): the records from
+    :func:`~stepframe.pipeline.catalogue.stage.read_record` (read just before for their
+    features), simulated together; per component its stored row, or why it failed."""
+    from stepframe.pipeline.catalogue.stage import ItemFailure, read_record
+    from stepframe.pipeline.selection import record_pass
+
+    spec, digest = payloads[0][4], payloads[0][5]
+    out: list[list[dict[str, Any]] | Exception] = [ItemFailure("not computed")] * len(payloads)
+    members = []
+    samples = {}
+    for k, (path, options, component, sha, *_) in enumerate(payloads):
+        try:
+            samples[k] = record_pass.component_samples(
+                read_record(path, options, sha), path, component
+            )
+        except Exception as error:  # recorded as this item's failure
+            out[k] = ItemFailure(f"samples: {error}")
+            continue
+        members.append(record_pass.Component(k, path, component, True, samples[k]))
+    outcomes, cost = record_pass.record_pass((tuple(members), spec))
+    seconds = record_pass.shares(outcomes, samples, cost)
+    for outcome, share in zip(outcomes, seconds, strict=True):
+        if outcome.failure is not None:
+            out[outcome.row] = ItemFailure(f"{outcome.failure.stage}: {outcome.failure.message}")
+        else:
+            simulated = (samples[outcome.row][0].size if outcome.equal else 0, float(share))
+            out[outcome.row] = [record_pass.stored(outcome, digest, simulated)]
+    return out
+
+
+RESPONSES_COLUMNS: dict[str, tuple[str, str]] = {
+    "file": ("", "record file, relative to the records folder"),
+    "component": ("", "channel / component name"),
+    "spec": ("", "digest of the pass (periods, dampings, frame, onset ratio) it was computed for"),
+    "sd_5": ("m", "SD at T_1 and the misfit periods, 5 % damping"),
+    "sd_levels": ("m", "SD at the substitute structure's levels (SD(T_1, xi_1) first)"),
+    "equal": ("", "the equal-intensity simulation and overturning ratio (JSON; empty: none)"),
+    "simulated_samples": ("", "samples simulated at equal intensity"),
+    "simulated_s": ("s", "time of that simulation (its share of its group's)"),
+}
+
+RESPONSES_STAGE = Stage(
+    name="responses",
+    version=RESPONSES_VERSION,
+    description="per component: the spectra and equal-intensity response the selection uses",
+    kind="item",
+    params={},
+    upstream=lambda workflow: ("features",),
+    columns=lambda: RESPONSES_COLUMNS,
+    tasks=_responses_tasks,
+    compute_many=compute_responses,
+    needs_records=True,
+    needs_frame=True,
+    check=_selection_check,
+    expand=expand_responses,
+    expand_args=_responses_args,
+)
+
 SELECTION_STAGE = Stage(
     name="selection",
     version=SELECTION_VERSION,
     description="records ranked by their moving-resonance match to the frame",
     kind="set",
     params={},
-    upstream=lambda workflow: ("features",),
+    upstream=lambda workflow: ("features", "responses"),
     set_key=_selection_key,
     run_set=_selection_run,
     publish=_selection_publish,
