@@ -55,7 +55,9 @@ def test_dask_workers_started_empty_give_the_serial_tables(scene: Path) -> None:
         distributed.Client(cluster) as client,
     ):
         # the workers are new processes with nothing of stepframe imported before the run
-        before = client.run(lambda: sorted(m for m in __import__("sys").modules if "stepframe" in m))
+        before = client.run(
+            lambda: sorted(m for m in __import__("sys").modules if "stepframe" in m)
+        )
         assert all(modules == [] for modules in before.values())
         report = run_workflow(remote, shipped_stages(), executor=client.get_executor(), jobs=2)
         after = client.run(lambda: "stepframe.pipeline.stages" in __import__("sys").modules)
