@@ -2,8 +2,8 @@
 
 The demo is the shipped selection workflow (``stepframe run selection``) run by the pipeline's
 runner with its workspace in the demo's folder. This installs the checkout non-editably into a
-fresh venv (``bench/first_run.py``'s :func:`install`: ``--system-site-packages`` for the
-dependencies, ``pip install --no-deps .``), so the shipped workflow comes from the package data
+fresh venv (``bench/first_run.py``'s :func:`install`: the dependencies from the interpreter running
+the script, ``pip install --no-deps .``), so the shipped workflow comes from the package data
 exactly as a user's ``pip install .`` gets it, then runs in a fresh temporary folder:
 
 1. first run after install: ``NUMBA_CACHE_DIR`` an empty folder, so every kernel compiles;

@@ -6,19 +6,28 @@ zero crossings + least-squares fit, no bootstrap, t0 = record start. Timings are
 and the ratios, measured in the same run, are what to compare.
 
     python bench/bench_features.py [--repeat 5]
+    python bench/bench_features.py --estimators [--repeat 3]
+
+``--estimators`` prints only the ω_g(t) estimator table (docs/benchmarks.md, issue 26): for every
+registered estimator, features + fit per component over all 100 components (CPU, median of
+``--repeat``), its ratio to zero crossings measured in the same run, the estimator's usable floor
+on these records (median and range of ``RecordFeatures.usable_floor_rad_s``) and how many
+components it left without a fit.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import time
 
 import numpy as np
 
+from stepframe.errors import InputError
 from stepframe.records.examples import fema_p695
 from stepframe.stochastic.catalog_features import catalog_features
-from stepframe.stochastic.features import record_features
+from stepframe.stochastic.features import FREQUENCY_METHODS, record_features
 from stepframe.stochastic.fit import fit_model
 from stepframe.stochastic.transforms import stft_power
 from timing import median_seconds
@@ -27,12 +36,49 @@ TARGET_COMPONENTS = 43_000
 CORES = 2
 
 
+def estimator_table(records: list[tuple[np.ndarray, float]], repeat: int) -> None:
+    """Cost per component and usable floor of every ω_g(t) estimator (module docstring)."""
+    floors: dict[str, list[float]] = {}
+    failed: dict[str, int] = {}
+    seconds: dict[str, float] = {}
+    for method in FREQUENCY_METHODS:
+        floors[method], failed[method] = [], 0
+        for x, dt in records:  # also the warm-up of the timed runs below
+            features = record_features(x, dt, frequency=method)  # type: ignore[arg-type]
+            floors[method].append(features.usable_floor_rad_s)
+            try:
+                fit_model(features)
+            except InputError:
+                failed[method] += 1
+
+        def run(method: str = method) -> None:
+            for x, dt in records:
+                with contextlib.suppress(InputError):  # counted above
+                    fit_model(record_features(x, dt, frequency=method))  # type: ignore[arg-type]
+
+        seconds[method] = median_seconds(run, repeat, time.process_time) / len(records)
+    base = seconds["zero-crossing"]
+    print(f"{len(records)} components; CPU time, median of {repeat}\n")
+    print("| estimator | features + fit per component | × zero-crossing | usable floor, median "
+          "(range) [rad/s] | no fit |")  # fmt: skip
+    print("|---|---|---|---|---|")
+    for method in FREQUENCY_METHODS:
+        low = np.asarray(floors[method])
+        floor = f"{np.median(low):.2f} ({low.min():.2f}-{low.max():.2f})"
+        cost = f"{1e3 * seconds[method]:.1f} ms | {seconds[method] / base:.2f}"
+        print(f"| {method} | {cost} | {floor} | {failed[method]} |")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--estimators", action="store_true")
     args = parser.parse_args()
     stream, meta = fema_p695()
     records = [(np.asarray(tr.data, dtype=np.float64), float(tr.stats.delta)) for tr in stream]
+    if args.estimators:
+        estimator_table(records, args.repeat)
+        return
     n = len(records)
     samples = sum(x.size for x, _ in records)
 
@@ -69,7 +115,7 @@ def main() -> None:
     )
     ladder = {}
     subset = records[:20]
-    for method in ("zero-crossing", "ridge", "moment", "wavelet-ridge"):
+    for method in FREQUENCY_METHODS:
 
         def run(method: str = method) -> None:
             for x, dt in subset:

@@ -1,11 +1,14 @@
-"""Plausible share of features + fit on real records per time origin (docs/stochastic-features.md).
+"""Plausible share of features + fit on real records per time origin and ω_g estimator
+(docs/stochastic-features.md).
 
 Three sets: the embedded FEMA P695 catalogue (100 components), the shared PEER NGA-West2 records
 (tests/data/peer_nga_west2) and the format files (tests/data/formats, every record file a reader
-takes without a response; the raw-counts MiniSEED is left out). For each time origin it prints a
-Markdown row: components, plausible, failed to run, and how often the P pick was used.
+takes without a response; the raw-counts MiniSEED is left out). For each time origin and ω_g
+estimator it prints a Markdown row: components, plausible, failed to run, how often the P pick
+was used, and how many were refused because ω_r lies below the usable band (the estimator's
+floor or the record's lowest usable frequency).
 
-    python bench/plausible_share.py [--jobs 1] [--t0 start p-pick auto]
+    python bench/plausible_share.py [--jobs 1] [--t0 start p-pick auto] [--frequency NAME ...]
 """
 
 from __future__ import annotations
@@ -31,6 +34,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--jobs", type=int, default=1)
     parser.add_argument("--t0", nargs="+", default=["start", "p-pick", "auto"])
+    parser.add_argument("--frequency", nargs="+", default=["zero-crossing"])
     args = parser.parse_args()
     stream, meta = fema_p695()
     sets = {
@@ -38,18 +42,24 @@ def main() -> None:
         "PEER NGA-West2": (record_files(ROOT / "peer_nga_west2"), None),
         "format files": (record_files(ROOT / "formats"), None),
     }
-    print("| set | t0 | components | plausible | share | failed to run | P pick used |")
-    print("|---|---|---|---|---|---|---|")
+    print(
+        "| set | t0 | ω_g by | components | plausible | share | failed to run | P pick used "
+        "| ω_r below the usable band |"
+    )
+    print("|---" * 9 + "|")
     for name, (source, lows) in sets.items():
         for t0 in args.t0:
-            table, failures = catalog_features(
-                source, n_jobs=args.jobs, t0=t0, lowest_usable_hz=lows
-            )
-            n, ok = len(table), int(table["plausible"].sum())
-            used = int(table["p_onset_used"].sum())
-            print(
-                f"| {name} | {t0} | {n} | {ok} | {ok / max(n, 1):.0%} | {len(failures)} | {used} |"
-            )
+            for frequency in args.frequency:
+                table, failures = catalog_features(
+                    source, n_jobs=args.jobs, t0=t0, lowest_usable_hz=lows, frequency=frequency
+                )
+                n, ok = len(table), int(table["plausible"].sum())
+                used = int(table["p_onset_used"].sum())
+                below = int(table["implausible_reason"].str.contains("below usable band").sum())
+                print(
+                    f"| {name} | {t0} | {frequency} | {n} | {ok} | {ok / max(n, 1):.0%} "
+                    f"| {len(failures)} | {used} | {below} |"
+                )
 
 
 if __name__ == "__main__":

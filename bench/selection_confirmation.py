@@ -129,9 +129,11 @@ def main() -> None:
             f"{frame_name}: x_c = {frame.x_c_m:.4f} m, x* = {frame.x_star_m:.4f} m, "
             f"confirmed at {ratio} x the onset intensity"
         )
+        # as measured before issue 24: the fit-quality gate on, every score computed
         options = SelectionOptions(
-            n=10, confirm=True, n_bootstrap=0, rank_by=args.rank_by, confirm_onset_ratio=ratio
-        )
+            n=10, confirm=True, n_bootstrap=0, rank_by=args.rank_by, confirm_onset_ratio=ratio,
+            require_plausible=True, scores=RANKABLE,
+        )  # fmt: skip
         for label, (features, samples) in catalogues.items():
             runs[(frame_name, label)] = select_records(
                 features, frame, options, records=samples, jobs=args.jobs
@@ -155,6 +157,21 @@ def main() -> None:
         entries: dict[tuple[str, str], Any] = {
             (e["score"], e["response"]): e for e in result.summary["correlations"]
         }
+        # the unscaled PSA(T_1) as the baseline (the run compares the peers at equal PSA(T_1),
+        # where S_a(T_1) is the same for every record)
+        from stepframe.pipeline.selection.confirm import OVERTURN_RATIO_RANGE, spearman_interval
+
+        onset = equal["overturn_onset_ratio"].to_numpy(dtype=float)
+        judges = {
+            "peak_drift": equal["peak_abs_x_m"].to_numpy(dtype=float),
+            "overturn_margin": -np.where(np.isnan(onset), 2 * OVERTURN_RATIO_RANGE[1], onset),
+        }
+        psa = cands["psa_t1_g"].to_numpy(dtype=float)
+        for response, y in judges.items():
+            rho, low, high, n = spearman_interval(psa, y, 0)
+            entries[("psa_t1_g", response)] = {
+                "spearman": rho, "low": low, "high": high, "n": n,
+            }  # fmt: skip
         for name in (*RANKABLE, "psa_t1_g"):
             peak_e, margin_e = entries[(name, "peak_drift")], entries[(name, "overturn_margin")]
             print(

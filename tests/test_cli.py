@@ -94,8 +94,12 @@ def test_demo_selects_for_example_4(demo_run: tuple[dict[str, object], Path]) ->
     candidates["dropped_by"] = candidates["dropped_by"].fillna("")
     assert payload["n_filtered"] == int((candidates["dropped_by"] != "").sum())
     passed = candidates[candidates["dropped_by"] == ""]
-    rank_by = str(payload["rank_by"])  # the library's default ranking score
-    top = passed.nlargest(10, rank_by)
+    rank_by = str(payload["rank_by"])  # the library's default ranking
+    assert rank_by == "simulated_response"
+    # Independent order: overturning within the ladder first (lower factor first), then the
+    # ladder's mean peak (docs/selection.md).
+    key = passed.assign(factor=passed["overturn_factor"].fillna(np.inf))
+    top = key.sort_values(["factor", rank_by], ascending=[True, False], kind="stable").head(10)
     selected = payload["selected"]
     assert [s["rank"] for s in selected] == list(range(1, 11))
     assert [s["component"] for s in selected] == top["component"].astype(str).tolist()
@@ -166,6 +170,13 @@ def test_demo_summary_text(demo_run: tuple[dict[str, object], Path]) -> None:
         and "], n = " in line
         for line in lines
     )
+    # the stated intensity, the chosen set against the rest, the peers and the tiers
+    assert "ranked at: every record at equal PSA(T_1) = 0.681 g, 1 × the onset of stepping" in (
+        "\n".join(lines)
+    )
+    assert any(line.startswith("at the ranking intensity: the chosen") for line in lines)
+    assert any(line.startswith("ρ with overturn margin at equal PSA(T_1)") for line in lines)
+    assert any(line.startswith("tiers closest to the exact ranking") for line in lines)
     outputs = [line for line in lines if line.startswith(("report: ", "tables: ", "features: "))]
     assert outputs[0] == f"report: {out}/selection_report.html"
 
@@ -219,6 +230,7 @@ def test_the_command_tree_builds_whatever_module_is_imported_first() -> None:
     for first in (
         "stepframe.commands.records",
         "stepframe.commands.stochastic",
+        "stepframe.commands.store",
         "stepframe.commands.structure",
     ):
         probe = (
@@ -229,5 +241,5 @@ def test_the_command_tree_builds_whatever_module_is_imported_first() -> None:
             [sys.executable, "-c", probe], capture_output=True, text=True, check=True
         )
         assert done.stdout.strip() == (
-            "['demo', 'records', 'report', 'run', 'select', 'stochastic', 'structure']"
+            "['demo', 'records', 'report', 'run', 'select', 'stochastic', 'store', 'structure']"
         )

@@ -38,8 +38,8 @@ def test_every_command_is_documented() -> None:
     assert names == {
         "demo", "records info", "records spectrum", "records catalog", "stochastic fit",
         "stochastic features", "stochastic amplify", "structure design", "structure simulate",
-        "select", "report amplification", "report selection", "run", "structure harmonic",
-        "structure bifurcation", "structure ida",
+        "select", "report amplification", "report selection", "run", "store verify",
+        "store compact", "structure harmonic", "structure bifurcation", "structure ida",
     }  # fmt: skip
 
 

@@ -23,6 +23,7 @@ from stepframe.commands import GROUPS, CommandResult, Parser, UserError, execute
 from stepframe.core.jsonable import to_jsonable
 from stepframe.core.text import terminal_safe
 from stepframe.errors import InputError
+from stepframe.pipeline.engine.integrity import StorageError
 from stepframe.pipeline.engine.lock import WorkspaceBusy
 
 EXAMPLES = """\
@@ -85,8 +86,9 @@ def _one_line_warning(
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit status (0 done, 1 an output could not be produced,
-    2 user error, 3 another run holds the workspace, 130 interrupted)."""
+    """Run the command line; returns the exit status (0 done, 1 an output could not be produced
+    or a file could not be written, 2 user error, 3 another run holds the workspace, 130
+    interrupted)."""
     args_list = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in args_list
     with warnings.catch_warnings():
@@ -109,6 +111,11 @@ def _run(args_list: list[str], debug: bool) -> int:
     except WorkspaceBusy as busy:
         print(f"stepframe: error: {terminal_safe(str(busy))}", file=sys.stderr)
         return 3
+    except StorageError as error:  # disk full, read-only: not the user's input; nothing half-done
+        if debug:
+            traceback.print_exc()
+        print(f"stepframe: error: {terminal_safe(str(error))}", file=sys.stderr)
+        return 1
     except (UserError, InputError) as error:
         if debug:
             traceback.print_exc()

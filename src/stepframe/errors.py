@@ -26,14 +26,23 @@ class InputError(StepframeError, ValueError):
         The file the problem is in, if any.
     line
         The 1-based line number in ``path``, if known.
+    key
+        The option or file key the problem is in (``n_steps``), if it is one: a workflow
+        reader uses it to point at the key's line.
     """
 
     def __init__(
-        self, what: str, path: str | PathLike[str] | None = None, line: int | None = None
+        self,
+        what: str,
+        path: str | PathLike[str] | None = None,
+        line: int | None = None,
+        *,
+        key: str | None = None,
     ) -> None:
         self.what = what
         self.path = None if path is None else str(path)
         self.line = line
+        self.key = key
         super().__init__(self.one_line())
 
     def one_line(self) -> str:

@@ -31,6 +31,10 @@ SOURCES: tuple[tuple[str, str], ...] = (
     ("formats/knet/AOM0011801241951.EW.gz", "knet"),
     ("formats/miniseed/CE.68150.unprocessed_counts.mseed", "mseed"),
     ("formats/sac/seism.sac", "sac"),
+    # Agency variants the project wrote itself (issue 27): ESM after processing lines, with
+    # None fields; CDMG V2 of the 1980s, CRLF and DOS end-of-file characters.
+    ("formats/variants/esm/TK.0001..HNE.agency.ASC", "esm"),
+    ("formats/variants/dmg/CDMG1983.V2", "dmg"),
 )
 
 #: Replacements for a header number: unusable values that parse, and values that do not.

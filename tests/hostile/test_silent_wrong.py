@@ -43,7 +43,7 @@ def test_dmg_cut_at_a_channel_end(tmp_path: Path) -> None:
     path = tmp_path / "CE58667.V2"
     path.write_text("\n".join(lines[: ends[1] + 1]) + "\n")  # channels 1 and 2 of 3
     with pytest.raises(
-        InputError, match=r":6: 2 channel\(s\) in the file but the header declares 3"
+        InputError, match=r":6: 2 of 3 channels in the file \(cut short\?\), expected 3"
     ):
         read(path)
 

@@ -40,6 +40,8 @@ def test_first_run_matches_the_catalogue_batch_function(scene: Path) -> None:
     reference, failures = catalog_features(scene / "records", n_jobs=1)
     assert failures.empty
     reference["file"] = [Path(f).name for f in reference["file"]]
+    assert list(table["duplicates"]) == [""] * SMALL  # no two files with the same bytes
+    table = table.drop(columns="duplicates")
     pd.testing.assert_frame_equal(table, reference[table.columns], check_dtype=False)
     csv = pd.read_csv(report.outputs["features"][1])
     assert np.allclose(csv["omega_p_rad_s"], table["omega_p_rad_s"], rtol=1e-15)
@@ -120,7 +122,10 @@ def test_failed_items_are_retried_only_when_asked(scene: Path) -> None:
     assert _counts(report)["inventory"] == (SMALL + 1, 0, 1)
     assert report.failures[0].item == "garbage.txt" and report.failures[0].stage == "inventory"
     failures = pd.read_csv(scene / "stepframe-work" / "outputs" / "features.failures.csv")
-    assert failures.empty  # the inventory's failure is not a failure of a component
+    # an unreadable file has no features: its failure is in the features' failures table too
+    assert list(failures[["item", "stage"]].itertuples(index=False, name=None)) == [
+        ("garbage.txt", "inventory")
+    ]
     again = _run(scene / "wf.toml")
     assert _counts(again)["inventory"] == (0, SMALL + 1, 1)
     retried = _run(scene / "wf.toml", retry_failed=True)
@@ -151,3 +156,23 @@ def test_site_from_records_is_the_median_of_the_fitted_parameters(scene: Path) -
         assert site[name] == pytest.approx(float(np.median(features[name])), rel=1e-14)
     assert site["n_components"] == SMALL
     assert site["fp_hz"] == pytest.approx(site["omega_p_rad_s"] / (2 * np.pi), rel=1e-14)
+
+
+def test_record_options_of_the_records_table_reach_the_reader(tmp_path: Path) -> None:
+    """``dt_s``, ``units`` and ``allow_short`` of [records] are the reader's options: a
+    one-column text file needs dt and units, and its inventory row says what they gave."""
+    records = tmp_path / "records"
+    records.mkdir()
+    samples = np.sin(np.arange(3000) * 0.05) * 0.1
+    np.savetxt(records / "a.txt", samples)
+    workflow = tmp_path / "wf.toml"
+    workflow.write_text(
+        '[records]\nfolder = "records"\ndt_s = 0.01\nunits = "g"\nallow_short = true\n'
+        "[outputs]\ninventory = true\n",
+        encoding="utf-8",
+    )
+    report = run_workflow(workflow, shipped_stages(), jobs=1)
+    assert report.failures == [] and report.exit_code == 0
+    table = pd.read_parquet(tmp_path / "stepframe-work" / "outputs" / "inventory.parquet")
+    assert table["dt_s"].tolist() == [0.01] and table["npts"].tolist() == [3000]
+    assert table["pga_m_s2"].iloc[0] == pytest.approx(np.abs(samples).max() * 9.80665, rel=1e-9)

@@ -23,7 +23,6 @@ from stepframe.pipeline.amplification.site import (
 )
 from stepframe.pipeline.catalogue.fitted import (
     FitOptions,
-    features_table,
     fit_records,
     fit_table,
     fitted_dataset,
@@ -39,6 +38,7 @@ from stepframe.pipeline.dynamics.design import (
     write_design_result,
 )
 from stepframe.records.trace import make_trace
+from stepframe.stochastic.catalog_features import catalog_features
 from stepframe.stochastic.model import GroundMotionModel
 from stepframe.stochastic.synthetic import synthetic_motions
 
@@ -60,7 +60,7 @@ def _only_files(folder: Path) -> list[str]:
 def test_features_table_round_trip(traces: list, tmp_path: Path) -> None:  # type: ignore[type-arg]
     from obspy import Stream
 
-    table, failures = features_table(Stream(traces), jobs=1)
+    table, failures = catalog_features(Stream(traces), n_jobs=1)
     assert len(table) == 2 and failures.empty
     paths = write_features(table, failures, tmp_path / "features.csv")
     assert [p.name for p in paths] == ["features.csv", "features.failures.csv"]

@@ -51,23 +51,25 @@ def test_the_documented_command_runs_the_inbox(tmp_path: Path, scheduler: str) -
     write_example_files(inbox, count=2)
     first = subprocess.run(_as_here(command, project), shell=True, capture_output=True, text=True)
     assert first.returncode == 0, first.stderr
-    log = project / "inbox.log"
-    report = json.loads(log.read_text()) if scheduler == "cron" else json.loads(first.stdout)
-    assert [(s["name"], s["computed"]) for s in report["stages"]] == [
-        ("inventory", 2),
-        ("features", 2),
-    ]
+    errors = project / "inbox-errors.log"
+    if scheduler == "cron":
+        assert "--wait" in command and first.stdout == "" and errors.read_text() == ""
+    run_log = project / "workflows" / "stepframe-work" / "runs.jsonl"
+    report = json.loads(run_log.read_text().splitlines()[-1])  # one line per run
+    assert report["stages"] == {"inventory": [2, 2, 0, 0], "features": [2, 2, 0, 0]}
     outputs = project / "workflows" / "stepframe-work" / "outputs"
     assert (outputs / "features.csv").read_text().count("\n") == 3  # header + 2 components
-    # two files arrive in a sub-folder: a copy of a file already seen (cached: same bytes) and
-    # a new one, which the next scheduled run computes alone
+    # two files arrive in a sub-folder: a copy of a file already seen (the same bytes: one item
+    # with two names) and a new one, which the next scheduled run computes alone
     write_example_files(inbox / "later", count=3)
-    (inbox / "later" / sorted(p.name for p in inbox.glob("*.AT2"))[0]).unlink()
-    log.unlink(missing_ok=True)
+    first_name, copied_name = sorted(p.name for p in inbox.glob("*.AT2"))
+    (inbox / "later" / first_name).unlink()
     second = subprocess.run(_as_here(command, project), shell=True, capture_output=True, text=True)
     assert second.returncode == 0, second.stderr
-    report = json.loads(log.read_text()) if scheduler == "cron" else json.loads(second.stdout)
-    assert [(s["name"], s["computed"], s["cached"]) for s in report["stages"]] == [
-        ("inventory", 1, 3),
-        ("features", 1, 3),
-    ]
+    lines = run_log.read_text().splitlines()
+    assert len(lines) == 2
+    report = json.loads(lines[-1])
+    assert report["stages"] == {"inventory": [3, 1, 2, 0], "features": [3, 1, 2, 0]}
+    assert report["duplicates"] == 1  # later/<copied_name>: the same bytes as <copied_name>
+    features = (outputs / "features.csv").read_text()
+    assert f"{copied_name},later/{copied_name}," in features

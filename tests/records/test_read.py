@@ -179,12 +179,17 @@ BAD = [
         _replace(20, "    5800    5800    5800", "    5801    5800    5800"),
         r":607: line holds values beyond the 5801 stated",
     ),
-    (V2A, _cut(300), r":27: 2740 values follow \(truncated\), expected NPTS = 5800"),
+    (
+        V2A,
+        _cut(300),
+        r":20: 2740 values follow \(truncated\), expected integer 34 \(acceleration samples\) "
+        r"= 5800 \(a short record is read only with --allow-short\)",
+    ),
     (ESM, _drop(29), r"no SAMPLING_INTERVAL_S in the header"),
     (
         ESM,
         _replace(30, "19128", "19129"),
-        r":30: 19128 values follow \(truncated\), expected NPTS = 19129",
+        r":30: 19128 values follow \(truncated\), expected NDATA = 19129",
     ),
     (ESM, _replace(33, "cm/s^2", "furlong"), r":33: unknown unit 'furlong'"),
     (ESM, _replace(29, "0.005000", "0.0O5"), r":29: SAMPLING_INTERVAL_S = '0.0O5' is not a number"),

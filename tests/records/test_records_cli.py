@@ -88,6 +88,16 @@ def test_spectrum_default_grid_and_plot(capsys: pytest.CaptureFixture[str], tmp_
         (["records", "spectrum", str(H1), "--periods-s", "0.1,-2"], "positive"),
         (["records", "spectrum", str(H1), str(H2), str(H1)], "one or two"),
         (["records", "catalog", "/nonexistent/dir", "-o", "x.csv"], "no such file or folder"),
+        # Options that apply to files only are refused with the embedded catalogue, never
+        # ignored (--max-abs-g 0.01 would have read its 0.42 g records).
+        (
+            ["records", "info", "--example", "fema-p695", "--allow-short"],
+            "--allow-short with --example fema-p695, expected only --component",
+        ),
+        (
+            ["records", "info", "--example", "fema-p695", "--max-abs-g", "0.01", "--units", "g"],
+            "--units, --max-abs-g with --example fema-p695",
+        ),
     ],
 )
 def test_errors_are_one_line_exit_2(

@@ -33,7 +33,9 @@ def test_vanmarcke_q_against_quadrature(zeta: float) -> None:
     assert float(vanmarcke_q(np.array([zeta]))[0]) == pytest.approx(q, rel=1e-6)
 
 
-@pytest.mark.parametrize("frequency", ["zero-crossing", "moment", "ridge", "wavelet-ridge"])
+@pytest.mark.parametrize(
+    "frequency", ["zero-crossing", "moment", "ridge", "wavelet-ridge", "multiwindow"]
+)
 def test_pure_tone_returns_its_frequency(frequency: str) -> None:
     t = np.arange(0, 30, 0.005)
     x = 0.3 * np.sin(2 * math.pi * 3.3 * t + 0.4)
@@ -126,3 +128,23 @@ def test_bad_input() -> None:
         record_features(x, 0.01, threshold=1.5)
     with pytest.raises(InputError, match="NaN"):
         record_features(np.r_[x, np.nan], 0.01)
+
+
+def test_each_estimator_states_its_floor() -> None:
+    """The lowest ω_g each estimator resolves on a 60-s record (docs/stochastic-features.md):
+    one cycle per 2-s window for the STFT and crossing estimators, the wavelet ridge's lowest
+    band (six cycles in the record) inside its cone of influence, three cycles in a window
+    inside the record for multiwindow."""
+    dt = 0.01
+    t = np.arange(0, 60 + dt / 2, dt)
+    x = np.sin(2 * math.pi * 2.0 * t) * np.hanning(t.size)
+    for name in ("zero-crossing", "ridge", "moment"):
+        f = record_features(x, dt, frequency=name)  # type: ignore[arg-type]
+        np.testing.assert_allclose(f.resolution_floor(), math.pi)
+    ridge = record_features(x, dt, frequency="wavelet-ridge")
+    assert ridge.usable_floor_rad_s == pytest.approx(12 * math.pi / (t.size * dt), rel=1e-9)
+    one_second = int(np.argmin(np.abs(ridge.time_s - 1.0)))  # √2·6/1 s = 8.49 rad/s: the cone
+    assert float(ridge.resolution_floor()[one_second]) == pytest.approx(6 * math.sqrt(2))
+    window = record_features(x, dt, frequency="multiwindow")
+    assert window.usable_floor_rad_s == pytest.approx(6 * math.pi / 60.0, rel=1e-9)
+    assert float(window.to_dataset()["omega_g_floor"].min()) == window.usable_floor_rad_s

@@ -3,15 +3,18 @@
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 import pytest
 from scipy import signal
 from scipy.integrate import cumulative_trapezoid
+from scipy.optimize import least_squares
 
 from stepframe.errors import InputError
+from stepframe.stochastic import fit
 from stepframe.stochastic.envelope import default_envelope
-from stepframe.stochastic.features import record_features
+from stepframe.stochastic.features import record_features, smooth
 from stepframe.stochastic.fit import fit_model
 from stepframe.stochastic.model import GroundMotionModel
 from stepframe.stochastic.spectra import evolutionary_spectrum
@@ -36,7 +39,9 @@ def _relative_errors(fitted: GroundMotionModel, true: GroundMotionModel) -> np.n
 
 
 @pytest.mark.parametrize("name", list(SETS))
-@pytest.mark.parametrize("frequency", ["zero-crossing", "ridge", "moment", "wavelet-ridge"])
+@pytest.mark.parametrize(
+    "frequency", ["zero-crossing", "ridge", "moment", "wavelet-ridge", "multiwindow"]
+)
 def test_chirp_following_eq_6_10_is_recovered(name: str, frequency: str) -> None:
     true = SETS[name]
     features = record_features(_chirp(true), 0.005, frequency=frequency)  # type: ignore[arg-type]
@@ -144,3 +149,62 @@ def test_bad_input() -> None:
         fit_model(record_features(offset, 0.01))
     with pytest.raises(InputError, match="spectrum"):
         fit_model(features, fit_corner=True)
+
+
+def _omega_problem(seed: int) -> tuple[fit._OmegaResiduals, tuple[Any, ...]]:
+    """The eq. 6.10 fit's residuals on one synthetic paper-site record, and _fit_omega's args."""
+    _, acc = synthetic_motions(SETS["paper-site"], duration_s=45.0, dt_s=0.01, seed=seed)
+    features = record_features(acc[0], 0.01)
+    tau = np.maximum(features.time_s - features.t0_s, 0.0)
+    obs = features.omega_g_rad_s
+    use = (features.time_s >= features.t0_s) & np.isfinite(obs)
+    obs = np.where(np.isfinite(obs), obs, 0.0)
+    weight = np.ones_like(obs)
+    args = (tau, obs, weight, use, features.omega_kernel, features.t_max_s)
+    start = fit._start(obs, tau, use, features.t_max_s)
+    p_bounds = (0.5 * float(obs[use].min()), 1.5 * float(obs[use].max()))
+    return fit._OmegaResiduals(*args), (*args, start, p_bounds)
+
+
+@pytest.mark.parametrize("theta", [(60.0, 0.4, 0.3), (35.0, 0.05, 0.6), (80.0, 0.95, 0.02)])
+def test_analytic_jacobian_matches_central_differences(theta: tuple[float, float, float]) -> None:
+    residuals, _ = _omega_problem(3)
+    point = np.array(theta)
+    analytic = residuals.jacobian(point)
+    steps = 1e-6 * np.array([point[0], 1.0, 1.0])
+    numeric = np.column_stack(
+        [
+            (residuals.residual(point + h) - residuals.residual(point - h)) / (2 * h[k])
+            for k, h in enumerate(np.diag(steps))
+        ]
+    )
+    scale = np.max(np.abs(numeric), axis=0)
+    assert np.max(np.abs(analytic - numeric) / scale) < 1e-6
+
+
+def test_smoothed_model_is_the_smoothed_curve() -> None:
+    """m = r + (p - r)·S(ρ^x) (S linear, S(1) = 1) equals smoothing eq. 6.10 itself."""
+    residuals, args = _omega_problem(4)
+    tau, _, _, use, kernel, t_max = args[:6]
+    theta = np.array([55.0, 0.3, 0.25])
+    direct = smooth(fit._omega_curve(theta, tau, t_max), kernel)[use]
+    np.testing.assert_allclose(residuals.model(theta), direct, rtol=1e-13)
+
+
+@pytest.mark.parametrize("seed", [5, 6, 7])
+def test_fit_reaches_the_bounded_least_squares_minimum(seed: int) -> None:
+    """The LM fit ends at a cost no higher than scipy's trf with a finite-difference Jacobian
+    (the former method, run here as the reference) on the same bounded problem."""
+    residuals, args = _omega_problem(seed)
+    theta, jacobian, residual = fit._fit_omega(*args)
+    start, p_bounds = args[6], args[7]
+    lower = [p_bounds[0], 0.0, fit._MIN_R_OVER_P]
+    upper = [p_bounds[1], 1.0, 1.0 - 1e-9]
+    reference = least_squares(
+        residuals.residual, np.clip(start, np.add(lower, 1e-9), np.subtract(upper, 1e-9)),
+        bounds=(lower, upper), x_scale=[float(start[0]), 0.1, 0.1], method="trf",
+        jac="3-point", ftol=1e-10, xtol=1e-10,
+    )  # fmt: skip
+    assert residual @ residual <= (reference.fun @ reference.fun) * (1 + 1e-6)
+    np.testing.assert_allclose(theta, reference.x, rtol=1e-3)
+    np.testing.assert_allclose(jacobian, residuals.jacobian(theta))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import re
 from pathlib import Path
 
@@ -37,10 +38,10 @@ def test_bound_pinned_fit_is_not_plausible() -> None:
         "omega_r_rad_s": 20.0,
         "flags": "band_limited;omega_p_at_bound",
     }
-    reason = plausibility(row, 2.0, None)
+    reason = plausibility(row, math.pi, None)
     assert reason.startswith("omega_p_at_bound (omega_p at its bound")
     assert "band_limited" not in reason  # a caveat, not a bound
     row["flags"] = "band_limited"
-    assert plausibility(row, 2.0, None) == ""
+    assert plausibility(row, math.pi, None) == ""
     assert implausible(["omega_c_not_fitted", "xi_clipped", "unknown"]) == ["xi_clipped"]
     assert describe(["xi_clipped"]) == [f"xi_clipped: {FLAGS['xi_clipped'][1]}"]

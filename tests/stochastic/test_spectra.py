@@ -160,3 +160,37 @@ def test_bad_options(motion: tuple[np.ndarray, np.ndarray]) -> None:
         evolutionary_spectrum(x, 0.01, method="parametric", omega_rad_s=[-1.0, 2.0])
     with pytest.raises(InputError, match="below Nyquist"):
         evolutionary_spectrum(x, 0.01, method="wavelet", omega_rad_s=[1.0, 400.0])
+
+
+def test_wavelet_cone_of_influence_against_the_gaussian_edge_loss() -> None:
+    """A tone at the band's centre: the band's amplitude at a distance d from the record start
+    is Φ(σd) of its value inside (σ = ω/q; the wavelet's Gaussian time envelope cut by the
+    edge), so its power is Φ(√2)² = 0.849 at the cone of influence d = √2 q/ω, where the
+    ``omega_floor`` coordinate says the band becomes clear, and Φ(0)² = 1/4 at the start."""
+    from scipy.stats import norm
+
+    omega, q, dt = 1.0, 6.0, 0.01
+    t = np.arange(0, 120, dt)
+    spec = evolutionary_spectrum(np.cos(omega * t), dt, method="wavelet", omega_rad_s=[omega])
+    power = spec.values[:, 0]
+    time = spec["time"].values
+    inside = float(np.median(power[(time > 40) & (time < 80)]))
+    d_coi = math.sqrt(2) * q / omega
+    at_coi = power[np.argmin(np.abs(time - d_coi))] / inside
+    assert at_coi == pytest.approx(norm.cdf(math.sqrt(2)) ** 2, rel=0.01)
+    assert power[0] / inside == pytest.approx(0.25, rel=0.02)
+    # The coordinate: √2 q/d from the nearer end, crossing the band's ω at d = √2 q/ω.
+    floor = spec["omega_floor"].values
+    assert floor[np.argmin(np.abs(time - d_coi))] == pytest.approx(omega, rel=0.01)
+    assert floor[np.argmin(np.abs(time - 60.0))] == pytest.approx(math.sqrt(2) * q / 60, rel=0.01)
+    # The default bands start at the lowest frequency clear anywhere, 2√2 q/T (at least
+    # 0.2 rad/s): 0.283 rad/s on 60 s, where 6 cycles in the record (the old floor) gave 0.63.
+    default = evolutionary_spectrum(np.cos(omega * t[:6000]), dt, method="wavelet")
+    assert float(default["omega"][0]) == pytest.approx(2 * math.sqrt(2) * q / 60.0, rel=1e-3)
+
+
+def test_stft_floor_is_one_cycle_per_window(motion: tuple[np.ndarray, np.ndarray]) -> None:
+    _, x = motion
+    spec = evolutionary_spectrum(x, 0.01, window_s=4.0)
+    np.testing.assert_allclose(spec["omega_floor"].values, 2 * math.pi / 4.0)
+    assert spec["omega_floor"].attrs["units"] == "rad/s"

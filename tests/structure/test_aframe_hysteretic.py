@@ -79,3 +79,23 @@ def test_equivalent_viscous_error_table() -> None:
     assert abs(row["rel_error"]) < 0.5
     with pytest.raises(InputError):
         simulate_aframe(FRAME, [0.0], 0.01)
+
+
+def test_equivalent_viscous_summary_is_the_median_and_worst_of_the_table() -> None:
+    import pandas as pd
+
+    from stepframe.structure.aframe_hysteretic import equivalent_viscous_summary
+
+    table = pd.DataFrame(
+        {
+            "record": [0, 1, 2, 3],
+            "rel_error": [0.1, -0.3, 0.05, 9.0],
+            "overturned_hysteretic": [False, False, False, True],
+            "overturned_viscous": [False, False, False, False],
+            "status": ["ok"] * 4,
+        }
+    )
+    s = equivalent_viscous_summary(table)
+    assert (s["all_runs"], s["runs"], s["verdicts_differing"]) == (4, 3, 1)
+    assert s["median_abs_rel_error"] == pytest.approx(0.1)
+    assert (s["worst_rel_error"], s["worst_record"]) == (-0.3, 1)

@@ -123,3 +123,57 @@ def test_bad_input_is_one_line_and_exit_2(
     assert exc.value.code == 2
     assert out == ""
     assert "Traceback" not in err and err.strip()
+
+
+@pytest.mark.parametrize(
+    ("argv", "said"),
+    [
+        # Once hanging for more than a minute: a forcing frequency near 0 (6e12 s of motion)...
+        (["--omega-rad-s", "1e-12", "--periods", "1"], "1.68e+13 closed-form pieces"),
+        # ... and a million periods at 10⁴ rad/s (3.2e7 output samples).
+        (["--omega-rad-s", "1e4", "--periods", "1000000"], "1.44e+08 closed-form pieces"),
+        (["--omega-rad-s", "1e-300", "--periods", "1"], "5.32e+287 years"),
+        (["--omega-rad-s", "1e-320", "--periods", "1"], "more than 1e308 s would take without end"),
+        (["--omega-rad-s", "16", "--periods", "1", "--orbit", "100000000"], "Newton steps"),
+    ],
+)
+def test_work_beyond_the_limit_is_refused_before_integrating(
+    capsys: pytest.CaptureFixture[str], argv: list[str], said: str
+) -> None:
+    base = ["structure", "harmonic", "--block", "0.25,1.0", "--amplitude-g", "0.3"]
+    status, out, err = run(capsys, *base, *argv)
+    assert (status, out) == (2, "")
+    assert err.count("\n") == 1 and said in err and "expected at most 3e+07" in err
+
+
+def test_the_threshold_case_answers_with_a_tiny_rocking(capsys: pytest.CaptureFixture[str]) -> None:
+    # The uplift threshold g·α × (1 + 1e-9): was status ok with peak 1.5e8 m.
+    status, out, _err = run(
+        capsys, "structure", "harmonic", "--block", "0.25,1.0", "--amplitude-g",
+        "0.2449786633718428", "--omega-rad-s", "16", "--periods", "20", "--json",
+    )  # fmt: skip
+    data = json.loads(out)
+    assert status == 0 and data["status"] == "ok" and not data["overturned"]
+    # It lifts at each of the 41 crests and troughs and lands again (the last one at the end).
+    assert data["peak_abs_x_m"] < 1e-15 and data["n_liftoffs"] == 41 and data["n_impacts"] == 40
+
+
+def test_pulse_ida_finds_the_survival_band_by_default(capsys: pytest.CaptureFixture[str]) -> None:
+    # ω = 2p: the linearised block overturns from 1.414 gα, survives 4.17-5.23 gα and overturns
+    # again (solve_ivp in test_ida.py); probing only to twice the first overturning missed it.
+    p = PortalFrame.housner_block(half_width_m=0.25, half_height_m=1.0).omega_2_rad_s
+    status, out, _err = run(
+        capsys, "structure", "ida", "--block", "0.25,1.0", "--pulse", "cosine",
+        "--omega-rad-s", repr(2 * p), "--json",
+    )  # fmt: skip
+    (item,) = json.loads(out)["items"]
+    assert status == 0 and item["status"] == "ok" and item["resurrected"]
+    assert item["first_overturning"] == pytest.approx(1.4065, abs=0.01)
+    over, survive = (float(v) for v in item["resurrections"].split("->"))
+    assert over <= 4.1738 <= survive and survive - over <= 0.01
+    # Asked to probe only to twice the first overturning, it does not see the band.
+    status, out, _err = run(
+        capsys, "structure", "ida", "--block", "0.25,1.0", "--pulse", "cosine",
+        "--omega-rad-s", repr(2 * p), "--probe-factor", "2", "--probes", "8", "--json",
+    )  # fmt: skip
+    assert not json.loads(out)["items"][0]["resurrected"]

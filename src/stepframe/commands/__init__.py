@@ -37,7 +37,9 @@ class Parser(argparse.ArgumentParser):
     """
 
     def error(self, message: str) -> NoReturn:
-        raise UserError(f"{self.prog}: {message}")
+        # the top-level parser's prog is the program itself, which the error line already names
+        prefix = f"{self.prog}: " if " " in self.prog else ""
+        raise UserError(f"{prefix}{message}")
 
 
 @dataclass(frozen=True)
@@ -153,6 +155,7 @@ GROUPS = {
     "records": "read accelerograms, intensity measures, spectra, catalogues",
     "stochastic": "evolutionary spectra, ground-motion model, mean square, amplification",
     "structure": "frame parameters, quasi-dynamic design, stepping simulation",
+    "store": "a workspace's store: verify every object's checksum, compact small segments",
 }
 
 

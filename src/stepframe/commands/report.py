@@ -10,8 +10,8 @@ from typing import TYPE_CHECKING
 
 from stepframe.commands import CommandResult, add_command
 from stepframe.core.options import add_fields, add_options, options_from
-from stepframe.pipeline.amplification.report_options import AmplificationReportOptions as Options
-from stepframe.pipeline.amplification.site import SITE_PARAMETERS
+from stepframe.pipeline.amplification.analysis import SITE_PARAMETERS
+from stepframe.pipeline.amplification.analysis import AmplificationReportOptions as Options
 
 if TYPE_CHECKING:
     from stepframe.commands import Subparsers
@@ -19,7 +19,10 @@ if TYPE_CHECKING:
 #: The report's options after the site's parameters, per help group.
 RECORDS = ("records", "t0", "record_format", "units", "site_name")
 FRAME = ("frame", "delta_star_m")
-ANALYSIS = ("alpha_reading", "xi0", "monte_carlo", "seed", "n_steps", "peak_intensity_m_s2")
+ANALYSIS = (
+    "alpha_reading", "xi0", "monte_carlo", "seed", "n_steps", "peak_intensity_m_s2",
+    "f_min_hz", "f_max_hz", "n_frequencies",
+)  # fmt: skip
 
 
 def register(subparsers: Subparsers) -> None:

@@ -65,9 +65,12 @@ def run_workflow(args: argparse.Namespace) -> CommandResult | RunReport:
     """Run a workflow file: only the stages its outputs need, cached by content.
 
     Run the stages a workflow's [outputs] need. Results are cached in the workspace by the
-    content of their inputs and their parameters: a re-run computes only new or changed items.
-    Exit 0: outputs produced (failed items listed); 1: an output could not be produced; 2: user
-    error (nothing written); 3: another run holds the workspace.
+    content of their inputs and their parameters: a re-run computes only new or changed items,
+    and every stored object is checked against its checksum (a damaged one is quarantined and
+    recomputed). Each run appends one JSON line to the workspace's run log (runs.jsonl). Exit 0:
+    outputs produced (failed items listed); 1: an output could not be produced, or a file could
+    not be written (disk full); 2: user error (nothing written); 3: another run holds the
+    workspace.
 
     Examples
     --------

@@ -35,20 +35,26 @@ FIELDS: dict[str | None, tuple[str | OptionRow, ...]] = {
          "quasi-dynamic design input: A_max = design displacement δ*"),
         "x_star_fraction", "strong_motion_fraction",
     ),
-    "filters and caps": (
+    "records, filters and caps": (
+        "verticals",
         *(f"{name}_{end}{unit}" for name, unit in (
-            ("magnitude", ""), ("distance", "_km"), ("vs30", "_m_s"), ("d5_95", "_s"), ("pga", "_g")
+            ("magnitude", ""), ("distance", "_km"), ("vs30", "_m_s"), ("d5_95", "_s"),
+            ("pga", "_g"), ("pgv", "_m_s"), ("psa_t1", "_g"), ("arias", "_m_s"),
         ) for end in ("min", "max")),
-        "distance_metric", "lowest_usable_below_band",
-        ("--keep-implausible", bool, None, "rank fits that fail the plausibility checks too"),
-        ("--exclude", list, "FILE_OR_RSN", "leave out (repeat, or comma-separated)"),
-        "max_per_event", "max_per_station",
+        "distance_metric", "lowest_usable_below_band", "require_plausible",
+        ("--exclude", list, "RECORD", "leave out a record (RSN174 or 174), file name or path "
+         "(repeat, or comma-separated)"),
+        "exclude_unmatched", "max_per_event", "max_per_station",
     ),
-    "target spectrum and scaling": (
-        "target_s_ds_g", "target_s_d1_g", "target_csv", "target_periods_s", "spectral_weight",
-        "scale_min", "scale_max",
+    "target spectrum, code check and scaling": (
+        "target_s_ds_g", "target_s_d1_g", "target_t_l_s", "target_ec8", "target_ground",
+        "target_ag_g", "target_importance", "target_damping", "target_csv", "target_code",
+        "pair_spectrum", "target_periods_s", "spectral_weight", "scale_min", "scale_max",
     ),
     "uncertainty and confirmation": ("n_bootstrap", "seed", "confirm_onset_ratio"),
+    "ranking (docs/selection.md)": (
+        "rank_onset_ratio", "rank_psa_t1_g", "prefilter", "prefilter_k", "exact_budget_s", "scores",
+    ),
 }  # fmt: skip
 
 
@@ -56,9 +62,16 @@ def register(subparsers: Subparsers) -> None:
     """Add ``select`` to the top-level commands."""
     parser = add_command(subparsers, "select", run_select)
     parser.add_argument("--frame", required=True, metavar="FRAME.toml", help="frame file")
-    source = parser.add_mutually_exclusive_group(required=True)
-    source.add_argument("catalogue", nargs="?", metavar="DIR", help="folder of record files")
-    source.add_argument("--example", choices=["fema-p695"], help="the embedded example catalogue")
+    parser.add_argument(
+        "catalogue",
+        nargs="*",
+        metavar="DIR",
+        help="folders of record files (symlinked sub-folders followed)",
+    )
+    parser.add_argument(
+        "--example", choices=["fema-p695"],
+        help="the embedded example catalogue (alone, or beside folders)",
+    )  # fmt: skip
     add_options(
         parser,
         ("-n", int, None, "how many components (or records)", REQUIRED),
@@ -72,20 +85,26 @@ def register(subparsers: Subparsers) -> None:
 
 def options_from_args(args: argparse.Namespace) -> SelectionOptions:
     """The :class:`SelectionOptions` of the command line (over an optional [selection] file)."""
+    from stepframe.errors import InputError
     from stepframe.pipeline.dynamics.design import design_displacement_m
     from stepframe.pipeline.selection.options import selection_options
 
     values = {"n": args.n}
     for rows in FIELDS.values():
         values.update(fields_given(args, rows))
-    if args.keep_implausible:
-        values["require_plausible"] = False
     exclude = [word.strip() for item in args.exclude for word in item.split(",") if word.strip()]
     if exclude:
         values["exclude"] = exclude
     if args.design:
         values["design_displacement_m"] = design_displacement_m(args.design)
-    return selection_options(args.options, values)
+    try:
+        return selection_options(args.options, values)
+    except InputError as error:
+        # a value the command line gave is named by its flag, as every command does
+        if error.key not in values or not error.what.startswith(f"{error.key} = "):
+            raise
+        flag = "--" + error.key.replace("_", "-")
+        raise InputError(error.what.replace(f"{error.key} = ", f"{flag} ", 1)) from None
 
 
 def run_select(args: argparse.Namespace) -> SelectionFolder:
@@ -99,7 +118,11 @@ def run_select(args: argparse.Namespace) -> SelectionFolder:
         --scale psa-at-t1 -o picks
     stepframe select --frame FRAME.toml --example fema-p695 -n 7 --target-s-ds-g 1.0 \\
         --target-s-d1-g 0.6 --scale target-mse --spectral-weight 0.5 -o picks --json
-    # from a folder of record files: DIR instead of --example, with --metadata CSV for the filters
+    stepframe select --frame FRAME.toml --example fema-p695 -n 7 --unit record \\
+        --target-ec8 type1 --target-ground C --target-ag-g 0.25 --scale target-mse \\
+        --exclude RSN174 -o picks-ec8
+    # from folders of record files: DIR... instead of (or beside) --example, with --metadata CSV
+    # the chosen motions, scaled, are in OUTDIR/motions/ (manifest.csv, AT2 and one-column text)
     """
     from stepframe.pipeline.selection.inputs import select_to_folder
 

@@ -16,8 +16,8 @@ from stepframe.core.options import (
     fields_given,
     options_from,
 )
-from stepframe.pipeline.amplification.site import SITE_PARAMETERS
-from stepframe.pipeline.amplification.study import AmplifyOptions, AmplifyStudy, amplify_study
+from stepframe.pipeline.amplification.analysis import SITE_PARAMETERS, AmplifyOptions
+from stepframe.pipeline.amplification.study import AmplifyStudy, amplify_study
 from stepframe.pipeline.catalogue.fit_options import FitOptions
 from stepframe.records.read_options import RecordSource
 from stepframe.stochastic.methods import SPECTRUM_METHOD_NAMES
@@ -27,10 +27,13 @@ if TYPE_CHECKING:
     from stepframe.pipeline.catalogue.fitted_files import FeaturesFiles, FittedFile
 
 #: The FitOptions fields of ``features``, in the order of its help (``fit`` takes them all).
-ESTIMATION = ("frequency", "t0", "omega_max_rad_s", "window_s")
+ESTIMATION = ("frequency", "t0", "omega_max_rad_s", "window_s", "fft", "alpha_reading")
 
 #: The analysis options of ``amplify``, after the site's and the oscillator's.
-ANALYSIS = ("alpha_reading", "peak_intensity_m_s2", "monte_carlo", "seed", "n_steps")
+ANALYSIS = (
+    "alpha_reading", "peak_intensity_m_s2", "monte_carlo", "seed", "n_steps", "f_min_hz",
+    "f_max_hz", "n_frequencies",
+)  # fmt: skip
 
 
 def register(subparsers: Subparsers) -> None:

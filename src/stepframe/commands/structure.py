@@ -173,9 +173,11 @@ def run_ida(args: argparse.Namespace) -> studies.IdaStudy:
     """Incremental dynamic analysis by hunt-trace-fill, with resurrection detection.
 
     Raise each record's PGA until the frame overturns, trace every change of outcome to
-    --resolution-g, probe up to twice the first overturning for resurrection, and report the
-    overturning PGA per record with fractiles. With --pulse, the items are one-cycle pulses at
-    each --omega-rad-s and intensities are in units of the static uplift acceleration γ₁/P₂.
+    --resolution-g, probe up to --probe-factor times the first overturning (--probes evenly
+    spaced; default 2 and 8) for resurrection, and report the overturning PGA per record with
+    fractiles. With --pulse, the items are one-cycle pulses at each --omega-rad-s, intensities
+    are in units of the static uplift acceleration γ₁/P₂, and the probes reach 10 times the
+    first overturning (16 probes), where a pulse's survival band lies.
 
     Examples
     --------

@@ -15,6 +15,7 @@ import contextlib
 import os
 import re
 import shutil
+import sys
 import tempfile
 import tomllib
 from collections.abc import Iterator
@@ -194,6 +195,10 @@ def copy_files(source: str | PathLike[str], target: str | PathLike[str]) -> list
     return written
 
 
+#: The largest TOML file read (a workflow or a frame file is a few kB).
+MAX_TOML_BYTES = 1 << 20
+
+
 def read_toml(path: str | PathLike[str], what: str) -> tuple[dict[str, Any], str]:
     """Read a TOML file as UTF-8; errors are one line with the file and line.
 
@@ -214,7 +219,8 @@ def read_toml(path: str | PathLike[str], what: str) -> tuple[dict[str, Any], str
     Raises
     ------
     InputError
-        Missing, unreadable, not UTF-8, or not valid TOML (with the line of the error).
+        Missing, unreadable, larger than :data:`MAX_TOML_BYTES`, not UTF-8, or not valid TOML
+        (with the line of the error; nested too deeply; an integer of thousands of digits).
     """
     p = Path(path)
     try:
@@ -232,6 +238,10 @@ def read_toml(path: str | PathLike[str], what: str) -> tuple[dict[str, Any], str
         raise InputError(
             f"not UTF-8 text (byte {exc.start}), expected {what}", p, bad_line
         ) from None
+    if len(raw) > MAX_TOML_BYTES:
+        raise InputError(
+            f"{len(raw):,} bytes, expected {what} of at most {MAX_TOML_BYTES:,} bytes", p
+        )
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -239,4 +249,10 @@ def read_toml(path: str | PathLike[str], what: str) -> tuple[dict[str, Any], str
         line = int(match.group(1)) if match else None
         reason = re.sub(r"\s*\(at line \d+, column \d+\)", "", str(exc))
         raise InputError(f"not valid TOML ({reason}), expected {what}", p, line) from None
+    except RecursionError:
+        raise InputError(f"arrays or tables nested too deeply, expected {what}", p) from None
+    except ValueError:  # tomllib's only ValueError: an integer past Python's digit limit
+        raise InputError(
+            f"an integer of more than {sys.get_int_max_str_digits():,} digits, expected {what}", p
+        ) from None
     return data, text

@@ -22,7 +22,7 @@ import argparse
 import functools
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import MISSING, field
+from dataclasses import MISSING, dataclass, field
 from typing import Any, TypeVar
 
 T = TypeVar("T")
@@ -44,6 +44,75 @@ KINDS = (
 )
 
 
+@dataclass(frozen=True)
+class Range:
+    """The values a numeric option accepts: finite, between ``low`` and ``high`` (either end open
+    or closed, or absent), or one of ``also``.
+
+    ``Range(0, 1, low_open=True, high_open=True)`` is a damping fraction in (0, 1);
+    ``Range(2, also=(0,))`` is "0, or at least 2".
+    """
+
+    low: float | None = None
+    high: float | None = None
+    low_open: bool = False
+    high_open: bool = False
+    also: tuple[float, ...] = ()
+
+    def contains(self, value: float) -> bool:
+        """Whether ``value`` is accepted (NaN and infinities never are)."""
+        if value in self.also:
+            return True
+        if not math.isfinite(value):
+            return False
+        if self.low is not None and (value <= self.low if self.low_open else value < self.low):
+            return False
+        return not (
+            self.high is not None and (value >= self.high if self.high_open else value > self.high)
+        )
+
+    def describe(self) -> str:
+        """The accepted values in words: ``in (0, 1)``, ``≥ 100``, ``0 or ≥ 2``."""
+        if self.low is not None and self.high is not None:
+            text = (
+                f"in {'(' if self.low_open else '['}{self.low:g}, {self.high:g}"
+                f"{')' if self.high_open else ']'}"
+            )
+        elif self.low is not None:
+            text = f"{'>' if self.low_open else '≥'} {self.low:g}"
+        elif self.high is not None:
+            text = f"{'<' if self.high_open else '≤'} {self.high:g}"
+        else:
+            text = "a finite number"
+        return " or ".join([*(f"{value:g}" for value in self.also), text])
+
+
+def check_fields(instance: Any) -> None:
+    """Check every field of a dataclass ``instance`` declared with a ``valid`` range.
+
+    A field whose value is None passes when None is its default (not given).
+
+    Raises
+    ------
+    InputError
+        ``name = value, expected <range>`` with ``key`` = the field's name.
+    """
+    import dataclasses
+
+    from stepframe.errors import InputError
+
+    for f in dataclasses.fields(instance):
+        valid = f.metadata.get("valid")
+        if valid is None:
+            continue
+        value = getattr(instance, f.name)
+        if value is None and f.default is None:
+            continue
+        number = value if isinstance(value, (int, float)) and not isinstance(value, bool) else None
+        if number is None or not valid.contains(number):
+            raise InputError(f"{f.name} = {value!r}, expected {valid.describe()}", key=f.name)
+
+
 def option(
     default: Any = MISSING,
     help: str | None = None,
@@ -52,6 +121,7 @@ def option(
     metavar: str | None = None,
     choices: tuple[str, ...] | None = None,
     flag: str | None = None,
+    valid: Range | None = None,
 ) -> Any:
     """A dataclass field with its option metadata (no default: a required option).
 
@@ -69,10 +139,21 @@ def option(
         The accepted names.
     flag
         The option's flag when it is not ``--field-name``.
+    valid
+        The values accepted (:class:`Range`), checked by :func:`check_fields` (which the
+        dataclass's ``__post_init__`` calls): one check for the command line, the library and
+        the workflow.
     """
     if kind is not None and kind not in KINDS:
         raise ValueError(f"option kind {kind!r}, expected one of {KINDS}")
-    metadata = {"help": help, "kind": kind, "metavar": metavar, "choices": choices, "flag": flag}
+    metadata = {
+        "help": help,
+        "kind": kind,
+        "metavar": metavar,
+        "choices": choices,
+        "flag": flag,
+        "valid": valid,
+    }
     if default is MISSING:
         return field(metadata=metadata)
     return field(default=default, metadata=metadata)
@@ -297,6 +378,22 @@ def _field_kind(cls: type, f: Any) -> Any:
     return hint if hint in (bool, int, float) else None
 
 
+def value_type(cls: type, name: str) -> str:
+    """The plain type of field ``name`` of the dataclass ``cls`` as a file gives it: ``float``,
+    ``int``, ``bool`` or ``str`` (a workflow table's key, say)."""
+    import dataclasses
+
+    f = next(f for f in dataclasses.fields(cls) if f.name == name)
+    kind = _field_kind(cls, f)
+    if kind is bool:
+        return "bool"
+    if kind in (int, positive_int):
+        return "int"
+    if kind in (float, positive_float, non_negative_float, non_negative_seconds):
+        return "float"
+    return "str"
+
+
 @functools.cache
 def _type_hints(cls: type) -> dict[str, Any]:
     """The resolved annotations of ``cls`` (once per class: resolving costs), or {} when one
@@ -323,10 +420,44 @@ def fields_given(args: argparse.Namespace, names: Any) -> dict[str, Any]:
     }
 
 
+def arguments_of(options: Any) -> dict[str, Any]:
+    """The command-line options that give the dataclass ``options``: flag (without ``--``) →
+    value, for each field that is not None; a switch appears (value True) only when set, a
+    switch set by default not at all. For the command line that reproduces a result."""
+    import dataclasses
+
+    out: dict[str, Any] = {}
+    for f in dataclasses.fields(options):
+        value = getattr(options, f.name)
+        if value is None or (isinstance(value, bool) and value == f.default):
+            continue
+        flag = f.metadata.get("flag") or "--" + f.name.replace("_", "-")
+        out[flag.removeprefix("--").replace("-", "_")] = value
+    return out
+
+
 def options_from(args: argparse.Namespace, cls: type[T]) -> T:
     """The dataclass ``cls`` built from the :func:`add_fields` options the command line gave
-    (its defaults for the others)."""
-    return cls(**fields_given(args, cls))
+    (its defaults for the others).
+
+    Raises
+    ------
+    InputError
+        A value its field's check refuses, named by its flag: ``--xi0 0.0, expected in (0, 1)``
+        (the same check, and words, as a workflow file's ``xi0 = 0.0``).
+    """
+    import dataclasses
+
+    from stepframe.errors import InputError
+
+    try:
+        return cls(**fields_given(args, cls))
+    except InputError as error:
+        fields = {f.name: f for f in dataclasses.fields(cls)}  # type: ignore[arg-type]
+        if error.key not in fields or not error.what.startswith(f"{error.key} = "):
+            raise
+        flag = fields[error.key].metadata.get("flag") or "--" + error.key.replace("_", "-")
+        raise InputError(error.what.replace(f"{error.key} = ", f"{flag} ", 1)) from None
 
 
 __all__ = [
@@ -335,8 +466,11 @@ __all__ = [
     "REQUIRED",
     "Once",
     "OptionRow",
+    "Range",
     "add_fields",
     "add_options",
+    "arguments_of",
+    "check_fields",
     "fields_given",
     "float_list",
     "float_range",
@@ -347,4 +481,5 @@ __all__ = [
     "positive_float",
     "positive_floats",
     "positive_int",
+    "value_type",
 ]

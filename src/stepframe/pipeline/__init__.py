@@ -50,7 +50,6 @@ if TYPE_CHECKING:
     from stepframe.pipeline.catalogue.fitted import (
         FitOptions,
         FittedRecord,
-        features_table,
         fit_record,
         fit_table,
         fitted_dataset,
@@ -90,7 +89,7 @@ _EXPORTS = {
     ),
     **dict.fromkeys(
         ("FitOptions", "FittedRecord", "fit_record", "fit_table", "fitted_dataset",
-         "write_fitted", "read_fitted", "features_table", "write_features"),
+         "write_fitted", "read_fitted", "write_features"),
         "stepframe.pipeline.catalogue.fitted",
     ),
     **dict.fromkeys(
@@ -131,7 +130,6 @@ __all__ = [
     "amplify",
     "design_case",
     "design_run",
-    "features_table",
     "fit_record",
     "fit_table",
     "fitted_dataset",

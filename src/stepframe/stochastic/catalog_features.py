@@ -9,9 +9,11 @@ reproducible.
 
 Plausibility (column ``plausible`` and ``implausible_reason``): ω_p ≥ ω_s ≥ ω_r holds by
 construction of the fit, so the checks are that the fitted frequencies lie inside the usable
-band (ω_r above both the window's resolution 2π/window_s and, when known, the record's lowest
-usable frequency; ω_p below half the Nyquist frequency), that ω_g falls at all (ω_p > 1.05 ω_r),
-and that no flag marks a value at a bound, floor or clip
+band (ω_r above both the estimator's resolution floor on the record,
+:attr:`stepframe.stochastic.features.RecordFeatures.usable_floor_rad_s` (2π/window_s for a fixed
+window, 6π/T for ``frequency="multiwindow"`` on a record of T s), and, when known, the
+record's lowest usable frequency; ω_p below half the Nyquist frequency), that ω_g falls at all
+(ω_p > 1.05 ω_r), and that no flag marks a value at a bound, floor or clip
 (:func:`stepframe.stochastic.flags.implausible`; every flag's meaning in
 :data:`stepframe.stochastic.flags.FLAGS`).
 """
@@ -34,7 +36,8 @@ from stepframe.errors import InputError
 from stepframe.stochastic.features import FrequencyEstimator, TimeOrigin, record_features
 from stepframe.stochastic.fit import PARAMETERS, fit_model
 from stepframe.stochastic.flags import implausible, meaning
-from stepframe.stochastic.methods import FrequencyMethod
+from stepframe.stochastic.methods import DEFAULT_FREQUENCY_METHOD, FrequencyMethod
+from stepframe.stochastic.model import AlphaReading
 from stepframe.stochastic.transforms import DEFAULT_WINDOW_S, FftBackend
 
 #: Column dictionary of the features table: name → (unit, meaning).
@@ -61,6 +64,7 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "fit_quality": ("", "weighted RMS relative misfit of ω_g(t) (0 is perfect)"),
     "max_intensity_m_s2": ("m/s2", "max I_g (RMS acceleration over the window)"),
     "omega_range_rad_s": ("rad/s", "ω_max - ω_min of the measured ω_g(t) in strong motion"),
+    "omega_floor_rad_s": ("rad/s", "lowest ω_g the estimator resolves on the record"),
     "p_onset_used": ("", "whether t0 is a picked P onset"),
     "p_onset_s": ("s", "picked P onset in record time (empty if none)"),
     "t0_source": ("", "what t0 is: p-pick (picked P onset) or start (record start)"),
@@ -79,12 +83,13 @@ if TYPE_CHECKING:
 class Options:
     """Options of the per-component computation (picklable, passed to workers)."""
 
-    frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing"
+    frequency: FrequencyMethod | FrequencyEstimator = DEFAULT_FREQUENCY_METHOD
     t0: TimeOrigin = "auto"
     window_s: float = DEFAULT_WINDOW_S
     fft: FftBackend = "scipy"
     record_options: tuple[tuple[str, Any], ...] = ()
     omega_max_rad_s: float | None = None
+    alpha_reading: AlphaReading = "eq-6-11"
 
 
 @dataclass(frozen=True)
@@ -99,10 +104,14 @@ class Item:
     lowest_usable_hz: float | None = None
 
 
-def plausibility(row: dict[str, Any], window_s: float, lowest_usable_hz: float | None) -> str:
-    """Empty string if the fitted parameters pass the checks, else the reasons ('; ')."""
+def plausibility(row: dict[str, Any], floor_rad_s: float, lowest_usable_hz: float | None) -> str:
+    """Empty string if the fitted parameters pass the checks, else the reasons ('; ').
+
+    ``floor_rad_s`` is the estimator's resolution floor on the record [rad/s]
+    (:attr:`stepframe.stochastic.features.RecordFeatures.usable_floor_rad_s`).
+    """
     reasons = []
-    low = 2 * math.pi / window_s
+    low = floor_rad_s
     if lowest_usable_hz is not None and math.isfinite(lowest_usable_hz):
         low = max(low, 2 * math.pi * lowest_usable_hz)
     high = 0.5 * math.pi / row["dt_s"]
@@ -145,7 +154,7 @@ def component_row(
     except Exception as error:  # a batch never stops for one item: record the unexpected too
         raise _StageError("features", error) from error
     try:
-        result = fit_model(features)
+        result = fit_model(features, alpha_reading=options.alpha_reading)
     except Exception as error:  # numerical failure inside scipy: recorded, not fatal
         raise _StageError("fit", error) from error
     row: dict[str, Any] = {"dt_s": dt_s, "duration_s": dt_s * (data.size - 1)}
@@ -160,12 +169,13 @@ def component_row(
     row["omega_range_rad_s"] = (
         float(omega_strong.max() - omega_strong.min()) if omega_strong.size else math.nan
     )
+    row["omega_floor_rad_s"] = features.usable_floor_rad_s
     row["p_onset_used"] = features.p_onset_s is not None
     row["p_onset_s"] = features.p_onset_s if features.p_onset_s is not None else math.nan
     row["t0_source"] = features.t0_source
     row["p_pick_snr"] = math.nan if features.p_pick_snr is None else features.p_pick_snr
     row["flags"] = ";".join(result.flags)
-    reason = plausibility(row, options.window_s, lowest_usable_hz)
+    reason = plausibility(row, features.usable_floor_rad_s, lowest_usable_hz)
     row["plausible"] = not reason
     row["implausible_reason"] = reason
     return row
@@ -207,7 +217,7 @@ def catalog_features(
     n_jobs: int | None = None,
     executor: Executor | None = None,
     progress: bool | str = False,
-    frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing",
+    frequency: FrequencyMethod | FrequencyEstimator = DEFAULT_FREQUENCY_METHOD,
     t0: TimeOrigin = "auto",
     window_s: float = DEFAULT_WINDOW_S,
     fft: FftBackend = "scipy",
@@ -215,6 +225,7 @@ def catalog_features(
     lowest_usable_hz: Iterable[float | None] | None = None,
     chunk_size: int = 4,
     omega_max_rad_s: float | None = None,
+    alpha_reading: AlphaReading = "eq-6-11",
 ) -> tuple[pd.DataFrame, pd.DataFrame]:
     """Features table of a catalogue: a folder of record files or an ``obspy.Stream``.
 
@@ -234,12 +245,16 @@ def catalog_features(
     record_options
         Keyword arguments of :func:`stepframe.records.read` (``format``, ``units``, ...).
     lowest_usable_hz
-        For a Stream: each trace's lowest usable frequency [Hz] (or None), for the band check.
+        For a Stream: each trace's lowest usable frequency [Hz] (or None), for the band check
+        (default: each trace's ``stats.stepframe.lowest_usable_hz`` when it has one, as the
+        embedded example's traces do).
     chunk_size
         Items per task.
     omega_max_rad_s
         Highest frequency of interest [rad/s]: a component whose Nyquist frequency is below it
         fails at stage ``features`` (dt too coarse for the band).
+    alpha_reading
+        Where the fitted α_g ramp ends (:func:`stepframe.stochastic.fit.fit_model`).
 
     Returns
     -------
@@ -260,6 +275,7 @@ def catalog_features(
         fft,
         tuple(sorted((record_options or {}).items())),
         omega_max_rad_s,
+        alpha_reading,
     )
     if n_jobs is not None and n_jobs < 1:
         raise InputError(f"n_jobs = {n_jobs}, expected ≥ 1")
@@ -303,7 +319,11 @@ def _items(source: str | Path | Any, lowest: Iterable[float | None] | None) -> l
     if isinstance(source, list | tuple):
         return [Item(str(p)) for p in source]
     traces = list(source)
-    usable = list(lowest) if lowest is not None else [None] * len(traces)
+    usable = (
+        list(lowest)
+        if lowest is not None
+        else [trace.stats.get("stepframe", {}).get("lowest_usable_hz") for trace in traces]
+    )
     if len(usable) != len(traces):
         raise InputError(
             f"{len(usable)} lowest usable frequencies for {len(traces)} traces, expected one each"

@@ -23,6 +23,16 @@ and smoothed over one window of ``window_s`` (default 2 s), stated for each:
   eq. 6.12 (E[ẏ²]/E[y²] = ω_g²) up to leakage.
   ``"wavelet-ridge"``: the maximum of the Morlet spectrum (160 log-spaced bands), the dearest
   step of the ladder zero crossings → STFT ridge → wavelet ridge; biased like the STFT ridge.
+  ``"multiwindow"``: √(Σ w ẋ² / Σ w x²) (the moment E[ẏ²]/E[y²] = ω_g², energies divided by
+  the envelope's trend) over a Hann window of three periods of the local frequency, never
+  shorter than ``window_s``: the only one that resolves ω_g below 2π/``window_s``, down to
+  6π/T on a record of T seconds (:mod:`stepframe.stochastic.multiwindow`).
+- Resolution floor (``omega_floor_rad_s``, per frame): the lowest ω_g the estimator resolves
+  there: 2π/``window_s`` (one cycle per window) for the STFT and zero-crossing estimators; for
+  ``"wavelet-ridge"`` its lowest band 12π/T (six cycles in a record of T s, at least 0.2 rad/s)
+  or, nearer the record's ends, the cone of influence √2·6/d (d the time to the nearer end); for
+  ``"multiwindow"`` three cycles in a window centred on the frame and inside the record (the
+  cone of influence), 6π/max(``window_s``, 2 × the distance to the nearer record end).
 - ``α_g(t)``: from the local spectral width: Vanmarcke's ``q² = 1 - λ1²/(λ0 λ2)`` of the STFT
   (λ2 corrected by σ_w²) inverted through q(ζ) of eq. 6.12 (closed form, :func:`vanmarcke_q`),
   ``α_g = ζ ω_g``.
@@ -47,12 +57,14 @@ from numpy.typing import ArrayLike, NDArray
 from stepframe.core import validation
 from stepframe.errors import InputError
 from stepframe.stochastic.envelope import DEFAULT_DURATION_THRESHOLD
-from stepframe.stochastic.methods import FrequencyMethod
+from stepframe.stochastic.methods import DEFAULT_FREQUENCY_METHOD, FrequencyMethod
 from stepframe.stochastic.standard_errors import least_squares_covariance
 from stepframe.stochastic.transforms import (
     DEFAULT_HOP_S,
     DEFAULT_WINDOW_S,
     FftBackend,
+    crossing_positions,
+    hann_kernel,
     record_samples,
     stft_power,
 )
@@ -60,6 +72,10 @@ from stepframe.stochastic.transforms import (
 if TYPE_CHECKING:
     import xarray as xr
     from obspy import Trace
+
+#: Share of the strong-motion frames whose ω_g lies below the estimator's floor above which
+#: the features are flagged ``omega_below_floor`` (a few frames below it are noise).
+BELOW_FLOOR_SHARE = 0.1
 
 TimeOrigin = Literal["auto", "start", "p-pick"]
 TIME_ORIGINS: tuple[TimeOrigin, ...] = ("auto", "start", "p-pick")
@@ -96,6 +112,13 @@ class RecordFeatures:
         onset was picked or asked for).
     omega_kernel
         Smoothing kernel of ω_g on the frame grid (sums to 1), used by the fit's forward model.
+    omega_floor_rad_s
+        Lowest ω_g the estimator resolves at each frame [rad/s] (module docstring; None: the
+        fixed-window rule 2π/``window_s``, see :meth:`resolution_floor`).
+    omega_window_s
+        Length of the window behind each frame's ω_g [s] where it differs from frame to frame
+        (``"multiwindow"``; None: ``window_s`` everywhere). Neighbouring frames share data over
+        that length, which the fit's standard errors and smoothed model assume is ``window_s``.
     """
 
     time_s: NDArray[np.float64]
@@ -119,12 +142,25 @@ class RecordFeatures:
     t_max_stderr_s: float | None = None
     t0_source: str = "start"
     p_pick_snr: float | None = None
+    omega_floor_rad_s: NDArray[np.float64] | None = None
+    omega_window_s: NDArray[np.float64] | None = None
 
     def strong_motion(self) -> NDArray[np.bool_]:
         """Frames after t0 with I_g ≥ threshold · max I_g."""
         return np.asarray(
             (self.time_s >= self.t0_s) & (self.intensity >= self.threshold * self.peak_intensity)
         )
+
+    def resolution_floor(self) -> NDArray[np.float64]:
+        """Lowest ω_g resolved at each frame [rad/s] (2π/``window_s`` when none was stated)."""
+        if self.omega_floor_rad_s is not None:
+            return self.omega_floor_rad_s
+        return np.full(self.time_s.shape, fixed_window_floor(self.window_s))
+
+    @property
+    def usable_floor_rad_s(self) -> float:
+        """Lowest ω_g the estimator resolves anywhere in the record [rad/s]."""
+        return float(np.min(self.resolution_floor()))
 
     def to_dataset(self) -> xr.Dataset:
         """The features as an ``xarray.Dataset`` (dim ``time``), scalars in ``attrs``."""
@@ -135,6 +171,11 @@ class RecordFeatures:
             {
                 "intensity": ("time", self.intensity, {"units": "m/s2", "long_name": "I_g (RMS)"}),
                 "omega_g": ("time", self.omega_g_rad_s, {"units": "rad/s"}),
+                "omega_g_floor": (
+                    "time",
+                    self.resolution_floor(),
+                    {"units": "rad/s", "long_name": "lowest omega_g resolved"},
+                ),
                 "alpha_g": ("time", self.alpha_g_rad_s, {"units": "rad/s"}),
             },
             coords={"time": time},
@@ -175,12 +216,9 @@ _ZETA_TABLE = np.linspace(1e-3, ZETA_MAX, 1600)
 _Q_TABLE = vanmarcke_q(_ZETA_TABLE)
 
 
-def hann_kernel(length_s: float, spacing_s: float) -> NDArray[np.float64]:
-    """Unit-sum Hann kernel of ``length_s`` sampled every ``spacing_s`` (odd length ≥ 3)."""
-    half = max(1, round(length_s / spacing_s / 2))
-    x = np.arange(-half, half + 1) / (half + 1)
-    k = np.cos(0.5 * math.pi * x) ** 2
-    return np.asarray(k / k.sum())
+def fixed_window_floor(window_s: float) -> float:
+    """Lowest frequency [rad/s] a fixed window of ``window_s`` resolves: one cycle in it."""
+    return 2 * math.pi / window_s
 
 
 def smooth(values: NDArray[np.float64], kernel: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -194,10 +232,9 @@ def crossing_density(
     data: NDArray[np.float64], dt_s: float, frames: NDArray[np.float64], window_s: float
 ) -> NDArray[np.float64]:
     """Zero crossings per second (both directions) at ``frames`` [s], Hann-smoothed."""
-    sign = data >= 0
-    idx = np.flatnonzero(sign[:-1] != sign[1:])
-    a, b = data[idx], data[idx + 1]
-    frac = a / (a - b)  # linear interpolation of the crossing inside the sample interval
+    position = crossing_positions(data)
+    idx = np.minimum(position.astype(np.int64), data.size - 2)  # a crossing at the last sample
+    frac = position - idx
     # Split each crossing between the two neighbouring samples (linear binning): smooth, unbiased.
     counts = np.zeros(data.size)
     np.add.at(counts, idx, 1.0 - frac)
@@ -389,11 +426,15 @@ class FrameSpectra:
 
 @dataclass(frozen=True)
 class FrequencyEstimate:
-    """An estimator's ω_g(t) [rad/s] on the frame grid (NaN where undefined) and the smoothing
-    kernel it applied (unit sum, on the frame grid), which the fit applies to the model too."""
+    """An estimator's ω_g(t) [rad/s] on the frame grid (NaN where undefined), the smoothing
+    kernel it applied (unit sum, on the frame grid), which the fit applies to the model too,
+    the lowest ω_g it resolves at each frame [rad/s] (None: one cycle per ``window_s``) and,
+    when its window changes from frame to frame, each frame's window length [s]."""
 
     omega_g_rad_s: NDArray[np.float64]
     kernel: NDArray[np.float64]
+    floor_rad_s: NDArray[np.float64] | None = None
+    window_s: NDArray[np.float64] | None = None
 
 
 class FrequencyEstimator(Protocol):
@@ -426,10 +467,27 @@ def ridge_estimate(frames: FrameSpectra) -> FrequencyEstimate:
 
 def wavelet_ridge_estimate(frames: FrameSpectra) -> FrequencyEstimate:
     """Maximum of the Morlet spectrum (module docstring)."""
+    from stepframe.stochastic.transforms import cone_of_influence
+
     omega_g = _wavelet_ridge(frames.data, frames.dt_s, frames.hop_s, frames.time_s.size)
     # The Morlet's time support shrinks with frequency; no single kernel describes it, so the
     # fit compares unsmoothed (its Gaussian time spread, 6/ω, is under a second above 1 Hz).
-    return FrequencyEstimate(omega_g, np.ones(1))
+    # Its floor: its lowest band, and the bands clear of the record's ends (cone of influence).
+    duration = (frames.data.size - 1) * frames.dt_s
+    lowest = _wavelet_ridge_lowest_band(frames.data.size, frames.dt_s)
+    cone = cone_of_influence(frames.time_s, duration, _RIDGE_MORLET_Q)
+    return FrequencyEstimate(omega_g, np.ones(1), np.maximum(lowest, cone))
+
+
+def multiwindow_estimate(frames: FrameSpectra) -> FrequencyEstimate:
+    """Moment over windows of three local periods, at least ``window_s`` (module docstring)."""
+    from stepframe.stochastic.multiwindow import multiwindow_frequency
+
+    found = multiwindow_frequency(frames.data, frames.dt_s, frames.time_s, frames.window_s)
+    # Where a frame's window is longer than window_s, the fit's model is smoothed less than
+    # the estimate (docs/stochastic-features.md measures what that costs).
+    kernel = hann_kernel(frames.window_s, frames.hop_s)
+    return FrequencyEstimate(found.omega_rad_s, kernel, found.floor_rad_s, found.window_s)
 
 
 #: The ω_g(t) estimators by name (:data:`stepframe.stochastic.methods.FrequencyMethod` names them).
@@ -438,6 +496,7 @@ FREQUENCY_ESTIMATORS: dict[str, FrequencyEstimator] = {
     "ridge": ridge_estimate,
     "moment": moment_estimate,
     "wavelet-ridge": wavelet_ridge_estimate,
+    "multiwindow": multiwindow_estimate,
 }
 #: Names of the registered estimators, cheap to dear.
 FREQUENCY_METHODS: tuple[str, ...] = tuple(FREQUENCY_ESTIMATORS)
@@ -462,7 +521,7 @@ def record_features(
     record_or_array: Trace | ArrayLike,
     dt_s: float | None = None,
     *,
-    frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing",
+    frequency: FrequencyMethod | FrequencyEstimator = DEFAULT_FREQUENCY_METHOD,
     t0: TimeOrigin = "auto",
     window_s: float = DEFAULT_WINDOW_S,
     hop_s: float = DEFAULT_HOP_S,
@@ -478,8 +537,10 @@ def record_features(
     record_or_array
         ``obspy.Trace`` in m/s², or an array (then ``dt_s`` [s] is needed).
     frequency
-        ω_g estimator: a name of :data:`FREQUENCY_ESTIMATORS` (``"zero-crossing"``, default;
-        ``"ridge"``, ``"moment"``, ``"wavelet-ridge"``) or a :class:`FrequencyEstimator`.
+        ω_g estimator: a name of :data:`FREQUENCY_ESTIMATORS`
+        (:data:`~stepframe.stochastic.methods.DEFAULT_FREQUENCY_METHOD`, ``"zero-crossing"``, by
+        default; ``"ridge"``, ``"moment"``, ``"wavelet-ridge"``, ``"multiwindow"``) or a
+        :class:`FrequencyEstimator`.
     t0
         Time origin: ``"auto"`` (default: the picked P onset when the pick is reliable,
         :attr:`Arrivals.reliable`, else the record start), ``"start"`` (record start) or
@@ -538,6 +599,11 @@ def record_features(
         FrameSpectra(data, dt, window_s, hop, time_s, omega, psd, window, omega_moment)
     )
     omega_g, omega_kernel = estimate.omega_g_rad_s, estimate.kernel
+    floor = (
+        np.full(time_s.shape, fixed_window_floor(window_s))
+        if estimate.floor_rad_s is None
+        else np.asarray(estimate.floor_rad_s, dtype=np.float64)
+    )
     alpha_g = zeta * np.where(np.isfinite(omega_moment), omega_moment, omega_g)
     p_onset = s_arrival = None
     t0_s = 0.0
@@ -581,8 +647,12 @@ def record_features(
     finite = np.isfinite(omega_g[strong])
     if finite.sum() < 5:
         flags.append("few_frequency_estimates")
-    elif np.nanmax(omega_g[strong]) > 0.5 * nyquist:
-        flags.append("band_limited")
+    else:
+        if np.nanmax(omega_g[strong]) > 0.5 * nyquist:
+            flags.append("band_limited")
+        resolved = omega_g[strong][finite] >= floor[strong][finite]
+        if np.mean(~resolved) > BELOW_FLOOR_SHARE:
+            flags.append("omega_below_floor")
     return RecordFeatures(
         time_s=time_s,
         intensity=np.asarray(intensity),
@@ -605,6 +675,8 @@ def record_features(
         t_max_stderr_s=t_peak_se,
         t0_source=t0_source,
         p_pick_snr=p_snr,
+        omega_floor_rad_s=floor,
+        omega_window_s=estimate.window_s,
     )
 
 
@@ -680,6 +752,15 @@ def _power_kernel(window: NDArray[np.float64], dt_s: float, hop_s: float) -> NDA
     return np.asarray(k / k.sum())
 
 
+#: Relative bandwidth ω/σ of the wavelet-ridge estimator's Morlet bands.
+_RIDGE_MORLET_Q = 6.0
+
+
+def _wavelet_ridge_lowest_band(npts: int, dt_s: float) -> float:
+    """The wavelet ridge's lowest band [rad/s]: q cycles in the record, at least 0.2 rad/s."""
+    return max(2 * math.pi / (npts * dt_s) * _RIDGE_MORLET_Q, 0.2)
+
+
 def _wavelet_ridge(
     data: NDArray[np.float64], dt_s: float, hop_s: float, n_frames: int
 ) -> NDArray[np.float64]:
@@ -687,9 +768,11 @@ def _wavelet_ridge(
     from stepframe.stochastic.transforms import wavelet_power
 
     nyquist = math.pi / dt_s
-    low = max(2 * math.pi / (data.size * dt_s) * 6.0, 0.2)
+    low = _wavelet_ridge_lowest_band(data.size, dt_s)
     omega = np.geomspace(low, 0.8 * nyquist, 160)
-    _, omega, psd = wavelet_power(data, dt_s, hop_s=hop_s, omega_rad_s=omega)
+    _, omega, psd = wavelet_power(
+        data, dt_s, hop_s=hop_s, omega_rad_s=omega, morlet_q=_RIDGE_MORLET_Q
+    )
     # Ridge of |u|² = S·2σ_j/√π ∝ S·ω (the band's power, not its density): a line's band power
     # peaks at its frequency, while its density (divided by σ_j ∝ ω_j) peaks ~1/q² lower.
     psd = psd[:n_frames] * omega[None, :]

@@ -1,6 +1,6 @@
 """Fit of the Beck-Papadimitriou parameters (ω_p, ω_s, ω_r, ξ_p, ξ_r) to a record's features.
 
-Method (weighted least squares, two stages):
+Method (weighted least squares, two steps):
 
 1. ω_p, ω_s, ω_r: eq. 6.10 with the record's t_max and t0 is evaluated on the frame grid and
    smoothed by the same kernel as the ω_g(t) estimate (so the fit compares like with like: a
@@ -144,6 +144,76 @@ def _omega_curve(
     return np.asarray(r + (p - r) * np.power(rho, tau / t_max_s))
 
 
+#: Floor on ρ in the derivative ∂ρ^x/∂ρ = xρ^(x-1), which diverges at ρ = 0 for 0 < x < 1: a fit
+#: that reaches the bound (flagged ``omega_s_at_bound``) keeps a finite slope there, at most
+#: about 1e150·ω_p, whose square still fits in a float.
+_RHO_FLOOR = 1e-150
+
+
+class _OmegaResiduals:
+    """Residuals of the eq. 6.10 fit and their analytic Jacobian in θ = (ω_p, ρ, f).
+
+    With ω(τ) = r + (p - r)ρ^x, x = τ/t_max, r = fp, and the smoothing S linear with S(1) = 1,
+    the smoothed model is m = r + (p - r)·S(ρ^x) and its derivatives are
+
+        ∂m/∂p = f + (1 - f)·S(ρ^x),   ∂m/∂ρ = (1 - f)p·S(xρ^(x-1)),   ∂m/∂f = p(1 - S(ρ^x)).
+
+    The residuals are √w (o - m)/√m on the fitted frames (crossing counts are roughly Poisson:
+    variance ∝ rate), whose derivative is -√w (o + m)/(2 m^(3/2)) · ∂m. Two smoothings per
+    iteration where a finite-difference Jacobian needs four; S(ρ^x) is kept from the residual
+    for the Jacobian at the same θ (the solver asks for both).
+    """
+
+    def __init__(
+        self,
+        tau: NDArray[np.float64],
+        obs: NDArray[np.float64],
+        weight: NDArray[np.float64],
+        use: NDArray[np.bool_],
+        kernel: NDArray[np.float64],
+        t_max_s: float,
+    ) -> None:
+        self.x = tau / t_max_s
+        self.moving = self.x > 0.0
+        self.x_moving = self.x[self.moving]
+        self.observed = obs[use]
+        self.sw = np.sqrt(weight[use])
+        self.use = use
+        self.kernel = kernel
+        self._key: tuple[float, float, float] | None = None
+        self._decay = np.empty(0)
+
+    def _smoothed_decay(self, theta: NDArray[np.float64]) -> NDArray[np.float64]:
+        """S(ρ^x) on the fitted frames."""
+        key = (float(theta[0]), float(theta[1]), float(theta[2]))
+        if key != self._key:
+            self._decay = smooth(np.power(key[1], self.x), self.kernel)[self.use]
+            self._key = key
+        return self._decay
+
+    def model(self, theta: NDArray[np.float64]) -> NDArray[np.float64]:
+        """m(θ), the smoothed eq. 6.10 on the fitted frames [rad/s]."""
+        p, f = float(theta[0]), float(theta[2])
+        return np.asarray(f * p + (1.0 - f) * p * self._smoothed_decay(theta))
+
+    def residual(self, theta: NDArray[np.float64]) -> NDArray[np.float64]:
+        """√w (o - m)/√m on the fitted frames."""
+        model = self.model(theta)
+        return np.asarray(self.sw * (self.observed - model) / np.sqrt(model))
+
+    def jacobian(self, theta: NDArray[np.float64]) -> NDArray[np.float64]:
+        """∂(residual)/∂(ω_p, ρ, f), shape (fitted frames, 3)."""
+        p, rho, f = float(theta[0]), max(float(theta[1]), _RHO_FLOOR), float(theta[2])
+        decay = self._smoothed_decay(theta)
+        model = f * p + (1.0 - f) * p * decay
+        slope = np.zeros_like(self.x)
+        slope[self.moving] = self.x_moving * np.power(rho, self.x_moving - 1.0)
+        d_rho = (1.0 - f) * p * smooth(slope, self.kernel)[self.use]
+        d_model = np.column_stack([f + (1.0 - f) * decay, d_rho, p * (1.0 - decay)])
+        factor = -self.sw * (self.observed + model) / (2.0 * model * np.sqrt(model))
+        return np.asarray(d_model * factor[:, None])
+
+
 def _fit_omega(
     tau: NDArray[np.float64],
     obs: NDArray[np.float64],
@@ -154,33 +224,63 @@ def _fit_omega(
     start: NDArray[np.float64],
     p_bounds: tuple[float, float],
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """θ = (ω_p, ρ, f) of eq. 6.10 fitted to ω_g(t) within bounds; the residuals' Jacobian and
+    the residuals at the solution.
+
+    MINPACK's Levenberg-Marquardt runs on θ = middle + half·sin(u), which keeps θ within the
+    bounds, with the analytic Jacobian: its loop is compiled, a fifth of the cost per iteration
+    of ``trf`` (bounds handled in Python) on this 3-parameter problem. The sine's slope vanishes
+    at a bound, where LM creeps, so a solution in a flagged bound region is finished by ``trf``
+    from there (two iterations for most). Half the cost of the former ``trf`` with a
+    finite-difference Jacobian, at costs within 1e-6 of it (docs/benchmarks.md, issue 29).
+    """
     from scipy.optimize import least_squares
 
-    sw = np.sqrt(weight[use])
+    fit = _OmegaResiduals(tau, obs, weight, use, kernel, t_max_s)
+    lower = np.array([p_bounds[0], 0.0, _MIN_R_OVER_P])
+    upper = np.array([p_bounds[1], 1.0, 1.0 - 1e-9])
+    half = 0.5 * (upper - lower)
+    middle = lower + half
 
-    def residual(theta: NDArray[np.float64]) -> NDArray[np.float64]:
-        model = smooth(_omega_curve(theta, tau, t_max_s), kernel)
-        # Crossing counts are roughly Poisson: variance ∝ rate, so scale residuals by √model.
-        return np.asarray(sw * (obs[use] - model[use]) / np.sqrt(model[use]))
+    def theta_of(u: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.asarray(middle + half * np.sin(u))
 
-    lower = [p_bounds[0], 0.0, _MIN_R_OVER_P]
-    upper = [p_bounds[1], 1.0, 1.0 - 1e-9]
-    x0 = np.clip(start, np.add(lower, 1e-9), np.subtract(upper, 1e-9))
-    result = least_squares(
-        residual,
-        x0,
-        bounds=(lower, upper),
-        x_scale=[float(x0[0]), 0.1, 0.1],
-        method="trf",
-        ftol=1e-6,  # parameters to ~1e-6 relative: far below their standard errors
-        xtol=1e-6,
-    )
-    theta = np.asarray(result.x, dtype=np.float64)
-    return (
-        theta,
-        np.asarray(result.jac, dtype=np.float64),
-        np.asarray(result.fun, dtype=np.float64),
-    )
+    def residual_u(u: NDArray[np.float64]) -> NDArray[np.float64]:
+        return fit.residual(theta_of(u))
+
+    def jacobian_u(u: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.asarray(fit.jacobian(theta_of(u)) * (half * np.cos(u))[None, :])
+
+    x0 = np.clip(start, lower + 1e-9, upper - 1e-9)
+    tol = 1e-6  # parameters to ~1e-6 relative: far below their standard errors
+    found = least_squares(
+        residual_u, np.arcsin((x0 - middle) / half), jac=jacobian_u, method="lm", x_scale=1.0,
+        ftol=tol, xtol=tol,
+    )  # fmt: skip
+    theta = theta_of(found.x)
+    if _bound_flags(theta, p_bounds):
+        x1 = np.clip(theta, lower + 1e-9, upper - 1e-9)
+        found = least_squares(
+            fit.residual, x1, jac=fit.jacobian, bounds=(lower, upper),
+            x_scale=[float(x1[0]), 0.1, 0.1], method="trf", ftol=tol, xtol=tol,
+        )  # fmt: skip
+        theta = np.asarray(found.x, dtype=np.float64)
+    return theta, fit.jacobian(theta), fit.residual(theta)
+
+
+def _bound_flags(theta: NDArray[np.float64], p_bounds: tuple[float, float]) -> list[str]:
+    """The flags of a fit whose θ = (ω_p, ρ, f) lies at or near a bound of the search."""
+    p, rho, f = float(theta[0]), float(theta[1]), float(theta[2])
+    flags = []
+    if f >= 0.999:
+        flags.append("omega_not_decreasing")
+    if p >= 0.999 * p_bounds[1] or p <= 1.001 * p_bounds[0]:
+        flags.append("omega_p_at_bound")
+    if rho <= 1e-3 or rho >= 0.999:
+        flags.append("omega_s_at_bound")
+    if f <= 1.001 * _MIN_R_OVER_P:
+        flags.append("omega_r_at_bound")
+    return flags
 
 
 def _start(
@@ -280,14 +380,7 @@ def fit_model(
     p_bounds = (0.5 * float(measured.min()), 1.5 * float(measured.max()))
     theta, jac, fun = _fit_omega(tau, obs_filled, weight, use, kernel, t_max, start, p_bounds)
     p, s, r = _psr(theta)
-    if theta[2] >= 0.999:
-        flags.append("omega_not_decreasing")
-    if theta[0] >= 0.999 * p_bounds[1] or theta[0] <= 1.001 * p_bounds[0]:
-        flags.append("omega_p_at_bound")
-    if theta[1] <= 1e-3 or theta[1] >= 0.999:
-        flags.append("omega_s_at_bound")
-    if theta[2] <= 1.001 * _MIN_R_OVER_P:
-        flags.append("omega_r_at_bound")
+    flags.extend(_bound_flags(theta, p_bounds))
     inflation = max(1.0, features.window_s / features.hop_s)
     cov_theta = least_squares_covariance(jac, fun, inflation)
     to_psr = _psr_jacobian(theta)

@@ -39,6 +39,11 @@ FLAGS: dict[str, tuple[bool, str]] = {
         False,
         "omega_g in strong motion exceeds half the Nyquist frequency (the estimate is biased low)",
     ),
+    "omega_below_floor": (
+        False,
+        "omega_g in over 10 % of the strong-motion frames is below the estimator's resolution "
+        "floor there (2 pi/window for a fixed window; frequency=multiwindow resolves lower)",
+    ),
     "omega_not_decreasing": (
         True,
         "omega_r = omega_p within 0.1 %: omega_g(t) does not fall (eq. 6.10 degenerates)",

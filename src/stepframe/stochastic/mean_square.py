@@ -616,7 +616,7 @@ def _filter_kernel(
     phif = np.empty((n, 4))
     frows = np.empty((n, nodes.size, 2))
     for k in range(n):
-        phif[k] = _propagator(wg[k] ** 2, ag[k], h)
+        phif[k, 0], phif[k, 1], phif[k, 2], phif[k, 3] = _propagator(wg[k] ** 2, ag[k], h)
         for m in range(nodes.size):
             p = _propagator(wg[k] ** 2, ag[k], nodes[m])
             frows[k, m, 0] = p[0]

@@ -11,7 +11,14 @@ local mean square is ``(1/π) ∫_0^∞ S dω``.
 - ``"wavelet"``: analytic Morlet (Gaussian band-pass, constant relative bandwidth
   ``1/morlet_q``) computed by FFT; ``S(ω_j, t) = √π |u_j(t)|² / (2 σ_j)`` with σ_j = ω_j/q,
   the density of a spectrum flat across the band. The identity holds approximately (the bands do
-  not partition unity): within 8 % on a stationary eq. 6.12 process (tested).
+  not partition unity): within 8 % on a stationary eq. 6.12 process (tested). Constant Q: the
+  default bands reach down to 2√2·q/T on a record of T s (0.38 rad/s on 45 s with q = 6), the
+  bottom of a frame's band where the record is long enough.
+
+Every result has the coordinate ``omega_floor`` (dim ``time``): the lowest frequency resolved
+at each frame [rad/s]: 2π/``window_s`` for the STFT (one cycle in the window), the cone of
+influence √2·q/d for the wavelet (d the time to the nearer record end,
+:func:`stepframe.stochastic.transforms.cone_of_influence`), 0 for the parametric model.
 - ``"parametric"``: eq. 6.12 of the model fitted to the record (:mod:`stepframe.stochastic.fit`)
   times the record's I_g(t)² (:func:`stepframe.stochastic.features.record_features`).
 """
@@ -26,13 +33,19 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from stepframe.errors import InputError
-from stepframe.stochastic.features import FrequencyEstimator, TimeOrigin, record_features
+from stepframe.stochastic.features import (
+    FrequencyEstimator,
+    TimeOrigin,
+    fixed_window_floor,
+    record_features,
+)
 from stepframe.stochastic.fit import fit_model
-from stepframe.stochastic.methods import FrequencyMethod, SpectrumMethod
+from stepframe.stochastic.methods import DEFAULT_FREQUENCY_METHOD, FrequencyMethod, SpectrumMethod
 from stepframe.stochastic.transforms import (
     DEFAULT_HOP_S,
     DEFAULT_WINDOW_S,
     FftBackend,
+    cone_of_influence,
     record_samples,
     stft_power,
     wavelet_power,
@@ -54,15 +67,22 @@ class SpectrumOptions:
     omega_rad_s: ArrayLike | None = None
     morlet_q: float = 6.0
     t0: TimeOrigin = "start"
-    frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing"
+    frequency: FrequencyMethod | FrequencyEstimator = DEFAULT_FREQUENCY_METHOD
 
 
+#: The attribute a spectrum method may set to state its per-frame floor (see SpectrumFunction).
+FLOOR = "omega_floor_rad_s"
 #: What a spectrum method returns: frame times [s], ω ≥ 0 [rad/s], S (time × ω) and attributes.
 SpectrumParts = tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], dict[str, Any]]
 
 
 class SpectrumFunction(Protocol):
-    """An evolutionary-spectrum method: validated samples [m/s²], dt [s] and options in."""
+    """An evolutionary-spectrum method: validated samples [m/s²], dt [s] and options in.
+
+    Its attributes may hold ``omega_floor_rad_s``, the lowest frequency it resolves at each
+    frame (an array over time [rad/s]), which becomes the result's ``omega_floor`` coordinate
+    (absent: 0, nothing stated).
+    """
 
     __name__: str
 
@@ -78,7 +98,9 @@ def stft_spectrum(
     time_s, omega, psd, _ = stft_power(
         data, dt_s, window_s=options.window_s, hop_s=options.hop_s, fft=options.fft
     )
-    return time_s, omega, psd, {"window": "hann", "window_s": options.window_s, "fft": options.fft}
+    floor = np.full(time_s.shape, fixed_window_floor(options.window_s))
+    attrs = {"window": "hann", "window_s": options.window_s, "fft": options.fft}
+    return time_s, omega, psd, {**attrs, FLOOR: floor}
 
 
 def wavelet_spectrum(
@@ -89,7 +111,8 @@ def wavelet_spectrum(
     time_s, omega, psd = wavelet_power(
         data, dt_s, hop_s=options.hop_s, omega_rad_s=options.omega_rad_s, morlet_q=options.morlet_q
     )
-    return time_s, omega, psd, {"wavelet": "morlet", "morlet_q": options.morlet_q}
+    floor = cone_of_influence(time_s, (data.size - 1) * dt_s, options.morlet_q)
+    return time_s, omega, psd, {"wavelet": "morlet", "morlet_q": options.morlet_q, FLOOR: floor}
 
 
 def parametric_spectrum(
@@ -147,7 +170,7 @@ def evolutionary_spectrum(
     omega_rad_s: ArrayLike | None = None,
     morlet_q: float = 6.0,
     t0: TimeOrigin = "start",
-    frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing",
+    frequency: FrequencyMethod | FrequencyEstimator = DEFAULT_FREQUENCY_METHOD,
 ) -> xr.DataArray:
     """Evolutionary power spectral density S(ω, t) of a record.
 
@@ -181,7 +204,9 @@ def evolutionary_spectrum(
     -------
     xarray.DataArray
         Dims (``time``, ``omega``): ``time`` [s] from the record start, ``omega`` ≥ 0 [rad/s];
-        values of the two-sided S [(m/s²)²·s/rad] with ``I_g² = (1/π)∫_0^∞ S dω``.
+        values of the two-sided S [(m/s²)²·s/rad] with ``I_g² = (1/π)∫_0^∞ S dω``; the
+        coordinate ``omega_floor`` (dim ``time``) is the lowest frequency resolved at each frame
+        [rad/s] (module docstring).
 
     Raises
     ------
@@ -197,14 +222,18 @@ def evolutionary_spectrum(
     options = SpectrumOptions(window_s, hop_s, fft, omega_rad_s, morlet_q, t0, frequency)
     time_s, omega, psd, found = _spectrum_method(method)(data, dt, options)
     name = method if isinstance(method, str) else getattr(method, "__name__", "custom")
+    found = dict(found)
+    floor = np.asarray(found.pop(FLOOR, np.zeros(time_s.shape)), dtype=np.float64)
     attrs: dict[str, Any] = {"method": name, **found}
     attrs.update(units="(m/s2)2 s/rad", long_name="two-sided evolutionary PSD of acceleration")
+    floor_attrs = {"units": "rad/s", "long_name": "lowest frequency resolved"}
     return xr.DataArray(
         psd,
         dims=("time", "omega"),
         coords={
             "time": ("time", time_s, {"units": "s", "long_name": "time from record start"}),
             "omega": ("omega", omega, {"units": "rad/s", "long_name": "angular frequency"}),
+            "omega_floor": ("time", np.broadcast_to(floor, time_s.shape).copy(), floor_attrs),
         },
         name="psd",
         attrs=attrs,

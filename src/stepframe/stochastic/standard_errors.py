@@ -25,8 +25,16 @@ def least_squares_covariance(
     -------
     numpy.ndarray, shape (k, k)
         In the units of the parameters squared. The pseudo-inverse keeps a rank-deficient fit
-        finite; at least one degree of freedom is assumed.
+        finite (the columns of J are scaled first, so its cutoff is relative to each parameter's
+        own scale); at least one degree of freedom is assumed.
     """
     n, k = jacobian.shape
     sigma2 = float(residual @ residual) / max(n - k, 1)
-    return np.asarray(np.linalg.pinv(jacobian.T @ jacobian) * (sigma2 * inflation))
+    # Columns scaled to a largest entry of 1 first: the pseudo-inverse's cutoff is relative to
+    # the largest singular value, and a parameter with a huge derivative (a fit that ran to a
+    # bound) would otherwise cut off, and zero, the variances of all the others.
+    scale = np.max(np.abs(jacobian), axis=0)
+    scale[~(scale > 0.0) | ~np.isfinite(scale)] = 1.0
+    scaled = jacobian / scale
+    inverse = np.linalg.pinv(scaled.T @ scaled) / np.outer(scale, scale)
+    return np.asarray(inverse * (sigma2 * inflation))

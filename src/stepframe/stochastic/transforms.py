@@ -167,13 +167,18 @@ def wavelet_power(
     omega_rad_s: ArrayLike | None = None,
     morlet_q: float = 6.0,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-    """Morlet-wavelet evolutionary spectrum (time, omega, S) on frames every ``hop_s``."""
+    """Morlet-wavelet evolutionary spectrum (time, omega, S) on frames every ``hop_s``.
+
+    The default bands (96, log-spaced) run from the lowest frequency outside the cone of
+    influence anywhere in the record, 2√2·q/T (:func:`cone_of_influence`; at least 0.2 rad/s),
+    to 0.8 × Nyquist.
+    """
     import scipy.fft as sfft
 
     npts = data.size
     nyquist = math.pi / dt_s
     if omega_rad_s is None:
-        low = max(2 * math.pi / (npts * dt_s) * morlet_q, 0.2)
+        low = max(2 * math.sqrt(2.0) * morlet_q / (npts * dt_s), 0.2)
         omega = np.geomspace(low, 0.8 * nyquist, 96)
     else:
         omega = np.asarray(omega_rad_s, dtype=np.float64)
@@ -200,12 +205,49 @@ def wavelet_power(
     return np.asarray(frames * dt_s, dtype=np.float64), omega, psd
 
 
+def cone_of_influence(
+    time_s: NDArray[np.float64], duration_s: float, morlet_q: float
+) -> NDArray[np.float64]:
+    """Lowest frequency [rad/s] of the Morlet spectrum of :func:`wavelet_power` outside the cone
+    of influence at each time [s] of a record ``duration_s`` long.
+
+    The band at ω has the power envelope exp(-(ω t/q)²) in time, which falls by e⁻² at
+    √2·q/ω: the edge effects of a band reach that far into the record (the e-folding time of
+    Torrence and Compo 1998, "A practical guide to wavelet analysis", BAMS 79, 61-78, for the
+    Morlet wavelet). At a time d from the nearer end the bands down to √2·q/d are clear of them
+    (infinite at the ends).
+    """
+    edge = np.clip(np.minimum(time_s, duration_s - time_s), 0.0, None)
+    with np.errstate(divide="ignore"):
+        return np.asarray(math.sqrt(2.0) * morlet_q / edge)
+
+
+def hann_kernel(length_s: float, spacing_s: float) -> NDArray[np.float64]:
+    """Unit-sum Hann kernel of ``length_s`` sampled every ``spacing_s`` (odd length ≥ 3)."""
+    half = max(1, round(length_s / spacing_s / 2))
+    x = np.arange(-half, half + 1) / (half + 1)
+    k = np.cos(0.5 * math.pi * x) ** 2
+    return np.asarray(k / k.sum())
+
+
+def crossing_positions(data: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Zero crossings (both directions) in samples from the first, interpolated linearly
+    between the two samples either side."""
+    sign = data >= 0
+    idx = np.flatnonzero(sign[:-1] != sign[1:])
+    a, b = data[idx], data[idx + 1]
+    return np.asarray(idx + a / (a - b))
+
+
 __all__ = [
     "DEFAULT_HOP_S",
     "DEFAULT_WINDOW_S",
     "FftBackend",
     "StftEngine",
+    "cone_of_influence",
+    "crossing_positions",
     "fft_backend",
+    "hann_kernel",
     "record_samples",
     "stft_power",
     "wavelet_power",

@@ -5,7 +5,10 @@ Modules: :mod:`~stepframe.structure.frame` (PortalFrame, AFrame, eqs. 4.6-4.16),
 and :mod:`~stepframe.structure.quasi_dynamic` (Part 1 of the paper: fixed points, stability),
 :mod:`~stepframe.structure.damping`, :mod:`~stepframe.structure.simulator` (eqs. 4.11-4.12 with
 impact; its status and event codes in :mod:`~stepframe.structure.status`),
-:mod:`~stepframe.structure.period_amplitude` (the free-vibration law T(A)) and
+:mod:`~stepframe.structure.period_amplitude` (the free-vibration law T(A)),
+:mod:`~stepframe.structure.aframe_hysteretic` (the A-frame with its hysteretic damping and
+sticking), :mod:`~stepframe.structure.rocking_block` (Housner's block beyond small angles),
+:mod:`~stepframe.structure.work` (work estimates checked before a run) and
 :mod:`~stepframe.structure.plots`. The names below are imported when first used (module
 ``__getattr__``), so importing this package stays cheap.
 """

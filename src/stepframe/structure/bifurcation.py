@@ -15,7 +15,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from stepframe.errors import InputError
-from stepframe.structure.harmonic import DEFAULT_MAX_EVENTS, frame_parameters
+from stepframe.structure.harmonic import (
+    DEFAULT_MAX_EVENTS,
+    frame_parameters,
+    harmonic_work_units,
+)
 
 if TYPE_CHECKING:
     from concurrent.futures import Executor
@@ -61,6 +65,23 @@ def _omega_chunk(item: tuple[Any, ...]) -> tuple[np.ndarray, np.ndarray]:
 
 def _omega_chunk_name(item: tuple[Any, ...]) -> str:
     return f"ω = {item[2][0]:.6g}..{item[2][-1]:.6g} rad/s"
+
+
+def _check_sweep_work(
+    prm: np.ndarray, omegas: list[float], periods_each: float, samples: float, workers: int,
+    what: str,
+) -> None:  # fmt: skip
+    """Refuse a sweep whose work (``periods_each`` forcing periods at every ω) passes the limit
+    times the workers (:mod:`stepframe.structure.work`)."""
+    from stepframe.structure import work
+
+    units = sum(
+        harmonic_work_units(prm, om, periods_each * 2.0 * math.pi / om, 0.0) for om in omegas
+    )
+    work.check_work(
+        units + samples, what, "ask for fewer values, initial states or periods",
+        limit=work.MAX_WORK_UNITS * max(workers, 1),
+    )  # fmt: skip
 
 
 def initial_states(frame: FrameLike, n: int, *, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
@@ -149,6 +170,11 @@ def bifurcation_diagram(
         if x0.shape != v0.shape:
             raise InputError("x0_m and v0_m_s have different lengths, expected equal")
     workers = jobs if jobs is not None else (os.cpu_count() or 1)
+    runs = amps.size * x0.size
+    _check_sweep_work(
+        prm, [float(omega_rad_s)], runs * n_periods, runs * n_keep, workers,
+        f"{amps.size} amplitudes × {x0.size} initial states × {n_periods} periods",
+    )  # fmt: skip
     size = chunk_amplitudes or max(1, math.ceil(amps.size / (4 * max(workers, 1))))
     starts = list(range(0, amps.size, size))
     items = [
@@ -291,6 +317,10 @@ def frequency_diagram(
         if x0.shape != v0.shape:
             raise InputError("x0_m and v0_m_s have different lengths, expected equal")
     workers = jobs if jobs is not None else (os.cpu_count() or 1)
+    _check_sweep_work(
+        prm, list(oms), x0.size * n_periods, x0.size * n_keep * oms.size, workers,
+        f"{oms.size} frequencies × {x0.size} initial states × {n_periods} periods",
+    )  # fmt: skip
     size = max(1, math.ceil(oms.size / (4 * max(workers, 1))))
     starts = list(range(0, oms.size, size))
     items = [

@@ -417,6 +417,65 @@ class PortalFrame:
         )
 
 
+@dataclass(frozen=True)
+class RockingBlock:
+    """A rigid rectangular block on a rigid base (SI units), for the full nonlinear rocking
+    equation of :mod:`stepframe.structure.rocking_block` (its small-angle model:
+    :meth:`linearised`, :meth:`PortalFrame.housner_block`).
+
+    Attributes
+    ----------
+    half_width_m, half_height_m
+        b and h [m].
+    g_m_s2
+        Gravity [m/s²] (9.81, the paper's value, as
+        :meth:`~stepframe.structure.frame.PortalFrame.housner_block`).
+    c_r
+        Velocity ratio at impact (None: Housner's 1 - (3/2)sin²α); Housner's energy ratio r is
+        its square.
+    """
+
+    half_width_m: float
+    half_height_m: float
+    g_m_s2: float = PAPER_G_M_S2
+    c_r: float | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("half_width_m", "half_height_m", "g_m_s2"):
+            _positive(name, getattr(self, name))
+        if self.c_r is not None:
+            in_range("c_r", self.c_r, 0.0, 1.0)
+
+    @property
+    def alpha_rad(self) -> float:
+        """Slenderness α = atan(b/h) [rad]."""
+        return math.atan2(self.half_width_m, self.half_height_m)
+
+    @property
+    def p_rad_s(self) -> float:
+        """Frequency parameter p = √(3g/(4R)) [rad/s]."""
+        return math.sqrt(
+            3.0 * self.g_m_s2 / (4.0 * math.hypot(self.half_width_m, self.half_height_m))
+        )
+
+    @property
+    def restitution(self) -> float:
+        """C_r used at impacts (the given one, or Housner's 1 - (3/2)sin²α)."""
+        return 1.0 - 1.5 * math.sin(self.alpha_rad) ** 2 if self.c_r is None else self.c_r
+
+    @property
+    def uplift_acceleration_m_s2(self) -> float:
+        """Ground acceleration that lifts the block off at rest, g·tan α [m/s²]."""
+        return self.g_m_s2 * self.half_width_m / self.half_height_m
+
+    def linearised(self) -> PortalFrame:
+        """The small-angle model of the same block (x = hθ, uplift at g·α)."""
+        return PortalFrame.housner_block(
+            half_width_m=self.half_width_m, half_height_m=self.half_height_m,
+            g_m_s2=self.g_m_s2, c_r=self.restitution,
+        )  # fmt: skip
+
+
 # --------------------------------------------------------------------- physical relations
 def onset_of_stepping_m(k_a_n_m: float, h_r_m: float, w_s_n: float, w_col_one_n: float) -> float:
     """x_c: the smallest root of eq. 4.10, W_S/2 + W_col = ½ K_a x_c sin(2 x_c / H_r).
@@ -532,6 +591,20 @@ def overturning_displacement_m(w_s_n: float, w_col_n: float, h_r_m: float, l_f_m
 
 
 # --------------------------------------------------------------------- A-frame
+class EquivalentViscousWarning(UserWarning):
+    """The A-frame's hysteretic damping replaced by viscous damping: results carry its error."""
+
+
+#: The equivalent-viscous route's error on the peak, measured against the hysteretic A-frame
+#: (``python bench/bench_structure_models.py``, docs/structure-dynamics.md).
+EQUIVALENT_VISCOUS_NOTE = (
+    "equivalent-viscous damping in place of the A-frame's hysteretic damping (eq. 4.1): against "
+    "the exact hysteretic model (stepframe.structure.aframe_hysteretic.simulate_aframe) the peak "
+    "|x| erred by a median 8.1 % and up to +567 % over 3 frames × 100 FEMA P695 records × 4 "
+    "intensities, and the overturning verdict differed in 97 of 1200 runs"
+)
+
+
 @dataclass(frozen=True)
 class AFrame:
     """Lateral model of the stepping A-frame, eqs. 4.1-4.2 (vertical coordinates omitted).
@@ -638,7 +711,10 @@ class AFrame:
         hysteretic
             ``"refuse"`` (default): raise :class:`InputError` when ξ₁ > 0.
             ``"equivalent-viscous"``: replace the hysteretic term by viscous damping ξ₁, which
-            dissipates the same energy per cycle at ω = ω₁ (and more above, less below it).
+            dissipates the same energy per cycle at ω = ω₁ (and more above, less below it), and
+            cannot stick; it warns (:class:`EquivalentViscousWarning`) with the error measured
+            over records and frames (:data:`EQUIVALENT_VISCOUS_NOTE`). The exact route is
+            :func:`stepframe.structure.aframe_hysteretic.simulate_aframe`.
         """
         if hysteretic not in ("refuse", "equivalent-viscous"):
             raise InputError(
@@ -649,6 +725,10 @@ class AFrame:
                 f"xi_1 = {self.xi_1} is hysteretic damping (eq. 4.1), expected 0 for an exact "
                 "portal-frame form, or hysteretic='equivalent-viscous'"
             )
+        if self.xi_1 > 0:
+            import warnings
+
+            warnings.warn(EQUIVALENT_VISCOUS_NOTE, EquivalentViscousWarning, stacklevel=2)
         omega_2, gamma_1, p_2 = self.stepped_constants
         return PortalFrame(
             omega_1_rad_s=self.omega_1_rad_s,

@@ -21,11 +21,13 @@ the key.
 from __future__ import annotations
 
 import re
+import warnings
 from collections.abc import Mapping
 from os import PathLike
 from typing import Any
 
 from stepframe.core.io import read_toml
+from stepframe.core.options import Range
 from stepframe.core.validation import damping_fraction
 from stepframe.errors import InputError
 from stepframe.structure.frame import W_COL_CONVENTIONS, PortalFrame
@@ -68,6 +70,51 @@ TABLES: dict[str, dict[str, str]] = {
 
 _TEXT_KEYS = {("frame", "name"), ("conventions", "w_col_convention")}
 
+#: The plausible range of each number of a frame file, as the record readers check their
+#: headers: a bridge pier between a lab model (10 kg, 0.1 m) and the largest piers built.
+#: A value outside is refused with the range (10⁴⁰⁰, 1e308, NaN, 5 N of superstructure).
+PLAUSIBLE: dict[tuple[str, str], Range] = {
+    ("frame", "c_r"): Range(0, 1),
+    ("frame", "x_c_m"): Range(0, 10),
+    ("frame", "x_cap_m"): Range(0, 100, low_open=True),
+    ("physical", "w_s_n"): Range(1e2, 1e10),
+    ("physical", "w_col_n"): Range(0, 1e10, low_open=True),
+    ("physical", "h_r_m"): Range(0.1, 300),
+    ("physical", "l_f_m"): Range(0.05, 300),
+    ("physical", "k_a_n_m"): Range(1e3, 1e13),
+    ("physical", "k_b_n_m"): Range(1e2, 1e13),
+    ("constants", "omega_1_rad_s"): Range(0, 2000, low_open=True),
+    ("constants", "omega_2_rad_s"): Range(0, 2000, low_open=True),
+    ("constants", "p_1"): Range(0, 10, low_open=True),
+    ("constants", "p_2"): Range(0, 10, low_open=True),
+    ("constants", "gamma_1_m_s2"): Range(0, 1e4, low_open=True),
+    ("block", "half_width_m"): Range(0, 100, low_open=True),
+    ("block", "half_height_m"): Range(0, 100, low_open=True),
+    ("conventions", "l_m"): Range(0, 300, low_open=True),
+    ("conventions", "g_m_s2"): Range(9.7, 9.9),
+}
+
+
+class FrameFileWarning(UserWarning):
+    """A frame file gives a value that the route it takes does not use."""
+
+
+def _ignored_on_constants(values: dict[str, dict[str, Any]]) -> list[str]:
+    """The keys a ``[constants]`` frame gives but does not use: eqs. 4.10 and 4.15-4.16 derive
+    only what ``[frame]`` does not give. (``k_b_n_m`` is not named: the template keeps it so
+    that removing ``[constants]`` switches to the physical route.)"""
+    frame, physical, conventions = values["frame"], values["physical"], values["conventions"]
+    unused: list[tuple[str, str, str]] = []
+    if "x_c_m" in frame:
+        unused.append(("physical", "k_a_n_m", "x_c_m"))
+    if "c_r" in frame:
+        unused.append(("conventions", "g_m_s2", "c_r"))
+    if {"x_c_m", "c_r", "x_cap_m"} <= set(frame):
+        unused += [("physical", key, "x_c_m, c_r and x_cap_m") for key in ("w_s_n", "w_col_n",
+                   "l_f_m")]  # fmt: skip
+    given = {"physical": physical, "conventions": conventions}
+    return [f"[{table}] {key} ({by} given)" for table, key, by in unused if key in given[table]]
+
 
 class _Where:
     """Locates ``key = ...`` lines of a TOML text, per table, for error messages."""
@@ -101,7 +148,7 @@ def _number(value: Any, table: str, key: str, where: _Where) -> float:
             f"[{table}] {key} = {value!r}, expected a number: {TABLES[table][key]}", table, key
         )
     try:
-        return float(value)
+        number = float(value)
     except OverflowError:
         raise where.error(
             f"[{table}] {key} = {str(value)[:20]}... ({len(str(value))} digits), expected a "
@@ -109,6 +156,14 @@ def _number(value: Any, table: str, key: str, where: _Where) -> float:
             table,
             key,
         ) from None
+    plausible = PLAUSIBLE.get((table, key))
+    if plausible is not None and not plausible.contains(number):
+        raise where.error(
+            f"[{table}] {key} = {number:g}, expected {plausible.describe()}: {TABLES[table][key]}",
+            table,
+            key,
+        )
+    return number
 
 
 def frame_from_mapping(
@@ -196,6 +251,14 @@ def frame_from_mapping(
                         "conventions",
                         key,
                     )
+            ignored = _ignored_on_constants(values)
+            if ignored:
+                warnings.warn(
+                    f"{where.path or 'frame'}: {', '.join(ignored)} not used: the model constants "
+                    "are given in [constants]",
+                    FrameFileWarning,
+                    stacklevel=2,
+                )
             kwargs: dict[str, Any] = {**constants, **common, **conventions}
             kwargs.update((k, v) for k, v in physical.items() if k != "k_b_n_m")
             return PortalFrame.from_constants(**kwargs)

@@ -25,6 +25,7 @@ import numpy as np
 from stepframe.core import validation
 from stepframe.core.results import Status
 from stepframe.errors import InputError
+from stepframe.structure.work import check_samples
 
 if TYPE_CHECKING:
     from stepframe.structure.simulator import FrameLike
@@ -35,7 +36,75 @@ PULSE_KINDS: tuple[str, ...] = ("cosine", "sine")
 #: Default bound on events per integration call (Zeno sequences are cut by the hold state).
 DEFAULT_MAX_EVENTS = 200_000
 
-_KERNEL_STATUS: dict[int, Status] = {0: "ok", 1: "nonfinite", 2: "too_many_events"}
+
+def _checked(
+    prm: np.ndarray, amp_bound: float, x0: float, code: int, overturned: bool, peak: float,
+    *values: float,
+) -> tuple[Status, str]:  # fmt: skip
+    """Status and message of a run after the run-level invariant every result passes.
+
+    Non-finite values, or a peak beyond the cap or beyond y_e = (γ₁ + P₂A)/ω₂² without an
+    overturning verdict (:func:`stepframe.structure.status.run_invariant`), are a failure with
+    its reason, never "ok".
+    """
+    from stepframe.structure.status import (
+        STATUS_MESSAGES,
+        STATUS_NAMES,
+        no_escape_bound_m,
+        run_invariant,
+    )
+
+    bound = no_escape_bound_m(prm[4], prm[3], prm[1], amp_bound, x0, prm[9])
+    code = run_invariant(code, overturned, peak, bound, *values)
+    return STATUS_NAMES[code], STATUS_MESSAGES[code]
+
+
+def harmonic_work_units(
+    prm: np.ndarray, omega_rad_s: float, duration_s: float, n_samples: float
+) -> float:
+    """Work estimate of a closed-form run [pieces] (:mod:`stepframe.structure.work`).
+
+    Parameters
+    ----------
+    prm
+        :func:`frame_parameters` of the frame.
+    omega_rad_s, duration_s
+        Forcing frequency [rad/s] and the time integrated [s].
+    n_samples
+        Output samples (each a call of the kernel).
+    """
+    from stepframe.structure import work
+
+    rate = work.pieces_per_second(
+        omega_rad_s, work.frame_piece_rate(prm[0], prm[1], prm[5], prm[6], prm[7])
+    )
+    return float(duration_s * rate + work.SAMPLE_UNITS * n_samples)
+
+
+def check_harmonic_work(
+    prm: np.ndarray,
+    omega_rad_s: float,
+    duration_s: float,
+    n_samples: float,
+    what: str,
+    advice: str = "ask for fewer periods or a higher forcing frequency",
+) -> None:
+    """Refuse a closed-form run whose :func:`harmonic_work_units` pass the limit, in one line."""
+    from stepframe.structure import work
+
+    work.check_work(harmonic_work_units(prm, omega_rad_s, duration_s, n_samples), what, advice)
+
+
+def _small_angle(frame: FrameLike, prm: np.ndarray, peak_m: float) -> str:
+    """The note of a linearised rigid block that rotated beyond small angles ("" else)."""
+    from stepframe.structure.status import small_angle_note
+
+    return small_angle_note(prm[7], prm[4] / prm[1] ** 2, getattr(frame, "h_r_m", None), peak_m)
+
+
+def _lifts_at_start(phase: int, x: float, prm: np.ndarray) -> int:
+    """1 when a run starts on the switching surface in a stepped phase (a lift-off at t = 0)."""
+    return int(phase in (1, -1) and abs(x) == prm[7])
 
 
 def frame_parameters(frame: FrameLike) -> np.ndarray:
@@ -143,20 +212,26 @@ def simulate_harmonic(
     max_events
         Bound on events between two output samples (status ``too_many_events`` beyond).
     """
-    from stepframe.structure import _harmonic_kernel as hk
-
     prm = frame_parameters(frame)
     amp = validation.non_negative("amplitude_m_s2", amplitude_m_s2)
     om = validation.positive("omega_rad_s", omega_rad_s)
+    if duration_s == math.inf:
+        # Periods of a frequency so near 0 that their length overflows: refused as work.
+        check_harmonic_work(prm, om, math.inf, 0, "a run of more than 1e308 s")
     dur = validation.positive("duration_s", duration_s)
     phi = validation.finite("phase_rad", phase_rad)
     x = validation.finite("x0_m", x0_m)
     v = validation.finite("v0_m_s", v0_m_s)
     if samples_per_period < 1:
         raise InputError(f"samples_per_period = {samples_per_period}, expected ≥ 1")
-    n = max(1, math.ceil(dur * om / (2 * math.pi) * samples_per_period))
-    if n > 50_000_000:
-        raise InputError(f"{n} output samples, expected ≤ 50,000,000 (lower samples_per_period)")
+    periods = dur * om / (2 * math.pi)
+    what = f"a run of {dur:.6g} s ({periods:.6g} forcing periods of {2 * math.pi / om:.6g} s)"
+    check_samples(periods * samples_per_period, what, "lower samples_per_period or the duration")
+    n = max(1, math.ceil(periods * samples_per_period))
+    check_harmonic_work(prm, om, dur, n, what)
+    # The kernel (numba) is loaded only for a run that passed the checks: a refusal is instant.
+    from stepframe.structure import _harmonic_kernel as hk
+
     times = np.linspace(0.0, dur, n + 1)
     xs = np.full(n + 1, np.nan)
     vs = np.full(n + 1, np.nan)
@@ -164,9 +239,10 @@ def simulate_harmonic(
     vs[0] = v
     phase = int(hk.start_phase(x, v, amp * math.cos(phi), prm))
     jac = np.eye(2)
-    n_lift = n_imp = 0
+    n_lift = _lifts_at_start(phase, x, prm)
+    n_imp = 0
     peak = abs(x)
-    status: Status = "ok"
+    code = hk.K_OK
     overturned = False
     t_end = dur
     for i in range(n):
@@ -177,7 +253,7 @@ def simulate_harmonic(
         n_imp += ni
         peak = max(peak, pk)
         if st != hk.K_OK:
-            status = _KERNEL_STATUS[int(st)]
+            code = int(st)
             t_end = float(te)
             break
         if ov:
@@ -186,7 +262,11 @@ def simulate_harmonic(
             break
         xs[i + 1] = x
         vs[i + 1] = v
-    message = "" if status == "ok" else f"stopped at t = {t_end:.6g} s"
+    status, message = _checked(prm, amp, xs[0], code, overturned, float(peak), x, v)
+    if status != "ok":
+        message = f"{message} (stopped at t = {t_end:.6g} s)"
+    elif not overturned:
+        message = _small_angle(frame, prm, float(peak))
     return HarmonicRun(
         times, xs, vs, status, overturned, t_end, n_lift, n_imp, float(peak), message
     )
@@ -252,42 +332,36 @@ def simulate_pulse(
     free_periods
         Free motion followed after the pulse, in pulse periods.
     """
-    from stepframe.structure import _harmonic_kernel as hk
-
     prm = frame_parameters(frame)
     amp = validation.non_negative("amplitude_m_s2", amplitude_m_s2)
     om = validation.positive("omega_rad_s", omega_rad_s)
     phi = pulse_phase_rad(kind)
+    free = validation.non_negative("free_periods", free_periods)
     tp = 2.0 * math.pi / om
+    check_harmonic_work(
+        prm, om, tp * (1.0 + free), 2, f"a pulse of {tp:.6g} s and {free:g} periods after it",
+        "ask for a higher pulse frequency or fewer free periods",
+    )  # fmt: skip
+    from stepframe.structure import _harmonic_kernel as hk
+
     jac = np.eye(2)
     phase = int(hk.start_phase(0.0, 0.0, amp * math.cos(phi), prm))
     st, x, v, phase, _nl, ni, pk, ov, _te = hk.advance(
         prm, amp, om, phi, 0.0, tp, 0.0, 0.0, phase, jac, False, max_events, amp
     )
-    if st != hk.K_OK:
-        return PulseOutcome(False, float(pk), _KERNEL_STATUS[int(st)], int(ni), "during the pulse")
-    if ov:
-        return PulseOutcome(True, float(pk), "ok", int(ni))
-    phase = int(hk.start_phase(x, v, 0.0, prm)) if phase in (2, -2) else phase
-    st2, x, v, phase, _nl2, ni2, pk2, ov2, _te2 = hk.advance(
-        prm,
-        0.0,
-        om,
-        phi,
-        tp,
-        tp * (1.0 + free_periods),
-        x,
-        v,
-        phase,
-        jac,
-        False,
-        max_events,
-        0.0,
-    )
-    peak = float(max(pk, pk2))
-    if st2 != hk.K_OK:
-        return PulseOutcome(False, peak, _KERNEL_STATUS[int(st2)], int(ni + ni2), "after the pulse")
-    return PulseOutcome(bool(ov2), peak, "ok", int(ni + ni2))
+    peak = float(pk)
+    if st == hk.K_OK and not ov:
+        phase = int(hk.start_phase(x, v, 0.0, prm)) if phase in (2, -2) else phase
+        st, x, v, phase, _nl2, ni2, pk2, ov, _te2 = hk.advance(
+            prm, 0.0, om, phi, tp, tp * (1.0 + free), x, v, phase, jac, False,
+            max_events, 0.0,
+        )  # fmt: skip
+        peak = float(max(pk, pk2))
+        ni += ni2
+    status, message = _checked(prm, amp, 0.0, int(st), bool(ov), peak, x, v)
+    if status == "ok" and not ov:
+        message = _small_angle(frame, prm, peak)
+    return PulseOutcome(bool(ov), peak, status, int(ni), message)
 
 
 @dataclass(frozen=True)
@@ -346,8 +420,9 @@ def stroboscopic_map(
     phase = int(hk.start_phase(x, v, amplitude_m_s2 * math.cos(phase_rad), prm))
     n_imp = n_lift = 0
     phases = []
+    st, ov, peak = hk.K_OK, 0, abs(x)
     for i in range(n_periods):
-        st, x, v, phase, nl, ni, _pk, ov, _te = hk.advance(
+        st, x, v, phase, nl, ni, pk, ov, _te = hk.advance(
             prm,
             amplitude_m_s2,
             omega_rad_s,
@@ -364,7 +439,9 @@ def stroboscopic_map(
         )
         n_imp += ni
         n_lift += nl
+        peak = max(peak, pk)
         phases.append(int(phase))
         if st != hk.K_OK or ov:
-            return MapStep(x, v, jac, _KERNEL_STATUS[int(st)], bool(ov), n_imp, n_lift, phases)
-    return MapStep(x, v, jac, "ok", False, n_imp, n_lift, phases)
+            break
+    status, _message = _checked(prm, amplitude_m_s2, x_m, int(st), bool(ov), peak, x, v)
+    return MapStep(x, v, jac, status, bool(ov), n_imp, n_lift, phases)

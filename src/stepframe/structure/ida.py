@@ -29,6 +29,7 @@ from stepframe.errors import InputError
 if TYPE_CHECKING:
     import pandas as pd
 
+    from stepframe.structure.frame import RockingBlock
     from stepframe.structure.simulator import FrameLike
 
 #: evaluate(items, intensities) -> (overturned, peak |x| [m], status per run).
@@ -54,7 +55,8 @@ class IdaSettings:
     probe_factor
         After the first overturning s_c, probe (s_c, probe_factor·s_c] for resurrection.
     n_probe
-        Probes in that range.
+        Probes in that range, evenly spaced: a survival band above s_c is seen when it is wider
+        than (probe_factor - 1)·s_c/n_probe and lies below probe_factor·s_c.
     n_fill
         Extra runs filling the largest gaps below the first overturning.
     max_runs
@@ -342,7 +344,7 @@ def ida_records(
 
 
 def ida_pulse(
-    frame: FrameLike,
+    frame: FrameLike | RockingBlock,
     omegas_rad_s: Sequence[float],
     *,
     kind: str = "cosine",
@@ -350,24 +352,41 @@ def ida_pulse(
 ) -> list[ItemIda]:
     """IDA of a frame under one-cycle pulses, one item per pulse frequency.
 
-    Intensities are the pulse amplitude in units of the static uplift acceleration of the
-    stepped phase γ₁/P₂ (g·α for Housner's block: 1 is the amplitude that just lifts it).
+    Intensities are the pulse amplitude in units of the static uplift acceleration: γ₁/P₂ for a
+    frame (g·α for the linearised Housner block: 1 is the amplitude that just lifts it), g·tan α
+    for the nonlinear :class:`~stepframe.structure.frame.RockingBlock` (whose peaks are
+    then rotations [rad]).
     """
-    from stepframe.structure.harmonic import frame_parameters, simulate_pulse
+    from stepframe.structure.frame import RockingBlock
 
-    prm = frame_parameters(frame)
-    unit = prm[4] / prm[3]
     oms = [float(w) for w in omegas_rad_s]
+    if isinstance(frame, RockingBlock):
+        from stepframe.structure.rocking_block import block_pulse
+
+        block = frame
+        unit = block.uplift_acceleration_m_s2
+
+        def run(amplitude: float, omega: float) -> tuple[bool, float, str]:
+            out = block_pulse(block, amplitude, omega, kind=kind)
+            return out.overturned, out.peak_rotation_rad, out.status
+
+    else:
+        from stepframe.structure.harmonic import frame_parameters, simulate_pulse
+
+        prm = frame_parameters(frame)
+        unit = prm[4] / prm[3]
+        portal = frame
+
+        def run(amplitude: float, omega: float) -> tuple[bool, float, str]:
+            out = simulate_pulse(portal, amplitude, omega, kind=kind)  # type: ignore[arg-type]
+            return out.overturned, out.peak_abs_x_m, out.status
 
     def evaluate(idx: list[int], s: list[float]) -> tuple[np.ndarray, np.ndarray, list[str]]:
-        outs = [
-            simulate_pulse(frame, s_k * unit, oms[i], kind=kind)  # type: ignore[arg-type]
-            for i, s_k in zip(idx, s, strict=True)
-        ]
+        outs = [run(s_k * unit, oms[i]) for i, s_k in zip(idx, s, strict=True)]
         return (
-            np.array([o.overturned for o in outs]),
-            np.array([o.peak_abs_x_m for o in outs]),
-            [o.status for o in outs],
+            np.array([o[0] for o in outs]),
+            np.array([o[1] for o in outs]),
+            [o[2] for o in outs],
         )
 
     return hunt_trace_fill(evaluate, len(oms), settings)

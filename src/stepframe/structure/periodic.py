@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from stepframe.core.results import Status
-from stepframe.structure.harmonic import frame_parameters, stroboscopic_map
+from stepframe.structure.harmonic import check_harmonic_work, frame_parameters, stroboscopic_map
 
 if TYPE_CHECKING:
     from stepframe.structure.simulator import FrameLike
@@ -121,6 +121,10 @@ def find_periodic_orbit(
     """
     prm = frame_parameters(frame)
     om = float(omega_rad_s)
+    check_harmonic_work(
+        prm, om, max_iter * n_periods * 2.0 * math.pi / om, 0,
+        f"a period-{n_periods} orbit ({max_iter} Newton steps of {n_periods} forcing periods)",
+    )  # fmt: skip
     scale = np.array([1.0, 1.0 / om])
 
     def residual(z: np.ndarray) -> tuple[np.ndarray, np.ndarray, Any]:

@@ -50,14 +50,14 @@ from stepframe.structure.status import (
     EVENT_NAMES,
     EVENT_TOUCHDOWN,
     INVARIANT_RTOL,
-    STATUS_IMPOSSIBLE,
     STATUS_MESSAGES,
     STATUS_NAMES,
-    STATUS_NONFINITE,
     STATUS_OK,
     Model,
     RawRun,
     SimulationStatus,
+    no_escape_bound_m,
+    run_invariant,
 )
 
 if TYPE_CHECKING:
@@ -102,7 +102,8 @@ class SimulationSummary:
         broke its phase invariant, or the result is physically impossible without an overturn
         verdict); see ``message``.
     message
-        One line saying what went wrong ("" when the status is "ok").
+        One line saying what went wrong; with "ok", "" or a note (a linearised rigid block that
+        rotated beyond small angles: :func:`stepframe.structure.status.small_angle_note`).
     """
 
     peak_abs_x_m: float
@@ -313,6 +314,20 @@ def _check_motion(
     return ag
 
 
+def _check_run_work(
+    n_samples: int, n_tail: int, dt_s: float, tail_s: float, record_history: bool, runs: int = 1
+) -> None:
+    """Refuse a run (or ``runs`` runs) whose intervals or kept history pass the limits of
+    :mod:`stepframe.structure.work`, before any array is allocated."""
+    from stepframe.structure import work
+
+    intervals = float(n_samples - 1 + n_tail)
+    what = f"{runs} run(s) of {n_samples} samples at {dt_s:g} s with a {tail_s:g} s tail"
+    work.check_work(runs * work.INTERVAL_UNITS * intervals, what, "shorten the tail or the record")
+    if record_history:
+        work.check_samples(intervals + 1, what, "shorten the tail or pass record_history=False")
+
+
 def _height(frame: FrameLike, height_m: float | None) -> float | None:
     if height_m is not None:
         return validation.positive("height_m", height_m)
@@ -440,21 +455,24 @@ def _checked_status(raw: RawRun, model: Model, ag: np.ndarray, x0: float) -> int
     frame that did not overturn can pass neither its cap nor y_e = (γ₁ + P₂ max|ẍ_g|)/ω₂², the
     displacement beyond which a stepped frame moving outward cannot return (docs/paper-notes.md).
     """
-    if raw.status != STATUS_OK:
-        return raw.status
-    values = (raw.peak_abs_x, raw.x_end, raw.v_end)
-    if not all(math.isfinite(value) for value in values):
-        return STATUS_NONFINITE
-    if raw.overturned:
-        return STATUS_OK
-    reach = (model.gamma_1_m_s2 + model.p_2 * float(np.max(np.abs(ag)))) / model.omega_2_rad_s**2
-    bound = min(model.x_cap_m, max(abs(x0), reach) * (1.0 + INVARIANT_RTOL))
-    return STATUS_OK if raw.peak_abs_x <= bound else STATUS_IMPOSSIBLE
+    bound = no_escape_bound_m(
+        model.gamma_1_m_s2, model.p_2, model.omega_2_rad_s, float(np.max(np.abs(ag))), x0,
+        model.x_cap_m,
+    )  # fmt: skip
+    return run_invariant(raw.status, raw.overturned, raw.peak_abs_x, bound, raw.x_end, raw.v_end)
 
 
 def _result(
-    raw: RawRun, dt_s: float, height: float | None, units: str, status: int
+    raw: RawRun, dt_s: float, height: float | None, units: str, status: int, model: Model
 ) -> SimulationResult:
+    from stepframe.structure.status import small_angle_note
+
+    message = STATUS_MESSAGES.get(status, f"unknown status code {status}")
+    if status == STATUS_OK:
+        # x = hθ for a linearised block (θ itself, h = 1, for simulate_rigid_block).
+        h = 1.0 if units == "rad" else height
+        message = small_angle_note(model.x_c_m, model.gamma_1_m_s2 / model.omega_2_rad_s**2, h,
+                                   raw.peak_abs_x)  # fmt: skip
     summary = SimulationSummary(
         peak_abs_x_m=raw.peak_abs_x,
         peak_time_s=raw.peak_time_s,
@@ -468,7 +486,7 @@ def _result(
         residual_x_m=raw.x_end,
         residual_v_m_s=raw.v_end,
         status=STATUS_NAMES.get(status, "failed"),
-        message=STATUS_MESSAGES.get(status, f"unknown status code {status}"),
+        message=message,
     )
     return SimulationResult(summary=summary, raw=raw, dt_s=dt_s, units=units)
 
@@ -560,9 +578,10 @@ def simulate(
             raise InputError(f"{name} = {tol!r}, expected a finite tolerance > 0")
     height = _height(frame, height_m)
     n_tail = math.ceil(tail_s / dt_s - 1e-9)
+    _check_run_work(ag.size, n_tail, dt_s, tail_s, record_history)
     ag = ag * scale
     raw = integrator(model, ag, float(dt_s), n_tail, x0, v0, record_history, rtol, atol)
-    return _result(raw, float(dt_s), height, "m", _checked_status(raw, model, ag, x0))
+    return _result(raw, float(dt_s), height, "m", _checked_status(raw, model, ag, x0), model)
 
 
 def simulate_rigid_block(
@@ -611,10 +630,11 @@ def simulate_rigid_block(
     ag = _check_motion(ground_acc_m_s2, dt_s)
     tail_s = validation.non_negative("tail_s", tail_s)
     n_tail = math.ceil(tail_s / dt_s - 1e-9)
+    _check_run_work(ag.size, n_tail, dt_s, tail_s, record_history)
     theta0 = validation.finite("theta0_rad", theta0_rad)
     omega0 = validation.finite("omega0_rad_s", omega0_rad_s)
     raw = _run_exact(model, ag, float(dt_s), n_tail, theta0, omega0, record_history)
-    return _result(raw, float(dt_s), None, "rad", _checked_status(raw, model, ag, theta0))
+    return _result(raw, float(dt_s), None, "rad", _checked_status(raw, model, ag, theta0), model)
 
 
 @dataclass(frozen=True)
@@ -764,6 +784,16 @@ def simulate_batch(
         pair_scales = scale_arr
     else:
         raise InputError(f"pairs = {pairs!r}, expected 'product' or 'zip'")
+    intervals = [
+        a.size - 1 + math.ceil(tail_s / dt - 1e-9) for a, dt in zip(series, dts, strict=True)
+    ]
+    from stepframe.structure import work
+
+    work.check_work(
+        work.INTERVAL_UNITS * float(sum(intervals[r] for r in rec_index)),
+        f"{rec_index.size} runs of {len(series)} record(s) with a {tail_s:g} s tail",
+        "ask for fewer runs or a shorter tail",
+    )  # fmt: skip
     params = np.asarray([*model, x0, v0], dtype=float)
     spread = executor is not None or jobs > 1
     n_blocks = 4 * max(1, jobs) if spread else 1

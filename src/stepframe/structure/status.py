@@ -10,6 +10,7 @@ the kernels can return; :data:`STATUS_NAMES` maps each onto the project's one st
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Literal, NamedTuple
 
@@ -85,6 +86,44 @@ CHATTER_DRIFT = 1e-3
 INVARIANT_RTOL = 1e-9
 
 
+def no_escape_bound_m(
+    gamma_1_m_s2: float,
+    p_2: float,
+    omega_2_rad_s: float,
+    max_abs_ground_acc_m_s2: float,
+    x0_m: float = 0.0,
+    x_cap_m: float = math.inf,
+) -> float:
+    """Largest |x| [m] a stepping frame that does not overturn can reach.
+
+    A stepped frame beyond y_e = (γ₁ + P₂·max|ẍ_g|)/ω₂² and moving outward is pushed further out
+    whatever the ground does (docs/paper-notes.md, "the certain-escape verdict"), so a run without
+    an overturning verdict stays within max(|x₀|, y_e) (plus the relative rounding
+    :data:`INVARIANT_RTOL`), and within the cap when the frame has one.
+    """
+    reach = (gamma_1_m_s2 + p_2 * max_abs_ground_acc_m_s2) / omega_2_rad_s**2
+    return min(x_cap_m, max(abs(x0_m), reach) * (1.0 + INVARIANT_RTOL))
+
+
+def run_invariant(
+    status: int, overturned: bool, peak_abs_x_m: float, bound_m: float, *values: float
+) -> int:
+    """The run's status code after the checks every integrator's result must pass.
+
+    A run that ended ``STATUS_OK`` is downgraded to ``STATUS_NONFINITE`` when its peak or any of
+    ``values`` (the final state) is not finite, and to ``STATUS_IMPOSSIBLE`` when it did not
+    overturn yet its peak passed ``bound_m`` (:func:`no_escape_bound_m`). Never "ok" for an
+    impossible answer.
+    """
+    if status != STATUS_OK:
+        return status
+    if not all(math.isfinite(value) for value in (peak_abs_x_m, *values)):
+        return STATUS_NONFINITE
+    if not overturned and not peak_abs_x_m <= bound_m:
+        return STATUS_IMPOSSIBLE
+    return STATUS_OK
+
+
 class Model(NamedTuple):
     """Model constants passed to the kernels (SI; x_c may be 0 for the rigid-block limit)."""
 
@@ -122,3 +161,46 @@ class RawRun:
     hist_x: np.ndarray
     hist_v: np.ndarray
     hist_p: np.ndarray
+
+
+#: Error of the small-angle model's cos(αs - θ) ≈ 1 beyond which a linearised block's result
+#: carries a note (its sin(u) ≈ u errs by a third as much); docs/structure-dynamics.md measures
+#: what it does to peaks and overturning.
+SMALL_ANGLE_TOLERANCE = 0.01
+
+
+def small_angle_note(
+    x_c_m: float, x_star_m: float, height_m: float | None, peak_abs_x_m: float
+) -> str:
+    """One line when a linearised rigid block (x_c = 0, x = hθ) rotated beyond small angles.
+
+    The linearisation replaces sin(αs - θ) by αs - θ and cos(αs - θ) by 1 (α = x*/h). Over a
+    motion up to |θ| = θ_max the angle u = αs - θ reaches max(α, θ_max - α), and cos u ≈ 1 errs
+    by 1 - cos u. The note gives θ_max, θ_max/α and that error when it passes
+    :data:`SMALL_ANGLE_TOLERANCE` ("" otherwise, for a frame that is not a rigid block, or for
+    one that never rocked).
+
+    Parameters
+    ----------
+    x_c_m, x_star_m
+        The model's x_c and x* [m].
+    height_m
+        h, with x = hθ [m] (None: not known, no note).
+    peak_abs_x_m
+        Largest |x| reached [m].
+    """
+    if x_c_m != 0.0 or not height_m or not peak_abs_x_m > 0.0:
+        return ""
+    alpha = x_star_m / height_m
+    theta = peak_abs_x_m / height_m
+    error = 1.0 - math.cos(max(alpha, theta - alpha))
+    if error <= SMALL_ANGLE_TOLERANCE:
+        return ""
+    return (
+        f"linearised rocking block: peak rotation {theta:.3g} rad = {theta / alpha:.3g} α, "
+        f"where cos(α - θ) ≈ 1 errs by {100 * error:.2g} % (the full equation: "
+        "stepframe.structure.rocking_block)"
+    )
+
+
+# ----------------------------------------------------------------------------- kernel

@@ -141,13 +141,16 @@ def records_amplification_html(
         AmplificationOptions,
         write_amplification_report,
     )
-    from stepframe.pipeline.amplification.site_records import site_from_records
+    from stepframe.pipeline.amplification.site import site_from_records
+    from stepframe.pipeline.catalogue.fit_options import FitOptions
     from stepframe.pipeline.reports import collect_provenance
     from stepframe.structure.frame_file import read_frame_file
 
     out = tmp_path_factory.mktemp("amplification_records") / "beverly_hills.html"
     # t0 = record start: Nishi-Akashi's fit then has ω_p at its bound (the unused-fit case)
-    site = site_from_records(site_records, units="m/s2", t0="start")
+    site = site_from_records(
+        site_records, options=FitOptions(t0="start"), record_options={"units": "m/s2"}
+    )
     options = AmplificationOptions(
         site_name="Beverly Hills - Mulhol", monte_carlo=0, n_steps=1000, t0="start"
     )

@@ -12,7 +12,8 @@ import pandas as pd
 import pytest
 
 from stepframe.cli import main
-from stepframe.pipeline.amplification.site_records import COMBINED, site_from_records
+from stepframe.pipeline.amplification.site import COMBINED, MEDIAN_SE_FACTOR, site_from_records
+from stepframe.pipeline.catalogue.fit_options import FitOptions
 from stepframe.pipeline.reports.document import data_folder_of
 from stepframe.stochastic.amplification import response_amplification, spectral_ratio_eq_6_18
 from stepframe.stochastic.mean_square import analysis_grid
@@ -68,14 +69,30 @@ def test_adjusted_design_displacement(amplification_html: Path) -> None:
     assert float(frame.loc["band lower edge f(A_max)", "value"]) < 6.4581 / (2 * math.pi)
 
 
-def test_site_from_records_combines_usable_fits(site_records: Path) -> None:
-    site = site_from_records(site_records, units="m/s2", t0="start")
-    used = [f for f in site.fits if f.usable]
-    assert len(site.fits) == 3 and len(used) == 2  # Nishi-Akashi: ω_p at its bound
+def _site(folder: Path, **kwargs: object) -> object:
+    return site_from_records(
+        folder, options=FitOptions(t0="start"), record_options={"units": "m/s2"}, **kwargs
+    )
+
+
+def test_site_from_records_combines_plausible_fits_by_their_median(site_records: Path) -> None:
+    site = _site(site_records)
+    used = site.features[site.features["plausible"]]
+    assert len(site.features) == 3 and len(used) == 2  # Nishi-Akashi: ω_p at its bound
     for key in COMBINED:
-        x = np.array([getattr(f.fit.model, key) for f in used])
-        se = np.array([f.fit.stderr[key] for f in used])
-        w = 1 / se**2
+        x = used[key].to_numpy(float)
+        assert getattr(site.model, key) == pytest.approx(np.median(x), rel=1e-12)
+        scatter = np.std(x, ddof=1) / math.sqrt(x.size)
+        assert site.stderr[key] == pytest.approx(MEDIAN_SE_FACTOR * scatter, rel=1e-12)
+    assert site.model.t_max_s == pytest.approx(np.median(used["t_max_s"]), rel=1e-12)
+
+
+def test_site_from_records_inverse_variance_weights_each_fit(site_records: Path) -> None:
+    site = _site(site_records, statistic="inverse-variance")
+    used = site.features[site.features["plausible"]]
+    for key in COMBINED:
+        x = used[key].to_numpy(float)
+        w = 1 / used[f"{key}_stderr"].to_numpy(float) ** 2
         assert getattr(site.model, key) == pytest.approx(np.sum(w * x) / np.sum(w), rel=1e-12)
         assert site.stderr[key] == pytest.approx(1 / math.sqrt(np.sum(w)), rel=1e-12)
 
@@ -145,7 +162,8 @@ def test_cli_site_with_no_usable_record(
     assert code == 2
     assert captured.out == ""
     lines = captured.err.strip().splitlines()
-    assert len(lines) == 1 and "no usable record" in lines[0] and "omega_p_at_bound" in lines[0]
+    assert len(lines) == 1 and "passing the plausibility checks" in lines[0]
+    assert "omega_p_at_bound" in lines[0]
     assert list(tmp_path.iterdir()) == []
 
 

@@ -58,12 +58,14 @@ def test_filters_report_what_each_dropped(example4: PortalFrame) -> None:
     table = _table()
     band = frame_band(example4)
     options = SelectionOptions(
-        n=1, magnitude_min=6.5, distance_max_km=50.0, pga_min_g=0.25, exclude=("3",)
-    )
+        n=1, magnitude_min=6.5, distance_max_km=50.0, pga_min_g=0.25, exclude=("3",),
+        require_plausible=True,
+    )  # fmt: skip
     dropped, reports = apply_filters(table, options, band, strong_motion_paths(table, 0.3))
     assert dropped.tolist() == ["magnitude", "", "distance", "exclude", "fit_quality"]
     assert [(r.name, r.dropped, r.left) for r in reports] == [
         ("path", 0, 5),
+        ("vertical", 0, 5),
         ("fit_quality", 1, 4),
         ("exclude", 1, 3),
         ("magnitude", 1, 2),

@@ -24,7 +24,10 @@ def run(example_inputs: tuple[Any, Any, Any], example4: PortalFrame) -> Any:
     # One component whose samples are missing: it lands in failures, the run goes on.
     lost = (str(table["file"].iat[0]), str(table["component"].iat[0]))
     del records[lost]
-    options = SelectionOptions(n=6, confirm=True, n_bootstrap=4, scale="psa-at-t1", max_per_event=2)
+    options = SelectionOptions(
+        n=6, confirm=True, n_bootstrap=4, scale="psa-at-t1", max_per_event=2,
+        scores=("substitute_demand_ratio",),
+    )  # fmt: skip
     return select_records(table, example4, options, records=records, jobs=1), lost
 
 
@@ -32,12 +35,16 @@ def test_selection_is_the_top_of_the_ranking_under_the_cap(run: Any) -> None:
     result, lost = run
     cands = result.candidates
     passed = cands[cands["dropped_by"] == ""]
-    # Every plausible fit (the features table's own verdict) but the one without samples.
-    assert len(passed) == cands["plausible"].astype(bool).sum() - 1
+    # Every component but the one without samples: a fit flagged implausible is ranked too.
+    assert len(passed) == len(cands) - 1 and not passed["plausible"].astype(bool).all()
     assert cands.loc[cands["file"] == lost[0], "dropped_by"].tolist()[0] == "samples_failed"
-    # Independent re-ranking with the event cap of 2.
-    assert result.summary["rank_by"] == "substitute_demand_ratio"  # the default
-    ordered = passed.sort_values("substitute_demand_ratio", ascending=False, kind="stable")
+    # Independent re-ranking with the event cap of 2: overturning first (lower factor first),
+    # then the rest by the ladder's mean peak.
+    assert result.summary["rank_by"] == "simulated_response"  # the default
+    key = passed.assign(factor=passed["overturn_factor"].fillna(np.inf))
+    ordered = key.sort_values(
+        ["factor", "simulated_response"], ascending=[True, False], kind="stable"
+    )
     expected, per_event = [], {}
     for row in ordered.itertuples():
         if per_event.get(row.event, 0) < 2 and len(expected) < 6:
@@ -59,7 +66,10 @@ def test_selection_is_the_top_of_the_ranking_under_the_cap(run: Any) -> None:
         "dropped": 1,
         "left": len(passed),
     }
-    # A record score does not depend on the fit: every bootstrap replicate chooses the same set.
+    # The ranking intensity is the records as used: at their psa-at-t1 scale factors.
+    assert result.summary["ranking_intensity"]["kind"] == "as-used"
+    assert np.allclose(passed["ranking_scale"], passed["scale_factor"], rtol=0)
+    # The response does not depend on the fit: every bootstrap replicate chooses the same set.
     probability = passed["selection_probability"].to_numpy()
     assert np.array_equal(probability, passed["selected"].astype(float).to_numpy())
 
@@ -90,6 +100,27 @@ def test_substitute_score_is_the_records_own_spectrum(
         assert row.substitute_overturn_ratio == pytest.approx(max(1.0, 1 / ratio[1:].min()))
 
 
+def test_simulated_response_is_the_frames_own(
+    run: Any, example_inputs: Any, example4: PortalFrame
+) -> None:
+    """Independent: each ladder level simulated on its own with ``simulate`` (not the batch),
+    the geometric mean of the peaks with an overturned run at the cap."""
+    from stepframe.structure.simulator import simulate
+
+    result, _ = run
+    records = example_inputs[1]
+    ladder = result.summary["ranking_intensity"]["ladder"]
+    cands = result.candidates[result.candidates["simulated"].astype(bool)]
+    for row in cands.head(4).itertuples():
+        acc, dt = records[(row.file, row.component)]
+        peaks = []
+        for factor in ladder:
+            summary = simulate(example4, acc, dt, scale=row.ranking_scale * factor).summary
+            peaks.append(example4.x_cap_m if summary.overturned else summary.peak_abs_x_m)
+        assert row.simulated_response == pytest.approx(np.exp(np.mean(np.log(peaks))), rel=1e-9)
+        assert row.ranking_peak_x_m == pytest.approx(peaks[ladder.index(1.0)], rel=1e-9)
+
+
 def test_confirmation_tables(run: Any, example4: PortalFrame) -> None:
     result, _ = run
     conf = result.confirmation
@@ -99,7 +130,7 @@ def test_confirmation_tables(run: Any, example4: PortalFrame) -> None:
     assert len(equal) == (result.candidates["dropped_by"] == "").sum()
     # Controls are the lowest ranked candidates.
     cands = result.candidates[result.candidates["dropped_by"] == ""]
-    lowest = cands.sort_values("substitute_demand_ratio").head(6)
+    lowest = cands.sort_values("rank_score_percentile").head(6)
     assert set(chosen.loc[chosen["group"] == "control", "file"]) <= set(lowest["file"])
     # At onset ratio 1 the linear frame just reaches x_c: nothing stays below it.
     assert equal["peak_abs_x_m"].min() >= example4.x_c_m * (1 - 1e-3)
@@ -111,7 +142,7 @@ def test_confirmation_tables(run: Any, example4: PortalFrame) -> None:
     entry = next(
         e
         for e in result.summary["correlations"]
-        if e["score"] == "substitute_demand_ratio" and e["response"] == "peak_drift"
+        if e["score"] == "simulated_response" and e["response"] == "peak_drift"
     )
     assert (
         entry["n"] == (result.candidates["dropped_by"] == "").sum()
@@ -128,6 +159,8 @@ def test_write_and_read_back(run: Any, tmp_path: Path) -> None:
             "candidates.csv",
             "confirmation.csv",
             "failures.csv",
+            "spectra.csv",
+            "manifest.csv",
             "columns.csv",
             "selection.json",
         ]
@@ -149,12 +182,13 @@ def test_write_and_read_back(run: Any, tmp_path: Path) -> None:
 
 def test_too_many_asked_names_each_filter(example_inputs: Any, example4: PortalFrame) -> None:
     table = example_inputs[0]
+    options = SelectionOptions(n=80, rank_by="band_coverage", require_plausible=True)
     with pytest.raises(InputError) as error:
-        select_records(table, example4, SelectionOptions(n=80, rank_by="band_coverage"), jobs=1)
+        select_records(table, example4, options, jobs=1)
     plausible = int(table["plausible"].astype(bool).sum())
     assert error.value.one_line() == (
         f"n = 80 but only {plausible} candidates left (100 candidates, path → 100, "
-        f"fit_quality → {plausible}), expected n ≤ {plausible}"
+        f"vertical → 100, fit_quality → {plausible}), expected n ≤ {plausible}"
     )
 
 
@@ -162,16 +196,15 @@ def test_default_score_without_records_says_why(example_inputs: Any, example4: P
     # The default score reads the records; a features table whose files are not at hand fails
     # with one line naming the count, the first failure and what to do.
     table = example_inputs[0]
-    plausible = int(table["plausible"].astype(bool).sum())
     with pytest.raises(InputError) as error:
         select_records(table, example4, SelectionOptions(n=3, n_bootstrap=0), jobs=1)
     line = error.value.one_line()
     assert line.startswith(
-        f"no candidate could be computed (100 candidates, path → 100, fit_quality → {plausible}, "
-        "computed → 0; first failure: fema_p695/"
+        "no candidate could be computed (100 candidates, path → 100, vertical → 100, "
+        "computed → 0; first failure: RSN"
     )
     assert line.endswith(
-        "expected readable records for substitute_demand_ratio (records= or the files by path), "
+        "expected readable records for simulated_response (records= or the files by path), "
         "or rank_by a score of the fit"
     )
 

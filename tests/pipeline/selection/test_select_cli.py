@@ -68,7 +68,9 @@ def test_select_json_and_outputs(
     payload = json.loads(capsys.readouterr().out)
     assert payload["n_candidates"] == 2 and payload["n_failures"] == 0
     assert payload["band_rad_s"][1] == 6.4581
-    assert payload["rank_by"] == "substitute_demand_ratio"  # the default (docs/selection.md)
+    assert payload["rank_by"] == "simulated_response"  # the default (docs/selection.md)
+    assert payload["ranking_intensity"]["kind"] == "as-used"  # the default: as recorded
+    assert payload["ranking"]["method"] == "exact" and payload["ranking"]["n_simulated"] == 2
     (chosen,) = payload["selected"]
     assert {"file", "component", "rank", "score", "scale_factor"} <= set(chosen)
     assert chosen["rank"] == 1 and chosen["scale_factor"] == 1.0
@@ -80,8 +82,10 @@ def test_select_json_and_outputs(
             "columns.csv",
             "confirmation.csv",
             "failures.csv",
+            "motions",
             "selection.csv",
             "selection.json",
+            "spectra.csv",
         ]
     )
 
@@ -106,7 +110,7 @@ def test_too_many_asked(
     )
     assert _error(capsys) == (
         "stepframe: error: n = 3 but only 2 candidates left (2 candidates, path → 2, "
-        "fit_quality → 2), expected n ≤ 2"
+        "vertical → 2), expected n ≤ 2"
     )
 
 
@@ -136,7 +140,7 @@ def test_filter_removing_everything_with_metadata(
     )
     assert _error(capsys) == (
         "stepframe: error: every candidate was filtered out (2 candidates, path → 2, "
-        "fit_quality → 2, magnitude → 0), expected some left"
+        "vertical → 2, magnitude → 0), expected some left"
     )
 
 

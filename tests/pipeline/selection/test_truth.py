@@ -91,3 +91,72 @@ def test_sweeping_motions_rank_first(catalogue: tuple[Any, Any]) -> None:
     probability = result.candidates["selection_probability"].to_numpy()
     assert probability.sum() == pytest.approx(3.0)
     assert probability[kinds == "sweep"].sum() >= 2.0, probability
+
+
+#: (ω_p, ω_s, ω_r) [rad/s]: ω_g falls through Example 4's band [0.65, 6.46] rad/s during strong
+#: motion, or stays far above it.
+SWEEP_EXAMPLE4 = (20.0, 6.0, 1.5)
+ABOVE_EXAMPLE4 = (90.0, 60.0, 40.0)
+PGA_G = 0.4
+
+
+@pytest.fixture(scope="module")
+def equal_pga() -> tuple[Any, dict[tuple[str, str], Any]]:
+    """Four sweeping and six high-frequency eq. 6.12 motions, each scaled to PGA 0.4 g."""
+    from obspy import Stream
+
+    from stepframe.records.trace import make_trace
+    from stepframe.stochastic.catalog_features import catalog_features
+    from stepframe.stochastic.model import GroundMotionModel
+    from stepframe.stochastic.synthetic import synthetic_motions
+
+    traces, records = [], {}
+    for kind, omegas, count in (("sweep", SWEEP_EXAMPLE4, 4), ("above", ABOVE_EXAMPLE4, 6)):
+        for j in range(count):
+            model = GroundMotionModel(*omegas, 0.3, 0.3, 8.0, 25.0)
+            seed = 100 + 10 * j + (kind == "above")
+            _, acc = synthetic_motions(model, duration_s=40.0, dt_s=0.01, seed=seed)
+            motion = acc[0] / np.max(np.abs(acc[0])) * PGA_G * 9.80665
+            name = f"{kind}{j}"
+            traces.append(make_trace(motion, 0.01, station=name, channel="HNX", source_file=name))
+            records[(name, "HNX")] = (motion, 0.01)
+    features, failures = catalog_features(Stream(traces), n_jobs=1)
+    assert len(failures) == 0
+    return features, records
+
+
+def test_sweepers_are_chosen_as_recorded(equal_pga: Any, example4: PortalFrame) -> None:
+    """As recorded (the default intensity), the motions whose ω_g sweeps the band overturn the
+    frame (the others peak below 0.6 x_c) and are the four chosen, although every one of their
+    fits is flagged implausible (ω_r below the 2-s window's usable band, for instance): the
+    flag is information, not a gate."""
+    from stepframe.structure.simulator import simulate
+
+    features, records = equal_pga
+    # The truth, independently: each motion simulated as recorded.
+    peaks = {file: simulate(example4, *records[(file, "HNX")]).summary for file in features["file"]}
+    sweepers = [f for f in peaks if f.startswith("sweep")]
+    assert all(peaks[f].peak_abs_x_m > example4.x_c_m for f in sweepers)
+    assert all(peaks[f].overturned for f in sweepers)
+    assert all(peaks[f].peak_abs_x_m < 0.6 * example4.x_c_m for f in peaks if f.startswith("above"))
+    assert not features.loc[features["file"].isin(sweepers), "plausible"].astype(bool).any()
+    result = select_records(
+        features, example4, SelectionOptions(n=4, n_bootstrap=0), records=records, jobs=1
+    )
+    assert result.summary["ranking_intensity"]["kind"] == "as-used"
+    assert sorted(result.selection["file"]) == sorted(sweepers)
+    cands = result.candidates.set_index("file")
+    assert (cands["dropped_by"] == "").all()
+    for file in peaks:
+        assert cands.at[file, "ranking_peak_x_m"] == pytest.approx(
+            example4.x_cap_m if peaks[file].overturned else peaks[file].peak_abs_x_m, rel=1e-9
+        )
+    # The gate, when asked for, drops them.
+    gated = select_records(
+        features,
+        example4,
+        SelectionOptions(n=4, n_bootstrap=0, require_plausible=True),
+        records=records,
+        jobs=1,
+    )
+    assert not set(gated.selection["file"]) & set(sweepers)

@@ -1,4 +1,4 @@
-"""Stage: moving-resonance amplification of a site for one oscillator, and its curve over f0.
+"""Moving-resonance amplification of a site for one oscillator, and its curve over f0.
 
 Two kinds of oscillator: one given by its small-amplitude frequency f0 (its ω(t) tracks the
 ground, ω_0·ω_g(t)/ω_p), and a stepping frame (ω(t) = 2π/T(A) from the frame's period-amplitude
@@ -33,7 +33,7 @@ if TYPE_CHECKING:
     from stepframe.structure.frame import PortalFrame
 
 #: Damping ratio of an oscillator given by f0 when none is given (fraction).
-DEFAULT_XI0 = 0.05
+from stepframe.pipeline.amplification.analysis import DEFAULT_XI0
 
 
 @dataclass(frozen=True)

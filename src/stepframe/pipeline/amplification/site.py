@@ -1,30 +1,46 @@
-"""Stage: the site model, a Beck-Papadimitriou ground-motion model with its peak intensity.
+"""The site model: a Beck-Papadimitriou ground-motion model with its peak intensity.
 
 A site is given by its parameters (the P-, S- and surface-wave dominant frequencies, bandwidth
-ratios and times of eqs. 6.10-6.11) or estimated from a record (features, then the fit). Either
-way the result is a :class:`SiteModel`, which can be written and read back
-(:func:`write_site_model`, :func:`read_site_model`).
+ratios and times of eqs. 6.10-6.11), fitted to one record (features, then the fit), or combined
+from the fits of many records: :func:`site_from_features` is the one combination, used by the
+workflow's ``site`` stage (on its ``features`` table) and by ``stepframe report amplification
+--records`` (:func:`site_from_records`, on the features of a folder from the same entry point
+:func:`stepframe.stochastic.catalog_features.catalog_features`), so both give the same numbers.
+The result is a :class:`SiteModel`, written and read back by :func:`write_site_model` and
+:func:`read_site_model`.
 """
 
 from __future__ import annotations
 
 import json
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from os import PathLike
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal
 
 from stepframe.errors import InputError
+from stepframe.pipeline.amplification.analysis import SITE_PARAMETERS
 
 if TYPE_CHECKING:
+    import pandas as pd
     from obspy import Trace
 
+    from stepframe.pipeline.catalogue.fit_options import FitOptions
     from stepframe.stochastic.features import TimeOrigin
     from stepframe.stochastic.model import AlphaReading, GroundMotionModel
 
-#: Names of the site parameters, as the ``stochastic amplify`` options spell them.
-SITE_PARAMETERS = ("fp_hz", "fs_hz", "fr_hz", "xi_p", "xi_r", "t_max_s", "t_dur_s")
+#: How the fits of a site's records are combined (:func:`site_from_features`).
+SiteStatistic = Literal["median", "mean", "inverse-variance"]
+SITE_STATISTICS: tuple[SiteStatistic, ...] = ("median", "mean", "inverse-variance")
+
+#: The parameters combined with their standard errors; t_max, t_dur and the peak intensity are
+#: combined by the median (the mean with ``statistic="mean"``).
+COMBINED = ("omega_p_rad_s", "omega_s_rad_s", "omega_r_rad_s", "xi_p", "xi_r")
+
+#: Asymptotic efficiency factor of the median of a normal sample: SE(median) ≈ 1.2533 σ/√n.
+MEDIAN_SE_FACTOR = math.sqrt(math.pi / 2)
 
 
 @dataclass(frozen=True)
@@ -85,6 +101,228 @@ def site_from_parameters(
         alpha_reading=alpha_reading,
     )  # fmt: skip
     return SiteModel(model, 1.0, {"site": "parameters"})
+
+
+@dataclass(frozen=True)
+class CombinedSite:
+    """A site combined from the fits of its records (:func:`site_from_features`).
+
+    Attributes
+    ----------
+    site
+        The site model, its peak intensity and its ``source`` (statistic, components used).
+    stderr
+        Standard error of each of :data:`COMBINED` (rad/s or -).
+    used
+        The features table's rows that entered the combination.
+    """
+
+    site: SiteModel
+    stderr: dict[str, float]
+    used: pd.DataFrame
+
+    @property
+    def model(self) -> GroundMotionModel:
+        """The combined ground-motion model."""
+        return self.site.model
+
+
+def _statistic(values: Any, errors: Any, statistic: SiteStatistic) -> tuple[float, float]:
+    """The combined value and its standard error (the fit's own when there is one value)."""
+    import numpy as np
+
+    x = np.asarray(values, dtype=np.float64)
+    se = np.asarray(errors, dtype=np.float64)
+    if x.size == 1:
+        return float(x[0]), float(se[0])
+    scatter = float(np.std(x, ddof=1) / math.sqrt(x.size))
+    if statistic == "median":
+        return float(np.median(x)), MEDIAN_SE_FACTOR * scatter
+    if statistic == "inverse-variance" and np.all(np.isfinite(se) & (se > 0)):
+        weight = 1.0 / se**2
+        return float(np.sum(weight * x) / np.sum(weight)), float(1.0 / math.sqrt(np.sum(weight)))
+    # the mean (or an inverse-variance mean whose fits gave no standard error)
+    return float(np.mean(x)), scatter
+
+
+def site_from_features(
+    features: pd.DataFrame,
+    *,
+    statistic: SiteStatistic = "median",
+    plausible_only: bool = True,
+    alpha_reading: AlphaReading = "eq-6-11",
+    name: str = "records",
+) -> CombinedSite:
+    """The site of many records: each fitted parameter combined over the components used.
+
+    Parameters
+    ----------
+    features
+        A features table (:data:`stepframe.stochastic.catalog_features.COLUMNS`), fitted with
+        ``alpha_reading``.
+    statistic
+        ``"median"`` (default; its standard error is 1.2533 times the scatter's), ``"mean"``
+        (the scatter's standard error) or ``"inverse-variance"`` (weighted by each fit's own
+        standard error; its error 1/√Σw ignores the scatter between records). The records of a
+        site are different realisations: the scatter between them is most of the uncertainty,
+        which the median states and the inverse-variance mean does not (docs/amplification.md).
+    plausible_only
+        Only components that pass the plausibility checks (column ``plausible``).
+    alpha_reading
+        The reading of eq. 6.11 the table was fitted with, given to the model.
+    name
+        What the site's ``source`` calls the records.
+
+    Raises
+    ------
+    InputError
+        No component to use, or combined parameters that break ω_p ≥ ω_s ≥ ω_r (possible with
+        the inverse-variance mean only: the median and the mean are monotone).
+    """
+    from stepframe.stochastic.model import GroundMotionModel
+
+    if statistic not in SITE_STATISTICS:
+        raise InputError(f"statistic {statistic!r}, expected one of {', '.join(SITE_STATISTICS)}")
+    used = features[features["plausible"].astype(bool)] if plausible_only else features
+    if used.empty:
+        raise InputError(
+            "no component with fitted features"
+            + " passing the plausibility checks" * plausible_only
+            + f" ({len(features)} in the table), expected at least one for a site from records"
+        )
+    values: dict[str, float] = {}
+    stderr: dict[str, float] = {}
+    for key in COMBINED:
+        values[key], stderr[key] = _statistic(
+            used[key].astype(float), used[f"{key}_stderr"].astype(float), statistic
+        )
+    central = "mean" if statistic == "mean" else "median"
+    for key in ("t_max_s", "t_dur_s", "max_intensity_m_s2"):
+        values[key] = float(getattr(used[key].astype(float), central)())
+    try:
+        model = GroundMotionModel(
+            **{key: values[key] for key in (*COMBINED, "t_max_s", "t_dur_s")},
+            alpha_reading=alpha_reading,
+        )
+    except InputError as error:
+        raise InputError(f"the combined parameters are inconsistent ({error.what})") from None
+    source = {
+        "site": name,
+        "statistic": statistic,
+        "plausible_only": plausible_only,
+        "n_components": len(used),
+    }
+    return CombinedSite(SiteModel(model, values["max_intensity_m_s2"], source), stderr, used)
+
+
+@dataclass(frozen=True)
+class SiteFromRecords:
+    """A site from a folder of its records: every component's features and fit, the failures,
+    and the combination (:func:`site_from_records`).
+
+    Attributes
+    ----------
+    combined
+        :func:`site_from_features` of ``features``.
+    features
+        One row per component that gave a fit (the catalogue's features table).
+    failures
+        Components that could not be read, measured or fitted (item, stage, error, message).
+    folder
+        The records folder.
+    options
+        How the records were read and fitted (:class:`stepframe.pipeline.catalogue.fit_options.
+        FitOptions`) and their read options.
+    """
+
+    combined: CombinedSite
+    features: pd.DataFrame
+    failures: pd.DataFrame
+    folder: Path
+    options: FitOptions
+    record_options: dict[str, Any]
+
+    @property
+    def model(self) -> GroundMotionModel:
+        """The combined ground-motion model."""
+        return self.combined.model
+
+    @property
+    def stderr(self) -> dict[str, float]:
+        """Standard errors of the combined parameters."""
+        return self.combined.stderr
+
+    @property
+    def peak_intensity_m_s2(self) -> float:
+        """The combined peak intensity [m/s²]."""
+        return self.combined.site.peak_intensity_m_s2
+
+
+def site_from_records(
+    folder: str | PathLike[str],
+    *,
+    options: FitOptions | None = None,
+    record_options: Mapping[str, Any] | None = None,
+    statistic: SiteStatistic = "median",
+    plausible_only: bool = True,
+    jobs: int | None = 1,
+) -> SiteFromRecords:
+    """Fit every component of a folder of a site's records and combine the fits.
+
+    The features come from the one entry point
+    (:func:`stepframe.stochastic.catalog_features.catalog_features`, as the workflow's
+    ``features`` stage) and the combination from :func:`site_from_features` (as its ``site``
+    stage), so ``report amplification --records DIR`` and a workflow over ``DIR`` give the same
+    site.
+
+    Parameters
+    ----------
+    folder
+        The site's record files (any format :func:`stepframe.records.read` sniffs).
+    options
+        How each component is fitted (estimator, time origin, window, α_g reading).
+    record_options
+        Keyword arguments of :func:`stepframe.records.read` (``format``, ``units``, ...).
+    statistic, plausible_only
+        As :func:`site_from_features`.
+    jobs
+        Worker processes.
+
+    Raises
+    ------
+    InputError
+        Not a folder, no record file, or no component to combine (each failure named).
+    """
+    from stepframe.pipeline.catalogue.fit_options import FitOptions
+    from stepframe.stochastic.catalog_features import catalog_features
+
+    opts = options or FitOptions()
+    read_options = {k: v for k, v in (record_options or {}).items() if v is not None}
+    from stepframe.records.catalog import record_files
+
+    root = Path(folder)
+    if not root.is_dir():
+        raise InputError("not a folder, expected a folder of the site's record files", root)
+    if not record_files(root):
+        raise InputError("no record files, expected a folder of the site's records", root)
+    table, failures = catalog_features(
+        root, n_jobs=jobs, record_options=read_options, **opts.catalog_kwargs()
+    )
+    try:
+        combined = site_from_features(
+            table,
+            statistic=statistic,
+            plausible_only=plausible_only,
+            alpha_reading=opts.alpha_reading,
+            name=root.name,
+        )
+    except InputError as error:
+        reasons = [f"{row.file} [{row.component}]: {row.implausible_reason}"
+                   for row in table.itertuples() if not row.plausible]  # fmt: skip
+        reasons += [f"{row.item}: {row.message}" for row in failures.itertuples()]
+        detail = f" ({'; '.join(reasons)})" if reasons else ""
+        raise InputError(f"{error.what}{detail}", root) from None
+    return SiteFromRecords(combined, table, failures, root, opts, read_options)
 
 
 def site_from_record(
@@ -216,12 +454,19 @@ def read_site_model(path: str | PathLike[str]) -> SiteModel:
 
 
 __all__ = [
+    "COMBINED",
     "SITE_PARAMETERS",
+    "SITE_STATISTICS",
+    "CombinedSite",
+    "SiteFromRecords",
     "SiteModel",
+    "SiteStatistic",
     "read_one_component",
     "read_site_model",
+    "site_from_features",
     "site_from_options",
     "site_from_parameters",
     "site_from_record",
+    "site_from_records",
     "write_site_model",
 ]

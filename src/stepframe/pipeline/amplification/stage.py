@@ -18,44 +18,30 @@ from typing import Any
 
 from stepframe.core.io import copy_files, write_bytes
 from stepframe.errors import InputError
-from stepframe.pipeline.engine.stage import Context, Param, Stage
+from stepframe.pipeline.amplification.analysis import (
+    SITE_PARAMETERS,
+    AmplificationAnalysis,
+    AmplificationOptions,
+    SiteCombination,
+    SiteParameters,
+)
+from stepframe.pipeline.catalogue.stage import FEATURES_STAGE
+from stepframe.pipeline.engine.stage import Context, Param, Stage, params_from_options
 from stepframe.pipeline.engine.store import make_key, write_output_table
 from stepframe.pipeline.reports.provenance import workflow_provenance
 
-SITE_VERSION = 1
+SITE_VERSION = 2  # 2: site_from_features (one combination with the report)
 AMPLIFICATION_VERSION = 1
 
-SITE_PARAMETERS = ("fp_hz", "fs_hz", "fr_hz", "xi_p", "xi_r", "t_max_s", "t_dur_s")
+#: The ``[site]`` table: where the site comes from, and the options of ``report amplification``
+#: that shape it (declared once, in :mod:`stepframe.pipeline.amplification.analysis`).
 SITE_PARAMS: dict[str, Param] = {
     "from": Param(
         "str", "parameters", "where the site model comes from", ("parameters", "records")
     ),
-    "fp_hz": Param("float", None, "P-wave dominant frequency f_p [Hz]"),
-    "fs_hz": Param("float", None, "S-wave dominant frequency f_s [Hz]"),
-    "fr_hz": Param("float", None, "surface-wave dominant frequency f_r [Hz]"),
-    "xi_p": Param("float", None, "bandwidth ratio ξ_p at the start [-]"),
-    "xi_r": Param("float", None, "bandwidth ratio ξ_r at the end [-]"),
-    "t_max_s": Param("float", None, "time of peak intensity after t0 [s]"),
-    "t_dur_s": Param("float", None, "strong-motion duration after t0 [s]"),
-    "alpha_reading": Param(
-        "str", "eq-6-11", "α_g ramp ends at t_dur (eq. 6.11) or t_max (paper)", ("eq-6-11", "paper")
-    ),
-    "peak_intensity_m_s2": Param(
-        "float", 1.0, "max I_g [m/s²] with parameters (from records: their median)"
-    ),
-    "statistic": Param(
-        "str", "median", "from records: statistic over components", ("median", "mean")
-    ),
-    "plausible_only": Param("bool", True, "from records: only components passing the checks"),
-}
-MODEL_FROM_FEATURES = {
-    "omega_p_rad_s": "omega_p_rad_s",
-    "omega_s_rad_s": "omega_s_rad_s",
-    "omega_r_rad_s": "omega_r_rad_s",
-    "xi_p": "xi_p",
-    "xi_r": "xi_r",
-    "t_max_s": "t_max_s",
-    "t_dur_s": "t_dur_s",
+    **params_from_options(SiteParameters, SITE_PARAMETERS),
+    **params_from_options(AmplificationAnalysis, ("alpha_reading", "peak_intensity_m_s2")),
+    **params_from_options(SiteCombination, ("statistic", "plausible_only")),
 }
 SITE_JSON = "site_model.json"
 CURVE_NETCDF = "amplification.nc"
@@ -66,8 +52,19 @@ def _site_upstream(workflow: Any) -> tuple[str, ...]:
     return ("features",) if source == "records" else ()
 
 
+def _checked(workflow: Any, table: str, options: type, given: dict[str, Any]) -> Any:
+    """``options(**given)``, its error pointed at the key's line of ``[table]``."""
+    try:
+        return options(**given)
+    except InputError as error:
+        raise workflow.lines.error(f"[{table}] {error.what}", table, error.key) from None
+
+
 def _site_check(workflow: Any) -> None:
     params = SITE_STAGE.parameters(workflow)
+    _checked(workflow, "site", SiteParameters, {k: params[k] for k in SITE_PARAMETERS})
+    combination = {k: params[k] for k in ("statistic", "plausible_only")}
+    _checked(workflow, "site", SiteCombination, combination)
     if params["from"] == "parameters":
         missing = [name for name in SITE_PARAMETERS if params[name] is None]
         if missing:
@@ -80,9 +77,25 @@ def _site_check(workflow: Any) -> None:
             _model_from_parameters(params)
         except InputError as error:
             raise workflow.lines.error(f"[site] {error.what}", "site") from None
-    elif workflow.records is None:
+        return
+    if workflow.records is None:
         raise workflow.lines.error(
             '[site] from = "records" without a [records] table, expected one', "site", "from"
+        )
+    given = [name for name in SITE_PARAMETERS if params[name] is not None]
+    if given:
+        raise workflow.lines.error(
+            f'[site] {given[0]} with from = "records", expected the parameters or the records',
+            "site",
+            given[0],
+        )
+    features = workflow.tables.get("features", {}).get("alpha_reading", "eq-6-11")
+    if "alpha_reading" in workflow.tables.get("site", {}) and params["alpha_reading"] != features:
+        raise workflow.lines.error(
+            f'[site] alpha_reading = "{params["alpha_reading"]}" with records fitted under '
+            f'"{features}", expected it in [features] (the fit itself depends on it)',
+            "site",
+            "alpha_reading",
         )
 
 
@@ -102,50 +115,34 @@ def _model_from_parameters(params: dict[str, Any]) -> Any:
         t_dur_s=params["t_dur_s"],
         alpha_reading=params["alpha_reading"],
     )
-    return replace(site, peak_intensity_m_s2=params["peak_intensity_m_s2"])
+    intensity = params["peak_intensity_m_s2"]
+    return site if intensity is None else replace(site, peak_intensity_m_s2=intensity)
 
 
-def _ok_features(context: Context, plausible_only: bool) -> Any:
-    table = context.tables["features"]
-    if plausible_only:
-        table = table[table["plausible"].astype(bool)]
-    return table
+def _site_from_records(context: Context, params: dict[str, Any]) -> Any:
+    """The site of the workflow's features table (:func:`site_from_features`, as the report)."""
+    from dataclasses import replace
+
+    from stepframe.pipeline.amplification.site import site_from_features
+
+    reading = FEATURES_STAGE.parameters(context.workflow)["alpha_reading"]
+    site = site_from_features(
+        context.tables["features"],
+        statistic=params["statistic"],
+        plausible_only=params["plausible_only"],
+        alpha_reading=reading,
+    ).site
+    intensity = params["peak_intensity_m_s2"]
+    return site if intensity is None else replace(site, peak_intensity_m_s2=intensity)
 
 
 def _site_key(context: Context) -> str:
     params = SITE_STAGE.parameters(context.workflow)
     if params["from"] == "records":
-        used = _ok_features(context, params["plausible_only"])
+        table = context.tables["features"]
+        used = table[table["plausible"].astype(bool)] if params["plausible_only"] else table
         return make_key("site", SITE_VERSION, params, *sorted(map(str, used["_key"])))
     return make_key("site", SITE_VERSION, params)
-
-
-def _site_from_records(context: Context, params: dict[str, Any]) -> Any:
-    """The site of the records: each fitted parameter's statistic over the components used."""
-    from stepframe.pipeline.amplification.site import SiteModel
-    from stepframe.stochastic.model import GroundMotionModel
-
-    used = _ok_features(context, params["plausible_only"])
-    if used.empty:
-        raise InputError(
-            "no component with fitted features"
-            + (" passing the plausibility checks" if params["plausible_only"] else "")
-            + ", expected at least one for a site model from records"
-        )
-    reduce = "median" if params["statistic"] == "median" else "mean"
-    values = {
-        field: float(getattr(used[column].astype(float), reduce)())
-        for field, column in MODEL_FROM_FEATURES.items()
-    }
-    model = GroundMotionModel(**values, alpha_reading=params["alpha_reading"])
-    intensity = float(getattr(used["max_intensity_m_s2"].astype(float), reduce)())
-    source = {
-        "site": "records",
-        "statistic": reduce,
-        "plausible_only": params["plausible_only"],
-        "n_components": len(used),
-    }
-    return SiteModel(model, intensity, source)
 
 
 def _site_run(context: Context, folder: Path) -> None:
@@ -199,34 +196,17 @@ SITE_STAGE = Stage(
     check=_site_check,
 )
 
-AMPLIFICATION_PARAMS: dict[str, Param] = {
-    "xi0": Param("float", 0.05, "damping ratio of the oscillator (a fraction)"),
-    "f_min_hz": Param("float", 0.1, "lowest oscillator frequency f0 [Hz]"),
-    "f_max_hz": Param("float", 10.0, "highest oscillator frequency f0 [Hz]"),
-    "n_frequencies": Param("int", 60, "frequencies, log-spaced"),
-    "n_steps": Param("int", 4000, "time steps of the covariance integration"),
-}
+#: The ``[amplification]`` table: the curve's oscillator and grids (the options of ``report
+#: amplification`` and ``stochastic amplify``, declared once in
+#: :mod:`stepframe.pipeline.amplification.analysis`).
+CURVE_FIELDS = ("xi0", "f_min_hz", "f_max_hz", "n_frequencies", "n_steps")
+AMPLIFICATION_PARAMS: dict[str, Param] = params_from_options(AmplificationAnalysis, CURVE_FIELDS)
 
 
 def _amplification_check(workflow: Any) -> None:
-    params = AMPLIFICATION_STAGE.parameters(workflow)
-    if not 0 < params["xi0"] < 1:
-        raise workflow.lines.error(
-            f"[amplification] xi0 = {params['xi0']}, expected a damping fraction in (0, 1)",
-            "amplification",
-            "xi0",
-        )
-    if not 0 < params["f_min_hz"] < params["f_max_hz"]:
-        raise workflow.lines.error(
-            "[amplification] f_min_hz, f_max_hz, expected 0 < f_min_hz < f_max_hz",
-            "amplification",
-            "f_min_hz",
-        )
-    for name in ("n_frequencies", "n_steps"):
-        if params[name] < 2:
-            raise workflow.lines.error(
-                f"[amplification] {name} = {params[name]}, expected ≥ 2", "amplification", name
-            )
+    _checked(
+        workflow, "amplification", AmplificationAnalysis, workflow.tables.get("amplification", {})
+    )
 
 
 def _amplification_key(context: Context) -> str:
@@ -244,7 +224,10 @@ def _amplification_run(context: Context, folder: Path) -> None:
     params = AMPLIFICATION_STAGE.parameters(context.workflow)
     site = read_site_model(context.set_dirs["site"] / SITE_JSON)
     frequencies = np.geomspace(params["f_min_hz"], params["f_max_hz"], params["n_frequencies"])
-    curve = amplification_curve(site, frequencies, params["xi0"], n_steps=params["n_steps"])
+    analysis = AmplificationAnalysis(**params)
+    curve = amplification_curve(
+        site, frequencies, analysis.xi0_or_default, n_steps=analysis.n_steps
+    )
     # eq. 6.19 has two approximations; the curve carries the last, the report wants both
     curve.attrs["approx_eq_6_19_first"] = approx_eq_6_19_first(site.model)
     write_curve(curve, folder / CURVE_NETCDF)
@@ -280,12 +263,35 @@ AMPLIFICATION_STAGE = Stage(
 )
 
 
-AMPLIFICATION_REPORT_VERSION = 1
+AMPLIFICATION_REPORT_VERSION = 2  # 2: one set of analysis options with the command
 AMPLIFICATION_REPORT_HTML = "amplification_report.html"
 
-AMPLIFICATION_REPORT_PARAMS: dict[str, Param] = {
-    "monte_carlo": Param("int", 50, "Monte Carlo motions per checked frequency (0: none)"),
-}
+#: The ``[amplification_report]`` table: the report's own choices (its curve follows
+#: ``[amplification]``).
+REPORT_FIELDS = ("monte_carlo", "seed", "delta_star_m")
+AMPLIFICATION_REPORT_PARAMS: dict[str, Param] = params_from_options(
+    AmplificationOptions, REPORT_FIELDS
+)
+
+
+def _report_options(workflow: Any) -> AmplificationOptions:
+    """The report's options: ``[amplification]``'s curve, ``[amplification_report]``'s own."""
+    tables = workflow.tables
+    given = {**tables.get("amplification", {}), **tables.get("amplification_report", {})}
+    options: AmplificationOptions = _checked(
+        workflow, "amplification_report", AmplificationOptions, given
+    )
+    return options
+
+
+def _amplification_report_check(workflow: Any) -> None:
+    options = _report_options(workflow)
+    if options.delta_star_m is not None and workflow.frame is None:
+        raise workflow.lines.error(
+            "[amplification_report] delta_star_m without a frame, expected a [frame] table",
+            "amplification_report",
+            "delta_star_m",
+        )
 
 
 def _publish_report(folder: Path, outputs: Path) -> list[Path]:
@@ -293,30 +299,35 @@ def _publish_report(folder: Path, outputs: Path) -> list[Path]:
 
 
 def _amplification_report_key(context: Context) -> str:
-    params = AMPLIFICATION_REPORT_STAGE.parameters(context.workflow)
-    params["frame"] = context.workflow.frame_source
+    params = {
+        **AMPLIFICATION_STAGE.parameters(context.workflow),
+        **AMPLIFICATION_REPORT_STAGE.parameters(context.workflow),
+        "frame": context.workflow.frame_source,
+    }
     return make_key(
         "amplification_report", AMPLIFICATION_REPORT_VERSION, params, context.set_keys["site"]
     )
 
 
 def _amplification_report_run(context: Context, folder: Path) -> None:
-    from stepframe.pipeline.amplification.report import (
-        AmplificationOptions,
-        write_amplification_report,
-    )
+    from dataclasses import asdict, replace
+
+    from stepframe.pipeline.amplification.report import write_amplification_report
     from stepframe.pipeline.amplification.site import read_site_model
 
-    params = AMPLIFICATION_REPORT_STAGE.parameters(context.workflow)
     site = read_site_model(context.set_dirs["site"] / SITE_JSON)
+    options = replace(
+        _report_options(context.workflow),
+        site_name=context.workflow.name or "site",
+        peak_intensity_m_s2=site.peak_intensity_m_s2,
+    )
+    parameters = {"site": site.to_dict(), **asdict(options)}
     write_amplification_report(
         site.model,
         folder / AMPLIFICATION_REPORT_HTML,
         frame=context.workflow.frame,
-        options=AmplificationOptions(
-            site_name=context.workflow.name or "site", monte_carlo=params["monte_carlo"]
-        ),
-        provenance=workflow_provenance(context.workflow.path, {"site": site.to_dict(), **params}),
+        options=options,
+        provenance=workflow_provenance(context.workflow.path, parameters),
     )
 
 
@@ -330,4 +341,5 @@ AMPLIFICATION_REPORT_STAGE = Stage(
     set_key=_amplification_report_key,
     run_set=_amplification_report_run,
     publish=_publish_report,
+    check=_amplification_report_check,
 )

@@ -14,9 +14,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from stepframe.core.options import option
 from stepframe.errors import InputError
-from stepframe.pipeline.amplification.site import SITE_PARAMETERS
+from stepframe.pipeline.amplification.analysis import SITE_PARAMETERS, AmplifyOptions
 from stepframe.records.read_options import RecordSource
 
 if TYPE_CHECKING:
@@ -28,8 +27,6 @@ if TYPE_CHECKING:
         SpectralRatios,
     )
     from stepframe.pipeline.amplification.site import SiteModel
-    from stepframe.stochastic.features import TimeOrigin
-    from stepframe.stochastic.model import AlphaReading
 
 #: The site parameters that are the envelope's times.
 ENVELOPE_TIMES = ("t_max_s", "t_dur_s")
@@ -39,71 +36,6 @@ _TIMES_HINT = (
     "`stepframe stochastic fit` prints t_max_s and t_dur_s of a record of the site, the paper's "
     "site has 5 and 20 s"
 )
-
-
-@dataclass(frozen=True)
-class AmplifyOptions:
-    """The site (its parameters, or a record), the oscillator (f0, or a frame file) and the
-    analysis of ``stepframe stochastic amplify``."""
-
-    fp_hz: float | None = option(
-        None,
-        "P-wave dominant f_p [Hz] (omega_p_rad_s/2π; `stochastic fit` prints both)",
-        kind="positive",
-        metavar="F",
-    )
-    fs_hz: float | None = option(None, "S-wave dominant f_s [Hz]", kind="positive", metavar="F")
-    fr_hz: float | None = option(None, "surface-wave f_r [Hz]", kind="positive", metavar="F")
-    xi_p: float | None = option(None, "bandwidth ratio ξ_p", kind="positive", metavar="X")
-    xi_r: float | None = option(None, "bandwidth ratio ξ_r", kind="positive", metavar="X")
-    t_max_s: float | None = option(
-        None,
-        "time of peak I_g [s] (`stochastic fit` prints t_max_s; the paper's site: 5); not "
-        "needed for eqs. 6.18-6.19 alone with --alpha-at-tmax paper",
-        kind="positive",
-        metavar="T",
-    )
-    t_dur_s: float | None = option(
-        None,
-        "strong duration [s] (`stochastic fit` prints t_dur_s; the paper's site: 20)",
-        kind="positive",
-        metavar="T",
-    )
-    record: str | None = option(None, "estimate the site from this record (one)", metavar="FILE")
-    t0: TimeOrigin = option(
-        "auto",
-        "with --record: time origin, auto (default: reliable P pick, else record start), "
-        "start or p-pick",
-        choices=("auto", "start", "p-pick"),
-    )
-    f0_hz: float | None = option(None, "small-amplitude f0 [Hz]", kind="positive", metavar="F")
-    frame: str | None = option(None, "frame file: ω(t) = 2π/T(A)", metavar="FRAME.toml")
-    xi0: float | None = option(
-        None,
-        "damping ratio at f0 (fraction; default 0.05, or the frame's xi_1 with --frame)",
-        kind="float",
-        metavar="X",
-    )
-    alpha_reading: AlphaReading = option(
-        "eq-6-11",
-        "α_g ramp ends at t_dur (eq. 6.11 as printed, default) or at t_max (the paper)",
-        choices=("eq-6-11", "paper"),
-        flag="--alpha-at-tmax",
-    )
-    peak_intensity_m_s2: float | None = option(
-        None,
-        "max I_g [m/s²] (default 1, or the record's); matters only with --frame",
-        kind="positive",
-        metavar="I",
-    )
-    monte_carlo: int = option(0, "confirm with N synthetic motions", kind="int", metavar="N")
-    seed: int | None = option(None, "seed of the Monte Carlo motions", kind="int")
-    n_steps: int = option(4000, "time steps (default 4000)", kind="int", metavar="N")
-
-    @property
-    def parameters(self) -> dict[str, float | None]:
-        """:data:`~stepframe.pipeline.amplification.site.SITE_PARAMETERS` → value (None: none)."""
-        return {name: getattr(self, name) for name in SITE_PARAMETERS}
 
 
 @dataclass(frozen=True)
@@ -118,14 +50,14 @@ class AmplifyStudy:
         The site (None on the envelope-free route).
     oscillator
         The oscillator.
-    n_steps
-        Time steps of the analysis grid (the figure's curve uses the same).
+    options
+        What was asked (the figure's curve uses the same grids).
     """
 
     result: AmplificationResult | SpectralRatios
     site: SiteModel | None
     oscillator: Oscillator
-    n_steps: int
+    options: AmplifyOptions
 
     def to_dict(self) -> dict[str, Any]:
         """The result's JSON-ready form."""
@@ -136,7 +68,7 @@ class AmplifyStudy:
         return self.result.describe()
 
     def figure(self) -> Figure:
-        """Eq. 6.18 and both response amplifications over 0.1-10 Hz, this f0 marked."""
+        """Eq. 6.18 and both response amplifications over the f0 grid, this f0 marked."""
         import numpy as np
 
         from stepframe.pipeline.amplification.amplify import (
@@ -148,8 +80,10 @@ class AmplifyStudy:
         result = self.result
         if self.site is None or not isinstance(result, AmplificationResult):
             raise InputError("a figure without the envelope's times, expected both times")
+        options = self.options
+        frequencies = np.geomspace(options.f_min_hz, options.f_max_hz, options.n_frequencies)
         curve = amplification_curve(
-            self.site, np.geomspace(0.1, 10.0, 60), self.oscillator.xi0, n_steps=self.n_steps
+            self.site, frequencies, self.oscillator.xi0, n_steps=options.n_steps
         )
         return amplification_figure(
             curve,
@@ -207,7 +141,7 @@ def amplify_study(
         site = site_from_record(
             stream[0], t0=options.t0, alpha_reading=alpha_reading, name=source.name(None)
         )
-    elif not _envelope_free(parameters, record, alpha_reading, options.monte_carlo, figure):
+    elif not _envelope_free(parameters, record, alpha_reading, options.monte_carlo or 0, figure):
         site = site_from_options(
             parameters, record=record, record_options=source.read_kwargs(), t0=options.t0,
             alpha_reading=alpha_reading,
@@ -230,9 +164,9 @@ def amplify_study(
     else:
         result = stage.amplify(
             site, oscillator, peak_intensity_m_s2=options.peak_intensity_m_s2,
-            n_steps=options.n_steps, monte_carlo=options.monte_carlo, seed=options.seed,
+            n_steps=options.n_steps, monte_carlo=options.monte_carlo or 0, seed=options.seed,
         )  # fmt: skip
-    return AmplifyStudy(result, site, oscillator, options.n_steps)
+    return AmplifyStudy(result, site, oscillator, options)
 
 
 def _envelope_free(

@@ -17,22 +17,40 @@ import numpy as np
 from stepframe.core.io import write_bytes
 
 
-def at2_bytes(values_g: np.ndarray, dt_s: float, title: str, event: str, station: str) -> bytes:
-    """One component as the bytes of a PEER AT2 file (new header style, five values a line)."""
+def at2_bytes(
+    values_g: np.ndarray,
+    dt_s: float,
+    title: str,
+    event: str,
+    station: str,
+    *,
+    digits: int = 8,
+    dt_text: str | None = None,
+) -> bytes:
+    """One component as the bytes of a PEER AT2 file (new header style, five values a line).
+
+    ``digits`` after the point of each value (8: the example's source text); ``dt_text`` the
+    DT as written (default four decimals, as the example's source files; the export of chosen
+    motions writes Python's shortest round-trip form).
+    """
+    dt_word = f"{dt_s:.4f}" if dt_text is None else dt_text
     lines = [
         "PEER NGA STRONG MOTION DATABASE RECORD",
         f"{event}, {station}, {title}",
         "ACCELERATION TIME SERIES IN UNITS OF G",
-        f"NPTS= {values_g.size:7d}, DT= {dt_s:.4f} SEC",
+        f"NPTS= {values_g.size:7d}, DT= {dt_word} SEC",
     ]
-    words = [f"{v: .8E}" for v in values_g]
+    words = [f"{v: .{digits}E}" for v in values_g]
     lines += ["  ".join(words[i : i + 5]) for i in range(0, len(words), 5)]
     return ("\n".join(lines) + "\n").encode("ascii")
 
 
 def example_name(row: dict[str, Any]) -> str:
-    """The AT2 file name of an example component (its RSN and PEER component name)."""
-    return f"RSN{int(row['rsn'])}_{str(row['component_name']).replace('/', '_')}.AT2"
+    """The AT2 file name of an example component (:func:`stepframe.records.examples.file_name`,
+    the one name it has everywhere)."""
+    from stepframe.records.examples import file_name
+
+    return file_name(row)
 
 
 def example_metadata(folder: Path) -> Any:

@@ -1,22 +1,22 @@
-"""How a record is fitted: :class:`FitOptions` (light: the command line builds its options here).
+"""How a record is fitted: :class:`FitOptions`, declared once for ``stochastic fit``,
+``stochastic features`` and the workflow's ``[features]`` table.
 
-Kept apart from :mod:`stepframe.pipeline.catalogue.fitted` (which imports numpy) so that ``stepframe
---help`` can derive ``stochastic fit`` and ``features`` options from the fields without loading
-the numerical stack.
+Light (no numpy at import), so that ``stepframe --help`` can derive the options from the fields.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
-from stepframe.core.options import option
-from stepframe.errors import InputError
-from stepframe.stochastic.methods import FREQUENCY_METHOD_NAMES
+from stepframe.core.options import Range, check_fields, option
+from stepframe.stochastic.methods import DEFAULT_FREQUENCY_METHOD, FREQUENCY_METHOD_NAMES
 
 if TYPE_CHECKING:
     from stepframe.stochastic.features import FrequencyEstimator, TimeOrigin
     from stepframe.stochastic.methods import FrequencyMethod
+    from stepframe.stochastic.model import AlphaReading
+    from stepframe.stochastic.transforms import FftBackend
 
 
 @dataclass(frozen=True)
@@ -27,8 +27,8 @@ class FitOptions:
     """
 
     frequency: FrequencyMethod | FrequencyEstimator = option(
-        "zero-crossing",
-        "ω_g(t) estimator, fast to dear (default zero-crossing)",
+        DEFAULT_FREQUENCY_METHOD,
+        "ω_g(t) estimator, fast to dear (default %(default)s; docs/stochastic-features.md)",
         choices=FREQUENCY_METHOD_NAMES,
     )
     t0: TimeOrigin = option(
@@ -39,15 +39,27 @@ class FitOptions:
         choices=("auto", "start", "p-pick"),
     )
     window_s: float = option(
-        2.0, "STFT window and smoothing length [s] (default 2)", kind="positive", metavar="S"
+        2.0,
+        "STFT window and smoothing length [s] (default 2)",
+        kind="positive",
+        metavar="S",
+        valid=Range(0.01, 600),
     )
     omega_max_rad_s: float | None = option(
         None,
         "highest frequency of interest [rad/s]: error if above the record's Nyquist",
         kind="positive",
         metavar="W",
+        valid=Range(0, low_open=True),
     )
-    bootstrap: int = option(0, "bootstrap refits", kind="int", metavar="N")
+    fft: FftBackend = option("scipy", "FFT backend (default scipy)", choices=("scipy", "pyfftw"))
+    alpha_reading: AlphaReading = option(
+        "eq-6-11",
+        "α_g ramp of the fit ends at t_dur (eq. 6.11 as printed, default) or at t_max (the paper)",
+        choices=("eq-6-11", "paper"),
+        flag="--alpha-at-tmax",
+    )
+    bootstrap: int = option(0, "bootstrap refits", kind="int", metavar="N", valid=Range(0))
     seed: int | None = option(None, "seed of the bootstrap", kind="int")
     corner: bool = option(
         False,
@@ -56,8 +68,17 @@ class FitOptions:
     )
 
     def __post_init__(self) -> None:
-        if self.bootstrap < 0:
-            raise InputError(f"--bootstrap {self.bootstrap}, expected an integer ≥ 0")
+        check_fields(self)
+
+    def catalog_kwargs(self) -> dict[str, Any]:
+        """The estimation options as keyword arguments of
+        :func:`stepframe.stochastic.catalog_features.catalog_features` (a catalogue's fit runs
+        no bootstrap and no corner)."""
+        return {name: getattr(self, name) for name in ESTIMATION_FIELDS}
 
 
-__all__ = ["FitOptions"]
+#: The fields that shape a record's features and fit (the workflow's ``[features]`` table).
+ESTIMATION_FIELDS = ("frequency", "t0", "window_s", "fft", "omega_max_rad_s", "alpha_reading")
+
+
+__all__ = ["ESTIMATION_FIELDS", "FitOptions"]

@@ -1,4 +1,4 @@
-"""Stage: fitted records, the outputs of ``stepframe stochastic fit`` and ``features``.
+"""Fitted records, the outputs of ``stepframe stochastic fit`` and ``features``.
 
 :func:`fit_record` estimates the features of one record component and fits the
 Beck-Papadimitriou parameters (:mod:`stepframe.stochastic.features`, then
@@ -6,14 +6,15 @@ Beck-Papadimitriou parameters (:mod:`stepframe.stochastic.features`, then
 
 :func:`fitted_dataset` puts its evolutionary PSD, measured features and fitted ω_g(t) in one
 ``xarray.Dataset`` (NetCDF: :func:`write_fitted`, :func:`read_fitted`); :func:`fit_table` gathers
-fitted records into a table with a column dictionary. :func:`features_table` runs the features of
-a whole catalogue and :func:`write_features` writes its table and failure table.
+fitted records into a table with a column dictionary. A whole catalogue's features come from the
+one entry point :func:`stepframe.stochastic.catalog_features.catalog_features`;
+:func:`write_features` writes its table and failure table.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from os import PathLike
 from pathlib import Path
@@ -31,9 +32,9 @@ if TYPE_CHECKING:
     import xarray as xr
     from obspy import Stream, Trace
 
-    from stepframe.stochastic.features import FrequencyEstimator, RecordFeatures, TimeOrigin
+    from stepframe.stochastic.features import RecordFeatures
     from stepframe.stochastic.fit import FitResult
-    from stepframe.stochastic.methods import FrequencyMethod, SpectrumMethod
+    from stepframe.stochastic.methods import SpectrumMethod
 
 #: Keys of the parameter set printed by ``fit`` (plus ``<key>_stderr`` for fitted values).
 FIT_KEYS = (*MODEL_FIELDS, "fit_quality")
@@ -149,7 +150,7 @@ def fit_record(
     try:
         features = record_features(
             trace, frequency=opts.frequency, t0=opts.t0, window_s=opts.window_s,
-            omega_max_rad_s=opts.omega_max_rad_s,
+            omega_max_rad_s=opts.omega_max_rad_s, fft=opts.fft,
         )  # fmt: skip
         corner_spectrum = None
         if opts.corner:
@@ -159,7 +160,7 @@ def fit_record(
             corner_spectrum = evolutionary_spectrum(trace, window_s=corner_window_s)
         fitted = fit_model(
             features, bootstrap=opts.bootstrap, seed=opts.seed, fit_corner=opts.corner,
-            spectrum=corner_spectrum,
+            spectrum=corner_spectrum, alpha_reading=opts.alpha_reading,
         )  # fmt: skip
     except InputError as error:
         source = (trace.stats.get("stepframe") or {}).get("source_file")
@@ -268,52 +269,6 @@ def fit_table(records: Iterable[FittedRecord]) -> pd.DataFrame:
     return table
 
 
-def features_table(
-    source: str | PathLike[str] | Stream | Sequence[str | PathLike[str]],
-    *,
-    jobs: int | None = None,
-    record_options: Mapping[str, Any] | None = None,
-    lowest_usable_hz: Iterable[float | None] | None = None,
-    progress: bool = False,
-    frequency: FrequencyMethod | FrequencyEstimator = "zero-crossing",
-    t0: TimeOrigin = "auto",
-    window_s: float = 2.0,
-    omega_max_rad_s: float | None = None,
-) -> tuple[pd.DataFrame, pd.DataFrame]:
-    """Features and fitted parameters of every component of a catalogue.
-
-    See :func:`stepframe.stochastic.catalog_features.catalog_features`; ``source`` is a folder,
-    a list of files or an ``obspy.Stream``. Returns the table and the failure table.
-    """
-    from stepframe.stochastic.catalog_features import catalog_features
-
-    options = {key: value for key, value in (record_options or {}).items() if value is not None}
-    return catalog_features(
-        source,
-        n_jobs=jobs,
-        progress=progress,
-        frequency=frequency,
-        t0=t0,
-        window_s=window_s,
-        omega_max_rad_s=omega_max_rad_s,
-        record_options=options,
-        lowest_usable_hz=lowest_usable_hz,
-    )
-
-
-def example_features_table(
-    *, jobs: int | None = None, progress: bool = False, **options: Any
-) -> tuple[pd.DataFrame, pd.DataFrame]:
-    """:func:`features_table` of the embedded FEMA P695 example catalogue (its usable band)."""
-    from stepframe.records.examples import fema_p695
-
-    stream, table = fema_p695()
-    return features_table(
-        stream, jobs=jobs, progress=progress,
-        lowest_usable_hz=list(table["lowest_usable_frequency_hz"]), **options,
-    )  # fmt: skip
-
-
 def write_features(
     table: pd.DataFrame, failures: pd.DataFrame, output: str | PathLike[str]
 ) -> tuple[Path, Path]:
@@ -333,8 +288,6 @@ __all__ = [
     "FIT_KEYS",
     "FitOptions",
     "FittedRecord",
-    "example_features_table",
-    "features_table",
     "fit_record",
     "fit_records",
     "fit_table",

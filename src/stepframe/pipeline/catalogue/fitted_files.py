@@ -19,8 +19,6 @@ from stepframe.errors import InputError
 from stepframe.pipeline.catalogue.fitted import (
     FitOptions,
     FittedRecord,
-    example_features_table,
-    features_table,
     fit_records,
     fitted_dataset,
     record_spectrum,
@@ -165,8 +163,8 @@ def features_to_file(
         The CSV table; its column dictionary goes to ``<output>.columns.csv``, its failures to
         ``<output>.failures.csv``.
     options
-        The estimation options (``frequency``, ``t0``, ``window_s``, ``omega_max_rad_s``; the
-        fit's bootstrap and corner are not run for a catalogue).
+        The estimation options (:data:`~stepframe.pipeline.catalogue.fit_options.
+        ESTIMATION_FIELDS`; the fit's bootstrap and corner are not run for a catalogue).
     folder, source
         A folder of record files, or a source naming the example catalogue (exactly one); the
         source's read options are those of the folder's files.
@@ -181,20 +179,17 @@ def features_to_file(
     if jobs is not None and jobs < 1:
         raise InputError(f"--jobs {jobs}, expected ≥ 1")
     check_output_folder(output)
+    from stepframe.stochastic.catalog_features import catalog_features
+
     opts = options or FitOptions()
-    common: dict[str, Any] = {
-        "jobs": jobs,
-        "progress": progress,
-        "frequency": opts.frequency,
-        "t0": opts.t0,
-        "window_s": opts.window_s,
-        "omega_max_rad_s": opts.omega_max_rad_s,
-    }
+    common: dict[str, Any] = {"n_jobs": jobs, "progress": progress, **opts.catalog_kwargs()}
     if source.example is not None:
-        rows, failures = example_features_table(**common)
+        # the example's traces carry their lowest usable frequency for the band check
+        rows, failures = catalog_features(source.read(None), **common)
     else:
         assert folder is not None
-        rows, failures = features_table(folder, record_options=source.read_kwargs(), **common)
+        options_given = {k: v for k, v in source.read_kwargs().items() if v is not None}
+        rows, failures = catalog_features(folder, record_options=options_given, **common)
     if len(rows) == 0:
         raise InputError(
             f"0 components read ({len(failures)} failures: see the messages above or run "

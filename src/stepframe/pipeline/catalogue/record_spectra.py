@@ -1,4 +1,4 @@
-"""Stage: a record's components described, and their response spectra with RotD.
+"""A record's components described, and their response spectra with RotD.
 
 What ``stepframe records info`` prints (:func:`record_info`: sampling, units and intensity
 measures of each component), and what ``stepframe records spectrum`` prints and draws: PSA [g],
@@ -35,7 +35,8 @@ def is_vertical(channel: str) -> bool:
 
 def record_info(traces: Sequence[Trace], file: str | PathLike[str] = "") -> list[dict[str, Any]]:
     """One row per component: file, station, component, npts, dt [s], duration [s], the units
-    in the file, and the intensity measures of
+    in the file, ``incomplete`` (None, or what a record read short lacks), and the intensity
+    measures of
     :func:`stepframe.records.intensity.trace_intensity_measures` (PGA in g only; a record made
     from raw counts is measured after the stated standard processing, with a warning)."""
     from stepframe.records.intensity import trace_intensity_measures
@@ -53,6 +54,7 @@ def record_info(traces: Sequence[Trace], file: str | PathLike[str] = "") -> list
                 "dt_s": dt,
                 "duration_s": dt * (int(trace.stats.npts) - 1),
                 "units_in": trace.stats.stepframe.units_in,
+                "incomplete": trace.stats.stepframe.get("incomplete"),
                 **{key: value for key, value in measures.items() if key != "pga_m_s2"},
             }
         )
@@ -65,6 +67,7 @@ def info_text(rows: Sequence[Mapping[str, Any]]) -> str:
         f"{r['file']} {r['station']} {r['component']}: {r['npts']} samples at {r['dt_s']} s, "
         f"units {r['units_in']}, PGA {r['pga_g']:.4g} g, PGV {r['pgv_m_s']:.4g} m/s, "
         f"PGD {r['pgd_m']:.4g} m, Arias {r['arias_m_s']:.4g} m/s, D5-95 {r['d5_95_s']:.4g} s"
+        + (f", INCOMPLETE ({r['incomplete']})" if r.get("incomplete") else "")
         for r in rows
     )
 

@@ -18,15 +18,24 @@ import math
 from pathlib import Path
 from typing import Any
 
-from stepframe.pipeline.engine.stage import Context, Param, Stage, Task
+from stepframe.errors import InputError
+from stepframe.pipeline.catalogue.fit_options import ESTIMATION_FIELDS, FitOptions
+from stepframe.pipeline.engine.same_content import NAME_SEPARATOR
+from stepframe.pipeline.engine.stage import Context, Param, Stage, Task, params_from_options
 from stepframe.pipeline.engine.store import make_key
 
 INVENTORY_VERSION = 1
-FEATURES_VERSION = 1
+# 2: the fit's α_g reading and the example's lowest usable frequency enter the features;
+# 3: each estimator's own resolution floor (column omega_floor_rad_s, the plausibility check)
+FEATURES_VERSION = 3
 
 #: Column dictionary of the inventory table: name → (unit, meaning).
 INVENTORY_COLUMNS: dict[str, tuple[str, str]] = {
     "file": ("", "record file, relative to the records folder"),
+    "duplicates": (
+        "",
+        "other files with the same bytes, '; '-separated (one item, computed once; empty: none)",
+    ),
     "content_sha256": ("", "sha256 of the file's bytes (the cache key's root)"),
     "channel_index": ("", "position of the component in the file"),
     "station": ("", "station name"),
@@ -91,19 +100,29 @@ def _record_contents(context: Context, *, update: bool = False) -> list[tuple[Pa
 
 
 def _inventory_tasks(context: Context) -> list[Task]:
+    """One task per distinct content: files with the same bytes are one item, named by the first
+    (in sorted order) with the others in its ``duplicates`` column and the run's summary."""
     folder = record_folder(context)
     options = _record_options(context)
-    tasks = []
+    names: dict[str, list[Path]] = {}
     for path, sha in _record_contents(context):
+        names.setdefault(sha, []).append(path)
+    tasks = []
+    for sha, paths in names.items():
         key = make_key("inventory", INVENTORY_VERSION, options, sha)
-        relative = path.relative_to(folder).as_posix()
+        first, *others = [path.relative_to(folder).as_posix() for path in paths]
         tasks.append(
             Task(
                 key=key,
-                name=relative,
+                name=first,
                 # absolute: a Dask worker's current folder is not this process's
-                payload=(str(path.absolute()), options, sha),
-                context={"file": relative, "content_sha256": sha},
+                payload=(str(paths[0].absolute()), options, first, sha),
+                context={
+                    "file": first,
+                    "duplicates": NAME_SEPARATOR.join(others),
+                    "content_sha256": sha,
+                },
+                aliases=tuple(others),
             )
         )
     return tasks
@@ -126,22 +145,22 @@ def read_record(path: str, options: dict[str, Any], sha: str) -> Any:
     key = (path, repr(sorted(options.items())), sha)
     stream = _LAST_READ.pop(key, None)
     if stream is None:
-        stream = read(path, **options)
+        stream = read(path, **read_kwargs(options))
         while len(_LAST_READ) >= LAST_READ_FILES:
             _LAST_READ.pop(next(iter(_LAST_READ)))  # the least recently used
     _LAST_READ[key] = stream
     return stream
 
 
-def read_components(payload: tuple[str, dict[str, Any], str]) -> list[dict[str, Any]]:
+def read_components(payload: tuple[str, dict[str, Any], str, str]) -> list[dict[str, Any]]:
     """Inventory of one file: a row per component (worker side)."""
     import numpy as np
 
-    path, options, sha = payload
+    path, options, name, sha = payload
     try:
         stream = read_record(path, options, sha)
     except Exception as error:  # a reader may raise anything on a foreign file: recorded
-        raise ItemFailure(f"read: {_one_line(error)}") from None
+        raise ItemFailure(f"read: {_one_line(error, path, name)}") from None
     if len(stream) == 0:
         raise ItemFailure("read: no traces in the file")
     rows = []
@@ -163,57 +182,87 @@ def read_components(payload: tuple[str, dict[str, Any], str]) -> list[dict[str, 
     return rows
 
 
-def _one_line(error: BaseException) -> str:
+def read_kwargs(options: dict[str, Any]) -> dict[str, Any]:
+    """The keyword arguments of :func:`stepframe.records.read` for a workflow's record options
+    (``[records] dt_s`` is read's ``dt``)."""
+    from stepframe.records.read_options import RecordReadOptions
+
+    given = RecordReadOptions(**options).read_kwargs()
+    return {name: value for name, value in given.items() if value is not None}
+
+
+def _one_line(error: BaseException, path: str = "", name: str = "") -> str:
+    """The error as one line; the file's absolute ``path`` written as its ``name`` in the
+    records folder, so that a stored failure reads the same wherever the workspace is."""
     from stepframe.errors import InputError
 
     if isinstance(error, InputError):
-        return error.one_line()
-    return f"{type(error).__name__}: {error}".replace("\n", " ")
+        line = error.one_line()
+    else:
+        line = f"{type(error).__name__}: {error}".replace("\n", " ")
+    return line.replace(path, name) if path else line
 
 
-FEATURE_PARAMS: dict[str, Param] = {
-    "frequency": Param(
-        "str",
-        "zero-crossing",
-        "how ω_g(t) is measured",
-        ("zero-crossing", "ridge", "moment", "wavelet-ridge"),
-    ),
-    "t0": Param(
-        "str",
-        "auto",
-        "time origin: picked P onset when reliable, else record start (auto), or one of them",
-        ("auto", "start", "p-pick"),
-    ),
-    "window_s": Param("float", 2.0, "analysis window of the spectra [s]"),
-    "fft": Param("str", "scipy", "FFT backend", ("scipy", "pyfftw")),
-    "omega_max_rad_s": Param(
-        "float", None, "highest frequency of interest [rad/s]: coarser records fail"
-    ),
-}
+#: The ``[features]`` table: the estimation options of ``stepframe stochastic features``, with
+#: their defaults, help and checks (:class:`~stepframe.pipeline.catalogue.fit_options.FitOptions`).
+FEATURE_PARAMS: dict[str, Param] = params_from_options(FitOptions, ESTIMATION_FIELDS)
 
 
-def _features_args(context: Context) -> tuple[dict[str, Any], dict[str, Any], str]:
-    """What a features task is made of besides its inventory row: the stage's parameters, the
-    record options and the records folder (absolute: a worker's current folder differs)."""
+def _features_check(workflow: Any) -> None:
+    """The ``[features]`` values, checked by building their options (file:line on error)."""
+    try:
+        FitOptions(**workflow.tables.get("features", {}))
+    except InputError as error:
+        raise workflow.lines.error(f"[features] {error.what}", "features", error.key) from None
+
+
+def _lowest_usable_hz(context: Context) -> dict[str, float]:
+    """File → the lowest usable frequency [Hz] its metadata states (the embedded example's)."""
+    records = context.workflow.records
+    if records is None or records.example is None:
+        return {}
+    from stepframe.pipeline.catalogue.example_files import example_name
+    from stepframe.records.examples import metadata
+
+    rows: list[dict[str, Any]] = metadata().to_dict(orient="records")  # type: ignore[assignment]
+    return {example_name(row): float(row["lowest_usable_frequency_hz"]) for row in rows}
+
+
+#: What a features task is made of besides its inventory row: the stage's parameters, the record
+#: options, the records folder and each file's lowest usable frequency [Hz] where stated.
+FeaturesArgs = tuple[dict[str, Any], dict[str, Any], str, dict[str, float]]
+
+
+def _features_args(context: Context) -> FeaturesArgs:
+    """The :data:`FeaturesArgs` of a run (the folder absolute: a worker's current folder
+    differs)."""
     params = FEATURES_STAGE.parameters(context.workflow)
-    return params, _record_options(context), str(record_folder(context).absolute())
+    folder = str(record_folder(context).absolute())
+    return params, _record_options(context), folder, _lowest_usable_hz(context)
 
 
 def _feature_task(
-    args: tuple[dict[str, Any], dict[str, Any], str],
+    args: FeaturesArgs,
     inventory_key: str,
     file: str,
+    duplicates: str,
     sha: str,
     row: dict[str, Any],
 ) -> Task:
     """The features task of one component (an inventory row of ``file``)."""
-    params, options, folder = args
+    params, options, folder, lowest = args
     index = int(row["channel_index"])
+    low = lowest.get(file)
     return Task(
-        key=make_key("features", FEATURES_VERSION, params, inventory_key, str(index)),
+        key=make_key("features", FEATURES_VERSION, params, inventory_key, str(index), str(low)),
         name=f"{file} [{row['component']}]",
-        payload=(str(Path(folder) / file), options, index, params, sha),
-        context={"file": file, "station": row["station"], "component": row["component"]},
+        payload=(str(Path(folder) / file), options, index, params, low, file, sha),
+        context={
+            "file": file,
+            "duplicates": duplicates,
+            "station": row["station"],
+            "component": row["component"],
+        },
     )
 
 
@@ -221,21 +270,27 @@ def _features_tasks(context: Context) -> list[Task]:
     args = _features_args(context)
     rows: list[dict[str, Any]] = context.tables["inventory"].to_dict(orient="records")  # type: ignore[assignment]
     return [
-        _feature_task(args, str(row["_key"]), str(row["file"]), str(row["content_sha256"]), row)
+        _feature_task(
+            args,
+            str(row["_key"]),
+            str(row["file"]),
+            str(row["duplicates"]),
+            str(row["content_sha256"]),
+            row,
+        )
         for row in rows
     ]
 
 
-def expand_features(
-    args: tuple[dict[str, Any], dict[str, Any], str], inventory: Task, rows: list[dict[str, Any]]
-) -> list[Task]:
+def expand_features(args: FeaturesArgs, inventory: Task, rows: list[dict[str, Any]]) -> list[Task]:
     """The features tasks of one inventory item, from its computed rows (worker side)."""
     file, sha = str(inventory.context["file"]), str(inventory.context["content_sha256"])
-    return [_feature_task(args, inventory.key, file, sha, row) for row in rows]
+    duplicates = str(inventory.context["duplicates"])
+    return [_feature_task(args, inventory.key, file, duplicates, sha, row) for row in rows]
 
 
 def component_features(
-    payload: tuple[str, dict[str, Any], int, dict[str, Any], str],
+    payload: tuple[str, dict[str, Any], int, dict[str, Any], float | None, str, str],
 ) -> list[dict[str, Any]]:
     """Features and fitted parameters of one component (worker side): one row.
 
@@ -247,22 +302,18 @@ def component_features(
 
     from stepframe.stochastic.catalog_features import Options, component_row
 
-    path, record_options, index, params, sha = payload
+    path, record_options, index, params, lowest_usable_hz, name, sha = payload
     try:
         trace = read_record(path, record_options, sha)[index]
     except Exception as error:  # recorded as this item's failure
-        raise ItemFailure(f"read: {_one_line(error)}") from None
-    options = Options(
-        frequency=params["frequency"],
-        t0=params["t0"],
-        window_s=params["window_s"],
-        fft=params["fft"],
-        record_options=tuple(sorted(record_options.items())),
-        omega_max_rad_s=params["omega_max_rad_s"],
-    )
+        raise ItemFailure(f"read: {_one_line(error, path, name)}") from None
+    options = Options(**params, record_options=tuple(sorted(record_options.items())))
     try:
         row = component_row(
-            np.asarray(trace.data, dtype=np.float64), float(trace.stats.delta), options
+            np.asarray(trace.data, dtype=np.float64),
+            float(trace.stats.delta),
+            options,
+            lowest_usable_hz,
         )
     except Exception as error:
         # component_row names the step that failed (features or fit) and keeps its error
@@ -274,7 +325,8 @@ def component_features(
 def _features_columns() -> dict[str, tuple[str, str]]:
     from stepframe.stochastic.catalog_features import COLUMNS
 
-    return dict(COLUMNS)
+    first, *rest = COLUMNS.items()  # the file, then its other names, then the features
+    return dict([first, ("duplicates", INVENTORY_COLUMNS["duplicates"]), *rest])
 
 
 INVENTORY_STAGE = Stage(
@@ -302,6 +354,7 @@ FEATURES_STAGE = Stage(
     tasks=_features_tasks,
     compute=component_features,
     needs_records=True,
+    check=_features_check,
     expand=expand_features,
     expand_args=_features_args,
 )

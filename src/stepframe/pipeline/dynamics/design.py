@@ -1,4 +1,4 @@
-"""Stage: the quasi-dynamic design of a stepping pier (Part 1 of the paper).
+"""The quasi-dynamic design of a stepping pier (Part 1 of the paper).
 
 :class:`DesignOptions` holds the inputs of a run (the ``stepframe structure design`` options, each
 declared once on its field) and :func:`design_run` runs it. :func:`merged_design_input` lays

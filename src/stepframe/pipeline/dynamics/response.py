@@ -1,4 +1,4 @@
-"""Stage: the stepping response of a frame to one record, summarised.
+"""The stepping response of a frame to one record, summarised.
 
 :func:`simulate_record` checks the record, runs the exact simulator
 (:func:`stepframe.structure.simulator.simulate`) and gathers what ``stepframe structure simulate``

@@ -19,11 +19,13 @@ from typing import Any
 from stepframe.core.io import write_bytes, write_text
 from stepframe.core.results import set_column_dictionary
 from stepframe.core.tables import read_table, write_table
+from stepframe.errors import InputError
 from stepframe.pipeline.catalogue.stage import record_folder
-from stepframe.pipeline.engine.stage import Context, Param, Stage
+from stepframe.pipeline.dynamics.studies import IdaOptions
+from stepframe.pipeline.engine.stage import Context, Param, Stage, params_from_options
 from stepframe.pipeline.engine.store import make_key, write_output_table
 
-IDA_VERSION = 1
+IDA_VERSION = 2  # 2: the command's settings and probes (one declaration with structure ida)
 IDA_TABLE = "ida.csv"
 IDA_SUMMARY = "ida_summary.json"
 
@@ -43,18 +45,22 @@ IDA_COLUMNS: dict[str, tuple[str, str]] = {
     "message": ("", "details of the status"),
 }
 
-IDA_PARAMS: dict[str, Param] = {
-    "resolution_g": Param("float", 0.01, "width of every traced outcome change [g of PGA]"),
-    "max_intensity_g": Param("float", 10.0, "stop hunting here [g of PGA]"),
-    "tail_s": Param("float", 10.0, "free vibration after each record [s]"),
-}
+#: The ``[ida]`` table: the options of ``stepframe structure ida`` over records (one
+#: declaration, one default, one check: :class:`~stepframe.pipeline.dynamics.studies.IdaOptions`).
+IDA_FIELDS = ("resolution_g", "max_intensity_g", "tail_s", "probe_factor", "probes")
+IDA_PARAMS: dict[str, Param] = params_from_options(IdaOptions, IDA_FIELDS)
+
+
+def _options(workflow: Any) -> IdaOptions:
+    """The ``[ida]`` table as the command's options (an error at the key's line)."""
+    try:
+        return IdaOptions(**workflow.tables.get("ida", {}))
+    except InputError as error:
+        raise workflow.lines.error(f"[ida] {error.what}", "ida", error.key) from None
 
 
 def _check(workflow: Any) -> None:
-    params = IDA_STAGE.parameters(workflow)
-    for name in IDA_PARAMS:
-        if not params[name] > 0:
-            raise workflow.lines.error(f"[ida] {name} = {params[name]}, expected > 0", "ida", name)
+    _options(workflow)
     if workflow.records is None:
         raise workflow.lines.error("ida without a [records] table, expected one", "outputs")
 
@@ -69,24 +75,23 @@ def _run(context: Context, folder: Path) -> None:
     import pandas as pd
 
     from stepframe.records import read
-    from stepframe.structure.ida import IdaSettings, capacity_fractiles, ida_records, ida_table
+    from stepframe.structure.ida import capacity_fractiles, ida_records, ida_table
 
     params = IDA_STAGE.parameters(context.workflow)
+    options = _options(context.workflow)
     records = context.workflow.records
-    options = dict(records.options) if records is not None else {}
+    read_options = dict(records.options) if records is not None else {}
     base = record_folder(context)
     inventory = context.tables["inventory"]
     names, motions = [], []
     for file, group in inventory.groupby("file", sort=True):
-        stream = read(base / str(file), **options)
+        stream = read(base / str(file), **read_options)
         for index in group["channel_index"].astype(int):
             trace = stream[index]
             names.append(f"{file} [{trace.stats.channel}]")
             motions.append((trace.data, float(trace.stats.delta)))
-    settings = IdaSettings(
-        resolution=params["resolution_g"], max_intensity=params["max_intensity_g"]
-    )
-    items = ida_records(context.workflow.frame, motions, settings=settings, tail_s=params["tail_s"])
+    settings = options.settings()
+    items = ida_records(context.workflow.frame, motions, settings=settings, tail_s=options.tail_s)
     table = ida_table(items, names)
     set_column_dictionary(
         table,

@@ -17,7 +17,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-from stepframe.core.options import option
+from stepframe.core.options import Range, check_fields, option
 from stepframe.errors import InputError
 
 if TYPE_CHECKING:
@@ -144,6 +144,7 @@ class HarmonicStudy:
             f"status {run.status}, {run.n_liftoffs} lift-offs, {run.n_impacts} impacts, peak |x| "
             f"{run.peak_abs_x_m:.6g} m"
             + (f", OVERTURNED at {run.t_end_s:.4f} s" if run.overturned else "")
+            + (f"; {run.message}" if run.message else "")
         ]
         orbit = self.orbit
         if orbit is not None:
@@ -360,6 +361,14 @@ def bifurcation_sweep(frame: PortalFrame, options: BifurcationOptions) -> Bifurc
 
 
 # ------------------------------------------------------------------ ida
+#: (probe factor, probes) of an IDA over records, and over one-cycle pulses: a pulse's survival
+#: band above the first overturning s_c reaches 3.7 (ω = 2p) to 6.7 (ω = 4p) times s_c for
+#: Housner's block and is at least 0.75 s_c wide (docs/structure-dynamics.md), so probes 0.56 s_c
+#: apart up to 10 s_c see it.
+RECORD_PROBES = (2.0, 8)
+PULSE_PROBES = (10.0, 16)
+
+
 @dataclass(frozen=True)
 class IdaOptions:
     """What an IDA runs over (records or pulses) and how finely it traces."""
@@ -379,12 +388,62 @@ class IdaOptions:
         flag="--omega-rad-s",
     )
     resolution_g: float = option(
-        0.01, "width of each traced outcome change (default 0.01)", kind="positive", metavar="D"
+        0.01,
+        "width of each traced outcome change [g] (default 0.01)",
+        kind="positive",
+        metavar="D",
+        valid=Range(0, 10, low_open=True),
     )
-    max_g: float = option(5.0, "largest intensity hunted (default 5)", kind="positive", metavar="S")
+    max_intensity_g: float = option(
+        5.0,
+        "largest intensity hunted [g of PGA] (default 5)",
+        kind="positive",
+        metavar="S",
+        flag="--max-g",
+        valid=Range(0, 100, low_open=True),
+    )
     tail_s: float = option(
-        10.0, "free vibration after each record [s] (default 10)", kind="non_negative", metavar="T"
+        10.0,
+        "free vibration after each record [s] (default 10)",
+        kind="non_negative",
+        metavar="T",
+        valid=Range(0, 3600),
     )
+    probe_factor: float | None = option(
+        None,
+        "probe up to F times the first overturning intensity for survival above it "
+        f"(default {RECORD_PROBES[0]:g} for records, {PULSE_PROBES[0]:g} for pulses)",
+        kind="positive",
+        metavar="F",
+        valid=Range(1, 1000),
+    )
+    probes: int | None = option(
+        None,
+        "probes evenly spaced in that range "
+        f"(default {RECORD_PROBES[1]} for records, {PULSE_PROBES[1]} for pulses)",
+        kind="positive_int",
+        metavar="N",
+        valid=Range(1, 1000),
+    )
+
+    def __post_init__(self) -> None:
+        check_fields(self)
+
+    def settings(self) -> IdaSettings:
+        """The hunt-trace-fill settings of an IDA over records, in g of PGA (the command's and
+        the workflow's ``ida`` stage's)."""
+        from stepframe.structure.ida import IdaSettings
+
+        factor, probes = RECORD_PROBES
+        return IdaSettings(
+            start=max(self.resolution_g, 0.05),
+            step=0.1,
+            step_increment=0.05,
+            resolution=self.resolution_g,
+            max_intensity=self.max_intensity_g,
+            probe_factor=factor if self.probe_factor is None else self.probe_factor,
+            n_probe=probes if self.probes is None else self.probes,
+        )
 
 
 @dataclass(frozen=True)
@@ -432,7 +491,11 @@ class IdaStudy:
         for row in data["items"][:50]:
             first = row["first_overturning"]
             shown = "none found" if first is None or first != first else f"{first:.6g}"
-            extra = f", resurrections {row['resurrections']}" if row["resurrected"] else ""
+            extra = ""
+            if row["resurrected"]:
+                item = self.items[self.names.index(row["item"])]
+                bands = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in item.overturning_bands)
+                extra = f", resurrections {row['resurrections']}; overturns on {bands}"
             lines.append(f"  {row['item']}: first overturning {shown} ({row['status']}){extra}")
         fractiles = ", ".join(f"{k} {v:.4g}" for k, v in data["fractiles"].items())
         lines.append("fractiles of the first overturning: " + fractiles)
@@ -458,7 +521,8 @@ def ida_study(
         :class:`IdaOptions`: also the first ``fema_p695`` components of the embedded FEMA P695
         catalogue; or, with ``pulse`` (``"cosine"`` or ``"sine"``), one-cycle pulses at
         ``omegas_rad_s`` [rad/s] instead of records (intensities then in units of the static
-        uplift acceleration γ₁/P₂, the hunt starting at 1 with ten times ``max_g`` as its cap);
+        uplift acceleration γ₁/P₂, the hunt starting at 1 with ten times ``max_intensity_g`` as
+        its cap);
         the width of every traced outcome change, the largest intensity hunted and the free
         vibration after each record [s].
     records
@@ -469,9 +533,11 @@ def ida_study(
     from stepframe.structure.ida import IdaSettings, ida_pulse, ida_records
 
     fema_p695, pulse, omegas_rad_s = options.fema_p695, options.pulse, options.omegas_rad_s
-    resolution_g, max_g, tail_s = options.resolution_g, options.max_g, options.tail_s
-
+    resolution_g, tail_s = options.resolution_g, options.tail_s
     if pulse is not None:
+        factor, probes = PULSE_PROBES
+        factor = factor if options.probe_factor is None else options.probe_factor
+        probes = probes if options.probes is None else options.probes
         if not omegas_rad_s:
             raise InputError("--pulse needs --omega-rad-s W1,W2,..., expected pulse frequencies")
         settings = IdaSettings(
@@ -479,18 +545,14 @@ def ida_study(
             step=0.5,
             step_increment=0.25,
             resolution=resolution_g,
-            max_intensity=max_g * 10,
+            max_intensity=options.max_intensity_g * 10,
+            probe_factor=factor,
+            n_probe=probes,
         )
         names = [f"{pulse} ω = {w:g} rad/s" for w in omegas_rad_s]
         items = ida_pulse(frame, omegas_rad_s, kind=pulse, settings=settings)
         return IdaStudy(items, names, settings, "amplitude / (γ₁/P₂)")
-    settings = IdaSettings(
-        start=max(resolution_g, 0.05),
-        step=0.1,
-        step_increment=0.05,
-        resolution=resolution_g,
-        max_intensity=max_g,
-    )
+    settings = options.settings()
     motions: list[tuple[np.ndarray, float]] = []
     names = []
     if fema_p695:

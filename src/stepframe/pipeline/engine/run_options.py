@@ -29,6 +29,11 @@ class RunOptions:
     )
     force: list[str] | None = option(None, "recompute a stage", kind="repeated", metavar="STAGE")
     retry_failed: bool = option(False, "recompute items that failed before")
+    prune: bool = option(
+        False,
+        "with [outputs] history: forget the items and failures no longer found (kept, with "
+        "present = false, otherwise)",
+    )
     wait: bool = option(False, "wait for a run holding the workspace (else exit 3)")
     batch_items: int | None = option(
         None,

@@ -5,21 +5,29 @@ it was computing:
 
 1. read and check the workflow, its frame, the stage tables and the records folder (exit 2);
 2. take the workspace lock (exit 3 if another run holds it, or wait with ``wait=True``);
-3. remove temporaries of killed runs; rebuild the store's index from its files;
-4. per-item stages: compute the items whose key is not stored (or failed, with
-   ``retry_failed``; or all, for a ``force``\\ d stage) in batches through
+3. remove temporaries of killed runs; open the store, checking every object it reads
+   (:mod:`stepframe.pipeline.engine.store`: a damaged one is quarantined and recomputed);
+4. per-item stages: one task per distinct key (inputs with the same bytes are one item,
+   :mod:`stepframe.pipeline.engine.same_content`); compute the items whose key is not stored
+   (or failed, with ``retry_failed``; or all, for a ``force``\\ d stage) in batches through
    :func:`stepframe.core.execution.map_items`, storing each batch as one segment; then read
    every item's rows back from the store in input order (so a table is the same bytes whether
    its rows were computed now or earlier);
-5. whole-set stages: compute the result unless its key is stored;
-6. publish the requested outputs (Parquet, CSV copies, failure tables, NetCDF) atomically.
+5. whole-set stages: compute the result unless its key is stored and sound;
+6. publish the requested outputs (Parquet, CSV copies, failure tables, NetCDF) atomically,
+   with what earlier runs saw when the workflow keeps a history
+   (:mod:`stepframe.pipeline.engine.history`), each copy of a stored file checked against it;
+7. merge a stage's small segments; append the run's line to the run log
+   (:mod:`stepframe.pipeline.engine.run_log`).
 
 Exit status (:attr:`RunReport.exit_code`): 0 every requested output produced (failed items are
-listed), 1 an output could not be produced.
+listed), 1 an output could not be produced. A file that cannot be written (disk full) raises
+:class:`~stepframe.pipeline.engine.integrity.StorageError` (exit 1 on the command line).
 """
 
 from __future__ import annotations
 
+import errno
 import shutil
 import time
 from concurrent.futures import Executor
@@ -29,7 +37,7 @@ from typing import TYPE_CHECKING, Any
 
 from stepframe.core.execution import MapOutcome, map_items
 from stepframe.core.io import TEMPORARY_SUFFIX
-from stepframe.core.results import Failure, failures_path, failures_table, set_column_dictionary
+from stepframe.core.results import Failure, failures_path, set_column_dictionary
 from stepframe.errors import InputError
 from stepframe.pipeline.engine.chain import (
     Computed,
@@ -40,8 +48,12 @@ from stepframe.pipeline.engine.chain import (
     group_name,
     groups,
 )
+from stepframe.pipeline.engine.history import item_outputs
+from stepframe.pipeline.engine.integrity import StorageError, StoreEvent
 from stepframe.pipeline.engine.lock import workspace_lock
 from stepframe.pipeline.engine.plan import check_forced, plan_stages
+from stepframe.pipeline.engine.run_log import append_run, run_line, utc_now
+from stepframe.pipeline.engine.same_content import alias_lines, merge_same_key, named_now
 from stepframe.pipeline.engine.scheduler import Execution, check_scheduler, open_execution
 from stepframe.pipeline.engine.shipped import is_shipped, resolve_workflow
 from stepframe.pipeline.engine.stage import Context, Stage, StageTable, Task
@@ -59,6 +71,8 @@ BATCH_ITEMS_PER_WORKER = 32
 #: Helper columns of the table assembly (task position, row position in the store).
 _TASK = "_task"
 _ROW = "_row"
+#: Errors of a write that no retry of the item would mend: the run stops with one line, exit 1.
+DISK_ERRORS = (errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EIO)
 
 
 @dataclass
@@ -104,6 +118,12 @@ class RunReport:
     outputs: dict[str, list[str]] = field(default_factory=dict)
     missing: dict[str, str] = field(default_factory=dict)
     failures: list[Failure] = field(default_factory=list)
+    #: ``(stage, name, same as)``: inputs with the same bytes as another, merged into its item.
+    duplicates: list[tuple[str, str, str]] = field(default_factory=list)
+    #: Damaged or missing objects the store found (quarantined and recomputed).
+    store_events: list[StoreEvent] = field(default_factory=list)
+    #: Failures this run found first (with ``[outputs] history``; else None).
+    new_failures: int | None = None
 
     @property
     def exit_code(self) -> int:
@@ -130,6 +150,12 @@ class RunReport:
             if s.status not in ("ok",):
                 line += f"   {s.status}: {s.message}"
             lines.append(line)
+        if self.duplicates:
+            lines.append(f"same content as another input, one item ({len(self.duplicates)}):")
+            lines += [f"  {stage}: {name} = {same}" for stage, name, same in self.duplicates[:20]]
+            if len(self.duplicates) > 20:
+                lines.append(f"  ... and {len(self.duplicates) - 20} more")
+        lines += [f"store: {event.line()}" for event in self.store_events]
         if self.dry_run:
             lines.append("dry run: nothing computed or written")
             return "\n".join(lines)
@@ -156,6 +182,12 @@ class RunReport:
             "outputs": self.outputs,
             "missing": self.missing,
             "failures": [f.to_dict() for f in self.failures],
+            "duplicates": [
+                {"stage": stage, "name": name, "same_as": same}
+                for stage, name, same in self.duplicates
+            ],
+            "store": [event.to_dict() for event in self.store_events],
+            "new_failures": self.new_failures,
             "exit_code": self.exit_code,
         }
 
@@ -180,6 +212,12 @@ def _prepare(workflow: Workflow, forced: list[str], stages: StageTable) -> list[
             workflow.record_files()
     _check_writable(workflow.workspace)
     _check_writable(workflow.outputs_folder)
+    store = workflow.workspace / "store"
+    for stage in store.iterdir() if store.is_dir() else ():
+        # the folders a run renames objects in: a read-only one is found before any work
+        for folder in (stage, stage / "sets"):
+            if folder.is_dir():
+                _check_writable(folder)
     return planned
 
 
@@ -207,6 +245,7 @@ def run_workflow(
     executor: Executor | None = None,
     force: list[str] | None = None,
     retry_failed: bool = False,
+    prune: bool = False,
     dry_run: bool = False,
     wait: bool = False,
     progress: bool = False,
@@ -236,6 +275,9 @@ def run_workflow(
         Stages whose items are all recomputed.
     retry_failed
         Recompute items whose stored result is a failure.
+    prune
+        With ``[outputs] history``: forget the items and failures this run does not find
+        (:mod:`stepframe.pipeline.engine.history`).
     dry_run
         Only say what would be computed (nothing is written, no lock taken).
     wait
@@ -274,8 +316,12 @@ def run_workflow(
             f"the shipped workflow {name} reads a records folder beside it, expected a copy: "
             f"stepframe run {name} --copy DIR, then stepframe run DIR/{name}.toml"
         )
+    if prune and not workflow.history:
+        raise InputError(
+            "--prune without [outputs] history = true, expected a workflow that keeps what it saw"
+        )
     planned = _prepare(workflow, forced, stages)
-    store = Store(workflow.workspace / "store")
+    store = Store(workflow.workspace / "store", dry=dry_run)
     if dry_run:
         return _dry_run(workflow, stages, planned, store, forced, retry_failed)
     # the lock before the executor: a busy workspace is reported before a cluster starts
@@ -283,6 +329,7 @@ def run_workflow(
         workspace_lock(workflow.workspace, wait=wait),
         open_execution(scheduler, jobs, executor) as execution,
     ):
+        started, started_utc = time.perf_counter(), utc_now()
         report = RunReport(
             str(workflow.path), str(workflow.workspace), execution.description, False
         )
@@ -306,8 +353,29 @@ def run_workflow(
                 _run_set(stage, context, store, summary, name in forced)
             summary.seconds = round(time.perf_counter() - start, 3)
             report.stages.append(summary)
-        _publish(workflow, stages, context, report)
+        _finish(workflow, stages, planned, context, report, store, prune, started, started_utc)
     return report
+
+
+def _finish(
+    workflow: Workflow,
+    stages: StageTable,
+    planned: list[str],
+    context: Context,
+    report: RunReport,
+    store: Store,
+    prune: bool,
+    started: float,
+    started_utc: str,
+) -> None:
+    """The end of a run: publish the outputs, merge small segments, write the run's log line."""
+    _publish(workflow, stages, context, report, store, now=started_utc, prune=prune)
+    for name in planned:
+        if stages[name].kind == "item":
+            store.compact(name)
+    report.store_events = store.events
+    seconds = time.perf_counter() - started
+    append_run(workflow.workspace, run_line(report, started_utc, seconds, context.facts))
 
 
 def _available(context: Context, name: str) -> bool:
@@ -339,7 +407,9 @@ def _run_items(
     assert stage.tasks is not None and (stage.compute or stage.compute_many) is not None
     if stage.prepare is not None:
         stage.prepare(context)
-    tasks = stage.tasks(context)
+    tasks = merge_same_key(stage.tasks(context))
+    report.duplicates += alias_lines(stage.name, tasks)
+    context.item_tasks[stage.name] = tasks
     index = store.index(stage.name)
     force = stage.name in forced
 
@@ -374,7 +444,7 @@ def _run_items(
     table = _stored_table(stage, tasks, store)
     context.tables[stage.name] = table
     failures = store.failures(stage.name, keys)
-    stage_failures = [failures[t.key] for t in tasks if t.key in failures]
+    stage_failures = [named_now(failures[t.key], t.name) for t in tasks if t.key in failures]
     summary.failed = len(stage_failures)
     report.failures += stage_failures
     context.item_keys[stage.name] = keys
@@ -462,7 +532,7 @@ def _run_set(
     summary.items = 1
     key = stage.set_key(context)
     target = store.set_dir(stage.name, key)
-    if target.is_dir() and not force:
+    if store.has_set(stage.name, key) and not force:
         summary.cached = 1
     else:
         summary.computed = 1
@@ -471,6 +541,8 @@ def _run_set(
             stage.run_set(context, temporary)
         except Exception as error:  # the run goes on; this output is reported missing
             shutil.rmtree(temporary, ignore_errors=True)
+            if isinstance(error, OSError) and error.errno in DISK_ERRORS:
+                raise StorageError(Path(error.filename or temporary), error) from None
             summary.failed = 1
             summary.status = "failed"
             summary.message = Failure.from_exception(context.workflow.path.name, stage.name,
@@ -481,7 +553,32 @@ def _run_set(
     context.set_dirs[stage.name] = target
 
 
-def _publish(workflow: Workflow, stages: StageTable, context: Context, report: RunReport) -> None:
+def _publish(
+    workflow: Workflow,
+    stages: StageTable,
+    context: Context,
+    report: RunReport,
+    store: Store,
+    *,
+    now: str,
+    prune: bool,
+) -> None:
+    try:
+        _publish_outputs(workflow, stages, context, report, store, now=now, prune=prune)
+    except OSError as error:
+        raise StorageError(Path(error.filename or workflow.outputs_folder), error) from None
+
+
+def _publish_outputs(
+    workflow: Workflow,
+    stages: StageTable,
+    context: Context,
+    report: RunReport,
+    store: Store,
+    *,
+    now: str,
+    prune: bool,
+) -> None:
     folder = workflow.outputs_folder
     for name in workflow.outputs:
         stage = stages[name]
@@ -491,16 +588,20 @@ def _publish(workflow: Workflow, stages: StageTable, context: Context, report: R
             continue
         folder.mkdir(parents=True, exist_ok=True)
         if stage.kind == "item":
-            table = context.tables[name].drop(columns=[KEY_COLUMN])
-            table.attrs = dict(context.tables[name].attrs)
-            paths = write_output_table(table, folder / f"{name}.parquet")
-            failed = [f for f in report.failures if f.stage == name]
+            made = item_outputs(name, workflow, stages, context, store, now=now, prune=prune)
+            paths = write_output_table(made.table, folder / f"{name}.parquet")
             failures_file = failures_path(folder / f"{name}.csv")
-            _write_csv(failures_table(failed), failures_file)
+            _write_csv(made.failures, failures_file)
             paths.append(failures_file)
+            if made.new_failures is not None:
+                report.new_failures = (report.new_failures or 0) + made.new_failures
         else:
             assert stage.publish is not None
             paths = stage.publish(context.set_dirs[name], folder)
+            problem = store.check_published(name, context.set_keys[name], paths)
+            if problem:  # never a damaged copy published as complete
+                report.missing[name] = problem
+                continue
         report.outputs[name] = [str(p) for p in paths]
 
 
@@ -531,7 +632,8 @@ def _dry_run(
             summary.message = f"depends on {blocked[0]}, not yet complete"
         elif stage.kind == "item":
             assert stage.tasks is not None
-            tasks = stage.tasks(context)
+            tasks = merge_same_key(stage.tasks(context))
+            report.duplicates += alias_lines(name, tasks)
             index = store.index(name)
             todo = [
                 t
@@ -549,11 +651,12 @@ def _dry_run(
             assert stage.set_key is not None
             key = stage.set_key(context)
             summary.items = 1
-            if store.set_dir(name, key).is_dir() and name not in forced:
+            if store.has_set(name, key) and name not in forced:
                 summary.cached = 1
                 context.set_keys[name] = key
                 context.set_dirs[name] = store.set_dir(name, key)
             else:
                 summary.computed = 1
         report.stages.append(summary)
+    report.store_events = store.events
     return report

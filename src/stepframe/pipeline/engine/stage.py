@@ -55,6 +55,24 @@ class Param:
     choices: tuple[str, ...] = ()
 
 
+def params_from_options(cls: type, names: Sequence[str]) -> dict[str, Param]:
+    """The :class:`Param` of each field ``names`` of an options dataclass (declared with
+    :func:`stepframe.core.options.option`): a workflow table with the same keys, types, defaults
+    and help as the command line's options. The values are checked by building the dataclass."""
+    import dataclasses
+
+    from stepframe.core.options import value_type
+
+    fields = {f.name: f for f in dataclasses.fields(cls)}
+    params = {}
+    for name in names:
+        f = fields[name]
+        help = str(f.metadata.get("help") or "").replace("%(default)s", str(f.default))
+        choices = tuple(f.metadata.get("choices") or ())
+        params[name] = Param(value_type(cls, name), f.default, help, choices)  # type: ignore[arg-type]
+    return params
+
+
 @dataclass(frozen=True)
 class Task:
     """One item of a per-item stage.
@@ -69,12 +87,17 @@ class Task:
         What the worker needs (plain, picklable data: paths and options, never records).
     context
         Columns the output table gets from the current run (the file's path now), not stored.
+    aliases
+        Names of other inputs with the same key (the same bytes under other names): one item,
+        computed once, its other names listed in the run's summary
+        (:mod:`stepframe.pipeline.engine.same_content`).
     """
 
     key: str
     name: str
     payload: Any
     context: Mapping[str, Any] = field(default_factory=dict)
+    aliases: tuple[str, ...] = ()
 
 
 @dataclass
@@ -92,6 +115,10 @@ class Context:
     #: Per stage, the keys of items computed earlier in this run, in the same worker call as
     #: their upstream item (:attr:`Stage.expand`).
     chained: dict[str, set[str]] = field(default_factory=dict)
+    #: Facts of this run a stage reports (timings): kept in the run log, not in the outputs.
+    facts: dict[str, Any] = field(default_factory=dict)
+    #: The tasks of each per-item stage in this run (one per key).
+    item_tasks: dict[str, list[Task]] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)

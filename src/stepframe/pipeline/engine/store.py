@@ -2,39 +2,69 @@
 
 Layout (under ``<workspace>/store/<stage>/``)::
 
-    seg-<time_ns>-<pid>.parquet      rows computed in one batch: column ``_key`` + the stage's
+    index.json                       every object of the stage with its sha256 and size
+                                     (:mod:`stepframe.pipeline.engine.integrity`)
+    seg-<time_ns>-<pid>-<sha256>.parquet
+                                     rows computed in one batch: column ``_key`` + the stage's
                                      columns (an item may have several rows, all with its key)
-    fail-<time_ns>-<pid>.parquet     the batch's failed items: ``_key``, item, stage,
+    fail-<time_ns>-<pid>-<sha256>.parquet
+                                     the batch's failed items: ``_key``, item, stage,
                                      error_type, message
     sets/<key>/                      the files of one whole-set result (site model, curve, ...)
+
+and ``<workspace>/store/quarantine/<stage>/`` holds the damaged objects a run moved aside.
 
 A key is the sha256 of the item's input content (the file's bytes, never its path or mtime), the
 stage's name, version and parameters, and the keys of what it was computed from
 (:func:`make_key`); so renaming a folder keeps every key, a changed file or parameter changes the
 keys downstream of it only.
 
-There is no index file to corrupt: the index (key → segment) is rebuilt from the segment files
-every time a store is opened, reading only their ``_key`` column. A segment written later wins
-over an earlier one with the same key (``--force``, ``--retry-failed``); segment names sort in
-write order. Every file is written with :func:`stepframe.core.io.atomic_write`; a whole-set
-result is written into a hidden temporary folder that is renamed into place, so a killed run
-leaves either the whole result or a temporary that the next run removes. Nothing is pickled.
+Nothing is read unverified. Opening a stage reads each segment once, checks it against the
+index (and its name), and keeps its bytes for the run; a whole-set result's files are checked
+before it is used and its published copies after they are written. A damaged or missing object
+is quarantined and recomputed, and named in the run's summary (:attr:`Store.events`). The key →
+segment map is rebuilt from the segments' ``_key`` columns: a segment written later wins over
+an earlier one with the same key (``--force``, ``--retry-failed``); segment names sort in write
+order. Each object is written with :func:`stepframe.core.io.atomic_write` before the index names
+it; a segment a killed run wrote but did not index is adopted (its name carries its checksum). A
+whole-set result is written into a hidden temporary folder that is renamed into place. Small
+segments (a scheduled run's few new items) are merged (:meth:`Store.compact`). Nothing is
+pickled.
 """
 
 from __future__ import annotations
 
 import hashlib
+import io
 import json
 import os
+import re
 import shutil
 import time
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from stepframe.core.io import TEMPORARY_SUFFIX, atomic_write, publish_folder
 from stepframe.core.results import FAILURE_COLUMNS, Failure
+from stepframe.pipeline.engine.integrity import (
+    INDEX_FILE,
+    QUARANTINE,
+    Checksum,
+    Expected,
+    StageIndex,
+    StorageError,
+    StoreEvent,
+    check_folder,
+    folder_manifest,
+    make_folder,
+    quarantine,
+    read_index,
+    read_verified,
+    sha256_hex,
+    write_object,
+)
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -76,12 +106,49 @@ def make_key(stage: str, version: int, parameters: Mapping[str, Any], *inputs: s
     return digest.hexdigest()
 
 
+#: Segments smaller than this [bytes] are merged once a stage has :data:`COMPACT_AT` of them.
+SMALL_SEGMENT_BYTES = 1 << 20
+COMPACT_AT = 8
+_SEGMENT_NAME = re.compile(r"^(seg|fail)-(\d+)-(\d+)(?:-([0-9a-f]{64}))?\.parquet$")
+
+
+def _order(name: str) -> tuple[int, int, str]:
+    """Write order of a segment name: its time, then its process id."""
+    match = _SEGMENT_NAME.match(name)
+    assert match is not None
+    return int(match.group(2)), int(match.group(3)), name
+
+
 @dataclass(frozen=True)
 class Entry:
     """Where a key's latest result is: a results segment (``failed`` False) or a failure one."""
 
     segment: Path
     failed: bool
+
+
+@dataclass
+class _Segment:
+    """A verified segment, its bytes kept for the run (read once, never re-read unchecked)."""
+
+    name: str
+    checksum: Checksum
+    data: bytes
+    keys: list[str]
+
+    @property
+    def failed(self) -> bool:
+        return self.name.startswith("fail-")
+
+
+@dataclass
+class _Stage:
+    """What the store knows of one stage: its verified segments, its sets, key → entry."""
+
+    segments: dict[str, _Segment] = field(default_factory=dict)
+    sets: dict[str, dict[str, Checksum]] = field(default_factory=dict)
+    files: dict[str, Checksum] = field(default_factory=dict)
+    entries: dict[str, Entry] = field(default_factory=dict)
 
 
 class Store:
@@ -92,11 +159,20 @@ class Store:
     root
         ``<workspace>/store``; created by :meth:`prepare`, not by the constructor (a dry run
         writes nothing).
+    dry
+        Write nothing: damaged objects are reported, not moved (a dry run).
+
+    Attributes
+    ----------
+    events
+        The damaged or missing objects found so far, and what was done.
     """
 
-    def __init__(self, root: Path) -> None:
+    def __init__(self, root: Path, *, dry: bool = False) -> None:
         self.root = root
-        self._index: dict[str, dict[str, Entry]] = {}
+        self.dry = dry
+        self.events: list[StoreEvent] = []
+        self._stages: dict[str, _Stage] = {}
 
     def stage_dir(self, stage: str) -> Path:
         """The folder of one stage's results."""
@@ -108,42 +184,128 @@ class Store:
         Call only while holding the workspace lock: a temporary of a running writer would
         otherwise be removed under it.
         """
-        self.root.mkdir(parents=True, exist_ok=True)
+        make_folder(self.root)
         for temporary in list(self.root.rglob(f"*{TEMPORARY_SUFFIX}")):
             if temporary.is_dir():
                 shutil.rmtree(temporary, ignore_errors=True)
             else:
                 temporary.unlink(missing_ok=True)
 
+    def stages(self) -> list[str]:
+        """The stages with a folder in the store."""
+        if not self.root.is_dir():
+            return []
+        return sorted(p.name for p in self.root.iterdir() if p.is_dir() and p.name != QUARANTINE)
+
+    # -- opening a stage: every object verified ---------------------------------------------
+
+    def _stage(self, stage: str) -> _Stage:
+        if stage not in self._stages:
+            self._stages[stage] = self._open(stage)
+        return self._stages[stage]
+
+    def _open(self, stage: str) -> _Stage:
+        folder = self.stage_dir(stage)
+        state = _Stage()
+        if folder.exists() and not folder.is_dir():  # a file where the stage's folder belongs
+            self.events.append(quarantine(self.root, stage, folder, "not a folder", dry=self.dry))
+        if not folder.is_dir():
+            return state
+        index, problem = read_index(folder / INDEX_FILE)
+        if problem:
+            self.events.append(
+                quarantine(
+                    self.root,
+                    stage,
+                    folder / INDEX_FILE,
+                    problem,
+                    dry=self.dry,
+                    then="rebuilt from the segments",
+                )
+            )
+        listed = index.segments if index is not None else {}
+        state.sets = dict(index.sets) if index is not None else {}
+        state.files = dict(index.files) if index is not None else {}
+        on_disk = {p.name for p in folder.iterdir() if _SEGMENT_NAME.match(p.name)}
+        changed = index is None and bool(on_disk)
+        if changed and not problem:  # deleted, or a store written before checksums
+            item = (folder / INDEX_FILE).relative_to(self.root).as_posix()
+            self.events.append(StoreEvent(stage, item, "missing", "rebuilt from the segments"))
+        for name in sorted(set(listed) | on_disk, key=_order):
+            segment, problem = self._read_segment(folder / name, listed.get(name))
+            if segment is None:
+                self.events.append(quarantine(self.root, stage, folder / name, problem,
+                                              dry=self.dry))  # fmt: skip
+                changed = True
+                continue
+            changed = changed or name not in listed
+            state.segments[name] = segment
+        self._rebuild_entries(stage, state)
+        if changed:
+            self._save(stage, state)
+        return state
+
+    def _read_segment(self, path: Path, listed: Checksum | None) -> tuple[_Segment | None, str]:
+        """A segment checked against the index, else against the sha256 in its name (a
+        segment a killed run wrote before indexing it), else (a store written before checksums)
+        parsed whole."""
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        match = _SEGMENT_NAME.match(path.name)
+        assert match is not None
+        expected: Expected | None = listed
+        if listed is None and match.group(4):
+            expected = (match.group(4), None)
+        data, problem = read_verified(path, expected)
+        if data is None:
+            return None, problem
+        try:
+            # checked bytes: the keys are enough; unchecked (a store written before checksums):
+            # the whole table is parsed, which finds a cut or garbled file
+            table = pq.read_table(pa.BufferReader(data), columns=[KEY_COLUMN] if expected else None)
+            keys = [str(key) for key in table.column(KEY_COLUMN).to_pylist()]
+        except Exception:  # pyarrow raises several types on damaged bytes
+            return None, "not a readable Parquet segment"
+        sha = expected[0] if expected is not None else sha256_hex(data)  # checked: it matches
+        return _Segment(path.name, (sha, len(data)), data, keys), ""
+
+    def _rebuild_entries(self, stage: str, state: _Stage) -> None:
+        state.entries = {}
+        folder = self.stage_dir(stage)
+        for name in sorted(state.segments, key=_order):
+            segment = state.segments[name]
+            entry = Entry(folder / name, segment.failed)
+            for key in segment.keys:
+                state.entries[key] = entry
+
+    def _save(self, stage: str, state: _Stage) -> None:
+        """Write the stage's index (after the objects it names)."""
+        if self.dry:
+            return
+        segments = {name: segment.checksum for name, segment in state.segments.items()}
+        index = StageIndex(segments, state.sets, state.files)
+        write_object(self.stage_dir(stage) / INDEX_FILE, index.to_json().encode())
+
     # -- per-item rows -------------------------------------------------------------------------
 
     def index(self, stage: str) -> dict[str, Entry]:
-        """key → latest :class:`Entry` of a per-item stage, rebuilt from the segment files."""
-        if stage not in self._index:
-            self._index[stage] = self._scan(stage)
-        return self._index[stage]
+        """key → latest :class:`Entry` of a per-item stage (its segments verified)."""
+        return self._stage(stage).entries
 
-    def _scan(self, stage: str) -> dict[str, Entry]:
-        import pyarrow.parquet as pq
-
-        folder = self.stage_dir(stage)
-        entries: dict[str, Entry] = {}
-        if not folder.is_dir():
-            return entries
-        segments = sorted(
-            (p for p in folder.glob("*.parquet") if p.name.startswith(("seg-", "fail-"))),
-            key=lambda p: p.name.split("-", 1)[1],
-        )
-        for segment in segments:
-            keys = pq.read_table(segment, columns=[KEY_COLUMN]).column(KEY_COLUMN).to_pylist()
-            failed = segment.name.startswith("fail-")
-            for key in keys:
-                entries[str(key)] = Entry(segment, failed)
-        return entries
-
-    def _segment_name(self, prefix: str) -> str:
+    def _segment_name(self, prefix: str, sha: str) -> str:
         # time_ns then pid: names sort in write order, and two processes never collide.
-        return f"{prefix}-{time.time_ns():020d}-{os.getpid()}.parquet"
+        return f"{prefix}-{time.time_ns():020d}-{os.getpid()}-{sha}.parquet"
+
+    def _add_segment(self, stage: str, state: _Stage, prefix: str, table: pd.DataFrame) -> None:
+        data = _parquet_bytes(table)
+        name = self._segment_name(prefix, sha256_hex(data))
+        path = self.stage_dir(stage) / name
+        write_object(path, data)
+        keys = [str(key) for key in table[KEY_COLUMN]]
+        state.segments[name] = segment = _Segment(name, (sha256_hex(data), len(data)), data, keys)
+        for key in keys:
+            state.entries[key] = Entry(path, segment.failed)
 
     def add_rows(
         self, stage: str, rows: pd.DataFrame, failures: Iterable[tuple[str, Failure]]
@@ -151,78 +313,61 @@ class Store:
         """Store one batch: ``rows`` (with a ``_key`` column) and ``(key, failure)`` pairs."""
         import pandas as pd
 
-        folder = self.stage_dir(stage)
-        folder.mkdir(parents=True, exist_ok=True)
-        index = self.index(stage)
+        make_folder(self.stage_dir(stage))
+        state = self._stage(stage)
         failed = list(failures)
         if len(rows):
-            path = folder / self._segment_name("seg")
-            _write_parquet(rows, path)
-            for key in rows[KEY_COLUMN].unique():
-                index[str(key)] = Entry(path, False)
+            self._add_segment(stage, state, "seg", rows)
         if failed:
             table = pd.DataFrame(
                 [{KEY_COLUMN: key, **failure.to_dict()} for key, failure in failed],
                 columns=[KEY_COLUMN, *FAILURE_COLUMNS],
             )
-            path = folder / self._segment_name("fail")
-            _write_parquet(table, path)
-            for key, _ in failed:
-                index[key] = Entry(path, True)
+            self._add_segment(stage, state, "fail", table)
+        if len(rows) or failed:
+            self._save(stage, state)
+
+    def _tables(self, stage: str, keys: Iterable[str], failed: bool) -> Iterable[pd.DataFrame]:
+        """The rows of ``keys`` whose latest entry is (``failed``) a failure or not, read from
+        the verified bytes, a table per segment."""
+        import pandas as pd
+
+        state = self._stage(stage)
+        wanted: dict[str, set[str]] = {}
+        for key in keys:
+            entry = state.entries.get(key)
+            if entry is not None and entry.failed == failed:
+                wanted.setdefault(entry.segment.name, set()).add(key)
+        for name, segment_keys in wanted.items():
+            table = pd.read_parquet(io.BytesIO(state.segments[name].data))
+            # A key's rows come from one computation: an exact repeat is a copy that a store
+            # written before one-content-one-item (issue 27) holds; it is read once.
+            yield table[table[KEY_COLUMN].isin(segment_keys)].drop_duplicates()
 
     def rows(self, stage: str, keys: Iterable[str]) -> dict[str, pd.DataFrame]:
         """The stored rows of each successful key (keys whose latest entry is a failure or
         missing are left out), each with the ``_key`` column."""
-        import pandas as pd
-
-        wanted: dict[Path, set[str]] = {}
-        index = self.index(stage)
-        for key in keys:
-            entry = index.get(key)
-            if entry is not None and not entry.failed:
-                wanted.setdefault(entry.segment, set()).add(key)
         out: dict[str, pd.DataFrame] = {}
-        for segment, segment_keys in wanted.items():
-            table = pd.read_parquet(segment)
-            selected = table[table[KEY_COLUMN].isin(segment_keys)]
+        for selected in self._tables(stage, keys, failed=False):
             for group_key, group in selected.groupby(KEY_COLUMN, sort=False):
                 out[str(group_key)] = group.reset_index(drop=True)
         return out
 
     def table(self, stage: str, keys: Iterable[str]) -> pd.DataFrame:
         """The stored rows of every successful key among ``keys`` as one table (with ``_key``),
-        each segment read once; rows of a key keep their stored order, keys come in no
-        particular order (the runner orders them)."""
+        each verified segment parsed once; rows of a key keep their stored order, keys come in
+        no particular order (the runner orders them)."""
         import pandas as pd
 
-        wanted: dict[Path, set[str]] = {}
-        index = self.index(stage)
-        for key in keys:
-            entry = index.get(key)
-            if entry is not None and not entry.failed:
-                wanted.setdefault(entry.segment, set()).add(key)
-        parts = []
-        for segment, segment_keys in wanted.items():
-            table = pd.read_parquet(segment)
-            parts.append(table[table[KEY_COLUMN].isin(segment_keys)])
+        parts = list(self._tables(stage, keys, failed=False))
         if not parts:
             return pd.DataFrame(columns=[KEY_COLUMN])
         return pd.concat(parts, ignore_index=True) if len(parts) > 1 else parts[0]
 
     def failures(self, stage: str, keys: Iterable[str]) -> dict[str, Failure]:
         """The stored failure of each key whose latest entry is a failure."""
-        import pandas as pd
-
-        wanted: dict[Path, set[str]] = {}
-        index = self.index(stage)
-        for key in keys:
-            entry = index.get(key)
-            if entry is not None and entry.failed:
-                wanted.setdefault(entry.segment, set()).add(key)
         out: dict[str, Failure] = {}
-        for segment, segment_keys in wanted.items():
-            table = pd.read_parquet(segment)
-            selected = table[table[KEY_COLUMN].isin(segment_keys)]
+        for selected in self._tables(stage, keys, failed=True):
             for record in selected.to_dict(orient="records"):
                 out[str(record[KEY_COLUMN])] = Failure(
                     str(record["item"]),
@@ -238,28 +383,217 @@ class Store:
         """The folder of one whole-set result (it exists only once complete)."""
         return self.stage_dir(stage) / "sets" / key
 
+    def has_set(self, stage: str, key: str) -> bool:
+        """Whether the whole-set result ``key`` is stored and sound: every file as the index
+        says. A damaged one is quarantined (and so recomputed)."""
+        state = self._stage(stage)
+        manifest = state.sets.get(key)
+        if manifest is None:
+            return False
+        target = self.set_dir(stage, key)
+        problem = check_folder(target, manifest)
+        if not problem:
+            return True
+        self.events.append(quarantine(self.root, stage, target, problem, dry=self.dry))
+        if not self.dry:
+            del state.sets[key]
+            self._save(stage, state)
+        return False
+
     def new_set_dir(self, stage: str, key: str) -> Path:
         """A fresh hidden temporary folder to write a whole-set result into."""
         parent = self.stage_dir(stage) / "sets"
-        parent.mkdir(parents=True, exist_ok=True)
+        make_folder(parent)
         temporary = parent / f".{key}.{os.getpid()}{TEMPORARY_SUFFIX}"
         if temporary.exists():
             shutil.rmtree(temporary)
-        temporary.mkdir()
+        make_folder(temporary)
         return temporary
 
     def commit_set(self, stage: str, key: str, temporary: Path) -> Path:
-        """Move a complete temporary folder into place (atomic on one filesystem); with
-        ``--force`` the new result replaces the old one."""
-        return publish_folder(temporary, self.set_dir(stage, key))
+        """Move a complete temporary folder into place (atomic on one filesystem) and index its
+        files' checksums; with ``--force`` the new result replaces the old one."""
+        state = self._stage(stage)
+        manifest = folder_manifest(temporary)
+        try:
+            target = publish_folder(temporary, self.set_dir(stage, key))
+        except OSError as error:
+            raise StorageError(self.set_dir(stage, key), error) from None
+        state.sets[key] = manifest
+        self._save(stage, state)
+        return target
+
+    def check_published(self, stage: str, key: str, paths: Iterable[Path]) -> str:
+        """The first published copy of a stored file that differs from it ("" if none).
+
+        A published file is matched to the stored file whose path inside the result its own
+        path ends with (the longest); files made from the result (tables) have no match.
+        """
+        manifest = self._stage(stage).sets.get(key, {})
+        for path in paths:
+            text = Path(path).as_posix()
+            matches = [name for name in manifest if text.endswith("/" + name)]
+            if matches:
+                name = max(matches, key=len)
+                _, problem = read_verified(Path(path), manifest[name])
+                if problem:
+                    return f"{path}: {problem}, expected a copy of the stored {name}"
+        return ""
+
+    # -- other files of a stage (its history) -----------------------------------------------
+
+    def read_file(self, stage: str, name: str) -> bytes | None:
+        """The stage's file ``name`` as last written (None: never written, or damaged, then
+        quarantined and named in :attr:`events`)."""
+        state = self._stage(stage)
+        checksum = state.files.get(name)
+        if checksum is None:
+            return None
+        path = self.stage_dir(stage) / name
+        data, problem = read_verified(path, checksum)
+        if data is None:
+            self.events.append(
+                quarantine(self.root, stage, path, problem, dry=self.dry, then="started again")
+            )
+            if not self.dry:
+                del state.files[name]
+                self._save(stage, state)
+        return data
+
+    def write_file(self, stage: str, name: str, data: bytes) -> None:
+        """Write the stage's file ``name`` (atomically) and index its checksum."""
+        make_folder(self.stage_dir(stage))
+        state = self._stage(stage)
+        write_object(self.stage_dir(stage) / name, data)
+        state.files[name] = (sha256_hex(data), len(data))
+        self._save(stage, state)
+
+    # -- upkeep ----------------------------------------------------------------------------------
+
+    def compact(self, stage: str, *, at: int | None = None) -> int:
+        """Merge the stage's small segments once there are ``at`` (default
+        :data:`COMPACT_AT`) of them (of rows; of failures), keeping only the rows still in use;
+        returns the segments removed.
+
+        A scheduled run that finds a few new files writes a segment of a few rows, and a
+        Parquet file's own overhead (its schema and statistics, a few kB) is then most of the
+        store: merged, the store grows as a batch run's would. The merged segment is written and
+        indexed before the small ones are deleted, so a run killed in between keeps every row.
+        """
+        import pyarrow as pa
+        import pyarrow.compute as pc
+        import pyarrow.parquet as pq
+
+        state = self._stage(stage)
+        removed: list[_Segment] = []
+        for failed in (False, True):
+            small = [
+                segment
+                for name, segment in sorted(state.segments.items(), key=lambda i: _order(i[0]))
+                if segment.failed == failed and segment.checksum[1] < SMALL_SEGMENT_BYTES
+            ]
+            if len(small) < max(COMPACT_AT if at is None else at, 2):
+                continue
+            # tables of one schema merge into one segment (a stage's new version may add columns)
+            groups: dict[Any, list[Any]] = {}
+            for segment in small:
+                live = [k for k in segment.keys if state.entries[k].segment.name == segment.name]
+                if not live:  # every key of it written again later: nothing to keep
+                    continue
+                table = pq.read_table(pa.BufferReader(segment.data))
+                table = table.filter(pc.is_in(table.column(KEY_COLUMN), pa.array(live)))
+                if table.num_rows:
+                    groups.setdefault(table.schema.remove_metadata(), []).append(table)
+            prefix = "fail" if failed else "seg"
+            for tables in groups.values():
+                self._add_merged(stage, state, prefix, pa.concat_tables(tables))
+            for segment in small:
+                del state.segments[segment.name]
+            removed += small
+        if removed:
+            self._rebuild_entries(stage, state)
+            self._save(stage, state)
+            for segment in removed:
+                (self.stage_dir(stage) / segment.name).unlink(missing_ok=True)
+        return len(removed)
+
+    def _add_merged(self, stage: str, state: _Stage, prefix: str, table: Any) -> None:
+        import pyarrow.parquet as pq
+
+        buffer = io.BytesIO()
+        pq.write_table(table, buffer)
+        data = buffer.getvalue()
+        name = self._segment_name(prefix, sha256_hex(data))
+        write_object(self.stage_dir(stage) / name, data)
+        keys = [str(key) for key in table.column(KEY_COLUMN).to_pylist()]
+        state.segments[name] = _Segment(name, (sha256_hex(data), len(data)), data, keys)
+
+    def remove_unreachable(self, stage: str) -> list[str]:
+        """Delete what no key leads to: segments whose every key a later segment holds, set
+        folders the index does not name (a killed run's, a store written before checksums),
+        and folders a replaced result left; returns them (relative to the store)."""
+        state = self._stage(stage)
+        live = {entry.segment.name for entry in state.entries.values()}
+        dead = [name for name in state.segments if name not in live]
+        for name in dead:
+            del state.segments[name]
+        if dead:
+            self._save(stage, state)
+        removed = []
+        for name in dead:
+            (self.stage_dir(stage) / name).unlink(missing_ok=True)
+            removed.append(f"{stage}/{name}")
+        sets = self.stage_dir(stage) / "sets"
+        if sets.is_dir():
+            for folder in sorted(sets.iterdir()):
+                if folder.name not in state.sets:
+                    if folder.is_dir():
+                        shutil.rmtree(folder)
+                    else:
+                        folder.unlink()
+                    removed.append(f"{stage}/sets/{folder.name}")
+        return removed
+
+    def verify(self) -> dict[str, Any]:
+        """Check every object of every stage (damaged ones quarantined, :attr:`events`), and
+        remove the unreachable ones; a summary per stage."""
+        summary: dict[str, Any] = {}
+        for stage in self.stages():
+            state = self._stage(stage)
+            for key in list(state.sets):
+                self.has_set(stage, key)
+            for name in list(state.files):
+                self.read_file(stage, name)
+            removed = self.remove_unreachable(stage)
+            summary[stage] = {**self.describe(stage), "removed": removed}
+        return summary
+
+    def describe(self, stage: str) -> dict[str, int]:
+        """A stage's segments, sets, items and bytes (segments and set files)."""
+        state = self._stage(stage)
+        return {
+            "segments": len(state.segments),
+            "sets": len(state.sets),
+            "items": len(state.entries),
+            "bytes": sum(s.checksum[1] for s in state.segments.values())
+            + sum(size for files in state.sets.values() for _, size in files.values())
+            + sum(size for _, size in state.files.values()),
+        }
+
+
+def _parquet_bytes(table: pd.DataFrame) -> bytes:
+    """A DataFrame as Parquet bytes (attrs left out: not tabular)."""
+    plain = table.copy()
+    plain.attrs = {}
+    buffer = io.BytesIO()
+    plain.to_parquet(buffer, index=False, engine="pyarrow")
+    return buffer.getvalue()
 
 
 def _write_parquet(table: pd.DataFrame, path: Path) -> None:
     """A DataFrame as Parquet through :func:`atomic_write` (attrs left out: not tabular)."""
-    plain = table.copy()
-    plain.attrs = {}
     with atomic_write(path, "wb") as out:
-        plain.to_parquet(out, index=False, engine="pyarrow")
+        out.write(_parquet_bytes(table))
 
 
 def write_output_table(table: pd.DataFrame, path: Path) -> list[Path]:

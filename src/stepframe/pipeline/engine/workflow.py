@@ -50,11 +50,20 @@ RECORDS_KEYS: dict[str, Param] = {
     "units": Param("str", None, "units when the file does not say: g, m/s2, cm/s2, mm/s2"),
     "dt_s": Param("float", None, "sampling interval [s] when the file does not say"),
     "component": Param("str", None, "keep only this channel of multi-channel files"),
+    "allow_short": Param(
+        "bool", False, "read a record with fewer samples than declared (flagged incomplete)"
+    ),
 }
 OUTPUT_KEYS_FIXED: dict[str, Param] = {
     "folder": Param("str", None, "where outputs go (default: <workspace>/outputs)"),
+    "history": Param(
+        "bool",
+        False,
+        "per-item tables keep every item seen (present = false once its file is gone), with "
+        "first and last seen times, and failures a new mark",
+    ),
 }
-RECORD_OPTIONS = ("format", "units", "dt_s", "component")
+RECORD_OPTIONS = ("format", "units", "dt_s", "component", "allow_short")
 
 
 class Lines:
@@ -121,6 +130,9 @@ class Workflow:
         The stages whose outputs are wanted, in the stage table's order.
     outputs_folder
         Where the outputs are written.
+    history
+        ``[outputs] history``: per-item outputs keep what earlier runs saw
+        (:mod:`stepframe.pipeline.engine.history`).
     lines
         Line finder for later errors (records folder missing or empty).
     """
@@ -134,6 +146,7 @@ class Workflow:
     tables: dict[str, dict[str, Any]]
     outputs: tuple[str, ...]
     outputs_folder: Path
+    history: bool
     lines: Lines = field(repr=False)
 
     def record_files(self) -> list[Path]:
@@ -310,7 +323,9 @@ def load_workflow(
         workspace = _inside(folder, top.get("workspace", DEFAULT_WORKSPACE), "", "workspace", lines)
     records = _records(data.get("records"), folder, lines, stages.scene)
     frame, frame_source = _frame(data.get("frame"), folder, file, lines, stages.scene)
-    wanted, outputs_folder = _outputs(data.get("outputs"), folder, Path(workspace), lines, stages)
+    wanted, outputs_folder, history = _outputs(
+        data.get("outputs"), folder, Path(workspace), lines, stages
+    )
     if outputs is not None:
         outputs_folder = Path(outputs)
     for name in wanted:
@@ -329,6 +344,7 @@ def load_workflow(
         tables=tables,
         outputs=wanted,
         outputs_folder=outputs_folder,
+        history=history,
         lines=lines,
     )
 
@@ -407,7 +423,7 @@ def _frame_data(frame: Any) -> dict[str, Any]:
 
 def _outputs(
     table: Any, folder: Path, workspace: Path, lines: Lines, stages: StageTable
-) -> tuple[tuple[str, ...], Path]:
+) -> tuple[tuple[str, ...], Path, bool]:
     if table is None:
         raise InputError("no [outputs] table, expected the outputs wanted", lines.path)
     params = dict(OUTPUT_KEYS_FIXED)
@@ -424,7 +440,14 @@ def _outputs(
         if "folder" in given
         else workspace / DEFAULT_OUTPUTS
     )
-    return wanted, target
+    if given.get("history") and not any(stages[name].kind == "item" for name in wanted):
+        raise lines.error(
+            "[outputs] history = true without a per-item output, expected one of "
+            + ", ".join(name for name, stage in stages.items() if stage.kind == "item"),
+            "outputs",
+            "history",
+        )
+    return wanted, target, bool(given.get("history", False))
 
 
 def _toml_value(value: Any) -> str:
@@ -473,6 +496,7 @@ def workflow_template(stages: StageTable) -> str:
         out.append("")
     out.append("[outputs]")
     out.append('# folder = "results"              # default: <workspace>/outputs')
+    out.append("# history = false                 # keep items seen before (scheduled runs)")
     for name, stage in stages.items():
         value = "true" if name in ("features",) else "false"
         out.append(f"{name} = {value}".ljust(34) + f"# {stage.description}")

@@ -82,8 +82,12 @@ def spectra_figure(
     target: tuple[NDArray[np.float64], NDArray[np.float64]] | None,
     band_period_s: tuple[float, float] | None,
     damping: float,
+    mean_g: NDArray[np.float64] | None = None,
+    check: tuple[float, tuple[float, float]] | None = None,
 ) -> Figure:
-    """Scaled spectra of the selected set: each record, the median and ±σ (log), the target."""
+    """Scaled spectra of the selected set: each record, the median and ±σ (log), the target;
+    with ``mean_g`` the arithmetic mean (the codes' average), with ``check`` = (fraction,
+    period range [s]) the share of the target the mean must reach over the range."""
     fig = new_figure(8.0, 4.6)
     ax = fig.add_subplot()
     if band_period_s is not None:
@@ -98,6 +102,15 @@ def spectra_figure(
     ax.loglog(period_s, median * np.exp(-sigma), color="k", ls="--", lw=1)
     if target is not None:
         ax.loglog(target[0], target[1], color="C3", lw=2, label="target spectrum")
+    if mean_g is not None:
+        ax.loglog(period_s, mean_g, color="C0", lw=1.5, label="mean (the codes' average)")
+    if check is not None and target is not None:
+        fraction, (low, high) = check
+        inside = (target[0] >= low) & (target[0] <= high)
+        ax.loglog(
+            target[0][inside], fraction * target[1][inside], color="C3", ls=":", lw=1.5,
+            label=f"{fraction:.0%} of the target over the code's range",
+        )  # fmt: skip
     ax.plot([], [], color="0.7", lw=0.8, label="each record (scaled)")
     ax.set_xlabel("period T [s]")
     ax.set_ylabel(f"PSA [g], {damping:.0%} damping")
@@ -147,7 +160,8 @@ def confirmation_figure(
     ax.plot(score[selected], response[selected], "o", color="C3", label="selected")
     ax.set_xlabel(score_name)
     ax.set_ylabel(response_name)
-    ax.set_title(f"Confirmation by simulation: Spearman ρ = {rho:.2f}")
+    shown = f"{rho:.2f}" if np.isfinite(rho) else "undefined (too few records or no spread)"
+    ax.set_title(f"Confirmation by simulation: Spearman ρ = {shown}")
     ax.grid(True, lw=0.3)
     ax.legend(fontsize=8)
     return fig

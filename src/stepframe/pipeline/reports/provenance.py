@@ -7,6 +7,7 @@ name and SHA-256, the parameters, the date and the machine's core count.
 
 from __future__ import annotations
 
+import dataclasses
 import datetime as _dt
 import hashlib
 import os
@@ -135,18 +136,27 @@ def collect_provenance(
     )
 
 
+#: What a workflow's report says for its time of writing: the run log has it (a report made
+#: by a workflow is the same bytes whenever and wherever the workflow runs, docs/workflows.md).
+IN_THE_RUN_LOG = "see the workspace's run log (runs.jsonl)"
+
+
 def workflow_provenance(workflow: str | PathLike[str], parameters: Mapping[str, Any]) -> Provenance:
-    """Provenance of a report made by a workflow's stage: ``stepframe run WORKFLOW``, the
-    workflow's text and the stage's parameters."""
-    return collect_provenance(
-        ["stepframe", "run", str(workflow)], parameters=parameters, workflow=workflow
-    )
+    """Provenance of a report made by a workflow's stage: ``stepframe run WORKFLOW`` (by the
+    file's name: not where it happens to be), the workflow's text and the stage's parameters;
+    the time of writing is in the run log."""
+    name = Path(workflow).name
+    made = collect_provenance(["stepframe", "run", name], parameters=parameters, workflow=workflow)
+    text = made.workflow[1] if made.workflow is not None else ""
+    return dataclasses.replace(made, workflow=(name, text), created_utc=IN_THE_RUN_LOG)
 
 
 def command_line(words: list[str], parameters: Mapping[str, Any]) -> str:
-    """The command line ``words --name value ...`` that reproduces a report (shell-quoted)."""
+    """The command line ``words --name value ...`` that reproduces a report (shell-quoted; a
+    value True is a switch, ``--name`` alone)."""
     import shlex
 
     for name, value in parameters.items():
-        words = [*words, f"--{name.replace('_', '-')}", str(value)]
+        flag = f"--{name.replace('_', '-')}"
+        words = [*words, flag] if value is True else [*words, flag, str(value)]
     return shlex.join(words)

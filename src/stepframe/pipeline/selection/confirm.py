@@ -26,13 +26,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 Floats = NDArray[np.float64]
-BISECTION_STEPS = 8
 OVERTURN_RATIO_RANGE = (0.5, 4.0)
 #: Onset ratios scanned for overturning (log-spaced, 1.0 is the 6th).
 SCAN_LEVELS = np.geomspace(OVERTURN_RATIO_RANGE[0], OVERTURN_RATIO_RANGE[1], 16)
 N_RESAMPLES = 1000
-#: Values drawn per block of bootstrap resamples (memory: a few arrays of this many floats).
-BOOTSTRAP_BLOCK = 1 << 21
 
 
 @dataclass(frozen=True)
@@ -64,59 +61,24 @@ def overturn_onset_ratios(
     frame: Any, records: list[tuple[Floats, float]], sd_t1_m: Floats
 ) -> Floats:
     """Lowest onset ratio (as :func:`equal_intensity_scales`) found to overturn the frame, per
-    record; NaN when none up to 4 does, 0.5 when 0.5 already does.
-
-    Overturning is not monotone in intensity (a stronger scaling can leave the frame standing),
-    so a bisection alone could land on a later transition: the ratios are first scanned on
-    :data:`SCAN_LEVELS` (16 log-spaced levels from 0.5 to 4, 1 among them), then the interval
-    below the first level that overturns is bisected (8 halvings).
-    """
-    n = len(records)
+    record; NaN when none up to 4 does, 0.5 when 0.5 already does (:func:`overturn_factors` on
+    :data:`SCAN_LEVELS` from the onset scales)."""
     base = equal_intensity_scales(sd_t1_m, frame, 1.0)
-    first = np.full(n, -1)
-    for k, level in enumerate(SCAN_LEVELS):
-        over = run_batch(frame, records, base * level).table["overturned"].to_numpy(dtype=bool)
-        first = np.where((first < 0) & over, k, first)
-    found = first > 0
-    low = np.where(found, SCAN_LEVELS[np.maximum(first - 1, 0)], np.nan)
-    high = np.where(found, SCAN_LEVELS[np.maximum(first, 0)], np.nan)
-    if found.any():
-        subset = [records[i] for i in np.flatnonzero(found)]
-        lo, hi = low[found], high[found]
-        for _ in range(BISECTION_STEPS):
-            middle = 0.5 * (lo + hi)
-            over = run_batch(frame, subset, base[found] * middle).table["overturned"]
-            over = over.to_numpy(dtype=bool)
-            hi = np.where(over, middle, hi)
-            lo = np.where(over, lo, middle)
-        high[found] = hi
-    high[first == 0] = SCAN_LEVELS[0]
-    return np.asarray(high)
+    return overturn_factors(frame, records, base, SCAN_LEVELS)
 
 
-def _correlation(ra: Floats, rb: Floats) -> Floats:
-    """Pearson's correlation of ranks along the last axis (Spearman's ρ of what was ranked)."""
-    ra = np.asarray(ra, dtype=np.float64)
-    rb = np.asarray(rb, dtype=np.float64)
-    ra = ra - ra.mean(axis=-1, keepdims=True)
-    rb = rb - rb.mean(axis=-1, keepdims=True)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return np.asarray(
-            (ra * rb).sum(axis=-1) / np.sqrt((ra**2).sum(axis=-1) * (rb**2).sum(axis=-1))
-        )
+def overturn_factors(
+    frame: Any, records: list[tuple[Floats, float]], base_scales: Floats, levels: Floats
+) -> Floats:
+    """Lowest factor on ``base_scales`` found to overturn the frame, per record; NaN when no
+    level does, ``levels[0]`` when the first already does: every record simulated at every
+    level of ``levels`` (increasing), then the bracket below the first level that overturns
+    bisected (:func:`stepframe.pipeline.selection.exact.first_overturn`)."""
+    from stepframe.pipeline.selection.exact import first_overturn, ladder_runs
 
-
-def _resampled_ranks(ids: NDArray[np.int64], picks: NDArray[np.int64]) -> Floats:
-    """Average ranks (ties share the mean rank, as ``rankdata``) of each row of ``ids[picks]``,
-    ``ids`` the values' positions among the distinct values in sorted order."""
-    values = int(ids.max()) + 1
-    picked = ids[picks]
-    rows = picked.shape[0]
-    flat = (picked + values * np.arange(rows)[:, None]).ravel()
-    counts = np.bincount(flat, minlength=rows * values).reshape(rows, values)
-    below = np.cumsum(counts, axis=1) - counts
-    average = below + 1 + (counts - 1) / 2.0
-    return np.take_along_axis(average, picked, axis=1)
+    base = np.asarray(base_scales, dtype=np.float64)
+    scan = ladder_runs(frame, records, base, [float(level) for level in levels])
+    return first_overturn(frame, records, base, np.asarray(levels), scan.overturned)
 
 
 def spearman_interval(
@@ -127,31 +89,73 @@ def spearman_interval(
     NaN values (in either) are left out; ±inf are kept (ranked at the ends). Fewer than 4 pairs
     or a constant variable give NaN.
     """
-    from scipy.stats import rankdata
-
     keep = ~(np.isnan(x) | np.isnan(y))
     xs, ys = x[keep], y[keep]
     n = int(xs.size)
     if n < 4:
         return math.nan, math.nan, math.nan, n
-
-    value = float(_correlation(rankdata(xs), rankdata(ys)))
-    # The ranks of a resample from the value counts of the resample (bincount and cumulative
-    # sum per resample: O(n) where rankdata sorts, O(n log n)); the same average ranks, as
-    # exact half-integers, so the same numbers. Resamples in blocks of about BOOTSTRAP_BLOCK
-    # values (the generator gives the same draws in blocks as in one call).
-    x_ids = np.unique(xs, return_inverse=True)[1]
-    y_ids = np.unique(ys, return_inverse=True)[1]
+    value = float(_rank_rho(xs, ys))
     rng = np.random.default_rng(seed)
-    block = max(1, BOOTSTRAP_BLOCK // n)
-    parts = []
-    for start in range(0, n_resamples, block):
-        picks = rng.integers(0, n, size=(min(block, n_resamples - start), n))
-        parts.append(_correlation(_resampled_ranks(x_ids, picks), _resampled_ranks(y_ids, picks)))
-    samples = np.concatenate(parts)
+    picks = rng.integers(0, n, size=(n_resamples, n))
+    samples = _rank_rho(xs[picks], ys[picks])
     samples = samples[np.isfinite(samples)]
     if samples.size == 0:
         return value, math.nan, math.nan, n
     tail = 50.0 * (1.0 - level)
     low, high = np.percentile(samples, [tail, 100.0 - tail])
     return value, float(low), float(high), n
+
+
+def _rank_rho(a: Floats, b: Floats) -> Floats:
+    """Spearman ρ along the last axis (ties averaged)."""
+    from scipy.stats import rankdata
+
+    ra = np.asarray(rankdata(a, axis=-1), dtype=np.float64)
+    rb = np.asarray(rankdata(b, axis=-1), dtype=np.float64)
+    ra -= ra.mean(axis=-1, keepdims=True)
+    rb -= rb.mean(axis=-1, keepdims=True)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.asarray(
+            (ra * rb).sum(axis=-1) / np.sqrt((ra**2).sum(axis=-1) * (rb**2).sum(axis=-1))
+        )
+
+
+def paired_delta_rho(
+    x: Floats, reference: Floats, y: Floats, seed: int, n_resamples: int = N_RESAMPLES
+) -> tuple[float, float, float, int]:
+    """ρ(x, y) - ρ(reference, y) on the candidates where all three are not NaN, with its
+    percentile bootstrap interval (95 %; each resample draws the same candidates for both,
+    so the interval is of the paired difference), and the count."""
+    keep = ~(np.isnan(x) | np.isnan(reference) | np.isnan(y))
+    xs, rs, ys = x[keep], reference[keep], y[keep]
+    n = int(xs.size)
+    if n < 4 or np.ptp(xs) == 0 or np.ptp(rs) == 0 or np.ptp(ys) == 0:
+        return math.nan, math.nan, math.nan, n
+    value = float(_rank_rho(xs, ys) - _rank_rho(rs, ys))
+    picks = np.random.default_rng(seed).integers(0, n, size=(n_resamples, n))
+    samples = _rank_rho(xs[picks], ys[picks]) - _rank_rho(rs[picks], ys[picks])
+    samples = samples[np.isfinite(samples)]
+    if samples.size == 0:
+        return value, math.nan, math.nan, n
+    low, high = np.percentile(samples, [2.5, 97.5])
+    return value, float(low), float(high), n
+
+
+def efficiency(measure: Floats, response: Floats) -> tuple[float, int]:
+    """Dispersion of ln(response) given ln(measure): the standard deviation of the residuals
+    of the least-squares line ln(response) = a + b·ln(measure) (two parameters fitted), over
+    the pairs where both are positive and finite; NaN for fewer than 4 pairs. Smaller is more
+    efficient (the criterion of probabilistic seismic demand analysis: Luco and Cornell 2007,
+    "Structure-specific scalar intensity measures for near-source and ordinary earthquake
+    ground motions", Earthquake Spectra 23(2):357-392)."""
+    m = np.asarray(measure, dtype=np.float64)
+    r = np.asarray(response, dtype=np.float64)
+    keep = np.isfinite(m) & np.isfinite(r) & (m > 0) & (r > 0)
+    n = int(keep.sum())
+    x, y = np.log(m[keep]), np.log(r[keep])
+    if n < 4 or np.ptp(x) < 1e-9:
+        # a measure that does not vary (S_a(T_1) at equal S_a(T_1)) explains nothing
+        return math.nan, n
+    slope, intercept = np.polyfit(x, y, 1)
+    residual = y - (intercept + slope * x)
+    return float(np.sqrt(np.sum(residual**2) / (n - 2))), n

@@ -37,6 +37,89 @@ def join_metadata(features: Any, metadata: Any, on: str = "file") -> Any:
     return joined
 
 
+#: What the record headers give for grouping and filtering (``stats.stepframe`` and ``stats``).
+HEADER_COLUMNS = ("event", "rsn", "magnitude", "repi_km", "rrup_km", "rjb_km", "vs30_m_s")
+
+
+def header_table(files: list[str], record_options: dict[str, Any] | None = None) -> Any:
+    """One row per component of ``files``: ``file``, ``component``, ``format`` and the
+    :data:`HEADER_COLUMNS` their readers put in ``stats.stepframe`` (missing: empty). A file
+    that cannot be read gives no row (its features failed already and say why)."""
+    import pandas as pd
+
+    from stepframe.records import read
+
+    rows = []
+    for file in files:
+        try:
+            stream = read(file, **dict(record_options or {}))
+        except Exception:  # a file that cannot be read: its features failure says why
+            continue
+        for trace in stream:
+            info = trace.stats.get("stepframe", {})
+            row = {"file": file, "component": str(trace.stats.channel)}
+            row["format"] = info.get("format")
+            row.update({key: info.get(key) for key in HEADER_COLUMNS})
+            rows.append(row)
+    return pd.DataFrame(rows, columns=["file", "component", "format", *HEADER_COLUMNS])
+
+
+def join_headers(table: Any, headers: Any) -> Any:
+    """``table`` with the header values where it has none (metadata first, then headers),
+    matched on file and component."""
+    merged = table.merge(headers, on=["file", "component"], how="left", suffixes=("", "_header"))
+    for column in headers.columns:
+        if column in ("file", "component"):
+            continue
+        if f"{column}_header" in merged.columns:
+            given = merged[column].astype(object)
+            missing = given.isna() | (given.astype(str).str.strip() == "")
+            merged[column] = given.where(~missing, merged[f"{column}_header"])
+            merged = merged.drop(columns=f"{column}_header")
+    merged.attrs = dict(table.attrs)
+    return merged
+
+
+def read_metadata(path: str, files: list[str]) -> Any:
+    """A metadata CSV with a ``file`` column, its files matched to ``files`` by path, else by
+    file name (when that name is unique among ``files``).
+
+    Raises
+    ------
+    InputError
+        Unreadable, no ``file`` column, or no row naming any of ``files`` (line of the first).
+    """
+    import pandas as pd
+
+    from stepframe.errors import InputError
+
+    try:
+        extra = pd.read_csv(path)
+    except (OSError, ValueError) as error:
+        raise InputError(f"cannot read ({error}), expected a CSV", path) from None
+    if "file" not in extra.columns:
+        raise InputError("no column 'file', expected one to join on", path, 1)
+    by_path = {str(Path(f)): f for f in files}
+    names: dict[str, list[str]] = {}
+    for f in files:
+        names.setdefault(Path(f).name, []).append(f)
+    matched: list[Any] = []
+    for entry in extra["file"].astype(str):
+        key = str(Path(entry))
+        unique = names.get(Path(entry).name, [])
+        matched.append(by_path.get(key) or (unique[0] if len(unique) == 1 else None))
+    if files and not any(m is not None for m in matched):
+        first = str(extra["file"].iat[0]) if len(extra) else ""
+        raise InputError(
+            f"no row names one of the {len(files)} record files (first: {first!r}), expected "
+            "the paths as the folder gives them or the file names",
+            path,
+            2,
+        )
+    extra = extra.assign(file=matched)
+    return extra[extra["file"].notna()]
+
+
 def example_catalogue(
     jobs: int | None = None, executor: Any = None
 ) -> tuple[Any, dict[tuple[str, str], Any], Any]:
@@ -52,13 +135,14 @@ def example_catalogue(
     failures : pandas.DataFrame
         Components whose features failed (item, stage, error_type, message).
     """
-    from stepframe.records.examples import fema_p695
+    from stepframe.records.examples import fema_p695, file_name
     from stepframe.stochastic.catalog_features import catalog_features
 
     stream, metadata = fema_p695()
     features, failures = catalog_features(stream, n_jobs=jobs, executor=executor)
+    rows: list[dict[str, Any]] = metadata.to_dict(orient="records")  # type: ignore[assignment]
     meta = metadata.assign(
-        file="fema_p695/" + metadata["file"].astype(str),
+        file=[file_name(row) for row in rows],
         event=metadata["event"].astype(str) + " " + metadata["year"].astype(str),
     )[["file", *EXAMPLE_METADATA]]
     records = {
@@ -71,28 +155,71 @@ def example_catalogue(
     return join_metadata(features, meta), records, failures
 
 
+def catalogue_files(folders: list[str]) -> list[str]:
+    """The record files of every folder (:func:`stepframe.records.catalog.record_files`: walked
+    recursively, symlinked sub-folders followed once), each file once."""
+    from stepframe.errors import InputError
+    from stepframe.records.catalog import record_files
+
+    files: list[str] = []
+    seen: set[Path] = set()
+    for folder in folders:
+        if not Path(folder).is_dir():
+            raise InputError("not a directory, expected a folder of record files", folder)
+        for path in record_files(folder):
+            real = path.resolve()
+            if real not in seen:
+                seen.add(real)
+                files.append(str(path))
+    return files
+
+
+def folder_catalogue(
+    folders: list[str],
+    metadata: str | None,
+    record_options: dict[str, Any] | None,
+    jobs: int | None,
+    executor: Any = None,
+) -> tuple[Any, Any]:
+    """Features of the files of ``folders`` (with ``jobs`` workers or on ``executor``) joined
+    with the metadata CSV (first) and the values the record headers give (then), and the
+    features' failures."""
+    from stepframe.stochastic.catalog_features import catalog_features
+
+    files = catalogue_files(folders)
+    table, failures = catalog_features(
+        files, n_jobs=jobs, executor=executor, record_options=record_options
+    )
+    if metadata is not None:
+        table = join_metadata(table, read_metadata(metadata, files))
+    return join_headers(table, header_table(files, record_options)), failures
+
+
 def select_from_catalogue(
     frame: Any,
     options: Any,
     *,
     example: bool,
-    catalogue: str | None = None,
+    catalogue: str | list[str] | None = None,
     metadata: str | None = None,
     record_options: dict[str, Any] | None = None,
     jobs: int | None = None,
 ) -> Any:
-    """Features of a catalogue (a folder, or the embedded example), then :func:`select_records`.
+    """Features of a catalogue (folders, the embedded example, or both), then
+    :func:`select_records`.
 
     Parameters
     ----------
     frame, options
         As :func:`~stepframe.pipeline.selection.select_records`.
     example
-        True: the embedded FEMA P695 components (:func:`example_catalogue`).
+        True: the embedded FEMA P695 components (:func:`example_catalogue`) are candidates.
     catalogue
-        Otherwise, a folder of record files (read with ``record_options``).
+        Folders of record files (one folder or a list; read with ``record_options``), beside
+        the example or instead of it.
     metadata
-        A CSV joined on ``file`` (magnitudes, distances, Vs30 for the filters).
+        A CSV joined on ``file`` (magnitudes, distances, Vs30, event, station for the filters
+        and caps; paths as the folders give them, or file names).
     record_options, jobs
         Passed to the features and the selection.
 
@@ -111,7 +238,7 @@ def _select(
     frame: Any,
     options: Any,
     example: bool,
-    catalogue: str | None,
+    catalogue: str | list[str] | None,
     metadata: str | None,
     record_options: dict[str, Any] | None,
     jobs: int | None,
@@ -122,24 +249,28 @@ def _select(
     from stepframe.core.results import Failure, failures_table
     from stepframe.errors import InputError
     from stepframe.pipeline.selection import select_records
-    from stepframe.stochastic.catalog_features import catalog_features
 
+    folders = [catalogue] if isinstance(catalogue, str) else list(catalogue or [])
+    if not example and not folders:
+        raise InputError("no records, expected folders of record files or --example fema-p695")
+    if metadata is not None and not folders:
+        raise InputError(
+            "--metadata with the example catalogue alone, expected it for folders of records "
+            "(the example carries its own metadata)"
+        )
+    parts, failure_parts = [], []
     records = None
     if example:
         table, records, feature_failures = example_catalogue(jobs, pool)
-    else:
-        assert catalogue is not None
-        table, feature_failures = catalog_features(
-            catalogue, n_jobs=jobs, executor=pool, record_options=record_options
-        )
-        if metadata is not None:
-            try:
-                extra = pd.read_csv(metadata)
-            except (OSError, ValueError) as error:
-                raise InputError(f"cannot read ({error}), expected a CSV", metadata) from None
-            if "file" not in extra.columns:
-                raise InputError("no column 'file', expected one to join on", metadata, 1)
-            table = join_metadata(table, extra)
+        parts.append(table)
+        failure_parts.append(feature_failures)
+    if folders:
+        table, feature_failures = folder_catalogue(folders, metadata, record_options, jobs, pool)
+        parts.append(table)
+        failure_parts.append(feature_failures)
+    table = pd.concat(parts, ignore_index=True) if len(parts) > 1 else parts[0]
+    table.attrs = dict(parts[0].attrs)
+    feature_failures = pd.concat(failure_parts, ignore_index=True)
     if table.empty:
         raise InputError(
             f"no component gave features ({len(feature_failures)} failed), expected records"
@@ -180,11 +311,18 @@ class SelectionFolder:
 
     def describe(self) -> str:
         """The run's summary lines and where its outputs are."""
-        return "\n".join([
+        folder = self.paths["selection"].parent
+        lines = [
             *self.result.summary_lines(),
-            f"outputs: {self.paths['selection'].parent}/ (selection.csv, candidates.csv, "
-            "confirmation.csv, failures.csv, columns.csv, selection.json)",
-        ])  # fmt: skip
+            f"outputs: {folder}/ (selection.csv, candidates.csv, confirmation.csv, "
+            "failures.csv, columns.csv, spectra.csv, selection.json)",
+        ]
+        if "manifest" in self.paths:
+            lines.append(
+                f"the chosen motions, scaled: {self.paths['manifest'].parent}/ (manifest.csv, "
+                "one AT2 and one one-column text file per component)"
+            )
+        return "\n".join(lines)
 
 
 def select_to_folder(
@@ -193,7 +331,7 @@ def select_to_folder(
     out_dir: str,
     *,
     source: RecordSource,
-    catalogue: str | None = None,
+    catalogue: str | list[str] | None = None,
     metadata: str | None = None,
     jobs: int | None = None,
 ) -> SelectionFolder:
@@ -216,11 +354,11 @@ def select_to_folder(
         As :func:`select_from_catalogue`.
     """
     from stepframe.errors import InputError
-    from stepframe.pipeline.selection.spectral import target_spectrum
+    from stepframe.pipeline.selection.intensity import checked_target
     from stepframe.structure.frame_file import read_frame_file
 
     frame = read_frame_file(frame_path)
-    target_spectrum(options)  # an unreadable target is reported before the features are run
+    checked_target(options, frame)  # a bad target is reported before the features are run
     folder = Path(out_dir)
     if folder.exists() and not folder.is_dir():
         raise InputError("exists and is not a directory, expected an output folder", folder)
@@ -235,4 +373,24 @@ def select_to_folder(
         record_options={k: v for k, v in source.read_kwargs().items() if v is not None},
         jobs=jobs,
     )
+    root = _common_folder(catalogue)
+    if root is not None and source.example is None:
+        from stepframe.pipeline.selection.identity import identified
+
+        result = identified(result, root, folder, source)
     return SelectionFolder(result, result.write(folder))
+
+
+def _common_folder(catalogue: str | list[str] | None) -> Path | None:
+    """The folder the catalogue's files are named under (one folder, or the common folder of
+    several as typed); None when they share none (the files keep their names as typed)."""
+    import os
+
+    if catalogue is None:
+        return None
+    folders = [catalogue] if isinstance(catalogue, str) else list(catalogue)
+    try:
+        common = os.path.commonpath([Path(f).as_posix() for f in folders])
+    except ValueError:  # absolute and relative folders mixed
+        return None
+    return Path(common) if common else None

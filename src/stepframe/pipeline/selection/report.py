@@ -115,7 +115,14 @@ def _band(summary: dict[str, Any], frame: Any, where: Path) -> tuple[float, floa
 
 
 def load_record(row: dict[str, Any], folder: Path) -> Any:
-    """The selected component as a Trace: a file beside the folder, or the example catalogue."""
+    """The selected component as a Trace: by its identity when the selection records it
+    (:func:`~stepframe.pipeline.selection.identity.find_record`: gone or changed is an error);
+    else a file beside the folder, or the example catalogue."""
+    from stepframe.pipeline.selection.identity import find_record, records_identity
+
+    records = records_identity(folder)
+    if records is not None and isinstance(row.get("content_sha256"), str):
+        return find_record(row, folder, records)
     file = str(row["file"])
     component = row.get("component")
     component = None if component is None or pd.isna(component) else str(component)
@@ -126,16 +133,16 @@ def load_record(row: dict[str, Any], folder: Path) -> Any:
 
             stream = read(path, component=component)
             return stream[0]
-    if file.startswith("fema_p695/") or ("/" in file and not Path(file).is_absolute()):
-        return _example_trace(file, component)
-    return None
+    return _example_trace(file, component)
 
 
 def _example_trace(file: str, component: str | None) -> Any:
+    """The example component named ``file`` (its one name, ``RSN174_IMPVALL_H-E11230.AT2``,
+    bare or under a folder), or None."""
     from stepframe.records.examples import fema_p695
 
     stream, _ = _examples_cache(fema_p695)
-    key = file if file.startswith("fema_p695/") else f"fema_p695/{file}"
+    key = Path(file).name
     for trace in stream:
         if trace.stats.stepframe.source_file == key and (
             component is None or trace.stats.channel == component
@@ -240,7 +247,7 @@ def _stated_correlations(summary: dict[str, Any], rank_by: str) -> str:
 
 
 def _confirmation(
-    table: pd.DataFrame, summary: dict[str, Any], selected_files: set[str]
+    table: pd.DataFrame, summary: dict[str, Any], selected: set[tuple[str, str]]
 ) -> tuple[list[Figure | Table | Note], dict[str, Any]]:
     from scipy.stats import spearmanr
 
@@ -252,10 +259,10 @@ def _confirmation(
     )
     if score is None or response is None:
         return [Note("The confirmation table has no score or peak-response column to compare.")], {}
-    if "group" in table.columns:
-        chosen = table["group"].astype(str).str.lower().eq("selected").to_numpy()
-    else:
-        chosen = table["file"].astype(str).isin(selected_files).to_numpy()
+    # the chosen set is the selection's (file, component): the equal-intensity rows are all
+    # group "candidate"
+    keys = zip(table["file"].astype(str), _components(table), strict=True)
+    chosen = np.array([key in selected for key in keys], dtype=bool)
     ok = np.isfinite(table[score].to_numpy(float)) & np.isfinite(table[response].to_numpy(float))
     x = table[score].to_numpy(float)[ok]
     y = table[response].to_numpy(float)[ok]
@@ -266,6 +273,16 @@ def _confirmation(
         "selected": float(np.median(y[chosen[ok]])) if chosen[ok].any() else math.nan,
         "controls": float(np.median(y[~chosen[ok]])) if (~chosen[ok]).any() else math.nan,
     }
+    stated = summary.get("medians") or {}
+    if response == "peak_drift_ratio" and "peak_abs_x_m" in table.columns:
+        response = "peak_abs_x_m"  # the response the command prints (m)
+        y = table[response].to_numpy(float)[ok]
+    if stated.get("equal_psa_t1_peak_x_m_selected") is not None and response == "peak_abs_x_m":
+        # the numbers the command printed (selected against the controls)
+        medians = {
+            "selected": float(stated["equal_psa_t1_peak_x_m_selected"]),
+            "controls": float(stated["equal_psa_t1_peak_x_m_control"]),
+        }
     numbers = {
         "score": score,
         "response": response,
@@ -283,7 +300,7 @@ def _confirmation(
             title="Score against simulated peak response at equal intensity",
             alt=(
                 f"Scatter of {score} against {response} for {x.size} records, selected in red, "
-                f"Spearman rank correlation {rho:.2f}"
+                f"Spearman rank correlation {_or_not_run(rho, '.2f')}"
             ),
             how_to_read=(
                 "Each dot is one record simulated at the same intensity, so frequency content is "
@@ -297,12 +314,15 @@ def _confirmation(
             "Selected against controls",
             pd.DataFrame(
                 [
-                    {"group": "selected", f"median_{response}": medians["selected"]},
-                    {"group": "controls / others", f"median_{response}": medians["controls"]},
+                    {"group": "selected", f"median_{response}": _or_not_run(medians["selected"])},
+                    {
+                        "group": "controls" if stated else "controls / others",
+                        f"median_{response}": _or_not_run(medians["controls"]),
+                    },
                 ]
             ),
-            f"Median simulated {response}; Spearman ρ({score}, {response}) = {rho:.3g}, "
-            f"n = {x.size}",
+            f"Median simulated {response} at equal PSA(T_1); Spearman ρ({score}, {response}) "
+            f"= {_or_not_run(rho, '.3g')}, n = {x.size}",
             {"group": "which records", f"median_{response}": "median of the simulated response"},
         ),
     ]
@@ -311,66 +331,57 @@ def _confirmation(
         items.append(
             Table(
                 "correlations",
-                "Rank correlations reported by the selection run",
+                "Each ranking and standard intensity measure against the simulated response",
                 pd.DataFrame(stated),
-                "Spearman ρ of each score against each simulated response, with its bootstrap "
-                "interval (selection.json)",
-                {"spearman": "Spearman rank correlation", "low": "interval low", "high": "high"},
+                "Spearman ρ of each ranking (the run's own, the scores it computed, the standard "
+                "intensity measures at the same equal PSA(T_1)) with each simulated response, "
+                "with its bootstrap interval, the paired difference Δρ from the run's ranking, "
+                "and the efficiency (selection.json). The run's own simulated ranking is judged "
+                "here on the frame it was ranked with; docs/selection.md judges every ranking "
+                "against perturbed frames.",
+                {
+                    "spearman": "Spearman rank correlation",
+                    "low": "interval low",
+                    "high": "high",
+                    "delta": "ρ minus the run's ranking's ρ, same candidates (paired bootstrap "
+                    "interval: delta_low, delta_high)",
+                    "efficiency": "dispersion of ln response given ln value (smaller: more "
+                    "efficient); peaks of runs that stand, overturning ratios of runs that "
+                    "overturn",
+                },
             )
         )
     return items, numbers
 
 
-def selection_report(
-    outputs: SelectionOutputs,
-    *,
-    provenance: Provenance,
-    record_loader: RecordLoader = load_record,
-) -> Report:
-    """Assemble the selection report from a read selection folder (no file written)."""
+Items = list[Figure | Table | Note]
+
+
+def _or_not_run(value: Any, spec: str | None = None) -> Any:
+    """A number, or "not run" for a value the run did not compute (NaN, None)."""
+    if value is None or (isinstance(value, float) and not math.isfinite(value)):
+        return "not run"
+    return format(value, spec) if spec else value
+
+
+def band_section(summary: dict[str, Any], frame: Any, band: tuple[float, float]) -> Section:
+    """The frame's period-amplitude backbone with its band, and the band's numbers."""
     from stepframe.structure.plots import backbone_figure
 
-    summary = outputs.summary
-    folder = outputs.folder
-    selection = outputs.tables["selection"]
-    candidates = outputs.tables["candidates"]
-    frame = _frame(summary, folder)
-    band = _band(summary, frame, folder)
-    rows: list[dict[str, Any]] = selection.to_dict(orient="records")  # type: ignore[assignment]
-    names = [_name(row) for row in rows]
-    rank_by = str(summary.get("rank_by", "score"))
-    numbers: dict[str, Any] = {
-        "band_rad_s": list(band),
-        "band_hz": [band[0] / TWO_PI, band[1] / TWO_PI],
-        "rank_by": rank_by,
-        "n_selected": len(rows),
-        "n_candidates": len(candidates),
-        "selected": names,
-    }
-    summary_lines = [
-        (
-            "Frame's band",
-            f"{band[0] / TWO_PI:.3g}-{band[1] / TWO_PI:.3g} Hz ({band[0]:.3g}-{band[1]:.3g} rad/s)",
-        ),
-        ("Ranked by", rank_by),
-        ("Selected", f"{len(rows)} of {len(candidates)} candidates"),
-        ("Scaling", str(summary.get("scale", summary.get("scaling", "none")))),
-    ]
-    sections: list[Section] = []
-    band_items: list[Figure | Table | Note] = []
+    items: Items = []
     given = summary.get("band")
     details: dict[str, Any] = given if isinstance(given, dict) else {}
     a_max = summary.get("a_max_m", details.get("a_max_m"))
+    hz = f"{band[0] / TWO_PI:.3g}-{band[1] / TWO_PI:.3g} Hz"
     if frame is None and details.get("level_amplitudes_m") and details.get("level_omegas_rad_s"):
-        band_items.append(
+        items.append(
             figure_from_matplotlib(
                 figures.backbone_points_figure(details, band),
                 key="backbone",
                 title="Period-amplitude backbone and band",
                 alt=(
                     "The frame's frequency at the amplitude levels of the selection, falling from "
-                    f"f_1 towards the band's lower edge, band {band[0] / TWO_PI:.3g}-"
-                    f"{band[1] / TWO_PI:.3g} Hz shaded"
+                    f"f_1 towards the band's lower edge, band {hz} shaded"
                 ),
                 how_to_read=(
                     "Once the frame steps (A > x_c) its period lengthens with amplitude. The "
@@ -380,7 +391,7 @@ def selection_report(
             )
         )
     elif frame is not None:
-        band_items.append(
+        items.append(
             figure_from_matplotlib(
                 backbone_figure(
                     frame,
@@ -392,8 +403,7 @@ def selection_report(
                 title="Period-amplitude backbone and band",
                 alt=(
                     "Frequency 1/T(A) of the frame against amplitude A, falling from f_1 at "
-                    f"uplift towards zero at x*, band {band[0] / TWO_PI:.3g}-"
-                    f"{band[1] / TWO_PI:.3g} Hz shaded"
+                    f"uplift towards zero at x*, band {hz} shaded"
                 ),
                 how_to_read=(
                     "Once the frame steps (A > x_c) its period lengthens with amplitude and its "
@@ -404,10 +414,10 @@ def selection_report(
             )
         )
     else:
-        band_items.append(Note("The selection summary names no frame: only the band is shown."))
+        items.append(Note("The selection summary names no frame: only the band is shown."))
     if details:
         scalars = {k: v for k, v in details.items() if isinstance(v, int | float | str)}
-        band_items.append(
+        items.append(
             Table(
                 "band",
                 "The band",
@@ -416,54 +426,116 @@ def selection_report(
                 {"quantity": "name (unit in the name)", "value": "its value"},
             )
         )
-    sections.append(Section("The frame's band", band_items))
+    return Section("The frame's band", items)
+
+
+def paths_section(
+    rows: list[dict[str, Any]], names: list[str], band: tuple[float, float]
+) -> Section:
+    """Each selected record's fitted ω_g(t) against the band and its strong-motion window."""
     paths = []
     for row, name in zip(rows, names, strict=True):
         model = _model(row)
         if model is not None:
             paths.append((name, model, _strong_window(row, model)))
-    path_items: list[Figure | Table | Note] = []
-    if paths:
-        path_items.append(
-            figure_from_matplotlib(
-                figures.omega_paths_figure(paths, band),
-                key="omega_paths",
-                title="Selected records' ω_g(t) against the band",
-                alt=(
-                    f"{len(paths)} small plots of fitted dominant frequency against time, each "
-                    "with the band and the strong-motion window shaded"
+    if not paths:
+        return Section(
+            "Dominant-frequency paths of the selected records",
+            [Note("The selection table carries no fitted parameters to draw.")],
+        )
+    figure = figure_from_matplotlib(
+        figures.omega_paths_figure(paths, band),
+        key="omega_paths",
+        title="Selected records' ω_g(t) against the band",
+        alt=(
+            f"{len(paths)} small plots of fitted dominant frequency against time, each "
+            "with the band and the strong-motion window shaded"
+        ),
+        how_to_read=(
+            "Each panel is one selected record: its fitted dominant frequency ω_g(t)/2π "
+            "(eq. 6.10) on a log scale, the frame's band in light blue and the "
+            "strong-motion window in yellow. A candidate that sweeps down through the "
+            "band while the motion is strong matches the frame's softening; recorded "
+            "motions' fitted paths rarely reach a flexible frame's band, which is why the "
+            "default score (substitute_demand_ratio) reads each record's own spectrum "
+            "along the backbone instead (docs/selection.md)."
+        ),
+    )
+    return Section("Dominant-frequency paths of the selected records", [figure])
+
+
+def _marked_candidates(outputs: SelectionOutputs) -> pd.DataFrame:
+    """candidates.csv with a ``selected`` column (the chosen rows marked) when it has none."""
+    selection = outputs.tables["selection"]
+    candidates = outputs.tables["candidates"]
+    if "selected" in candidates.columns:
+        return candidates
+    chosen = set(zip(selection["file"].astype(str), _components(selection), strict=True))
+    keys = zip(candidates["file"].astype(str), _components(candidates), strict=True)
+    candidates = candidates.copy()
+    candidates.insert(1, "selected", [key in chosen for key in keys])
+    return candidates
+
+
+def scores_section(outputs: SelectionOutputs, candidates: pd.DataFrame, rank_by: str) -> Section:
+    """The ranking (its stated intensity, what was simulated, the chosen set against the rest
+    at that intensity, the tiers against the run's exact ranking), then the chosen set and
+    every candidate with its scores and peers, as sortable tables."""
+    from stepframe.pipeline.selection.ranking import ranking_lines
+
+    summary = outputs.summary
+    items: Items = [Note(line) for line in ranking_lines(summary)[:3]]
+    versus = (summary.get("ranking") or {}).get("chosen_vs_rest")
+    if isinstance(versus, dict) and versus:
+        items.append(
+            Table(
+                "chosen_vs_rest",
+                "The chosen set against the rest, simulated at the ranking intensity",
+                pd.DataFrame(
+                    [
+                        {
+                            "group": group,
+                            "candidates": versus[f"n_{key}"],
+                            "median_simulated_response_m": versus[f"simulated_response_m_{key}"],
+                            "median_peak_x_m": versus[f"peak_x_m_{key}"],
+                            "overturned": versus[f"overturned_{key}"],
+                        }
+                        for group, key in (("chosen", "chosen"), ("the rest", "rest"))
+                    ]
                 ),
-                how_to_read=(
-                    "Each panel is one selected record: its fitted dominant frequency ω_g(t)/2π "
-                    "(eq. 6.10) on a log scale, the frame's band in light blue and the "
-                    "strong-motion window in yellow. A candidate that sweeps down through the "
-                    "band while the motion is strong matches the frame's softening; recorded "
-                    "motions' fitted paths rarely reach a flexible frame's band, which is why the "
-                    "default score (substitute_demand_ratio) reads each record's own spectrum "
-                    "along the backbone instead (docs/selection.md)."
-                ),
+                "The same simulations that ranked them (candidates.csv: simulated_response, "
+                "ranking_peak_x_m, ranking_overturned)",
+                {
+                    "median_simulated_response_m": "median over the group of the ladder's "
+                    "geometric-mean peak |x| [m]",
+                    "median_peak_x_m": "median peak |x| at the ranking intensity itself [m]",
+                    "overturned": "how many overturn the frame at the ranking intensity",
+                },
             )
         )
-    else:
-        path_items.append(Note("The selection table carries no fitted parameters to draw."))
-    sections.append(Section("Dominant-frequency paths of the selected records", path_items))
-    sections.append(
-        Section(
-            "Accelerograms of the best records",
-            _accelerogram_items(rows[:N_ACCELEROGRAMS], names, folder, record_loader, numbers),
+    tiers = summary.get("tiers")
+    if isinstance(tiers, list) and tiers:
+        items.append(
+            Table(
+                "tiers",
+                "The cheaper rankings (tiers) against this run's exact ranking",
+                pd.DataFrame(tiers),
+                "Spearman ρ of each tier with the simulated ranking, and the share of its top n "
+                "found in each tier's top K (K = n, 2n, 5n, 10n); docs/selection.md publishes "
+                "the same for a family of frames",
+                {
+                    "spearman": "Spearman ρ with the exact ranking (95 % bootstrap interval: "
+                    "low, high)",
+                    "recall_at_1n": "share of the exact top n in the tier's top n",
+                    "recall_at_10n": "share of the exact top n in the tier's top 10n",
+                },
+            )
         )
-    )
-    if "selected" not in candidates.columns:
-        # mark the chosen rows so the sortable table can bring them together
-        chosen = set(zip(selection["file"].astype(str), _components(selection), strict=True))
-        keys = zip(candidates["file"].astype(str), _components(candidates), strict=True)
-        candidates = candidates.copy()
-        candidates.insert(1, "selected", [key in chosen for key in keys])
-    score_items: list[Figure | Table | Note] = [
+    items += [
         Table(
             "selection",
             "Selected records",
-            selection,
+            outputs.tables["selection"],
             f"The chosen set, ranked by {rank_by}",
             outputs.columns.get("selection", {}),
             sortable=True,
@@ -473,7 +545,8 @@ def selection_report(
                 "candidates",
                 "Every candidate and its scores",
                 candidates,
-                "All candidates with every score and the filter that dropped them",
+                "All candidates with the simulated response, every score and standard "
+                "intensity measure, and the filter that dropped them",
                 outputs.columns.get("candidates", {}),
                 sortable=True,
             ),
@@ -481,87 +554,7 @@ def selection_report(
             "best ranked first, the chosen ones at the top",
         ),
     ]
-    sections.append(Section("Scores", score_items))
-    sections.append(
-        Section(
-            "Spectra of the selected set",
-            _spectra_items(rows, names, folder, summary, band, record_loader, numbers),
-        )
-    )
-    if "confirmation" in outputs.tables:
-        files = {str(f) for f in selection["file"]}
-        equal = _equal_intensity(outputs.tables["confirmation"], candidates, rank_by)
-        items, confirmation_numbers = _confirmation(equal, summary, files)
-        items += _long_table(
-            Table(
-                "confirmation",
-                "Confirmation table",
-                outputs.tables["confirmation"],
-                "Simulated response of the selected records and the controls",
-                outputs.columns.get("confirmation", {}),
-                sortable=True,
-            ),
-            outputs.tables["confirmation"],
-            "the selected records and the controls first",
-        )
-        numbers["confirmation"] = confirmation_numbers
-        stated = _stated_correlations(summary, rank_by)
-        if stated:
-            summary_lines.append(("Confirmation", stated))
-        elif confirmation_numbers:
-            summary_lines.append(
-                (
-                    "Confirmation",
-                    f"Spearman ρ = {confirmation_numbers['spearman_rho']:.2f} "
-                    f"({confirmation_numbers['score']} vs {confirmation_numbers['response']}, "
-                    f"n = {confirmation_numbers['n']})",
-                )
-            )
-        sections.append(Section("Confirmation by simulation", items))
-    else:
-        sections.append(
-            Section(
-                "Confirmation by simulation",
-                [Note("This run was not confirmed by simulation (no confirmation.csv).")],
-            )
-        )
-    dropped, column = _dropped(candidates)
-    drop_items: list[Figure | Table | Note] = [
-        Table(
-            "filters",
-            "What each filter dropped",
-            dropped,
-            f"Counted from candidates.csv column '{column}'" if column else "No filter column",
-            {
-                "filter": "the filter",
-                "dropped": "candidates it dropped",
-                "examples": "the first few",
-            },
-        )
-    ]
-    failures = outputs.tables.get("failures")
-    if failures is not None:
-        drop_items.append(
-            Table(
-                "failures",
-                "Failures",
-                failures,
-                "Records the run could not process (each recorded, none stopped the run)",
-                outputs.columns.get("failures", {}),
-            )
-        )
-        numbers["n_failures"] = len(failures)
-    sections.append(Section("Filters and failures", drop_items))
-    return Report(
-        title="Record selection report",
-        subtitle=(
-            "Records whose dominant frequency sweeps the stepping frame's band (moving resonance)"
-        ),
-        summary=summary_lines,
-        sections=sections,
-        provenance=provenance,
-        numbers=numbers,
-    )
+    return Section("Ranking and scores", items)
 
 
 def _long_table(table: Table, ordered: pd.DataFrame, order: str) -> list[Table]:
@@ -589,6 +582,346 @@ def _best_first(candidates: pd.DataFrame, rank_by: str) -> pd.DataFrame:
     if not keys:
         return candidates
     return candidates.sort_values(keys, ascending=False, kind="stable", na_position="last")
+
+
+def confirmation_section(
+    outputs: SelectionOutputs,
+    candidates: pd.DataFrame,
+    rank_by: str,
+    numbers: dict[str, Any],
+    summary_lines: list[tuple[str, str]],
+) -> Section:
+    """The simulated response of the selected records against the controls and the candidates
+    at equal intensity, and the stated correlations (or a note that it was not run)."""
+    table = outputs.tables.get("confirmation")
+    if table is None or table.empty:
+        numbers["confirmation"] = "not run"
+        summary_lines.append(("Confirmation", "not run (the run had no --confirm)"))
+        return Section(
+            "Confirmation by simulation",
+            [Note("Not run: this selection was not confirmed by simulation (--confirm runs it).")],
+        )
+    summary = outputs.summary
+    selection = outputs.tables["selection"]
+    chosen = set(zip(selection["file"].astype(str), _components(selection), strict=True))
+    equal = _equal_intensity(table, candidates, rank_by)
+    items, confirmation_numbers = _confirmation(equal, summary, chosen)
+    items += _long_table(
+        Table(
+            "confirmation",
+            "Confirmation table",
+            outputs.tables["confirmation"],
+            "Simulated response of the selected records and the controls",
+            outputs.columns.get("confirmation", {}),
+            sortable=True,
+        ),
+        outputs.tables["confirmation"],
+        "the selected records and the controls first",
+    )
+    numbers["confirmation"] = confirmation_numbers
+    stated = _stated_correlations(summary, rank_by)
+    if stated:
+        summary_lines.append(("Confirmation", stated))
+    elif confirmation_numbers:
+        summary_lines.append(
+            (
+                "Confirmation",
+                f"Spearman ρ = {_or_not_run(confirmation_numbers['spearman_rho'], '.2f')} "
+                f"({confirmation_numbers['score']} vs {confirmation_numbers['response']}, "
+                f"n = {confirmation_numbers['n']})",
+            )
+        )
+    return Section("Confirmation by simulation", items)
+
+
+def filters_section(
+    outputs: SelectionOutputs, candidates: pd.DataFrame, numbers: dict[str, Any]
+) -> Section:
+    """What each filter dropped, and the records the run could not process."""
+    dropped, column = _dropped(candidates)
+    grouping = outputs.summary.get("grouping")
+    intro: Items = []
+    if isinstance(grouping, dict):
+        from stepframe.pipeline.selection.grouping import grouping_line
+
+        intro.append(Note(grouping_line(grouping).replace("records: ", "Records: ", 1) + "."))
+        numbers["grouping"] = grouping
+    warned = [r["warning"] for r in outputs.summary.get("filters", []) if "warning" in r]
+    intro += [Note(str(text), "warning") for text in warned]
+    items: Items = [
+        *intro,
+        Table(
+            "filters",
+            "What each filter dropped",
+            dropped,
+            f"Counted from candidates.csv column '{column}'" if column else "No filter column",
+            {
+                "filter": "the filter",
+                "dropped": "candidates it dropped",
+                "examples": "the first few",
+            },
+        ),
+    ]
+    failures = outputs.tables.get("failures")
+    if failures is not None:
+        items.append(
+            Table(
+                "failures",
+                "Failures",
+                failures,
+                "Records the run could not process (each recorded, none stopped the run)",
+                outputs.columns.get("failures", {}),
+            )
+        )
+        numbers["n_failures"] = len(failures)
+    return Section("Filters and failures", items)
+
+
+def selection_report(
+    outputs: SelectionOutputs,
+    *,
+    provenance: Provenance,
+    record_loader: RecordLoader = load_record,
+) -> Report:
+    """Assemble the selection report from a read selection folder (no file written).
+
+    Its sections in order (docs/reports.md): the frame's band, the selected records'
+    ω_g(t) paths, the best records' accelerograms, the scores, the spectra of the set, the
+    confirmation by simulation, the filters and failures.
+    """
+    summary = outputs.summary
+    folder = outputs.folder
+    selection = outputs.tables["selection"]
+    candidates = _marked_candidates(outputs)
+    frame = _frame(summary, folder)
+    band = _band(summary, frame, folder)
+    rows: list[dict[str, Any]] = selection.to_dict(orient="records")  # type: ignore[assignment]
+    names = [_name(row) for row in rows]
+    rank_by = str(summary.get("rank_by", "score"))
+    numbers: dict[str, Any] = {
+        "band_rad_s": list(band),
+        "band_hz": [band[0] / TWO_PI, band[1] / TWO_PI],
+        "rank_by": rank_by,
+        "n_selected": len(rows),
+        "n_candidates": len(candidates),
+        "selected": names,
+    }
+    summary_lines = [
+        (
+            "Frame's band",
+            f"{band[0] / TWO_PI:.3g}-{band[1] / TWO_PI:.3g} Hz ({band[0]:.3g}-{band[1]:.3g} rad/s)",
+        ),
+        ("Ranked by", rank_by),
+        ("Selected", f"{len(rows)} of {len(candidates)} candidates"),
+        ("Scaling", str(summary.get("scale", summary.get("scaling", "none")))),
+    ]
+    best = rows[:N_ACCELEROGRAMS]
+    sections = [
+        band_section(summary, frame, band),
+        paths_section(rows, names, band),
+        Section(
+            "Accelerograms of the best records",
+            _accelerogram_items(best, names, folder, record_loader, numbers),
+        ),
+        scores_section(outputs, candidates, rank_by),
+        spectra_section(outputs, rows, names, band, record_loader, numbers, summary_lines),
+        chosen_scale_section(summary, numbers, summary_lines),
+        confirmation_section(outputs, candidates, rank_by, numbers, summary_lines),
+        filters_section(outputs, candidates, numbers),
+    ]
+    return Report(
+        title="Record selection report",
+        subtitle=(
+            "Records whose dominant frequency sweeps the stepping frame's band (moving resonance)"
+        ),
+        summary=summary_lines,
+        sections=sections,
+        provenance=provenance,
+        numbers=numbers,
+    )
+
+
+def spectra_section(
+    outputs: SelectionOutputs,
+    rows: list[dict[str, Any]],
+    names: list[str],
+    band: tuple[float, float],
+    record_loader: RecordLoader,
+    numbers: dict[str, Any],
+    summary_lines: list[tuple[str, str]],
+) -> Section:
+    """The set's scaled spectra against the target and the code's check: the run's own
+    ``spectra.csv`` when it wrote one (the numbers the command printed), else recomputed from
+    the records."""
+    summary = outputs.summary
+    target = summary.get("target")
+    if isinstance(target, dict):
+        summary_lines.append(("Target", str(target.get("describe", target.get("kind")))))
+    check = summary.get("code_check")
+    if isinstance(check, dict) and "line" in check:
+        summary_lines.append(("Code check", str(check["line"])))
+        numbers["code_check"] = {k: check[k] for k in ("passes", "lowest_ratio", "lowest_at_s")}
+    elif isinstance(check, dict) and "not_run" in check:
+        summary_lines.append(("Code check", f"not run ({check['not_run']})"))
+        numbers["code_check"] = "not run"
+    spectra = outputs.tables.get("spectra")
+    if spectra is not None and not spectra.empty:
+        items = _run_spectra_items(spectra, summary, band, numbers)
+    else:
+        items = _spectra_items(rows, names, outputs.folder, summary, band, record_loader, numbers)
+    return Section("Spectra of the selected set", items)
+
+
+def _run_spectra_items(
+    spectra: pd.DataFrame,
+    summary: dict[str, Any],
+    band: tuple[float, float],
+    numbers: dict[str, Any],
+) -> Items:
+    """The figure and tables of ``spectra.csv``: the units' scaled spectra, their mean, the
+    target and, with a code target, its suite check."""
+    periods = spectra["period_s"].to_numpy(float)
+    units = [c for c in spectra.columns if c not in ("period_s", "target_g", "mean_g")]
+    psa = spectra[units].to_numpy(float).T
+    target = (periods, spectra["target_g"].to_numpy(float)) if "target_g" in spectra else None
+    described = summary.get("set_spectra") or {}
+    damping = float(described.get("damping", 0.05))
+    stated = summary.get("code_check")
+    check: dict[str, Any] = stated if isinstance(stated, dict) and "line" in stated else {}
+    has_check = bool(check)
+    fraction_range = None
+    if has_check:
+        low, high = (float(t) for t in check["period_range_s"])
+        fraction_range = (float(check["fraction"]), (low, high))
+    measure = described.get("measure", "component")
+    items: Items = [
+        figure_from_matplotlib(
+            figures.spectra_figure(
+                periods,
+                psa,
+                units,
+                target=target,
+                band_period_s=(TWO_PI / band[1], TWO_PI / band[0]),
+                damping=damping,
+                mean_g=spectra["mean_g"].to_numpy(float),
+                check=fraction_range,
+            ),
+            key="spectra",
+            title="Scaled spectra against the target",
+            alt=(
+                f"Pseudo-spectral acceleration of {len(units)} scaled {measure} spectra with "
+                "their median, ±σ and mean" + (" and the target spectrum" if target else "")
+            ),
+            how_to_read=(
+                f"Grey lines are the chosen set's spectra after scaling ({measure}: "
+                + ("each component" if measure == "component" else "one per record, its pair")
+                + "); black is their median and dashed the median times e^±σ, blue their mean "
+                "(the average the codes check). "
+                + (
+                    str((summary.get("target") or {}).get("describe", "The target"))
+                    + " is red"
+                    + (
+                        "; the dotted red line is the share of it the mean must reach over the "
+                        "code's period range."
+                        if fraction_range
+                        else "."
+                    )
+                    if target is not None
+                    else "The run had no target spectrum."
+                )
+                + " The shaded periods correspond to the frame's band."
+            ),
+        ),
+        Table(
+            "scale_factors",
+            "Scale factors",
+            pd.DataFrame(
+                {
+                    "unit": list((summary.get("scale_factors") or {}).keys()),
+                    "scale_factor": list((summary.get("scale_factors") or {}).values()),
+                }
+            ),
+            str(
+                summary.get("scale_rule", "The factor each record's acceleration was multiplied by")
+            ),
+            {"unit": "record or component", "scale_factor": "amplitude scale factor [-]"},
+        ),
+        Table(
+            "spectra",
+            "Spectra of each unit",
+            spectra,
+            f"scaled PSA [g] at {damping:.0%} damping (spectra.csv of the run)",
+            {
+                "period_s": "oscillator period [s]",
+                "target_g": "target [g]",
+                "mean_g": "mean of the set [g]",
+            }
+            | dict.fromkeys(units, "scaled PSA [g]"),
+            on_page=False,
+        ),
+    ]
+    if summary.get("set_misfit") is not None:
+        items.append(
+            Note(
+                f"Set misfit {float(summary['set_misfit']):.3g}: RMS over the misfit periods of "
+                "ln(geometric mean of the scaled spectra / target)."
+            )
+        )
+    if has_check:
+        items.append(Note(str(check["line"]), "note" if check["passes"] else "warning"))
+        items += [Note(str(note)) for note in check.get("notes", [])]
+        items.append(
+            Table(
+                "code_check",
+                "The code's check, period by period",
+                pd.DataFrame({"period_s": check["periods_s"], "mean_over_target": check["ratio"]}),
+                f"{check['clause']}: the mean must reach {float(check['fraction']):.0%} of the "
+                "target at every period of the range",
+                {"period_s": "period [s]", "mean_over_target": "mean of the set / target"},
+            )
+        )
+    numbers["spectra_records"] = units
+    return items
+
+
+def chosen_scale_section(
+    summary: dict[str, Any], numbers: dict[str, Any], summary_lines: list[tuple[str, str]]
+) -> Section:
+    """What the chosen set does to the frame at the chosen scale (the simulator on each chosen
+    component), and the run's warnings."""
+    response = summary.get("chosen_response")
+    title = "The chosen set at its scale"
+    if not isinstance(response, dict) or not response.get("n"):
+        numbers["chosen_response"] = "not run"
+        return Section(title, [Note("Not run: this selection folder has no chosen_response.")])
+    counts = (
+        f"of {response['n']} components, {response['linear']} stay linear, "
+        f"{response['steps']} step, {response['overturns']} overturn the frame"
+    )
+    summary_lines.append(("At the chosen scale", counts))
+    numbers["chosen_response"] = {k: response[k] for k in ("n", "linear", "steps", "overturns")}
+    items: Items = [
+        Note(
+            f"Simulated at the chosen scale ({summary.get('scale_rule', 'as recorded')}): "
+            f"{counts} (x_c = {float(response['x_c_m']):.3g} m)."
+        ),
+        Table(
+            "chosen_response",
+            "Each chosen component at its scale factor",
+            pd.DataFrame(response["rows"]),
+            "The exact simulator on each chosen component as it will be used",
+            {
+                "file": "record file",
+                "component": "component",
+                "record": "record",
+                "scale": "scale factor [-]",
+                "peak_abs_x_m": "peak |x| of the frame [m]",
+                "state": "linear (no lift-off), steps, or overturns",
+            },
+        ),
+    ]
+    items += [Note(str(text), "warning") for text in summary.get("warnings", [])]
+    return Section(title, items)
 
 
 def _scale_of(row: dict[str, Any]) -> float:

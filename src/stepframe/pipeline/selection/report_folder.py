@@ -28,8 +28,9 @@ REQUIRED = ("selection.json", "selection.csv", "candidates.csv")
 #: The selection's folder inside a workflow's outputs folder (the selection stage's).
 WORKFLOW_FOLDER = "selection"
 
-#: Files a run may lack (no confirmation asked, no failures).
-OPTIONAL = ("confirmation.csv", "failures.csv")
+#: Files a run may lack (no confirmation asked, no failures, a folder from before the set's
+#: spectra were written).
+OPTIONAL = ("confirmation.csv", "failures.csv", "spectra.csv")
 
 
 @dataclass(frozen=True)

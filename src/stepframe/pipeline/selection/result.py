@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from os import PathLike
 from pathlib import Path
 from typing import Any
@@ -25,6 +25,13 @@ TABLE_FILES = {
     "failures": "failures.csv",
 }
 COLUMNS_FILE = "columns.csv"
+#: The columns of ``spectra.csv`` besides one per unit of the set (:data:`SCALED_COLUMN`).
+SPECTRA_COLUMNS = {
+    "period_s": ("s", "oscillator period"),
+    "target_g": ("g", "target spectrum"),
+    "mean_g": ("g", "arithmetic mean of the set's scaled spectra (the codes' average)"),
+}
+SCALED_COLUMN = ("g", "scaled PSA of this unit (component, or the record's pair spectrum)")
 SUMMARY_FILE = "selection.json"
 
 
@@ -60,7 +67,12 @@ class SelectionResult:
         A status of :data:`stepframe.core.results.STATUSES` and one line about it.
     summary
         Everything else, JSON-ready: the band, the filters' reports, the options, the
-        correlations of the confirmation.
+        correlations of the confirmation; the grouping of files into records, the target, the
+        scale rule, the set's misfit, the code check and the chosen set's response at the
+        chosen scale.
+    spectra, motions
+        The chosen set's scaled spectra and motions (written as ``spectra.csv`` and
+        ``motions/``).
     """
 
     selection: Any
@@ -71,6 +83,12 @@ class SelectionResult:
     status: str = "ok"
     message: str = ""
     summary: dict[str, Any] = field(default_factory=dict)
+    #: The chosen set's scaled spectra (``spectra.csv``: period_s, target_g, mean_g, one column
+    #: per unit); None when the run has none.
+    spectra: Any = None
+    #: The chosen components with their samples and scale factors, written to ``motions/``
+    #: (:mod:`.export`); empty for a result read back.
+    motions: list[Any] = field(default_factory=list)
 
     def __post_init__(self) -> None:
         check_status(self.status)
@@ -95,35 +113,171 @@ class SelectionResult:
         return data
 
     def summary_lines(self) -> list[str]:
-        """For people: the band, the chosen components, the confirmation's rank correlation
-        (Spearman with its bootstrap interval) and the selected-vs-control medians."""
+        """For people: the band and filters, how files were grouped into records, the target
+        and scale rule, the chosen set (pick order, score and its rank, scale factor, what it
+        does to the frame), the response counts and warnings, the code check, and the
+        confirmation's rank correlation and medians when it ran."""
         low, high = self.band_rad_s
+        summary = self.summary
         lines = [
             f"band: {low:.3g} to {high:.3g} rad/s (T {math.tau / high:.3g} to "
-            f"{math.tau / low:.3g} s); {self.summary.get('filter_summary', '')}",
-            f"chosen by {self.summary.get('rank_by')} ({self.status}: {self.message}):",
+            f"{math.tau / low:.3g} s); {summary.get('filter_summary', '')}",
+            *self._input_lines(),
+            f"chosen by {summary.get('rank_by')} ({self.status}: {self.message}):",
+            *self._chosen_lines(),
+            *self._outcome_lines(),
         ]
-        for row in self.selection.itertuples():
-            name = str(row.file).rsplit("/", 1)[-1]
-            lines.append(
-                f"  {row.rank:2d}. {name} [{row.component}]  score {row.score:.4g}  "
-                f"scale {row.scale_factor:.3g}  P(in set) {row.selection_probability:.2f}"
-            )
-        for entry in self.summary.get("correlations", []):
-            if entry["score"] == self.summary.get("rank_by"):
+        for entry in summary.get("correlations", []):
+            if entry["score"] == summary.get("rank_by"):
                 lines.append(
                     f"confirmation: Spearman({entry['score']}, {entry['response']}) = "
-                    f"{entry['spearman']:.2f} [{entry['low']:.2f}, {entry['high']:.2f}], "
-                    f"n = {entry['n']}"
+                    f"{_number(entry['spearman'], '.2f')} [{_number(entry['low'], '.2f')}, "
+                    f"{_number(entry['high'], '.2f')}], n = {entry['n']}"
                 )
-        medians = self.summary.get("medians") or {}
+        medians = summary.get("medians") or {}
         if medians:
             lines.append(
                 "median peak |x| at equal PSA(T_1): selected "
-                f"{medians['equal_psa_t1_peak_x_m_selected']:.3g} m, controls "
-                f"{medians['equal_psa_t1_peak_x_m_control']:.3g} m"
+                f"{_number(medians['equal_psa_t1_peak_x_m_selected'], '.3g')} m, controls "
+                f"{_number(medians['equal_psa_t1_peak_x_m_control'], '.3g')} m"
             )
+        elif "options" in summary and not summary["options"].get("confirm"):
+            lines.append("confirmation by simulation: not run (--confirm runs it)")
         return lines
+
+    def _input_lines(self) -> list[str]:
+        """The grouping of files into records, warnings of the filters, the target, the scale."""
+        from stepframe.pipeline.selection.grouping import grouping_line
+
+        summary = self.summary
+        lines = []
+        if summary.get("grouping"):
+            lines.append(grouping_line(summary["grouping"]))
+        lines += [f"warning: {r['warning']}" for r in summary.get("filters", []) if "warning" in r]
+        target = summary.get("target")
+        if isinstance(target, dict):
+            lines.append(f"target: {target.get('describe', target.get('kind'))}")
+        if summary.get("scale_rule"):
+            lines.append(f"scale: {summary['scale_rule']}")
+        intensity = summary.get("ranking_intensity")
+        if intensity is not None:
+            lines.append(f"ranking intensity: {_intensity_text(intensity)}")
+        return lines
+
+    def _chosen_lines(self) -> list[str]:
+        """One line per chosen component: pick order, score and its rank among the candidates,
+        scale factor (clipped flagged), state at the chosen scale, P(in set) where it means
+        something."""
+        from stepframe.pipeline.selection.names import RECORD_SCORES
+
+        summary = self.summary
+        rank_by = str(summary.get("rank_by"))
+        options = summary.get("options", {})
+        bootstrap = int(options.get("n_bootstrap", 0) or 0)
+        meaningful = bootstrap > 0 and rank_by not in RECORD_SCORES
+        ranks = _score_ranks(self.candidates, rank_by)
+        response = {
+            (row["file"], row["component"]): row
+            for row in (summary.get("chosen_response") or {}).get("rows", [])
+        }
+        lines = []
+        for row in self.selection.itertuples():
+            name = str(row.file).rsplit("/", 1)[-1]
+            key = (str(row.file), str(row.component))
+            place = ranks.get(key)
+            rank_text = f" (rank {place[0]} of {place[1]})" if place else ""
+            clipped = " clipped" if bool(getattr(row, "scale_clipped", False)) else ""
+            text = (
+                f"  pick {row.rank:2d}. {name} [{row.component}]  score {row.score:.4g}"
+                f"{rank_text}  scale {row.scale_factor:.3g}{clipped}"
+            )
+            if key in response:
+                state = response[key]
+                text += f"  {state['state']} (peak |x| {state['peak_abs_x_m']:.3g} m)"
+            if meaningful:
+                text += f"  P(in set) {row.selection_probability:.2f}"
+            lines.append(text)
+        return lines
+
+    def _outcome_lines(self) -> list[str]:
+        """The response at the chosen scale, the set's misfit, the code check, warnings."""
+        summary = self.summary
+        lines = []
+        response = summary.get("chosen_response") or {}
+        if response.get("n"):
+            lines.append(
+                f"at the chosen scale: of {response['n']} components, {response['linear']} "
+                f"stay linear, {response['steps']} step, {response['overturns']} overturn the "
+                f"frame (x_c = {response['x_c_m']:.3g} m)"
+            )
+        if summary.get("set_misfit") is not None:
+            lines.append(
+                f"set misfit: {summary['set_misfit']:.3g} (RMS of ln(geometric mean / target) "
+                "over the misfit periods)"
+            )
+        check = summary.get("code_check")
+        if isinstance(check, dict):
+            if "line" in check:
+                lines.append(f"code check: {check['line']}")
+                lines += [f"  note: {note}" for note in check.get("notes", [])]
+            elif "not_run" in check:
+                lines.append(f"code check: not run ({check['not_run']})")
+        lines += [f"warning: {text}" for text in summary.get("warnings", [])]
+        return lines
+
+    def _write_chosen(self, folder: Path, paths: dict[str, Path]) -> list[Any]:
+        """``spectra.csv`` and ``motions/`` (when the run has them); their column
+        dictionaries."""
+        from stepframe.core.io import atomic_write
+        from stepframe.pipeline.selection.export import MANIFEST_COLUMNS, export_motions
+
+        written = []
+        if self.spectra is not None:
+            path = folder / SPECTRA_FILE
+            with atomic_write(path) as handle:
+                self.spectra.to_csv(handle, index=False, float_format="%.8g")
+            paths["spectra"] = path
+            names = [c for c in self.spectra.columns if c not in SPECTRA_COLUMNS]
+            written.append(
+                _framed("spectra", {**SPECTRA_COLUMNS, **dict.fromkeys(names, SCALED_COLUMN)})
+            )
+        if self.motions:
+            paths.update(export_motions(self.motions, folder))
+            written.append(_framed("manifest", MANIFEST_COLUMNS))
+        return written
+
+    def with_record_identity(
+        self, root: str | PathLike[str], hashes: dict[str, str], records: dict[str, Any]
+    ) -> SelectionResult:
+        """The result naming its records as a later step re-reads them from anywhere.
+
+        Every path under ``root`` (the records folder, absolute) in the tables and the summary
+        becomes relative to it, so the result is the same bytes wherever the workspace is;
+        ``content_sha256`` (from ``hashes``: file relative to ``root`` → sha256 of its bytes)
+        follows each ``file`` column, so that a changed file is found out; and the summary gets
+        ``records``: where the folder is (``folder``, relative to the selection's folder or a
+        folder above it; or ``example``) and the record options the files were read with.
+        """
+        prefix = f"{Path(root).as_posix().rstrip('/')}/"
+        tables = {
+            name: _with_hashes(_relative(table, prefix), hashes)
+            for name, table in self.tables().items()
+        }
+        summary = json.loads(json.dumps(self.summary, default=str).replace(prefix, ""))
+        return SelectionResult(
+            tables["selection"],
+            tables["candidates"],
+            tables["confirmation"],
+            tables["failures"],
+            self.band_rad_s,
+            self.status,
+            self.message.replace(prefix, ""),
+            {**summary, "records": records},
+            spectra=None
+            if self.spectra is None
+            else self.spectra.rename(columns=lambda name: str(name).replace(prefix, "")),
+            motions=[replace(m, file=m.file.removeprefix(prefix)) for m in self.motions],
+        )
 
     def tables(self) -> dict[str, Any]:
         """The four tables by name."""
@@ -163,6 +317,7 @@ class SelectionResult:
                 framed = columns.copy()
                 framed.insert(0, "table", name)
                 dictionaries.append(framed)
+        dictionaries += self._write_chosen(folder, paths)
         path = folder / COLUMNS_FILE
         with atomic_write(path) as handle:
             pd.concat(dictionaries, ignore_index=True).to_csv(handle, index=False)
@@ -173,6 +328,86 @@ class SelectionResult:
             handle.write("\n")
         paths["summary"] = path
         return paths
+
+
+SPECTRA_FILE = "spectra.csv"
+
+
+def _framed(name: str, columns: dict[str, tuple[str, str]]) -> Any:
+    table = column_dictionary(columns)
+    table.insert(0, "table", name)
+    return table
+
+
+def _number(value: Any, spec: str) -> str:
+    """A number for people: "not run" instead of NaN or None."""
+    if value is None or (isinstance(value, float) and not math.isfinite(value)):
+        return "not run"
+    return format(value, spec)
+
+
+def _intensity_text(value: Any) -> str:
+    """The ranking intensity as ``selection.json`` gives it (a number in g, or a table)."""
+    if isinstance(value, dict):
+        return ", ".join(f"{k} {v}" for k, v in value.items())
+    return f"{value} g" if isinstance(value, int | float) else str(value)
+
+
+def _score_ranks(candidates: Any, rank_by: str) -> dict[tuple[str, str], tuple[int, int]]:
+    """(file, component) → (rank of the ranking score among the candidates that passed the
+    filters, 1 best; how many)."""
+    if rank_by not in candidates.columns or "dropped_by" not in candidates.columns:
+        return {}
+    passing = candidates[candidates["dropped_by"].astype(str) == ""]
+    score = passing[rank_by].astype(float)
+    order = score.rank(ascending=False, method="min")
+    return {
+        (str(f), str(c)): (int(r), len(passing))
+        for f, c, r in zip(passing["file"], passing["component"], order, strict=True)
+        if r == r  # not NaN
+    }
+
+
+def _relative(table: Any, prefix: str) -> Any:
+    """``table`` with ``prefix`` (a folder's absolute path and ``/``) taken off its text cells."""
+    from pandas.api.types import is_object_dtype, is_string_dtype
+
+    out = table.copy()
+    for column in out.columns:
+        if is_object_dtype(out[column]) or is_string_dtype(out[column]):
+            out[column] = [
+                value.replace(prefix, "") if isinstance(value, str) else value
+                for value in out[column]
+            ]
+    dictionary = get_column_dictionary(table)
+    if dictionary is not None:
+        set_column_dictionary(out, dictionary)
+    return out
+
+
+def _with_hashes(table: Any, hashes: dict[str, str]) -> Any:
+    """``table`` with ``content_sha256`` after its ``file`` column (if it has one)."""
+    import pandas as pd
+
+    if "file" not in table.columns or "content_sha256" in table.columns:
+        return table
+    out = table.copy()
+    out.insert(
+        list(out.columns).index("file") + 1,
+        "content_sha256",
+        [hashes.get(str(file), "") for file in out["file"]],
+    )
+    dictionary = get_column_dictionary(table)
+    if dictionary is not None:
+        row = pd.DataFrame(
+            [("content_sha256", "", "sha256 of the record file's bytes (its identity)")],
+            columns=["column", "unit", "meaning"],
+        )
+        names = list(dictionary["column"])
+        at = names.index("file") + 1 if "file" in names else len(names)
+        dictionary = pd.concat([dictionary.iloc[:at], row, dictionary.iloc[at:]])
+        set_column_dictionary(out, dictionary.reset_index(drop=True))
+    return out
 
 
 def read_selection(outdir: str | PathLike[str]) -> SelectionResult:
@@ -191,7 +426,13 @@ def read_selection(outdir: str | PathLike[str]) -> SelectionResult:
     dictionaries = pd.read_csv(folder / COLUMNS_FILE, keep_default_na=False)
     tables: dict[str, Any] = {}
     for name, file in TABLE_FILES.items():
-        text_columns = {"file": str, "component": str, "station": str, "dropped_by": str}
+        text_columns = {
+            "file": str,
+            "content_sha256": str,
+            "component": str,
+            "station": str,
+            "dropped_by": str,
+        }
         try:
             table = pd.read_csv(folder / file, dtype=text_columns, keep_default_na=True)
         except pd.errors.EmptyDataError:
@@ -202,6 +443,8 @@ def read_selection(outdir: str | PathLike[str]) -> SelectionResult:
         mine = dictionaries[dictionaries["table"] == name].drop(columns="table")
         set_column_dictionary(table, mine.reset_index(drop=True))
         tables[name] = table
+    spectra_path = folder / SPECTRA_FILE
+    spectra = pd.read_csv(spectra_path) if spectra_path.is_file() else None
     band = summary.pop("band_rad_s")
     status = summary.pop("status")
     message = summary.pop("message")
@@ -218,4 +461,5 @@ def read_selection(outdir: str | PathLike[str]) -> SelectionResult:
         status,
         message,
         summary,
+        spectra,
     )

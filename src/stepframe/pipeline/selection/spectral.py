@@ -1,8 +1,9 @@
 """The spectral objective and scaling: target spectrum, record spectra, misfit, scale factors.
 
 The paper's Example 4 picked records by closeness to the design spectrum's S_DS/S_D1; here a
-target spectrum is optional (the two-period design spectrum of
-:mod:`stepframe.structure.design_spectrum`, or a tabulated CSV of ``period_s,sa_g`` rows), the
+target spectrum is optional (ASCE 7-22's two-period or multi-period spectrum, Eurocode 8's
+elastic spectrum, :mod:`stepframe.structure.code_spectra`, or a tabulated CSV of
+``period_s,sa_g`` rows), the
 misfit is the RMS of ln(s·PSA/target) over a period range, and the scale factor s follows a
 policy: ``none`` (default: the paper warns that amplitude scaling may bias results),
 ``psa-at-t1`` (the target's PSA at T_1, or without a target the candidates' median PSA at T_1) or
@@ -23,7 +24,10 @@ from numpy.typing import NDArray
 from stepframe.errors import InputError
 from stepframe.pipeline.selection.band import FrameBand
 from stepframe.pipeline.selection.options import SelectionOptions
-from stepframe.structure.design_spectrum import TabulatedSpectrum, TwoPeriodSpectrum
+from stepframe.structure.code_spectra import Asce7TwoPeriod, Ec8Elastic
+from stepframe.structure.design_spectrum import TabulatedSpectrum
+
+Target = Asce7TwoPeriod | Ec8Elastic | TabulatedSpectrum
 
 Floats = NDArray[np.float64]
 #: Standard gravity for target spectra and PGA given in g [m/s²].
@@ -70,13 +74,64 @@ def read_target_csv(path: str | Path) -> TabulatedSpectrum:
         raise InputError(error.what, source) from None
 
 
-def target_spectrum(options: SelectionOptions) -> TwoPeriodSpectrum | TabulatedSpectrum | None:
-    """The options' target spectrum, or None."""
+def target_spectrum(options: SelectionOptions) -> Target | None:
+    """The options' target spectrum, or None: a CSV table (ASCE 7-22's multi-period spectrum
+    with ``target_code="asce7-22"``), ASCE 7-22's two-period spectrum (S_DS, S_D1, T_L) or
+    Eurocode 8's elastic spectrum (:mod:`stepframe.structure.code_spectra`)."""
     if options.target_csv is not None:
         return read_target_csv(options.target_csv)
     if options.target_s_ds_g is not None and options.target_s_d1_g is not None:
-        return TwoPeriodSpectrum.from_g(options.target_s_ds_g, options.target_s_d1_g, g_m_s2=G_M_S2)
+        return Asce7TwoPeriod(
+            options.target_s_ds_g, options.target_s_d1_g, options.target_t_l_s, G_M_S2
+        )
+    if (
+        options.target_ec8 is not None
+        and options.target_ground is not None
+        and options.target_ag_g is not None
+    ):
+        return Ec8Elastic(
+            options.target_ec8,
+            options.target_ground,
+            options.target_ag_g,
+            options.target_importance,
+            options.target_damping,
+            G_M_S2,
+        )
     return None
+
+
+def target_code(options: SelectionOptions) -> str | None:
+    """The code whose suite rule the target answers to (``asce7-22``, ``ec8``), or None."""
+    if options.target_s_ds_g is not None:
+        return "asce7-22"
+    if options.target_ec8 is not None:
+        return "ec8"
+    return options.target_code
+
+
+def describe_target(target: Target, options: SelectionOptions) -> str:
+    """The target in words (the output and the report say the same)."""
+    if isinstance(target, TabulatedSpectrum):
+        code = {"asce7-22": "ASCE 7-22 multi-period spectrum (§11.4.5.1) from "}.get(
+            str(options.target_code), ""
+        )
+        return f"{code}{options.target_csv} ({len(target.periods_s)} points)"
+    return str(target.describe())
+
+
+def target_record(target: Target, options: SelectionOptions, periods_s: Floats) -> dict[str, Any]:
+    """The target as ``selection.json`` stores it: what it is, its parameters, its code and
+    its values [g] at ``periods_s`` (the report draws these)."""
+    data = target.to_dict()
+    if isinstance(target, TabulatedSpectrum):
+        data = {"kind": "table", "file": options.target_csv, **data, "damping": 0.05}
+    return {
+        **data,
+        "code": target_code(options),
+        "describe": describe_target(target, options),
+        "periods_s": [float(t) for t in periods_s],
+        "sa_g": [target.sa_m_s2(float(t)) / G_M_S2 for t in periods_s],
+    }
 
 
 def misfit_periods_s(options: SelectionOptions, band: FrameBand) -> Floats:
@@ -150,3 +205,50 @@ def spectral_misfit(psa: Floats, scales: Floats, target_psa: Floats) -> Floats:
     with np.errstate(divide="ignore", invalid="ignore"):
         residual = np.log(scales[:, None] * psa / target_psa[None, :])
     return np.asarray(np.sqrt(np.mean(residual**2, axis=1)))
+
+
+def record_scales(
+    members: list[list[int]],
+    samples: dict[int, tuple[Floats, float]],
+    periods_s: Floats,
+    period_1_s: float,
+    policy: str,
+    target: Target | None,
+    bounds: tuple[float, float],
+    measure: str,
+) -> tuple[Floats, NDArray[np.bool_], Floats, Floats]:
+    """One scale factor per record, from the spectrum of its pair (``unit="record"``).
+
+    Both components of a record carry one factor, set by the policy on the pair's spectrum by
+    ``measure`` (:mod:`.set_spectra`): the target's PSA(T_1) over the pair's (``psa-at-t1``;
+    without a target, the records' median), or the least squares in ln PSA over ``periods_s``
+    (``target-mse``).
+
+    Returns
+    -------
+    scales, clipped, misfit : numpy.ndarray
+        Per record: the factor, whether it was clipped to ``bounds``, the RMS of
+        ln(s·PSA/target) over ``periods_s`` (NaN without a target).
+    log_psa : numpy.ndarray
+        Per record, ln of the scaled pair spectrum at ``periods_s``, shape (records, periods).
+    """
+    from stepframe.pipeline.selection.set_spectra import pair_psa
+
+    with_t1 = np.concatenate([[period_1_s], periods_s])
+    pair = np.full((len(members), with_t1.size), np.nan)
+    for k, rows in enumerate(members):
+        if all(i in samples for i in rows):
+            values = pair_psa([samples[i] for i in rows], with_t1, 0.05, measure)
+            if values is not None:
+                pair[k] = values
+    target_t1 = None if target is None else target.sa_m_s2(period_1_s)
+    target_psa = None if target is None else target_values(target, periods_s)
+    scales, clipped = scale_factors(policy, pair[:, 0], pair[:, 1:], target_t1, target_psa, bounds)
+    misfit = (
+        spectral_misfit(pair[:, 1:], scales, target_psa)
+        if target_psa is not None
+        else np.full(len(members), np.nan)
+    )
+    with np.errstate(divide="ignore", invalid="ignore"):
+        log_psa = np.log(scales[:, None] * pair[:, 1:])
+    return scales, clipped, misfit, log_psa

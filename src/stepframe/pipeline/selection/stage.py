@@ -1,8 +1,9 @@
 """The selection job's stages: ``responses``, ``selection`` and ``selection_report``.
 
 ``responses`` is the selection's work on each record (:mod:`.record_pass`: the spectra at the
-frame's periods and, with confirmation, the simulation at equal intensity), per component and
-stored, so a new record costs its own pass only; it follows ``features``
+frame's periods with the peers, the ranking's simulations at the record's own scale and, with
+confirmation, the simulation at equal intensity), per component and stored, so a new record
+costs its own pass only; it follows ``features``
 (:attr:`~stepframe.pipeline.engine.stage.Stage.expand`), a group of files at a time, on the
 records the worker has just read. ``selection`` calls
 :func:`stepframe.pipeline.selection.run.select_records` on the ``features`` table (joined with
@@ -24,9 +25,16 @@ from stepframe.pipeline.engine.stage import Context, Stage, Task
 from stepframe.pipeline.engine.store import make_key
 from stepframe.pipeline.reports.provenance import workflow_provenance
 
-SELECTION_VERSION = 2  # 2: default rank_by substitute_demand_ratio
-RESPONSES_VERSION = 1
-SELECTION_REPORT_VERSION = 3  # 2: the best records' accelerograms; 3: stated correlations
+# 2: default rank_by substitute_demand_ratio; 3: records grouped, verticals left out, the
+# chosen set's spectra, code check, response and motions; 4: records by identity; 5: ranked by
+# the simulated response at a stated intensity
+SELECTION_VERSION = 5
+# 2: the peers and the ranking's simulations in the pass
+RESPONSES_VERSION = 2
+# 2: the best records' accelerograms; 3: stated correlations; 4: the run's spectra and check,
+# the chosen set at its scale, chosen records marked, "not run"; 5: records by identity; 6: the
+# ranking's sections
+SELECTION_REPORT_VERSION = 6
 SELECTION_REPORT_HTML = "selection_report.html"
 
 
@@ -47,6 +55,7 @@ def _selection_check(workflow: Any) -> None:
 
 
 def _selection_key(context: Context) -> str:
+    table = context.tables["features"]
     return make_key(
         "selection",
         SELECTION_VERSION,
@@ -54,7 +63,7 @@ def _selection_key(context: Context) -> str:
             "options": context.workflow.tables.get("selection", {}),
             "frame": context.workflow.frame_source,
         },
-        *map(str, context.tables["features"]["_key"]),
+        *map(str, table["_key"]),
         *map(str, context.tables["responses"]["_key"]),
     )
 
@@ -63,8 +72,8 @@ def _selection_run(context: Context, folder: Path) -> None:
     from stepframe.pipeline.selection import select_records
 
     features = context.tables["features"].drop(columns=["_key"])
-    # select_records re-reads records by path (spectra, confirmation): give it absolute paths
-    # (joined as text: a Path per row cost seconds at 43,000 rows)
+    # select_records re-reads records by path (the chosen set): give it absolute paths (joined
+    # as text: a Path per row cost seconds at 43,000 rows)
     folder_of_records = record_folder(context).absolute()
     prefix = f"{folder_of_records}{os.sep}"
     inventory = context.tables["inventory"]
@@ -76,8 +85,7 @@ def _selection_run(context: Context, folder: Path) -> None:
         from stepframe.pipeline.catalogue.example_files import example_metadata
 
         features = _join_new_columns(features, example_metadata(folder_of_records))
-    responses = context.tables["responses"]
-    stored = responses.drop(columns=["_key"]).to_dict(orient="records")
+    stored = context.tables["responses"].drop(columns=["_key"]).to_dict(orient="records")
     kwargs: dict[str, Any] = {
         "jobs": context.jobs,
         "executor": context.executor,
@@ -88,7 +96,33 @@ def _selection_run(context: Context, folder: Path) -> None:
     result = select_records(
         features, context.workflow.frame, _selection_options(context.workflow), **kwargs
     )
+    # a timing is a fact of this run, not of the selection: the run log keeps it (byte-stable
+    # outputs, docs/workflows.md)
+    throughput = result.summary.pop("confirmation_samples_per_s", None)
+    simulation_s = (result.summary.get("ranking") or {}).pop("simulation_s", None)
+    context.facts["selection"] = {
+        "confirmation_samples_per_s": throughput,
+        "ranking_simulation_s": simulation_s,
+    }
+    hashes = dict(zip(inventory["file"], inventory["content_sha256"], strict=True))
+    result = result.with_record_identity(folder_of_records, hashes, _records_identity(context))
     result.write(folder)
+
+
+def _records_identity(context: Context) -> dict[str, Any]:
+    """Where the records are, as the workflow names them (its folder relative to the workflow
+    file's, or the example), and the options they are read with."""
+    records = context.workflow.records
+    assert records is not None  # checked before the run
+    options = dict(records.options)
+    if records.example is not None:
+        return {"example": records.example, "options": options}
+    assert records.folder is not None
+    try:
+        folder = records.folder.relative_to(context.workflow.path.parent).as_posix()
+    except ValueError:  # an absolute folder elsewhere: as the user gave it
+        folder = records.folder.as_posix()
+    return {"folder": folder, "options": options}
 
 
 def _join_new_columns(table: Any, extra: Any) -> Any:
@@ -151,7 +185,7 @@ def expand_responses(
     if args[0] is None or not rows:
         return []
     file, component = str(features.context["file"]), str(features.context["component"])
-    return [_response_task(args, features.key, file, component, str(features.payload[4]))]
+    return [_response_task(args, features.key, file, component, str(features.payload[-1]))]
 
 
 def compute_responses(payloads: list[Any]) -> list[list[dict[str, Any]] | Exception]:
@@ -164,42 +198,45 @@ def compute_responses(payloads: list[Any]) -> list[list[dict[str, Any]] | Except
     spec, digest = payloads[0][4], payloads[0][5]
     out: list[list[dict[str, Any]] | Exception] = [ItemFailure("not computed")] * len(payloads)
     members = []
-    samples = {}
     for k, (path, options, component, sha, *_) in enumerate(payloads):
         try:
-            samples[k] = record_pass.component_samples(
+            samples = record_pass.component_samples(
                 read_record(path, options, sha), path, component
             )
         except Exception as error:  # recorded as this item's failure
             out[k] = ItemFailure(f"samples: {error}")
             continue
-        members.append(record_pass.Component(k, path, component, True, samples[k]))
-    outcomes, cost = record_pass.record_pass((tuple(members), spec))
-    seconds = record_pass.shares(outcomes, samples, cost)
-    for outcome, share in zip(outcomes, seconds, strict=True):
+        members.append(record_pass.Component(k, path, component, True, samples))
+    for outcome in record_pass.record_pass((tuple(members), spec)):
         if outcome.failure is not None:
             out[outcome.row] = ItemFailure(f"{outcome.failure.stage}: {outcome.failure.message}")
         else:
-            simulated = (samples[outcome.row][0].size if outcome.equal else 0, float(share))
-            out[outcome.row] = [record_pass.stored(outcome, digest, simulated)]
+            out[outcome.row] = [record_pass.stored(outcome, digest)]
     return out
 
 
 RESPONSES_COLUMNS: dict[str, tuple[str, str]] = {
     "file": ("", "record file, relative to the records folder"),
     "component": ("", "channel / component name"),
-    "spec": ("", "digest of the pass (periods, dampings, frame, onset ratio) it was computed for"),
-    "sd_5": ("m", "SD at T_1 and the misfit periods, 5 % damping"),
-    "sd_levels": ("m", "SD at the substitute structure's levels (SD(T_1, xi_1) first)"),
-    "equal": ("", "the equal-intensity simulation and overturning ratio (JSON; empty: none)"),
-    "simulated_samples": ("", "samples simulated at equal intensity"),
-    "simulated_s": ("s", "time of that simulation (its share of its group's)"),
+    "spec": ("", "digest of the pass (periods, dampings, frame, intensities) it was computed for"),
+    "sd_5": ("m", "SD at T_1 and the misfit periods, 5 % damping (JSON list)"),
+    "sd_t1_m": ("m", "SD(T_1, xi_1)"),
+    "sd_levels": ("m", "SD at the substitute structure's levels (JSON list; empty: not named)"),
+    "npts": ("", "samples of the record"),
+    "dt_s": ("s", "sampling interval"),
+    "simulations": (
+        "",
+        "JSON: the peers, the ranking's simulated response at the record's own scale and the "
+        "equal-intensity simulation with its overturning ratio (null: not run in the pass)",
+    ),
+    "ranking_s": ("s", "time of the ranking's simulations (its share of its group's)"),
+    "equal_s": ("s", "time of the equal-intensity simulation (its share of its group's)"),
 }
 
 RESPONSES_STAGE = Stage(
     name="responses",
     version=RESPONSES_VERSION,
-    description="per component: the spectra and equal-intensity response the selection uses",
+    description="per component: the spectra, peers and simulated responses the selection uses",
     kind="item",
     params={},
     upstream=lambda workflow: ("features",),

@@ -42,12 +42,18 @@ class ReadOptions:
         Path of a StationXML file for response removal (obspy formats).
     component
         Which channel of a multi-channel file to return (None: all acceleration channels).
+    allow_short
+        Accept a record cut short (fewer samples than its header declares, or a multi-component
+        file missing components) instead of refusing it; each such record is flagged in
+        ``stats.stepframe.incomplete`` and a warning says so. More samples than declared are
+        refused whatever this says.
     """
 
     units: str | None = None
     dt_s: float | None = None
     inventory: str | None = None
     component: str | None = None
+    allow_short: bool = False
 
 
 @dataclass(frozen=True)

@@ -8,11 +8,14 @@ from __future__ import annotations
 
 import re
 import warnings
+from collections.abc import Iterable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from stepframe.errors import FormatError
+from stepframe.records.formats import ReadOptions
 from stepframe.records.units import ACCELERATION_UNITS_TO_M_S2, normalize_units
 
 #: Largest magnitude accepted for a number in a data block (any unit): far above any real
@@ -25,8 +28,10 @@ class FormatWarning(UserWarning):
     """A file read cleanly whose header has a problem that does not touch the data."""
 
 
-def read_lines(path: Path, what: str) -> list[str]:
+def read_lines(path: Path, what: str, *, allow_short: bool = False) -> list[str]:
     """The file's lines, refusing empty and binary files.
+
+    DOS end-of-file characters (``\\x1a``) that old CDMG files end with are dropped.
 
     Parameters
     ----------
@@ -34,18 +39,36 @@ def read_lines(path: Path, what: str) -> list[str]:
         The file.
     what
         The format's name for messages (``"PEER AT2"``).
+    allow_short
+        The record may be read short (:class:`ReadOptions`): the last value of a file that does
+        not end with a line break is dropped (:func:`drop_cut_value`).
     """
-    raw = path.read_bytes()
+    raw = path.read_bytes().rstrip(b"\x1a")
     if not raw.strip():
         raise FormatError(f"empty file, expected {what} text", path)
     if b"\x00" in raw[:65536]:
         raise FormatError(f"binary content (NUL bytes), expected {what} text", path)
+    if allow_short:
+        raw = drop_cut_value(raw)
     try:
         text = raw.decode("utf-8")  # ASCII is UTF-8; a unit such as m/s² in a header often is
     except UnicodeDecodeError:
         # Latin-1 station names occur in real headers; numbers are ASCII in every text format.
         text = raw.decode("latin-1")
     return text.splitlines()
+
+
+def drop_cut_value(raw: bytes) -> bytes:
+    """``raw`` without its last word when it ends inside one (not with a blank or line break).
+
+    A file cut short was cut anywhere, often inside a number (``-12085`` cut to ``-12`` or
+    ``-``): read short, its last value would be wrong or unreadable. Real record files end
+    with a line break, so only a cut file loses a value here (and only when the record may be
+    read short); a word followed by a blank was written whole.
+    """
+    if not raw.strip() or raw[-1:].isspace():
+        return raw
+    return raw[: len(raw) - len(raw.rsplit(None, 1)[-1])]
 
 
 def numbers(
@@ -94,12 +117,7 @@ def numbers(
     while index < len(lines) and (count is None or len(values) < count):
         line = lines[index]
         index += 1
-        if width is None:
-            words = line.split()
-        else:
-            text = line.rstrip()
-            words = [text[i : i + width].strip() for i in range(0, len(text), width)]
-            words = [w for w in words if w]
+        words = _words(line, width)
         try:
             row = [float(word) for word in words]
         except ValueError:
@@ -273,13 +291,206 @@ def resolve_units(stated: str | None, given: str | None, path: Path, line: int |
     return units
 
 
-def check_count(values: np.ndarray, npts: int, path: Path, line: int | None) -> None:
-    """Refuse a data block whose length differs from the header's sample count."""
+def check_count(
+    values: np.ndarray, npts: int, path: Path, line: int | None, what: str = "NPTS"
+) -> None:
+    """Refuse a header block (integer or real header) whose length differs from its count.
+
+    Header blocks are never accepted short: a record whose header is cut is not a record.
+    """
     if values.size != npts:
-        state = "truncated" if values.size < npts else "longer than stated"
+        raise FormatError(_count_message(values.size, npts, what), path, line)
+
+
+def _count_message(found: int, declared: int, what: str) -> str:
+    state = "truncated" if found < declared else "longer than stated"
+    return f"{found} values follow ({state}), expected {what} = {declared}"
+
+
+#: The smallest record :func:`check_samples` accepts short: one sample has no interval.
+MIN_SHORT_SAMPLES = 2
+
+
+def check_samples(
+    found: int,
+    declared: int,
+    path: Path,
+    line: int | None,
+    options: ReadOptions,
+    what: str = "NPTS",
+) -> str | None:
+    """Compare a data block's sample count with the count its header declares.
+
+    Parameters
+    ----------
+    found, declared
+        Samples in the file and samples the header declares.
+    path, line
+        The file and the 1-based line of the declaration, for the message.
+    options
+        The read options: ``allow_short`` accepts fewer samples than declared.
+    what
+        The declaration's name in the file (``"NPTS"``, ``"NDATA"``).
+
+    Returns
+    -------
+    str or None
+        None for a complete block; for a short block read with ``allow_short``, the note that
+        flags the record (``"3849 of 28600 samples"``, for ``stats.stepframe.incomplete``),
+        after a :class:`FormatWarning`.
+
+    Raises
+    ------
+    FormatError
+        More samples than declared (always), fewer without ``allow_short``, or fewer than
+        :data:`MIN_SHORT_SAMPLES` (one line naming the file, the line, both counts).
+    """
+    if found == declared:
+        return None
+    message = _count_message(found, declared, what)
+    if found > declared:
+        raise FormatError(message, path, line)
+    if not options.allow_short:
+        raise FormatError(f"{message} (a short record is read only with --allow-short)", path, line)
+    if found < MIN_SHORT_SAMPLES:
+        raise FormatError(f"{message}, and a short record needs at least 2 samples", path, line)
+    warn(f"{message}; read short (allow_short), flagged in stats.stepframe.incomplete", path, line)
+    return f"{found} of {declared} samples"
+
+
+def check_components(
+    found: int,
+    declared: int,
+    path: Path,
+    line: int | None,
+    options: ReadOptions,
+    *,
+    what: str = "components",
+    source: str = "as the header declares",
+) -> str | None:
+    """Compare the components of a multi-component file with the number it should hold.
+
+    Parameters
+    ----------
+    found, declared
+        Components read, components the file should hold.
+    path, line
+        The file and the 1-based line of the declaration (None: the format's definition).
+    options
+        The read options: ``allow_short`` accepts fewer components.
+    what, source
+        The components' name (``"channels"``) and where the number comes from, for messages.
+
+    Returns
+    -------
+    str or None
+        None when all are there; with ``allow_short``, the note flagging every trace of the
+        file (``"1 of 3 components"``), after a :class:`FormatWarning`.
+
+    Raises
+    ------
+    FormatError
+        More components than declared, or fewer without ``allow_short``.
+    """
+    if found == declared:
+        return None
+    if found > declared:
+        message = f"{found} {what} in the file, expected {declared} ({source})"
+        raise FormatError(message, path, line)
+    message = (
+        f"{found} of {declared} {what} in the file (cut short?), expected {declared} ({source})"
+    )
+    if not options.allow_short:
+        hint = f" (a file missing {what} is read only with --allow-short)"
+        raise FormatError(message + hint, path, line)
+    warn(f"{message}; read (allow_short), flagged in stats.stepframe.incomplete", path, line)
+    return f"{found} of {declared} {what}"
+
+
+def file_cut(where: str, path: Path, line: int | None, options: ReadOptions, expected: str) -> str:
+    """Refuse a file that ends ``where`` a whole file goes on (after a block, before an end
+    line, inside a heading), or with ``allow_short`` warn and return the note that flags its
+    traces (``"file ends inside the header of channel 3"``).
+
+    Parameters
+    ----------
+    where
+        Where the file ends (``"before the '/&' line ending channel H2"``).
+    path, line
+        The file and the 1-based line, for the message.
+    options
+        The read options (``allow_short``).
+    expected
+        What a whole file holds there, for the message.
+    """
+    message = f"the file ends {where} (cut short?), expected {expected}"
+    if not options.allow_short:
+        raise FormatError(f"{message} (a cut file is read only with --allow-short)", path, line)
+    warn(f"{message}; read (allow_short), flagged in stats.stepframe.incomplete", path, line)
+    return f"file ends {where}"
+
+
+def mark_incomplete(traces: Iterable[Any], note: str | None) -> None:
+    """Add ``note`` to ``stats.stepframe.incomplete`` of each trace (``"; "``-joined)."""
+    if note is None:
+        return
+    for trace in traces:
+        previous = trace.stats.stepframe.get("incomplete")
+        trace.stats.stepframe.incomplete = f"{previous}; {note}" if previous else note
+
+
+def _is_numeric_line(line: str, width: int | None) -> bool:
+    words = _words(line, width)
+    return bool(words) and all(_is_number(w.replace("D", "E").replace("d", "e")) for w in words)
+
+
+def check_block_end(
+    lines: list[str],
+    index: int,
+    declared: int,
+    path: Path,
+    *,
+    width: int | None = None,
+    what: str = "NPTS",
+    expected: str = "the next block",
+) -> None:
+    """Refuse numbers right after a data block that held its declared count.
+
+    A block parsed up to its declared count stops there; values beyond it would otherwise be
+    left unread silently (more samples than declared).
+
+    Parameters
+    ----------
+    lines
+        All lines of the file.
+    index
+        0-based index of the line after the block.
+    declared
+        The block's declared count, for the message.
+    width
+        Fixed field width of the block's Fortran format (None: blank-separated).
+    what, expected
+        The count's name and what must follow the block, for the message.
+    """
+    extra = 0
+    first = index
+    while index < len(lines) and _is_numeric_line(lines[index], width):
+        extra += len(_words(lines[index], width))
+        index += 1
+    if extra:
         raise FormatError(
-            f"{values.size} values follow ({state}), expected NPTS = {npts}", path, line
+            f"{declared + extra} values follow (longer than stated), expected {what} = "
+            f"{declared} and then {expected}",
+            path,
+            first + 1,
         )
+
+
+def _words(line: str, width: int | None) -> list[str]:
+    if width is None:
+        return line.split()
+    text = line.rstrip()
+    return [w for w in (text[i : i + width].strip() for i in range(0, len(text), width)) if w]
 
 
 def check_peak(

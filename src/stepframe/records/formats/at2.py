@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING
 
 from stepframe.errors import FormatError
 from stepframe.records.formats import ReadOptions, RecordFormat, _header, register
-from stepframe.records.formats._text import check_count, numbers, read_lines, resolve_units, warn
+from stepframe.records.formats._text import check_samples, numbers, read_lines, resolve_units, warn
 from stepframe.records.units import factor_to_m_s2
 
 if TYPE_CHECKING:
@@ -123,14 +123,15 @@ def read(path: Path, options: ReadOptions) -> Stream:
     Raises
     ------
     FormatError
-        Missing or non-numeric NPTS/DT, non-numeric values, a value count other than NPTS, a
-        velocity or displacement file, or an unknown unit (each naming the line).
+        Missing or non-numeric NPTS/DT, non-numeric values, a value count other than NPTS
+        (fewer only with ``allow_short``, flagged), a velocity or displacement file, or an
+        unknown unit (each naming the line).
     """
     from obspy import Stream
 
     from stepframe.records.trace import make_trace
 
-    lines = read_lines(path, "PEER AT2")
+    lines = read_lines(path, "PEER AT2", allow_short=options.allow_short)
     npts, dt_s, npts_line = _npts_dt(lines, path)
     stated_units: str | None = None
     units_line: int | None = None
@@ -149,7 +150,7 @@ def read(path: Path, options: ReadOptions) -> Stream:
     units = resolve_units(stated_units, options.units, path, units_line)
     event, station, component, date = _identity(lines[1]) if npts_line >= 2 else ("", "", "", None)
     values, _ = numbers(lines, npts_line + 1, path)
-    check_count(values, npts, path, npts_line + 1)
+    incomplete = check_samples(values.size, npts, path, npts_line + 1, options)
     rsn_match = _RSN_IN_NAME.search(path.name)
     trace = make_trace(
         values * factor_to_m_s2(units),
@@ -162,6 +163,7 @@ def read(path: Path, options: ReadOptions) -> Stream:
         event=event,
         event_date=_event_date(date, path),
         rsn=int(rsn_match[1]) if rsn_match else None,
+        incomplete=incomplete,
     )
     return Stream([trace])
 

@@ -14,6 +14,13 @@ the specification numbers them; -999 means unknown):
 Units come from the data block's units text, checked against its code (04 = cm/s², 50 = counts).
 Blocks that are not acceleration (velocity, displacement, angles in degrees) are skipped; a
 channel with no acceleration block is skipped with a warning.
+
+Complete or refused: every block holds the points it declares and every channel ends with its
+end-of-data line (``End-of-data for ...`` or CSMIP's ``/& ... End of data for channel 1``), so a
+file cut anywhere inside a channel is refused (read with ``allow_short``, flagged). COSMOS
+declares no count of the channels in a file (``(1 Chns of 12 at Sta)`` counts the recorder's
+channels, and files of single channels are the rule), so a file cut exactly between two
+channels cannot be told from a shorter file.
 """
 
 from __future__ import annotations
@@ -28,9 +35,13 @@ import numpy as np
 from stepframe.errors import FormatError
 from stepframe.records.formats import ReadOptions, RecordFormat, _header, register
 from stepframe.records.formats._text import (
+    check_block_end,
     check_count,
     check_peak,
+    check_samples,
+    file_cut,
     fortran_width,
+    mark_incomplete,
     numbers,
     read_lines,
     resolve_units,
@@ -74,6 +85,8 @@ class _Channel:
     comments: list[str]
     first_line: int
     blocks: list[_Block] = field(default_factory=list)
+    #: None, or what a channel cut short lacks (read with ``allow_short``).
+    incomplete: str | None = None
 
     def real(self, number: int) -> float | None:
         """Real(number), 1-based; None when absent or unknown."""
@@ -107,13 +120,18 @@ def _expect(pattern: re.Pattern[str], lines: list[str], index: int, what: str, p
     return match
 
 
-def _parse(lines: list[str], path: Path) -> list[_Channel]:
+def _parse(lines: list[str], path: Path, options: ReadOptions) -> tuple[list[_Channel], str | None]:
+    """The channels of the file, and the note of a file cut inside a channel's header (read
+    with ``allow_short``; that channel is lost)."""
     channels: list[_Channel] = []
     i = 0
     while i < len(lines):
         if not lines[i].strip():
             i += 1
             continue
+        if channels and not any(_DATA.search(x) for x in lines[i:]):
+            where = f"inside the header of channel {len(channels) + 1}"
+            return channels, file_cut(where, path, len(lines), options, "whole channels")
         first = i
         n_text = int(_expect(_TEXT_COUNT, lines, i, "a COSMOS text header line 1", path)[1])
         text = lines[i : i + n_text]
@@ -132,19 +150,35 @@ def _parse(lines: list[str], path: Path) -> list[_Channel]:
         comments = lines[i + 1 : i + 1 + n_comments]
         i += 1 + n_comments
         channel = _Channel(text, ints, reals, comments, first)
+        channels.append(channel)
         _expect(_DATA, lines, i, "a data line '<n> acceleration pts, ... units=...'", path)
         while i < len(lines) and (match := _DATA.search(lines[i])):
             npts = _header.sample_count(match[1], path, i + 1, "number of points")
-            values, end = numbers(lines, i + 1, path, count=npts, width=fortran_width(lines[i]))
-            check_count(values, npts, path, i + 1)
+            width = fortran_width(lines[i])
+            values, end = numbers(lines, i + 1, path, count=npts, width=width)
+            channel.incomplete = check_samples(values.size, npts, path, i + 1, options)
             channel.blocks.append(
                 _Block(npts, match[2].strip(), match[3].strip(), int(match[4]), values, i + 1)
             )
+            if channel.incomplete is not None:
+                return channels, None
+            check_block_end(
+                lines, end, npts, path, width=width, expected="'End-of-data' or the next block"
+            )
             i = end
-        if i < len(lines) and _END.search(lines[i]):
-            i += 1
-        channels.append(channel)
-    return channels
+        if i >= len(lines):
+            where = f"before the end-of-data line of channel {len(channels)}"
+            channel.incomplete = file_cut(where, path, len(lines), options, "whole channels")
+            return channels, None
+        if not _END.search(lines[i]):
+            raise FormatError(
+                f"found {lines[i].strip()[:50]!r}, expected the end-of-data line of channel "
+                f"{len(channels)}",
+                path,
+                i + 1,
+            )
+        i += 1
+    return channels, None
 
 
 def _identity(channel: _Channel, index: int) -> tuple[str, str, str, str]:
@@ -207,9 +241,10 @@ def read(path: Path, options: ReadOptions) -> Stream:
 
     from stepframe.records.trace import make_trace
 
-    lines = read_lines(path, "COSMOS")
+    lines = read_lines(path, "COSMOS", allow_short=options.allow_short)
     traces = []
-    for index, channel in enumerate(_parse(lines, path)):
+    channels, cut = _parse(lines, path, options)
+    for index, channel in enumerate(channels):
         network, station, location, code = _identity(channel, index)
         blocks = [b for b in channel.blocks if _is_acceleration(b)]
         if not blocks:
@@ -233,7 +268,8 @@ def read(path: Path, options: ReadOptions) -> Stream:
             dt_s = options.dt_s
         else:
             dt_s = _header.interval(dt_ms / 1000.0, path, channel.first_line + 1, "Real(62) / 1000")
-        check_peak(block.values, channel.real(64), path, f"channel {code}")
+        if channel.incomplete is None:
+            check_peak(block.values, channel.real(64), path, f"channel {code}")
         units = _units(block, options, path)
         processing: list[dict[str, Any]] = []
         if units == "counts":
@@ -288,10 +324,12 @@ def read(path: Path, options: ReadOptions) -> Stream:
                 event=channel.text[1].strip() if len(channel.text) > 1 else None,
                 magnitude=magnitude,
                 processing=processing,
+                incomplete=channel.incomplete,
             )
         )
     if not traces:
         raise FormatError("no acceleration channel in the file, expected at least one", path)
+    mark_incomplete(traces, cut)
     return Stream(traces)
 
 

@@ -16,6 +16,7 @@ import numpy as np
 
 from stepframe.errors import FormatError
 from stepframe.records.formats import SNIFF_BYTES, ReadOptions, RecordFormat, _header, register
+from stepframe.records.formats._text import check_samples
 from stepframe.records.units import factor_to_m_s2
 
 if TYPE_CHECKING:
@@ -39,6 +40,7 @@ class FemaText:
     station: str
     magnitude: float | None
     header_lines: int
+    incomplete: str | None = None
 
 
 def sniff(head: bytes, path: Path) -> bool:
@@ -51,8 +53,15 @@ def sniff(head: bytes, path: Path) -> bool:
         return False
 
 
-def parse(path: Path) -> FemaText:
+def parse(path: Path, options: ReadOptions | None = None) -> FemaText:
     """Parse a FEMA P695 text file, checking NPTS against the values.
+
+    Parameters
+    ----------
+    path
+        The file.
+    options
+        Read options (``allow_short`` accepts fewer values than NPTS, flagged); None: defaults.
 
     Raises
     ------
@@ -64,6 +73,7 @@ def parse(path: Path) -> FemaText:
     except UnicodeDecodeError as exc:
         raise FormatError("binary or non-ASCII content, expected FEMA P695 text", path) from exc
     npts: int | None = None
+    npts_line = 0
     dt_s: float | None = None
     rsn: int | None = None
     component = event = station = ""
@@ -75,6 +85,7 @@ def parse(path: Path) -> FemaText:
         n_header = number
         if match := _NPTS_DT.search(line):
             npts = _header.sample_count(match[1], path, number, "NPTS")
+            npts_line = number
             dt_s = _header.interval(match[2], path, number, "DT")
         if match := _RSN.search(line):
             rsn, component = int(match[1]), match[2]
@@ -92,8 +103,7 @@ def parse(path: Path) -> FemaText:
             raise FormatError(
                 f"non-numeric value in {line.strip()[:40]!r}, expected numbers", path, number
             ) from exc
-    if len(values) != npts:
-        raise FormatError(f"{len(values)} values, expected NPTS = {npts}", path)
+    incomplete = check_samples(len(values), npts, path, npts_line, options or ReadOptions())
     return FemaText(
         values_g=np.asarray(values, dtype=np.float64),
         dt_s=dt_s,
@@ -103,6 +113,7 @@ def parse(path: Path) -> FemaText:
         station=station,
         magnitude=magnitude,
         header_lines=n_header,
+        incomplete=incomplete,
     )
 
 
@@ -112,7 +123,7 @@ def read(path: Path, options: ReadOptions) -> Stream:
 
     from stepframe.records.trace import make_trace
 
-    parsed = parse(path)
+    parsed = parse(path, options)
     trace = make_trace(
         parsed.values_g * factor_to_m_s2("g"),
         parsed.dt_s,
@@ -124,6 +135,7 @@ def read(path: Path, options: ReadOptions) -> Stream:
         event=parsed.event,
         rsn=parsed.rsn,
         magnitude=parsed.magnitude,
+        incomplete=parsed.incomplete,
     )
     return Stream([trace])
 

@@ -26,8 +26,13 @@ import numpy as np
 from stepframe.errors import FormatError
 from stepframe.records.formats import ReadOptions, RecordFormat, _header, register
 from stepframe.records.formats._text import (
+    check_block_end,
+    check_components,
     check_count,
     check_peak,
+    check_samples,
+    file_cut,
+    mark_incomplete,
     numbers,
     read_lines,
     resolution_of,
@@ -46,6 +51,11 @@ _COMPONENT = re.compile(r"^\s*Component\s+(\S+)", re.I)
 _PEAK = re.compile(r"^\s*Acceleration:\s*peak\s+(-?[\d.]+)\s+(\S+)", re.I)
 _EPICENTRE = re.compile(r"Dist\s+(\d+(?:\.\d+)?)\s*km.*?\bM\w?\s+(\d+(?:\.\d+)?)", re.I)
 _N_TEXT, _N_INT, _N_REAL, _WIDTH = 16, 40, 60, 8
+#: Lines of a component's heading: text, 40 integers (4 lines of 10), 60 reals (6 lines).
+_N_HEADING_LINES = _N_TEXT + 4 + 6
+#: "Each accelerogram data file contains heading data and accelerations for three orthogonal
+#: component directions" (GeoNet, Strong Motion File Formats).
+N_COMPONENTS = 3
 
 
 def sniff(head: bytes, path: Path) -> bool:
@@ -68,10 +78,15 @@ def _start_time(ints: list[int], path: Path, line: int) -> UTCDateTime:
     return _header.start_time((year, month, day, hour, minute), tenths / 10.0, path, line, text)
 
 
-def _component(lines: list[str], start: int, options: ReadOptions, path: Path) -> tuple[Any, int]:
-    """The trace of the block starting at ``lines[start]`` and the index after the block."""
+def _component(
+    lines: list[str], start: int, options: ReadOptions, path: Path
+) -> tuple[Any, int] | None:
+    """The trace of the block starting at ``lines[start]`` and the index after the block;
+    None when the file ends inside the block's heading (a component lost to a cut)."""
     from stepframe.records.trace import make_trace
 
+    if len(lines) - start < _N_HEADING_LINES:
+        return None
     text = lines[start : start + _N_TEXT]
     if len(text) < _N_TEXT or not _FIRST_LINE.search(text[0]):
         raise FormatError(
@@ -82,7 +97,9 @@ def _component(lines: list[str], start: int, options: ReadOptions, path: Path) -
         )
     ints_f, i = numbers(lines, start + _N_TEXT, path, count=_N_INT, width=_WIDTH)
     check_count(ints_f, _N_INT, path, start + _N_TEXT + 1)
+    reals_line = i + 1
     reals, i = numbers(lines, i, path, count=_N_REAL, width=_WIDTH)
+    check_count(reals, _N_REAL, path, reals_line)
     int_line = start + _N_TEXT + 1
     ints = [_header.small_integer(v, path, int_line, "integer header value") for v in ints_f]
     if not np.all(np.isfinite(reals)):
@@ -122,11 +139,13 @@ def _component(lines: list[str], start: int, options: ReadOptions, path: Path) -
             start + 11,
         )
     units = resolve_units(stated, options.units, path, start + 11)
-    n_acc = _header.sample_count(n_acc, path, int_line, "acceleration count")
+    count_line = int_line + 3  # integers 31-40
+    what = "integer 34 (acceleration samples)"
+    n_acc = _header.sample_count(n_acc, path, count_line, what)
     values, end = numbers(lines, i, path, count=n_acc, width=_WIDTH)
-    check_count(values, n_acc, path, i + 1)
+    incomplete = check_samples(values.size, n_acc, path, count_line, options, what)
     data_m_s2 = values * scale * factor_to_m_s2(units)
-    if peak_match is not None:
+    if peak_match is not None and incomplete is None:
         factor = scale * factor_to_m_s2(units)
         check_peak(
             data_m_s2,
@@ -136,8 +155,27 @@ def _component(lines: list[str], start: int, options: ReadOptions, path: Path) -
             resolution=resolution_of(peak_match[1]) * factor,
             line=peak_line,
         )
-    # Velocity and displacement blocks of V2A files follow, 10 values a line.
-    end += sum(-(-n // 10) for n in (n_vel, n_dis))
+    # Velocity and displacement blocks of V2A files follow (10F8 too): not read, but counted,
+    # so that a file cut inside them or holding more values than declared is known.
+    declared, last = n_acc, what
+    for name, number, count in (("velocity", 35, n_vel), ("displacement", 36, n_dis)):
+        if incomplete is not None or count == 0:
+            continue
+        block, end = numbers(lines, end, path, count=count, width=_WIDTH)
+        declared, last = count, f"integer {number} ({name} samples)"
+        if block.size < count:
+            where = f"in the {name} block of component {channel} ({block.size} of {count} values)"
+            incomplete = file_cut(where, path, count_line, options, "the whole component")
+    if incomplete is None:
+        check_block_end(
+            lines,
+            end,
+            declared,
+            path,
+            width=_WIDTH,
+            what=last,
+            expected="the next component's heading",
+        )
     start_time = _start_time(ints, path, start + _N_TEXT + 1)
     if start_time is not None and reals.size > 21 and reals[21] > 0:
         # V2A processing pads the front; real 22 is the pad [s]: the header's peak times (from
@@ -156,6 +194,7 @@ def _component(lines: list[str], start: int, options: ReadOptions, path: Path) -
         event=text[6].strip(),
         magnitude=_header.number(epicentre[2], path, None, "magnitude") if epicentre else None,
         repi_km=_header.number(epicentre[1], path, None, "distance") if epicentre else None,
+        incomplete=incomplete,
     )
     return trace, end
 
@@ -166,20 +205,37 @@ def read(path: Path, options: ReadOptions) -> Stream:
     Raises
     ------
     FormatError
-        A block that does not follow the layout, a count disagreeing with the data, non-numeric
-        values or an unknown unit (each naming the line).
+        A block that does not follow the layout, a count disagreeing with the data (fewer
+        samples without ``allow_short``, or more), a file without its three components (without
+        ``allow_short``), non-numeric values or an unknown unit (each naming the line).
     """
     from obspy import Stream
 
-    lines = read_lines(path, "GeoNet V1A/V2A")
+    lines = read_lines(path, "GeoNet V1A/V2A", allow_short=options.allow_short)
     traces = []
     i = 0
     while i < len(lines):
         if not lines[i].strip():
             i += 1
             continue
-        trace, i = _component(lines, i, options, path)
+        block = _component(lines, i, options, path)
+        if block is None:  # the file ends inside this component's heading
+            break
+        trace, i = block
         traces.append(trace)
+        if trace.stats.stepframe.incomplete is not None:
+            break  # the file was cut inside this component
+    if not traces:
+        raise FormatError(
+            "the file ends inside the first component's heading, expected "
+            f"{_N_HEADING_LINES} heading lines and data",
+            path,
+            len(lines),
+        )
+    note = check_components(
+        len(traces), N_COMPONENTS, path, None, options, source="a GeoNet file holds three"
+    )
+    mark_incomplete(traces, note)
     return Stream(traces)
 
 

@@ -1,0 +1,151 @@
+"""Rules that never fail silently: exclusions, caps, verticals, amplitude filters from records."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from stepframe.errors import InputError
+from stepframe.pipeline.selection import SelectionOptions
+from stepframe.pipeline.selection.band import frame_band
+from stepframe.pipeline.selection.filters import apply_filters
+from stepframe.pipeline.selection.path import strong_motion_paths
+from stepframe.structure.frame import PortalFrame
+
+BASE = {
+    "omega_p_rad_s": 40.0,
+    "omega_s_rad_s": 15.0,
+    "omega_r_rad_s": 8.0,
+    "xi_p": 0.3,
+    "xi_r": 0.3,
+    "t_max_s": 5.0,
+    "t_dur_s": 20.0,
+    "t0_s": 0.0,
+    "plausible": True,
+}
+#: As ``select --example`` names the example's files, and as a workflow does (absolute paths).
+NAMES = [
+    "RSN174_IMPVALL_H-E11140.AT2",
+    "RSN174_IMPVALL_H-E11230.AT2",
+    "/ws/examples/fema-p695/RSN953_NORTHR_MUL009.AT2",
+    "/ws/examples/fema-p695/RSN953_NORTHR_MUL279.AT2",
+    "/ws/examples/fema-p695/RSN953_NORTHR_UP.AT2",
+]
+
+
+def _table(**columns: list[Any]) -> pd.DataFrame:
+    rows = [
+        {**BASE, "file": name, "component": name.rsplit("_", 1)[-1].split(".")[0]} for name in NAMES
+    ]
+    return pd.DataFrame(rows).assign(**columns)
+
+
+def _filter(table: pd.DataFrame, example4: PortalFrame, **options: Any) -> Any:
+    band = frame_band(example4)
+    return apply_filters(
+        table, SelectionOptions(n=1, **options), band, strong_motion_paths(table, 0.3)
+    )
+
+
+@pytest.mark.parametrize(
+    ("entry", "dropped"),
+    [
+        ("RSN174", [0, 1]),
+        ("174", [0, 1]),
+        ("rsn953", [2, 3]),
+        ("RSN174_IMPVALL_H-E11230.AT2", [1]),
+        ("RSN174_IMPVALL_H-E11230", [1]),
+        ("fema-p695/RSN953_NORTHR_MUL009.AT2", [2]),
+        ("/ws/examples/fema-p695/RSN953_NORTHR_MUL279.AT2", [3]),
+        ("./RSN174_IMPVALL_H-E11140.AT2", [0]),
+    ],
+)
+def test_exclusion_matches_the_forms_users_write(
+    entry: str, dropped: list[int], example4: PortalFrame
+) -> None:
+    result, reports = _filter(_table(), example4, exclude=(entry,))
+    assert np.flatnonzero(result == "exclude").tolist() == dropped
+    assert not any(r.warning for r in reports)
+
+
+def test_unmatched_exclusion_is_an_error_naming_it(example4: PortalFrame) -> None:
+    with pytest.raises(InputError) as error:
+        _filter(_table(), example4, exclude=("RSN174", "RSN9999", "nothere.AT2"))
+    line = error.value.one_line()
+    assert line.startswith("exclude: RSN9999, nothere.AT2 matches no candidate, expected")
+    assert "--exclude-unmatched warn" in line
+
+
+def test_unmatched_exclusion_warns_when_asked(example4: PortalFrame) -> None:
+    result, reports = _filter(
+        _table(), example4, exclude=("RSN174", "RSN9999"), exclude_unmatched="warn"
+    )
+    assert (result == "exclude").sum() == 2
+    (report,) = [r for r in reports if r.name == "exclude"]
+    assert report.warning == "exclude: RSN9999 matched no candidate"
+    assert report.to_dict()["warning"] == report.warning
+
+
+def test_verticals_left_out_unless_asked(example4: PortalFrame) -> None:
+    result, _ = _filter(_table(), example4)
+    assert result.tolist() == ["", "", "", "", "vertical"]
+    kept, reports = _filter(_table(), example4, verticals=True)
+    assert kept.tolist() == [""] * 5 and "vertical" not in [r.name for r in reports]
+    with pytest.raises(InputError, match="verticals = true with unit = 'record'"):
+        SelectionOptions(n=1, verticals=True, unit="record")
+
+
+def test_a_cap_without_its_information_is_an_error(example4: PortalFrame) -> None:
+    with pytest.raises(InputError) as error:
+        _filter(_table(), example4, max_per_event=1)
+    line = error.value.one_line()
+    assert line.startswith("max_per_event = 1 needs each record's event, but none of the 5")
+    assert "--metadata CSV with columns file,event" in line
+    text = _table(station=["x"] * 5, format=["text"] * 5)  # a text file's station is its name
+    with pytest.raises(InputError, match="max_per_station = 2 needs each record's station"):
+        _filter(text, example4, max_per_station=2)
+
+
+def test_partial_metadata_a_record_without_event_is_its_own(example4: PortalFrame) -> None:
+    table = _table(event=["Imperial Valley 1979", "Imperial Valley 1979", None, None, None])
+    _filter(table, example4, max_per_event=1)
+    assert table["event_key"].tolist() == ["Imperial Valley 1979"] * 2 + ["RSN953"] * 3
+    assert table["has_event"].tolist() == [True, True, False, False, False]
+
+
+def _sine(amplitude_m_s2: float, period_s: float, cycles: int, dt_s: float) -> np.ndarray:
+    t = np.arange(round(cycles * period_s / dt_s) + 1) * dt_s
+    return amplitude_m_s2 * np.sin(2 * np.pi * t / period_s)
+
+
+def test_amplitude_filters_computed_from_the_records(example4: PortalFrame) -> None:
+    # whole cycles of A sin(ωt) sampled at dt: PGA = A; Arias of the linear interpolant (the
+    # project's exact integral of a piecewise-linear record) = π/(2g)·(A²/2)·duration·(2 +
+    # cos ωdt)/3, since Σa_k² = NA²/2 and Σa_k·a_(k+1) = (NA²/2)·cos ωdt over whole cycles
+    dt, period, cycles = 0.005, 0.5, 20
+    amplitudes = [0.5, 1.0, 2.0, 4.0, 8.0]
+    records = {
+        (name, name.rsplit("_", 1)[-1].split(".")[0]): (_sine(a, period, cycles, dt), dt)
+        for name, a in zip(NAMES, amplitudes, strict=True)
+    }
+    table = _table(pga_g=[np.nan, 1.5 / 9.80665, np.nan, np.nan, np.nan])  # one from metadata
+    result, reports = apply_filters(
+        table,
+        SelectionOptions(n=1, pga_min_g=0.12, arias_max_m_s=1.0, verticals=True),
+        frame_band(example4),
+        strong_motion_paths(table, 0.3),
+        (records, None),
+    )
+    np.testing.assert_allclose(table["pga_g"], [0.5, 1.5, 2.0, 4.0, 8.0] / np.float64(9.80665),
+                               rtol=1e-9)  # fmt: skip
+    linear = (2 + math.cos(2 * math.pi * dt / period)) / 3
+    arias = math.pi / (2 * 9.80665) * np.square(amplitudes) / 2 * cycles * period * linear
+    np.testing.assert_allclose(table["arias_m_s"], arias, rtol=1e-9)
+    assert result.tolist() == ["pga", "", "arias", "arias", "arias"]
+    rules = {r.name: r.rule for r in reports}
+    assert rules["pga"] == "pga_g ≥ 0.12 g (1 from metadata, 4 from the records)"
+    assert rules["arias"] == "arias_m_s ≤ 1 m/s (0 from metadata, 5 from the records)"

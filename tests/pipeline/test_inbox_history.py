@@ -1,0 +1,126 @@
+"""An inbox that keeps what it saw (issue 30): the shipped ``inbox`` workflow run as scheduled.
+
+Files arrive, one cannot be read, one is archived (moved out of the inbox), one arrives again
+under a second name; the outputs keep every item seen (``present = false`` once gone) and every
+failure (first and last seen, ``new`` only in the run that found it), ``--prune`` forgets what
+is gone, and each run adds one JSON line to the workspace's run log.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+from stepframe.cli import main
+from stepframe.pipeline.catalogue.example_files import write_example_files
+from stepframe.pipeline.engine.runner import RunReport, run_workflow
+from stepframe.pipeline.engine.shipped import copy_workflow
+from stepframe.pipeline.stages import shipped_stages
+
+
+def _run(workflow: Path, **options: object) -> RunReport:
+    report = run_workflow(workflow, shipped_stages(), jobs=1, **options)  # type: ignore[arg-type]
+    assert report.exit_code == 0, report.missing
+    return report
+
+
+def _log(workflow: Path) -> list[dict[str, object]]:
+    text = (workflow.parent / "stepframe-work" / "runs.jsonl").read_text()
+    return [json.loads(line) for line in text.splitlines()]
+
+
+def _outputs(workflow: Path) -> tuple[pd.DataFrame, pd.DataFrame]:
+    folder = workflow.parent / "stepframe-work" / "outputs"
+    features = pd.read_parquet(folder / "features.parquet")
+    failures = pd.read_csv(folder / "features.failures.csv", keep_default_na=False)
+    return features, failures
+
+
+@pytest.fixture
+def inbox(tmp_path: Path) -> Path:
+    """The shipped inbox copied, with 3 example records and an unreadable file in it."""
+    copy_workflow("inbox", tmp_path)
+    workflow = tmp_path / "inbox.toml"
+    write_example_files(tmp_path / "inbox", count=3)
+    (tmp_path / "inbox" / "damaged.AT2").write_text("PEER NGA STRONG MOTION DATABASE\n")
+    return workflow
+
+
+def test_the_inbox_keeps_every_item_and_failure_it_saw(inbox: Path) -> None:
+    folder = inbox.parent / "inbox"
+    first = _run(inbox)
+    features, failures = _outputs(inbox)
+    assert list(features["present"]) == [True] * 3
+    assert (features["first_seen_utc"] == features["last_seen_utc"]).all()
+    assert failures[["item", "stage", "present", "new"]].values.tolist() == [
+        ["damaged.AT2", "inventory", True, True]
+    ]
+    assert first.new_failures == 1
+
+    second = _run(inbox)
+    features, failures = _outputs(inbox)
+    assert failures[["present", "new"]].values.tolist() == [[True, False]]  # seen before
+    assert failures.at[0, "first_seen_utc"] < failures.at[0, "last_seen_utc"]
+    assert second.new_failures == 0
+
+    # archiving: a file leaves the inbox; its row stays, marked absent, with its numbers
+    archived = sorted(p.name for p in folder.glob("RSN*.AT2"))[0]
+    before = features.set_index("file").loc[archived]
+    (inbox.parent / "archive").mkdir()
+    shutil.move(folder / archived, inbox.parent / "archive" / archived)
+    (folder / "damaged.AT2").unlink()
+    third = _run(inbox)
+    features, failures = _outputs(inbox)
+    assert len(features) == 3 and features["present"].tolist() == [True, True, False]
+    gone = features.set_index("file").loc[archived]
+    assert gone["omega_p_rad_s"] == before["omega_p_rad_s"]
+    assert gone["last_seen_utc"] == before["last_seen_utc"] < features.at[0, "last_seen_utc"]
+    assert failures[["item", "present", "new"]].values.tolist() == [["damaged.AT2", False, False]]
+    assert [s.computed for s in third.stages] == [0, 0]
+
+    # the same bytes under a new name: one item, present again, both names known
+    shutil.copy(inbox.parent / "archive" / archived, folder / "again.AT2")
+    _run(inbox)
+    features, _ = _outputs(inbox)
+    assert len(features) == 3 and features["present"].all()
+    assert "again.AT2" in set(features["file"])
+
+    # --prune forgets what is gone: the mended failure
+    _run(inbox, prune=True)
+    features, failures = _outputs(inbox)
+    assert len(features) == 3 and failures.empty
+
+    log = _log(inbox)
+    assert len(log) == 5
+    assert [line["new_failures"] for line in log] == [1, 0, 0, 0, 0]
+    assert all(len(json.dumps(line)) < 1000 for line in log)
+
+
+def test_a_damaged_history_is_quarantined_and_started_again(inbox: Path) -> None:
+    _run(inbox)
+    history = inbox.parent / "stepframe-work" / "store" / "features" / "history.parquet"
+    history.write_bytes(history.read_bytes()[:100])
+    report = _run(inbox)
+    [event] = report.store_events
+    assert event.item == "features/history.parquet" and "started again" in event.action
+    features, failures = _outputs(inbox)
+    assert len(features) == 3 and features["present"].all()
+    assert failures["new"].tolist() == [True]  # first seen again by this run
+
+
+def test_prune_without_history_is_a_user_error(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    write_example_files(tmp_path / "records", count=1)
+    text = '[records]\nfolder = "records"\n[outputs]\ninventory = true\n'
+    (tmp_path / "wf.toml").write_text(text)
+    assert main(["run", str(tmp_path / "wf.toml"), "--prune"]) == 2
+    assert capsys.readouterr().err.strip() == (
+        "stepframe: error: --prune without [outputs] history = true, expected a workflow that "
+        "keeps what it saw"
+    )
+    assert not (tmp_path / "stepframe-work").exists()

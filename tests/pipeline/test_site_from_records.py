@@ -1,0 +1,83 @@
+"""One site from records: ``stepframe report amplification --records DIR`` and a workflow's
+``site`` stage over DIR give the same model, by default and with each statistic."""
+
+from __future__ import annotations
+
+import json
+import math
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from stepframe.errors import InputError
+from stepframe.pipeline.amplification.site import (
+    COMBINED,
+    MEDIAN_SE_FACTOR,
+    site_from_features,
+    site_from_records,
+)
+from stepframe.pipeline.engine.runner import run_workflow
+from stepframe.pipeline.stages import shipped_stages
+
+PEER = Path(__file__).resolve().parents[1] / "data" / "peer_nga_west2"
+
+
+@pytest.fixture(scope="module")
+def site_folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """RSN 8883's two horizontal components (PEER AT2) in records/."""
+    folder = tmp_path_factory.mktemp("site")
+    (folder / "records").mkdir()
+    for path in sorted(PEER.glob("*.AT2")):
+        shutil.copy(path, folder / "records" / path.name)
+    return folder
+
+
+def _workflow_site(folder: Path, statistic: str) -> dict[str, float]:
+    workflow = folder / f"{statistic}.toml"
+    workflow.write_text(
+        f'workspace = "{statistic}"\n[records]\nfolder = "records"\n'
+        f'[site]\nfrom = "records"\nstatistic = "{statistic}"\n[outputs]\nsite = true\n',
+        encoding="utf-8",
+    )
+    report = run_workflow(workflow, shipped_stages(), jobs=1)
+    assert report.exit_code == 0
+    data = json.loads((folder / statistic / "outputs" / "site_model.json").read_text())
+    model: dict[str, float] = data["ground_motion_model"]
+    return model
+
+
+@pytest.mark.parametrize("statistic", ["median", "mean", "inverse-variance"])
+def test_the_report_and_the_workflow_give_the_same_site(site_folder: Path, statistic: str) -> None:
+    from_workflow = _workflow_site(site_folder, statistic)
+    from_report = site_from_records(site_folder / "records", statistic=statistic)  # type: ignore[arg-type]
+    assert from_report.combined.site.source["n_components"] == 2
+    for key, value in from_report.model.to_dict().items():
+        if isinstance(value, float):
+            assert from_workflow[key] == pytest.approx(value, rel=1e-12), key
+
+
+def test_median_is_the_default_with_its_standard_error(site_folder: Path) -> None:
+    site = site_from_records(site_folder / "records")
+    used = site.features[site.features["plausible"]]
+    for key in COMBINED:
+        values = used[key].to_numpy(float)
+        assert getattr(site.model, key) == pytest.approx(np.median(values), rel=1e-12)
+        scatter = np.std(values, ddof=1) / math.sqrt(values.size)
+        assert site.stderr[key] == pytest.approx(MEDIAN_SE_FACTOR * scatter, rel=1e-12)
+
+
+def test_one_component_keeps_its_fits_own_standard_error(site_folder: Path) -> None:
+    table = site_from_records(site_folder / "records").features.iloc[:1]
+    combined = site_from_features(table)
+    for key in COMBINED:
+        assert combined.stderr[key] == table[f"{key}_stderr"].iloc[0]
+
+
+def test_no_plausible_component_is_one_error_naming_why(site_folder: Path) -> None:
+    table = site_from_records(site_folder / "records").features.assign(plausible=False)
+    with pytest.raises(InputError, match="no component with fitted features passing"):
+        site_from_features(table)
+    with pytest.raises(InputError, match="statistic 'mode'"):
+        site_from_features(table, statistic="mode", plausible_only=False)  # type: ignore[arg-type]
