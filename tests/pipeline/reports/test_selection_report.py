@@ -151,3 +151,51 @@ def test_moving_resonance_of_the_best_records(selection_dir: Path, selection_htm
     assert table["record"].tolist() == [row["record"] for row in drawn]
     html = selection_html.read_text(encoding="utf-8")
     assert "Moving resonance in the best records" in html
+
+
+def test_a_long_candidates_table_is_drawn_by_its_best_rows_and_written_whole(
+    selection_dir: Path, copy_of: Callable[[Path, Path], Path], tmp_path: Path
+) -> None:
+    """At catalogue size (43,000 candidates) the page showed every row: tens of MB. Past
+    PAGE_ROWS the page draws the best-ranked rows, chosen first, and the CSV holds them all."""
+    from stepframe.pipeline.reports import collect_provenance
+    from stepframe.pipeline.selection.report import PAGE_ROWS, write_selection_report
+
+    folder = copy_of(selection_dir, tmp_path / "long")
+    candidates = pd.read_csv(folder / "candidates.csv")
+    many = pd.concat(
+        [candidates.assign(file=candidates["file"] + f".copy{k}") for k in range(30)]
+        + [candidates],
+        ignore_index=True,
+    )
+    many.to_csv(folder / "candidates.csv", index=False)
+    provenance = collect_provenance("pytest selection", inputs=[folder / "selection.json"])
+    html_path = write_selection_report(folder, provenance=provenance)
+    html = html_path.read_text(encoding="utf-8")
+    top = html.split('id="tab-candidates_top"')[1].split("</table>")[0]
+    assert top.count("<tr>") == PAGE_ROWS + 1  # the heading row and PAGE_ROWS rows
+    assert 'id="tab-candidates"' not in html  # the whole table is not drawn
+    assert "candidates.csv</code> (not drawn on the page)" in html
+    written = pd.read_csv(data_folder_of(html_path) / "candidates.csv")
+    assert len(written) == len(many)
+    shown = pd.read_csv(data_folder_of(html_path) / "candidates_top.csv")
+    chosen = pd.read_csv(folder / "selection.csv")
+    assert shown["selected"].head(len(chosen)).all()  # the chosen ones first
+    rank_by = json.loads((folder / "selection.json").read_text())["rank_by"]
+    rest = shown[rank_by].to_numpy(dtype=float)[len(chosen) :]
+    assert np.all(np.diff(rest[np.isfinite(rest)]) <= 0)  # then best ranked first
+
+
+def test_components_named_like_numbers_stay_text(
+    selection_dir: Path, copy_of: Callable[[Path, Path], Path], tmp_path: Path
+) -> None:
+    """NGA-West2 names components "000" and "090": read back as numbers they became 0 and 90,
+    and the report could not find the records' channels."""
+    folder = copy_of(selection_dir, tmp_path / "numbers")
+    for name in ("selection.csv", "candidates.csv"):
+        table = pd.read_csv(folder / name, dtype=str)
+        table["component"] = "000"
+        table.to_csv(folder / name, index=False)
+    outputs = read_selection_folder(folder)
+    assert set(outputs.tables["selection"]["component"]) == {"000"}
+    assert set(outputs.tables["candidates"]["component"]) == {"000"}

@@ -12,6 +12,7 @@ draws only what the folder holds, saying what is missing.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable
 from os import PathLike
@@ -44,6 +45,8 @@ SPECTRUM_PERIODS_S = np.geomspace(0.05, 10.0, 60)
 
 #: Records whose accelerograms are drawn (the best first).
 N_ACCELEROGRAMS = 3
+#: A table longer than this is drawn on the page by its first rows only (all of it in its CSV).
+PAGE_ROWS = 50
 
 #: Columns that name the filter that dropped a candidate (first present wins).
 DROPPED_COLUMNS = ("dropped_by", "filter", "dropped_by_filter")
@@ -538,17 +541,48 @@ def scores_section(outputs: SelectionOutputs, candidates: pd.DataFrame, rank_by:
             outputs.columns.get("selection", {}),
             sortable=True,
         ),
-        Table(
-            "candidates",
-            "Every candidate and its scores",
-            candidates,
-            "All candidates with the simulated response, every score and standard intensity "
-            "measure, and the filter that dropped them",
-            outputs.columns.get("candidates", {}),
-            sortable=True,
+        *_long_table(
+            Table(
+                "candidates",
+                "Every candidate and its scores",
+                candidates,
+                "All candidates with the simulated response, every score and standard "
+                "intensity measure, and the filter that dropped them",
+                outputs.columns.get("candidates", {}),
+                sortable=True,
+            ),
+            _best_first(candidates, rank_by),
+            "best ranked first, the chosen ones at the top",
         ),
     ]
     return Section("Ranking and scores", items)
+
+
+def _long_table(table: Table, ordered: pd.DataFrame, order: str) -> list[Table]:
+    """``table`` on the page, or, past :data:`PAGE_ROWS` rows, its first rows in ``ordered``'s
+    order on the page and the whole table as CSV only: a page of 43,000 rows is unreadable
+    (and tens of megabytes)."""
+    if len(table.frame) <= PAGE_ROWS:
+        return [table]
+    top = Table(
+        f"{table.key}_top",
+        f"{table.title}: the first {PAGE_ROWS} of {len(table.frame)}",
+        ordered.head(PAGE_ROWS),
+        f"{table.caption}; {order} (all {len(table.frame)} rows in {table.key}.csv)",
+        table.columns,
+        sortable=table.sortable,
+    )
+    return [top, dataclasses.replace(table, on_page=False)]
+
+
+def _best_first(candidates: pd.DataFrame, rank_by: str) -> pd.DataFrame:
+    """The candidates, chosen ones first, then best ranked first (by the ranking percentile, or
+    the ranking score itself when the folder has no percentile)."""
+    rank = "rank_score_percentile" if "rank_score_percentile" in candidates.columns else rank_by
+    keys = [c for c in ("selected", rank) if c in candidates.columns]
+    if not keys:
+        return candidates
+    return candidates.sort_values(keys, ascending=False, kind="stable", na_position="last")
 
 
 def confirmation_section(
@@ -573,7 +607,7 @@ def confirmation_section(
     chosen = set(zip(selection["file"].astype(str), _components(selection), strict=True))
     equal = _equal_intensity(table, candidates, rank_by)
     items, confirmation_numbers = _confirmation(equal, summary, chosen)
-    items.append(
+    items += _long_table(
         Table(
             "confirmation",
             "Confirmation table",
@@ -581,7 +615,9 @@ def confirmation_section(
             "Simulated response of the selected records and the controls",
             outputs.columns.get("confirmation", {}),
             sortable=True,
-        )
+        ),
+        outputs.tables["confirmation"],
+        "the selected records and the controls first",
     )
     numbers["confirmation"] = confirmation_numbers
     stated = _stated_correlations(summary, rank_by)
