@@ -138,6 +138,7 @@ def test_demo_is_the_shipped_selection_workflow(demo_run: tuple[dict[str, object
     assert [(s["name"], s["computed"], s["cached"]) for s in stages] == [
         ("inventory", 100, 0),
         ("features", 100, 0),
+        ("responses", 100, 0),
         ("selection", 1, 0),
         ("selection_report", 1, 0),
     ]
@@ -160,7 +161,7 @@ def test_demo_summary_text(demo_run: tuple[dict[str, object], Path]) -> None:
 
     payload, out = demo_run
     again = run_demo(out)  # the store has everything: nothing is computed
-    assert [s.computed for s in again.run.stages] == [0, 0, 0, 0]
+    assert [s.computed for s in again.run.stages] == [0, 0, 0, 0, 0]
     lines = again.describe().splitlines()
     assert lines[0].startswith("band: 0.654 to 6.46 rad/s (T 0.973 to 9.61 s); 100 candidates")
     assert sum(1 for line in lines if line.startswith("  ") and ". RSN" in line) == 10

@@ -37,8 +37,10 @@ def test_serial_order_failures_and_indices() -> None:
 def test_a_thread_pool_and_a_process_pool_give_the_serial_result(chunk_size: int) -> None:
     serial = map_items(square_or_fail, ITEMS, jobs=1)
     with ThreadPoolExecutor(max_workers=3) as pool:
-        threaded = map_items(square_or_fail, ITEMS, executor=pool, chunk_size=chunk_size)
-    processes = map_items(square_or_fail, ITEMS, jobs=2, chunk_size=chunk_size)
+        threaded = map_items(
+            square_or_fail, ITEMS, executor=pool, chunk_size=chunk_size, worth_s=0.0
+        )
+    processes = map_items(square_or_fail, ITEMS, jobs=2, chunk_size=chunk_size, worth_s=0.0)
     for other in (threaded, processes):
         assert other.results == serial.results
         assert other.indices == serial.indices
@@ -72,6 +74,48 @@ def test_pool_workers_leave_the_compile_notice_to_the_parent(
 ) -> None:
     """Workers compiling at once printed notices that interleaved on one line."""
     monkeypatch.setenv("STEPFRAME_COMPILE_NOTICE", "1")
-    results, failures = map_items(compile_notice_setting, range(8), jobs=2, chunk_size=1)
+    results, failures = map_items(
+        compile_notice_setting, range(8), jobs=2, chunk_size=1, worth_s=0.0
+    )
     assert results == ["0"] * 8 and failures == []
     assert compile_notice_setting(0) == "1"  # the parent still announces
+
+
+def process_id(seconds: float) -> int:
+    """Sleep ``seconds``, then say which process ran the item."""
+    import os
+    import time
+
+    time.sleep(seconds)
+    return os.getpid()
+
+
+def test_a_small_batch_stays_in_this_process_and_a_large_one_goes_to_the_workers() -> None:
+    """The first item is run here and timed: 40 items of nothing stay here (starting workers
+    would cost more); 40 items of 50 ms each (about 2 s, over POOL_WORTH_S = 1 s) go to the
+    workers after the probe item."""
+    import os
+
+    small = map_items(process_id, [0.0] * 40, jobs=2)
+    assert set(small.results) == {os.getpid()}
+    large = map_items(process_id, [0.05] * 40, jobs=2)
+    assert large.results[0] == os.getpid()
+    assert os.getpid() not in large.results[1:]
+
+
+def test_a_shared_worker_pool_starts_on_first_use_and_serves_many_batches() -> None:
+    import os
+
+    from stepframe.core.execution import WorkerPool
+
+    with WorkerPool(2) as pool:
+        assert not pool.started
+        map_items(square_or_fail, ITEMS, executor=pool)  # small: kept in this process
+        assert not pool.started
+        first = map_items(process_id, [0.0] * 6, executor=pool, worth_s=0.0)
+        assert pool.started
+        second = map_items(process_id, [0.0] * 6, executor=pool, worth_s=0.0)
+    assert not pool.started
+    workers = set(first.results) | set(second.results)
+    assert os.getpid() not in workers
+    assert len(workers) <= 2  # both batches ran on the same two processes

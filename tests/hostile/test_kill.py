@@ -38,7 +38,8 @@ _BATCH = textwrap.dedent(
         return item
 
     if __name__ == "__main__":
-        map_items(work, list(range(8)), jobs=2, chunk_size=1)
+        # worth_s=0: every item to the workers (no first item timed here: this one sleeps)
+        map_items(work, list(range(8)), jobs=2, chunk_size=1, worth_s=0)
     """
 )
 

@@ -125,6 +125,7 @@ def test_selection_workflow_is_the_demo(tmp_path: Path, monkeypatch: pytest.Monk
     assert [s.name for s in report.stages] == [
         "inventory",
         "features",
+        "responses",
         "selection",
         "selection_report",
     ]

@@ -38,7 +38,7 @@ def test_ground_panel_is_the_scaled_record_in_g_and_the_legend_hides_no_line(
     frame: PortalFrame, data_dir: Path, tmp_path: Path, scale: float
 ) -> None:
     trace = read(data_dir / RECORD)[0]
-    response = simulate_record(frame, trace, scale=scale, tail_s=5.0, record_history=True)
+    response = simulate_record(frame, trace, scale=scale, tail_s=5.0)
     figure = response_figure(
         response.result, frame, title="test", ground_acc_m_s2=trace.data, scale=scale
     )
@@ -82,7 +82,7 @@ def test_without_the_ground_motion_one_panel_and_the_legend_outside(
     frame: PortalFrame, data_dir: Path
 ) -> None:
     trace = read(data_dir / RECORD)[0]
-    response = simulate_record(frame, trace, scale=6.0, tail_s=5.0, record_history=True)
+    response = simulate_record(frame, trace, scale=6.0, tail_s=5.0)
     figure = response_figure(response.result, frame, title="RSN8883 × 6")
     (axes,) = figure.axes
     assert axes.get_title() == "RSN8883 × 6"

@@ -10,6 +10,8 @@ import numpy as np
 import pytest
 
 from stepframe.cli import main
+from stepframe.pipeline.dynamics.resonance import moving_resonance
+from stepframe.pipeline.selection.band import frame_band
 from stepframe.records import read
 from stepframe.structure.frame_file import FRAME_TEMPLATE, read_frame_file
 from stepframe.structure.simulator import simulate
@@ -62,6 +64,19 @@ def test_simulate_json_matches_the_library(
     assert summary["pga_m_s2"] == pytest.approx(6 * np.max(np.abs(trace.data)))
     assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["FRAME.toml", "response.png"]
+    # The moving-resonance measures are the library's on the same run, over the frame's band.
+    frame = read_frame_file(frame_file)
+    measured = moving_resonance(frame, trace.data, trace.stats.delta, scale=6.0, tail_s=5.0)
+    resonance = summary["moving_resonance"]
+    for key, value in measured.to_dict().items():
+        assert resonance[key] == (pytest.approx(value) if isinstance(value, float) else value), key
+    band = frame_band(frame)
+    assert resonance["band_rad_s"] == [band.omega_low_rad_s, frame.omega_1_rad_s]
+    # One stepping excursion: one half-cycle stepped, ω_f left ω_1 for a moment only, so nearly
+    # none of the ground's work arrived by moving resonance.
+    assert resonance["n_stepping_half_cycles"] == 1
+    assert resonance["lowest_omega_f_rad_s"] < frame.omega_1_rad_s / 2
+    assert resonance["work_depth"] < 0.01 and resonance["moving_resonance_share"] < 0.01
 
 
 def test_simulate_text_reports_overturning(
@@ -73,6 +88,7 @@ def test_simulate_text_reports_overturning(
     )  # fmt: skip
     assert status == 0
     assert "OVERTURNED at" in out
+    assert "moving resonance: R_m " in out and "ω_f down to 0 rad/s" in out
 
 
 @pytest.mark.parametrize(
@@ -148,3 +164,23 @@ def test_multi_component_file_needs_component(
     period_s = 2 * np.pi / frame.omega_1_rad_s
     sd_m = peak_displacements_m(trace.data, trace.stats.delta, [period_s], frame.xi_1)[0]
     assert summary["peak_abs_x_m"] == pytest.approx(frame.p_1 * sd_m, rel=1e-2)
+
+
+def test_a_motion_too_short_for_the_band_spectrum_is_simulated_and_says_so(
+    capsys: pytest.CaptureFixture[str], frame_file: Path, tmp_path: Path
+) -> None:
+    # 5 samples and a one-step tail: the simulation runs; the moving-resonance measures say why
+    # they are missing (the wavelet spectrum needs 8 samples), and --plot draws x(t) alone.
+    record = tmp_path / "acc.txt"
+    record.write_text("0.0\n0.1\n0.2\n0.1\n0.0\n", encoding="utf-8")
+    plot = tmp_path / "short.png"
+    args = ("structure", "simulate", "--frame", str(frame_file), str(record), "--format", "text",
+            "--units", "g", "--dt-s", "0.01", "--tail-s", "0.01")  # fmt: skip
+    status, out, err = run(capsys, *args, "--json", "--plot", str(plot))
+    assert (status, err) == (0, "")
+    resonance = json.loads(out)["moving_resonance"]
+    assert resonance["status"] == "failed"
+    assert "no band spectrum" in resonance["message"] and "expected ≥ 8" in resonance["message"]
+    assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    status, out, _ = run(capsys, *args)
+    assert status == 0 and "moving resonance: not measured (no band spectrum" in out

@@ -48,7 +48,10 @@ def register(subparsers: Subparsers) -> None:
         "branch", ("--trace", bool, None, "print every iterate (i, δ, K, T)"),
         "delta0_m", "method", "max_iterations",
     ])  # fmt: skip
-    simulate = add_command(subparsers, "simulate", run_simulate, plot="draw x(t) with the phases")
+    simulate = add_command(
+        subparsers, "simulate", run_simulate,
+        plot="draw x(t) with the phases, and ω_f(t) over the record's spectrum",
+    )  # fmt: skip
     simulate.add_argument(
         "record", nargs="?", metavar="RECORD", help="accelerogram file, one component, or --example"
     )
@@ -118,7 +121,10 @@ def run_simulate(args: argparse.Namespace) -> SimulatedComponent:
 
     Integrate the stepping portal frame of FRAME.toml (eqs. 4.11-4.12 with impact at
     touchdown) exactly under RECORD times --scale, then a free-vibration tail; report peaks,
-    stepping episodes, impacts, residual displacement and overturning.
+    stepping episodes, impacts, residual displacement, overturning and the moving-resonance
+    index (how much of the ground's work arrived while the record's energy lay near the frame's
+    own frequency as it stepped down its band; docs/selection.md). --plot draws x(t) and, below,
+    the frame's frequency ω_f(t) over the record's spectrum with the ground's work.
 
     Examples
     --------
@@ -131,7 +137,7 @@ def run_simulate(args: argparse.Namespace) -> SimulatedComponent:
     source = options_from(args, RecordSource)
     return simulate_file(
         options_from(args, SimulateOptions), lambda: source.read(args.record),
-        name=source.name(args.record), record_history=args.plot is not None,
+        name=source.name(args.record),
     )  # fmt: skip
 
 

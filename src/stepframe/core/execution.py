@@ -8,11 +8,19 @@ function raises is recorded as a :class:`~stepframe.core.results.Failure` and th
 Where the work runs is the caller's choice: ``jobs=1`` in this process; ``jobs=N`` a process pool
 created once for the call (its workers die with this process, even on SIGKILL, on Linux); or any
 ``concurrent.futures.Executor`` the caller owns (a Dask client's ``get_executor()``, a thread
-pool), which is used and left open.
+pool, a :class:`WorkerPool` shared by the batches of a run), which is used and left open.
+
+Parallel work pays only when there is enough of it: before workers are started, :func:`map_items`
+runs the first item in this process and times it, and runs the rest here too when they would take
+less than starting the workers costs (:data:`POOL_WORTH_S`). So ``jobs=2`` is never much slower
+than ``jobs=1`` on a small batch, and the probe item is work that needed doing. An executor whose
+workers run (a started :class:`WorkerPool`, a Dask cluster) gets every batch, with no probe: the
+main process stays free (its time is the serial part of a run).
 """
 
 from __future__ import annotations
 
+import contextlib
 import math
 import multiprocessing
 import multiprocessing.context
@@ -23,13 +31,20 @@ import time
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import Executor, Future, ProcessPoolExecutor
 from dataclasses import dataclass
-from typing import Any, Generic, TypeVar
+from typing import Any, Generic, ParamSpec, TypeVar
 
 from stepframe.core.results import Failure
 from stepframe.errors import InputError
 
 Item = TypeVar("Item")
 Result = TypeVar("Result")
+Value = TypeVar("Value")
+Params = ParamSpec("Params")
+
+#: A batch whose remaining items would take less than this in this process [s] is run here
+#: while the workers are not started: starting them costs about this much (fork, then what a
+#: worker imports on its first item).
+POOL_WORTH_S = 1.0
 
 
 @dataclass(frozen=True)
@@ -131,6 +146,62 @@ def _numba_threads_started() -> bool:
     return bool(getattr(parallel, "_is_initialized", False))
 
 
+class WorkerPool(Executor):
+    """A process pool shared by the batches of a run, started on its first ``submit``.
+
+    A run whose work is all cached, or small enough for :func:`map_items` to keep in this
+    process, starts no worker. The start method is chosen at that first submit
+    (:func:`_pool_context`: a plain fork while this process has not run numba's parallel loop),
+    and a fork then gives the workers every module this process has imported, numba's compiled
+    kernels included. The workers die with this process (:func:`_die_with_parent`).
+
+    Parameters
+    ----------
+    workers
+        Worker processes (≥ 1).
+    """
+
+    def __init__(self, workers: int) -> None:
+        if workers < 1:
+            raise InputError(f"jobs = {workers}, expected ≥ 1")
+        self.workers = workers
+        self._pool: ProcessPoolExecutor | None = None
+
+    @property
+    def started(self) -> bool:
+        """Whether the worker processes have been started."""
+        return self._pool is not None
+
+    def submit(
+        self, fn: Callable[Params, Value], /, *args: Params.args, **kwargs: Params.kwargs
+    ) -> Future[Value]:
+        """Submit to the pool, starting it first if needed."""
+        if self._pool is None:
+            self._pool = ProcessPoolExecutor(
+                max_workers=self.workers,
+                mp_context=_pool_context(),
+                initializer=_die_with_parent,
+                initargs=(os.getpid(),),
+            )
+        return self._pool.submit(fn, *args, **kwargs)
+
+    def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
+        """Stop the workers (if started)."""
+        if self._pool is not None:
+            self._pool.shutdown(wait=wait, cancel_futures=cancel_futures)
+            self._pool = None
+
+
+def worker_pool(jobs: int | None) -> contextlib.AbstractContextManager[WorkerPool | None]:
+    """A :class:`WorkerPool` of ``jobs`` workers (default: the CPUs available) for the batches of
+    one run or command, shut down when the ``with`` block ends; None for ``jobs=1`` (all in
+    this process)."""
+    workers = default_jobs() if jobs is None else jobs
+    if workers == 1:
+        return contextlib.nullcontext(None)
+    return WorkerPool(workers)
+
+
 def _run_chunk(
     function: Callable[[Any], Any],
     chunk: Sequence[tuple[int, Any]],
@@ -190,8 +261,13 @@ def map_items(
     stage: str = "",
     name_of: Callable[[Item], str] = str,
     progress: bool | str = False,
+    worth_s: float | None = None,
 ) -> MapOutcome[Result]:
     """Apply ``function`` to every item, in parallel, recording failures instead of stopping.
+
+    With workers to start, the first item runs in this process and is timed; the others run here
+    too when they would take less than ``worth_s``, else on the workers (see the module
+    docstring).
 
     Parameters
     ----------
@@ -205,8 +281,8 @@ def map_items(
         Worker processes when no ``executor`` is given (default: the CPUs available; 1 runs in
         this process).
     executor
-        Any ``concurrent.futures.Executor`` (a Dask client's ``get_executor()``); used as given
-        and not shut down.
+        Any ``concurrent.futures.Executor`` (a Dask client's ``get_executor()``, a
+        :class:`WorkerPool`); used as given and not shut down.
     chunk_size
         Items per task (default :func:`default_chunk_size`).
     stage
@@ -216,6 +292,9 @@ def map_items(
     progress
         False: silent. True or a label: a bar with count, rate and ETA on stderr when it is a
         terminal, and one summary line at the end either way.
+    worth_s
+        Least work [s] worth starting the workers for (default :data:`POOL_WORTH_S`; none for an
+        executor whose workers run); 0 hands every item to them, with no probe.
 
     Returns
     -------
@@ -235,8 +314,6 @@ def map_items(
     if chunk_size is not None and chunk_size < 1:
         raise InputError(f"chunk_size = {chunk_size}, expected ≥ 1")
     indexed = list(enumerate(items))
-    size = chunk_size or default_chunk_size(len(indexed), workers)
-    chunks = [indexed[i : i + size] for i in range(0, len(indexed), size)]
     label = progress if isinstance(progress, str) else (stage or "items")
     bar = _Progress(len(indexed), label, bool(progress))
     collected: list[tuple[int, bool, Any]] = []
@@ -246,18 +323,25 @@ def map_items(
         bar.update(len(part), sum(1 for _, ok, _ in part if not ok))
 
     try:
-        if executor is None and (workers == 1 or len(chunks) <= 1):
+        rest = indexed
+        parallel = (executor is not None or workers > 1) and len(indexed) > 1
+        threshold_s = _worth_s(executor) if worth_s is None else worth_s
+        if parallel and threshold_s > 0:
+            # The probe: one item here, timed; the rest go to workers only if that pays.
+            probe_start = time.perf_counter()
+            take(_run_chunk(function, indexed[:1], stage, name_of))
+            per_item_s = time.perf_counter() - probe_start
+            rest = indexed[1:]
+            parallel = per_item_s * len(rest) >= threshold_s
+        size = chunk_size or default_chunk_size(len(rest), workers)
+        chunks = [rest[i : i + size] for i in range(0, len(rest), size)]
+        if not parallel or (executor is None and len(chunks) <= 1):
             for chunk in chunks:
                 take(_run_chunk(function, chunk, stage, name_of))
         elif executor is not None:
             _gather(executor, function, chunks, stage, name_of, take)
         else:
-            with ProcessPoolExecutor(
-                max_workers=min(workers, len(chunks)),
-                mp_context=_pool_context(),
-                initializer=_die_with_parent,
-                initargs=(os.getpid(),),
-            ) as pool:
+            with WorkerPool(min(workers, len(chunks))) as pool:
                 _gather(pool, function, chunks, stage, name_of, take)
     finally:
         bar.close()
@@ -266,6 +350,14 @@ def map_items(
     indices = [index for index, ok, _ in collected if ok]
     failures = [value for _, ok, value in collected if not ok]
     return MapOutcome(results, failures, indices, time.perf_counter() - start)
+
+
+def _worth_s(executor: Executor | None) -> float:
+    """Least work [s] worth handing to ``executor`` (None: a pool to start); 0 when its workers
+    run."""
+    if executor is None or not getattr(executor, "started", True):
+        return POOL_WORTH_S
+    return 0.0
 
 
 def _gather(

@@ -51,7 +51,11 @@ def shipped_stages() -> StageTable:
     )
     from stepframe.pipeline.catalogue.stage import FEATURES_STAGE, INVENTORY_STAGE
     from stepframe.pipeline.dynamics.stage import IDA_STAGE
-    from stepframe.pipeline.selection.stage import SELECTION_REPORT_STAGE, SELECTION_STAGE
+    from stepframe.pipeline.selection.stage import (
+        RESPONSES_STAGE,
+        SELECTION_REPORT_STAGE,
+        SELECTION_STAGE,
+    )
 
     return StageTable(
         stages=(
@@ -63,6 +67,7 @@ def shipped_stages() -> StageTable:
             ARRIVALS_REPORT_STAGE,
             SITE_STAGE,
             AMPLIFICATION_STAGE,
+            RESPONSES_STAGE,
             SELECTION_STAGE,
             SELECTION_REPORT_STAGE,
             AMPLIFICATION_REPORT_STAGE,

@@ -1,4 +1,5 @@
-"""Figures of the stochastic area: a fitted record and the amplification curves.
+"""Figures of the stochastic area: a fitted record, the amplification curves and a record's
+time-frequency picture.
 
 Each function returns a :class:`matplotlib.figure.Figure` built without pyplot (no global state,
 nothing shown or saved); the caller saves it, e.g. through
@@ -12,12 +13,12 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 if TYPE_CHECKING:
     import xarray as xr
     from matplotlib.axes import Axes
-    from matplotlib.figure import Figure
+    from matplotlib.figure import Figure, SubFigure
     from obspy import Trace
 
     from stepframe.stochastic.features import RecordFeatures
@@ -466,10 +467,125 @@ def response_amplification_figure(
     return fig
 
 
+#: Dynamic range of the time-frequency heat map [dB below its peak].
+HEAT_MAP_RANGE_DB = 30.0
+
+
+def time_frequency_figure(
+    spectrum: xr.DataArray,
+    *,
+    band_rad_s: tuple[float, float] | None = None,
+    path: tuple[ArrayLike, ArrayLike] | None = None,
+    path_label: str = "",
+    cumulative: tuple[ArrayLike, ArrayLike] | None = None,
+    cumulative_label: str = "",
+    marker_s: float | None = None,
+    marker_label: str = "",
+    title: str = "",
+) -> Figure:
+    """A record's evolutionary spectrum as a heat map on log frequency, optionally with a band
+    shaded, a frequency path drawn over it and an accumulated quantity in a panel below.
+
+    Data in, figure out: every argument is an array or a number, so a report or a job can draw
+    the same picture from what it holds (the moving-resonance picture passes the frame's ω_f(t)
+    as ``path`` and the ground's work as ``cumulative``; a site report passes neither).
+
+    Parameters
+    ----------
+    spectrum
+        S(ω, t) with dims (``time`` [s], ``omega`` [rad/s]) (:mod:`stepframe.stochastic.spectra`),
+        drawn in dB below its peak over :data:`HEAT_MAP_RANGE_DB`, frequency in Hz on a log axis.
+    band_rad_s
+        (low, high) [rad/s] to shade (hatched, edges dashed), or None.
+    path
+        (time [s], ω [rad/s]) drawn over the heat map; values ≤ 0 or NaN are not drawn.
+    path_label
+        Its legend label.
+    cumulative
+        (time [s], value) drawn in a panel below on the same time axis, or None.
+    cumulative_label
+        Its y-axis label (with the unit).
+    marker_s, marker_label
+        A time [s] marked by a vertical line on both panels (an overturning), or None.
+    title
+        The title.
+    """
+    from matplotlib.figure import Figure
+
+    figure = Figure(figsize=(9.0, 5.6 if cumulative is not None else 4.0), layout="constrained")
+    draw_time_frequency(
+        figure, spectrum, band_rad_s=band_rad_s, path=path, path_label=path_label,
+        cumulative=cumulative, cumulative_label=cumulative_label, marker_s=marker_s,
+        marker_label=marker_label, title=title,
+    )  # fmt: skip
+    return figure
+
+
+def draw_time_frequency(
+    target: Figure | SubFigure,
+    spectrum: xr.DataArray,
+    *,
+    band_rad_s: tuple[float, float] | None = None,
+    path: tuple[ArrayLike, ArrayLike] | None = None,
+    path_label: str = "",
+    cumulative: tuple[ArrayLike, ArrayLike] | None = None,
+    cumulative_label: str = "",
+    marker_s: float | None = None,
+    marker_label: str = "",
+    title: str = "",
+) -> None:
+    """:func:`time_frequency_figure` drawn into ``target`` (a figure, or a subfigure of a job's
+    composite figure)."""
+    if cumulative is not None:
+        ax, below = target.subplots(2, 1, sharex=True, height_ratios=(2.2, 1))
+    else:
+        ax, below = target.subplots(), None
+    time = np.asarray(spectrum["time"].values, dtype=np.float64)
+    freq = np.asarray(spectrum["omega"].values, dtype=np.float64) / TWO_PI
+    power = np.asarray(spectrum.transpose("time", "omega").values, dtype=np.float64).T
+    peak = max(float(power.max()), 1e-300)
+    floor = 10.0 ** (-HEAT_MAP_RANGE_DB / 10.0)
+    db = 10 * np.log10(np.maximum(power / peak, floor))
+    image = ax.pcolormesh(time, freq, db, shading="nearest", cmap="magma",
+                          vmin=-HEAT_MAP_RANGE_DB, vmax=0.0, rasterized=True)  # fmt: skip
+    target.colorbar(image, ax=ax, label="S(ω, t) [dB re peak]", pad=0.01)
+    ax.set_yscale("log")
+    if band_rad_s is not None:
+        low, high = band_rad_s[0] / TWO_PI, band_rad_s[1] / TWO_PI
+        ax.axhspan(low, high, facecolor="none", edgecolor="#58a6ff", hatch="//", lw=0.0,
+                   alpha=0.35)  # fmt: skip
+        for edge in (low, high):
+            ax.axhline(edge, color="#58a6ff", lw=1.0, ls="--")
+        ax.plot([], [], color="#58a6ff", ls="--", label=f"band {low:.3g}-{high:.3g} Hz")
+    if path is not None:
+        path_w = np.asarray(path[1], dtype=np.float64)
+        shown = np.where(np.isfinite(path_w) & (path_w > 0), path_w / TWO_PI, np.nan)
+        ax.plot(np.asarray(path[0]), shown, color="#7ee787", lw=1.6, label=path_label or None)
+    ax.set_ylim(float(freq[0]), float(freq[-1]))
+    ax.set_xlim(float(time[0]), float(time[-1]))
+    ax.set_ylabel("frequency [Hz]")
+    if title:
+        ax.set_title(title)
+    axes = [ax] if below is None else [ax, below]
+    if marker_s is not None:
+        for each in axes:
+            each.axvline(marker_s, color="white" if each is ax else "k", lw=1.0, ls=":")
+        ax.plot([], [], color="k", lw=1.0, ls=":", label=f"{marker_label} {marker_s:.3g} s")
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(loc="upper right", fontsize=8, framealpha=0.85)
+    if below is not None and cumulative is not None:
+        below.plot(np.asarray(cumulative[0]), np.asarray(cumulative[1]), color="k", lw=1.2)
+        below.set_ylabel(cumulative_label)
+        below.grid(True, lw=0.3)
+    axes[-1].set_xlabel("time [s]")
+
+
 __all__ = [
     "ENERGY_SHARE",
+    "HEAT_MAP_RANGE_DB",
     "LABEL_ROOM_IN",
     "amplification_figure",
+    "draw_time_frequency",
     "energy_band_hz",
     "fit_figure",
     "frequency_range_hz",
@@ -477,4 +593,5 @@ __all__ = [
     "omega_path_figure",
     "response_amplification_figure",
     "spectral_ratio_figure",
+    "time_frequency_figure",
 ]

@@ -30,6 +30,9 @@ StftEngine = Literal["batched", "shorttimefft"]
 DEFAULT_WINDOW_S = 2.0
 #: Default spacing of frames [s].
 DEFAULT_HOP_S = 0.1
+#: Half-width of the bins a Morlet band keeps, in its standard deviations σ = ω/q: the Gaussian
+#: gain beyond is below e⁻⁵⁰ ≈ 2e-22, far under the rounding of the bins it keeps.
+_GAIN_REACH = 10.0
 
 
 def record_samples(
@@ -249,7 +252,9 @@ def wavelet_power(
 
     The default bands (96, log-spaced) run from the lowest frequency outside the cone of
     influence anywhere in the record, 2√2·q/T (:func:`cone_of_influence`; at least 0.2 rad/s),
-    to 0.8 × Nyquist.
+    to 0.8 × Nyquist. Cost: one FFT of the record, then per band the bins of its Gaussian and one
+    inverse FFT of npts/hop points (a band over the lowest 1 Hz of a 40-s record at 100 Hz
+    costs about 20 µs; docs/benchmarks.md, issue 26).
     """
     import scipy.fft as sfft
 
@@ -266,20 +271,35 @@ def wavelet_power(
             )
     if not (math.isfinite(morlet_q) and morlet_q >= 2):
         raise InputError(f"morlet_q = {morlet_q}, expected ≥ 2 (a band-pass wavelet)")
-    nfft = sfft.next_fast_len(2 * npts)
-    spectrum = sfft.rfft(data, nfft)
-    freqs = 2 * math.pi * sfft.rfftfreq(nfft, dt_s)
     hop = max(1, round(hop_s / dt_s))
-    frames = np.arange(0, npts, hop)
-    psd = np.empty((frames.size, omega.size))
-    full = np.zeros(nfft, dtype=np.complex128)
+    n_frames = -(-npts // hop)
+    # Only the frames, every hop samples, are wanted. With nfft = hop·m the inverse transform at
+    # those samples is the m-point inverse FFT of the band's spectrum folded modulo m (exact:
+    # e^{2πik·l·hop/nfft} depends on k mod m only), and each band keeps the bins within 10σ_j
+    # of its centre (the Gaussian gain beyond is below e⁻⁵⁰). nfft is the fast length ≥ 2·npts
+    # (zero padding against wrap-around) rounded up to a multiple of hop: fewer than hop more
+    # zeros change the wrap-around of the longest bands, inside the cone of influence, only.
+    m = -(-sfft.next_fast_len(2 * npts) // hop)
+    nfft = m * hop
+    spectrum = sfft.rfft(data, nfft)
+    step = 2 * math.pi / (nfft * dt_s)  # bin spacing [rad/s]
+    folded = np.zeros((omega.size, m), dtype=np.complex128)
     for j, wj in enumerate(omega):
         sigma = wj / morlet_q
-        gain = np.exp(-0.5 * ((freqs - wj) / sigma) ** 2)
-        full[: freqs.size] = 2.0 * spectrum * gain  # analytic signal: positive frequencies only
-        full[freqs.size :] = 0.0
-        u = sfft.ifft(full)[:npts]
-        psd[:, j] = math.sqrt(math.pi) * np.abs(u[frames]) ** 2 / (2.0 * sigma)
+        first = max(0, math.floor((wj - _GAIN_REACH * sigma) / step))
+        last = min(spectrum.size, math.ceil((wj + _GAIN_REACH * sigma) / step) + 1)
+        bins = np.arange(first, last)
+        gain = np.exp(-0.5 * ((bins * step - wj) / sigma) ** 2)
+        values = 2.0 * spectrum[first:last] * gain  # analytic signal: positive frequencies only
+        where = bins % m
+        folded[j].real = np.bincount(where, values.real, minlength=m)
+        folded[j].imag = np.bincount(where, values.imag, minlength=m)
+    u = sfft.ifft(folded, axis=-1)[:, :n_frames] / hop
+    sigmas = omega / morlet_q
+    psd = np.ascontiguousarray(
+        (math.sqrt(math.pi) * (u.real**2 + u.imag**2) / (2.0 * sigmas[:, None])).T
+    )
+    frames = np.arange(n_frames) * hop
     return np.asarray(frames * dt_s, dtype=np.float64), omega, psd
 
 

@@ -21,19 +21,35 @@ selection and the mean-square analysis take it as the callable :func:`period_amp
 from __future__ import annotations
 
 import math
-from typing import Literal, overload
+from typing import Literal, Protocol, overload
 
 import numpy as np
 import numpy.typing as npt
 
 from stepframe.errors import InputError
-from stepframe.structure.frame import PortalFrame
 
 BeyondXStar = Literal["raise", "inf"]
 
 
+class Backbone(Protocol):
+    """What the law reads from a frame (SI units): a
+    :class:`~stepframe.structure.frame.PortalFrame` is one, and so is the simulator's model
+    (:func:`stepframe.structure.frame_frequency.backbone_of`)."""
+
+    @property
+    def omega_1_rad_s(self) -> float: ...
+    @property
+    def omega_2_rad_s(self) -> float: ...
+    @property
+    def x_c_m(self) -> float: ...
+    @property
+    def x_star_m(self) -> float: ...
+    @property
+    def is_rigid_block(self) -> bool: ...
+
+
 def quarter_periods_s(
-    frame: PortalFrame, amplitude_m: npt.ArrayLike
+    frame: Backbone, amplitude_m: npt.ArrayLike
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
     """The two parts of the quarter period: time in the unstepped and in the stepped phase [s].
 
@@ -71,18 +87,18 @@ def quarter_periods_s(
 
 @overload
 def period_amplitude(
-    frame: PortalFrame, amplitude_m: float, *, beyond_x_star: BeyondXStar = "raise"
+    frame: Backbone, amplitude_m: float, *, beyond_x_star: BeyondXStar = "raise"
 ) -> float: ...
 @overload
 def period_amplitude(
-    frame: PortalFrame, amplitude_m: npt.NDArray[np.float64], *, beyond_x_star: BeyondXStar = ...
+    frame: Backbone, amplitude_m: npt.NDArray[np.float64], *, beyond_x_star: BeyondXStar = ...
 ) -> npt.NDArray[np.float64]: ...
 @overload
 def period_amplitude(
-    frame: PortalFrame, amplitude_m: npt.ArrayLike, *, beyond_x_star: BeyondXStar = ...
+    frame: Backbone, amplitude_m: npt.ArrayLike, *, beyond_x_star: BeyondXStar = ...
 ) -> float | npt.NDArray[np.float64]: ...
 def period_amplitude(
-    frame: PortalFrame, amplitude_m: npt.ArrayLike, *, beyond_x_star: BeyondXStar = "raise"
+    frame: Backbone, amplitude_m: npt.ArrayLike, *, beyond_x_star: BeyondXStar = "raise"
 ) -> float | npt.NDArray[np.float64]:
     """Free-vibration period T(A) of the conservative two-phase model [s], vectorised.
 
@@ -103,6 +119,7 @@ def period_amplitude(
 
     Examples
     --------
+    >>> from stepframe.structure.frame import PortalFrame
     >>> frame = PortalFrame(omega_1_rad_s=6.4581, omega_2_rad_s=0.6445, p_1=1.1884,
     ...                     p_2=1.268, gamma_1_m_s2=0.1387, xi_1=0.0, xi_2=0.0,
     ...                     x_c_m=0.19, c_r=1.0)
@@ -135,17 +152,17 @@ def period_amplitude(
 
 
 @overload
-def amplitude_for_period(frame: PortalFrame, period_s: float) -> float: ...
+def amplitude_for_period(frame: Backbone, period_s: float) -> float: ...
 @overload
 def amplitude_for_period(
-    frame: PortalFrame, period_s: npt.NDArray[np.float64]
+    frame: Backbone, period_s: npt.NDArray[np.float64]
 ) -> npt.NDArray[np.float64]: ...
 @overload
 def amplitude_for_period(
-    frame: PortalFrame, period_s: npt.ArrayLike
+    frame: Backbone, period_s: npt.ArrayLike
 ) -> float | npt.NDArray[np.float64]: ...
 def amplitude_for_period(
-    frame: PortalFrame, period_s: npt.ArrayLike
+    frame: Backbone, period_s: npt.ArrayLike
 ) -> float | npt.NDArray[np.float64]:
     """Inverse of :func:`period_amplitude` on the stepping branch: A with T(A) = period [m].
 

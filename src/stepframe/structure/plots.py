@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 if TYPE_CHECKING:
-    from matplotlib.figure import Figure
+    from matplotlib.figure import Figure, SubFigure
 
     from stepframe.structure.design_spectrum import Spectrum
     from stepframe.structure.frame import PortalFrame
@@ -103,6 +103,25 @@ def response_figure(
     """
     from matplotlib.figure import Figure
 
+    height = 4.6 if ground_acc_m_s2 is None else 6.2
+    figure = Figure(figsize=(9, height), layout="constrained")
+    draw_response(figure, result, frame, title=title, ground_acc_m_s2=ground_acc_m_s2, dt_s=dt_s,
+                  scale=scale)  # fmt: skip
+    return figure
+
+
+def draw_response(
+    target: Figure | SubFigure,
+    result: SimulationResult,
+    frame: PortalFrame,
+    *,
+    title: str,
+    ground_acc_m_s2: ArrayLike | None = None,
+    dt_s: float | None = None,
+    scale: float = 1.0,
+) -> None:
+    """:func:`response_figure` drawn into ``target`` (a figure, or a subfigure of a job's
+    composite figure)."""
     from stepframe.records.units import STANDARD_GRAVITY_M_S2
 
     history = result.history
@@ -112,12 +131,10 @@ def response_figure(
     x_m = history["x"].to_numpy()
     stepped = history["phase"].to_numpy() != 0
     if ground_acc_m_s2 is None:
-        figure = Figure(figsize=(9, 4.6), layout="constrained")
-        ax = figure.add_subplot()
+        ax = target.add_subplot()
         axes = [ax]
     else:
-        figure = Figure(figsize=(9, 6.2), layout="constrained")
-        ground_ax, ax = figure.subplots(2, 1, sharex=True, height_ratios=(1, 2))
+        ground_ax, ax = target.subplots(2, 1, sharex=True, height_ratios=(1, 2))
         axes = [ground_ax, ax]
         step = result.dt_s if dt_s is None else float(dt_s)
         acc_g = float(scale) * np.asarray(ground_acc_m_s2, dtype=float) / STANDARD_GRAVITY_M_S2
@@ -157,8 +174,7 @@ def response_figure(
             if label not in labels:
                 handles.append(handle)
                 labels.append(label)
-    figure.legend(handles, labels, loc="outside lower center", ncol=4, fontsize="small")
-    return figure
+    target.legend(handles, labels, loc="outside lower center", ncol=4, fontsize="small")
 
 
 #: 2π, to draw angular frequencies [rad/s] in Hz.
@@ -194,4 +210,4 @@ def backbone_figure(
     return fig
 
 
-__all__ = ["backbone_figure", "cobweb_figure", "response_figure"]
+__all__ = ["backbone_figure", "cobweb_figure", "draw_response", "response_figure"]

@@ -146,12 +146,25 @@ class SimulationResult:
     episodes
         ``pandas.DataFrame``: start_s, end_s (NaN if still stepped at the end), side (+1/-1),
         peak_abs_x_m; :meth:`episode_records` gives the same rows as dictionaries.
+    frame_frequency
+        ``xarray.DataArray`` ω_f(t) [rad/s] on the history's ``time``: the frame's instantaneous
+        frequency 2π/T(A), A the amplitude of the free conservative orbit through the state
+        (coordinate ``amplitude`` [m]; :mod:`stepframe.structure.frame_frequency`); None
+        without a history.
+    input_energy
+        ``xarray.DataArray`` of the work the ground has done on the frame since t = 0
+        [m²/s², per unit of the model's mass] on the history's ``time``; None without a history.
+    model, ground_acc_m_s2
+        The model constants integrated and the ground acceleration the frame felt (scaled,
+        [m/s²], without the tail), kept for ``frame_frequency`` and ``input_energy``.
     """
 
     summary: SimulationSummary
     raw: RawRun = field(repr=False)
     dt_s: float
     units: str
+    model: Model | None = field(default=None, repr=False, compare=False)
+    ground_acc_m_s2: np.ndarray | None = field(default=None, repr=False, compare=False)
 
     @cached_property
     def history(self) -> xr.Dataset | None:
@@ -174,6 +187,18 @@ class SimulationResult:
             },
             coords={"time": ("time", time_s, {"units": "s"})},
         )
+
+    @cached_property
+    def frame_frequency(self) -> xr.DataArray | None:
+        from stepframe.structure.frame_frequency import frequency_history
+
+        return frequency_history(self)
+
+    @cached_property
+    def input_energy(self) -> xr.DataArray | None:
+        from stepframe.structure.frame_frequency import input_energy_history
+
+        return input_energy_history(self)
 
     @cached_property
     def event_kinds(self) -> list[str]:
@@ -463,8 +488,9 @@ def _checked_status(raw: RawRun, model: Model, ag: np.ndarray, x0: float) -> int
 
 
 def _result(
-    raw: RawRun, dt_s: float, height: float | None, units: str, status: int, model: Model
-) -> SimulationResult:
+    raw: RawRun, dt_s: float, height: float | None, units: str, status: int, model: Model,
+    ag: np.ndarray,
+) -> SimulationResult:  # fmt: skip
     from stepframe.structure.status import small_angle_note
 
     message = STATUS_MESSAGES.get(status, f"unknown status code {status}")
@@ -488,7 +514,7 @@ def _result(
         status=STATUS_NAMES.get(status, "failed"),
         message=message,
     )
-    return SimulationResult(summary=summary, raw=raw, dt_s=dt_s, units=units)
+    return SimulationResult(summary, raw, dt_s, units, model, ag)
 
 
 def simulate(
@@ -581,7 +607,8 @@ def simulate(
     _check_run_work(ag.size, n_tail, dt_s, tail_s, record_history)
     ag = ag * scale
     raw = integrator(model, ag, float(dt_s), n_tail, x0, v0, record_history, rtol, atol)
-    return _result(raw, float(dt_s), height, "m", _checked_status(raw, model, ag, x0), model)
+    status = _checked_status(raw, model, ag, x0)
+    return _result(raw, float(dt_s), height, "m", status, model, ag)
 
 
 def simulate_rigid_block(
@@ -634,7 +661,8 @@ def simulate_rigid_block(
     theta0 = validation.finite("theta0_rad", theta0_rad)
     omega0 = validation.finite("omega0_rad_s", omega0_rad_s)
     raw = _run_exact(model, ag, float(dt_s), n_tail, theta0, omega0, record_history)
-    return _result(raw, float(dt_s), None, "rad", _checked_status(raw, model, ag, theta0), model)
+    status = _checked_status(raw, model, ag, theta0)
+    return _result(raw, float(dt_s), None, "rad", status, model, ag)
 
 
 @dataclass(frozen=True)

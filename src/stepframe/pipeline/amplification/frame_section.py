@@ -215,11 +215,35 @@ def frame_part(
             "intensity than this onset.",
             "warning" if lower or not stepping.stepped else "note",
         ),
+        _band_panel(model, (lo, hi), driven.moving),
     ]
     if opts.delta_star_m is not None:
         items += _adjusted_design(frame, model, opts, stated)
     point = (_hz(frame.omega_1_rad_s), value, lower)
     return FramePart((_hz(lo), _hz(hi)), point, stepping, items)
+
+
+def _band_panel(model: GroundMotionModel, band: tuple[float, float], moving: Any) -> Figure:
+    """The site model's spectrum over the frame's band with the frame-driven ω(t) over it."""
+    from stepframe.pipeline.amplification.time_frequency import site_band_figure
+    from stepframe.pipeline.reports.document import figure_from_matplotlib
+
+    return figure_from_matplotlib(
+        site_band_figure(model, band, moving, title="The site model over the frame's band"),
+        key="site_band_spectrum",
+        title="The site's evolutionary spectrum over the frame's band, and the frame's ω(t)",
+        alt=(
+            "heat map of eq. 6.12 times the intensity envelope, frequency in Hz (log) against "
+            "time in s, the frame's band shaded, the frame's frequency of the frame-driven "
+            "analysis drawn over it; below, the frame's RMS displacement"
+        ),
+        how_to_read=(
+            "Where the green line (the frame's frequency as its RMS amplitude elongates its "
+            "period) runs through bright colour, the site's energy is where the frame is: the "
+            "moving resonance the frame-driven amplification measures. The same picture as the "
+            "selection report's for a simulated record (docs/selection.md)."
+        ),
+    )
 
 
 def _adjusted_design(

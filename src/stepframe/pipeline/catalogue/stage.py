@@ -1,10 +1,15 @@
 """The catalogue's stages: ``inventory`` (one item per file) and ``features`` (one per component).
 
 ``inventory`` hashes each record file (sha256 of its bytes: the key every later result hangs
-from), reads it and lists its components with their metadata. ``features`` runs the catalogue
+from; remembered while the file is unchanged, :mod:`~stepframe.pipeline.catalogue.file_hashes`),
+reads it and lists its components with their metadata. ``features`` runs the catalogue
 features machinery of :mod:`stepframe.stochastic.catalog_features` on one component: the
 record's ω_g(t), α_g(t), I_g(t) and the fitted Beck-Papadimitriou parameters, with the
 plausibility checks. Workers read the record from its path (workers share the filesystem).
+
+``features`` follows ``inventory`` (:attr:`~stepframe.pipeline.engine.stage.Stage.expand`): a
+file's components are computed in the worker call that read it, from the record it read (a
+worker keeps the last files it read, keyed by their content hash), so a run reads each file once.
 """
 
 from __future__ import annotations
@@ -17,7 +22,7 @@ from stepframe.errors import InputError
 from stepframe.pipeline.catalogue.fit_options import ESTIMATION_FIELDS, FitOptions
 from stepframe.pipeline.engine.same_content import NAME_SEPARATOR
 from stepframe.pipeline.engine.stage import Context, Param, Stage, Task, params_from_options
-from stepframe.pipeline.engine.store import file_sha256, make_key
+from stepframe.pipeline.engine.store import make_key
 
 INVENTORY_VERSION = 1
 # 2: the fit's α_g reading and the example's lowest usable frequency enter the features;
@@ -62,16 +67,24 @@ def record_folder(context: Context) -> Path:
     return workflow.records.folder
 
 
-def _write_example(context: Context) -> None:
-    """The embedded example's files, written into the workspace before the inventory reads them."""
+def _prepare_inventory(context: Context) -> None:
+    """Before a real run lists its tasks: the embedded example's files written into the
+    workspace, or the records' hashes brought up to date in the workspace's cache."""
     records = context.workflow.records
     if records is not None and records.example is not None:
         from stepframe.pipeline.catalogue.example_files import write_example_files
 
         write_example_files(record_folder(context))
+    elif records is not None:
+        import warnings
+
+        # the folder's warnings (links skipped) come once, from the task listing that follows
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            _record_contents(context, update=True)
 
 
-def _record_contents(context: Context) -> list[tuple[Path, str]]:
+def _record_contents(context: Context, *, update: bool = False) -> list[tuple[Path, str]]:
     """Each record file with the sha256 of its bytes (the example's hashed in memory)."""
     workflow = context.workflow
     assert workflow.records is not None
@@ -82,7 +95,13 @@ def _record_contents(context: Context) -> list[tuple[Path, str]]:
 
         folder = record_folder(context)
         return [(folder / name, hashlib.sha256(data).hexdigest()) for name, data in example_files()]
-    return [(path, file_sha256(path)) for path in workflow.record_files()]
+    from stepframe.core.execution import default_jobs
+    from stepframe.pipeline.catalogue.file_hashes import CACHE_NAME, file_hashes
+
+    paths = workflow.record_files()
+    threads = context.jobs or default_jobs()
+    hashes = file_hashes(paths, workflow.workspace / CACHE_NAME, update=update, threads=threads)
+    return list(zip(paths, hashes, strict=True))
 
 
 def _inventory_tasks(context: Context) -> list[Task]:
@@ -102,7 +121,7 @@ def _inventory_tasks(context: Context) -> list[Task]:
                 key=key,
                 name=first,
                 # absolute: a Dask worker's current folder is not this process's
-                payload=(str(paths[0].absolute()), options, first),
+                payload=(str(paths[0].absolute()), options, first, sha),
                 context={
                     "file": first,
                     "duplicates": NAME_SEPARATOR.join(others),
@@ -114,15 +133,37 @@ def _inventory_tasks(context: Context) -> list[Task]:
     return tasks
 
 
-def read_components(payload: tuple[str, dict[str, Any], str]) -> list[dict[str, Any]]:
+#: The last files a process read: (path, record options, content sha256) → its Stream. The
+#: ``features`` items of a file follow its ``inventory`` item in the same worker call, and the
+#: selection's ``responses`` follow at the end of the call's group of files
+#: (:data:`stepframe.pipeline.engine.chain.MAX_GROUP`): they take the records from here. A few
+#: dozen records at a time, whatever the catalogue.
+_LAST_READ: dict[tuple[str, str, str], Any] = {}
+LAST_READ_FILES = 64
+
+
+def read_record(path: str, options: dict[str, Any], sha: str) -> Any:
+    """The record file at ``path`` (whose bytes hash to ``sha``) as a Stream, read once for the
+    stages that follow each other on it."""
+    from stepframe.records import read
+
+    key = (path, repr(sorted(options.items())), sha)
+    stream = _LAST_READ.pop(key, None)
+    if stream is None:
+        stream = read(path, **read_kwargs(options))
+        while len(_LAST_READ) >= LAST_READ_FILES:
+            _LAST_READ.pop(next(iter(_LAST_READ)))  # the least recently used
+    _LAST_READ[key] = stream
+    return stream
+
+
+def read_components(payload: tuple[str, dict[str, Any], str, str]) -> list[dict[str, Any]]:
     """Inventory of one file: a row per component (worker side)."""
     import numpy as np
 
-    from stepframe.records import read
-
-    path, options, name = payload
+    path, options, name, sha = payload
     try:
-        stream = read(path, **read_kwargs(options))
+        stream = read_record(path, options, sha)
     except Exception as error:  # a reader may raise anything on a foreign file: recorded
         raise ItemFailure(f"read: {_one_line(error, path, name)}") from None
     if len(stream) == 0:
@@ -192,50 +233,83 @@ def _lowest_usable_hz(context: Context) -> dict[str, float]:
     return {example_name(row): float(row["lowest_usable_frequency_hz"]) for row in rows}
 
 
-def _features_tasks(context: Context) -> list[Task]:
-    inventory = context.tables["inventory"]
+#: What a features task is made of besides its inventory row: the stage's parameters, the record
+#: options, the records folder and each file's lowest usable frequency [Hz] where stated.
+FeaturesArgs = tuple[dict[str, Any], dict[str, Any], str, dict[str, float]]
+
+
+def _features_args(context: Context) -> FeaturesArgs:
+    """The :data:`FeaturesArgs` of a run (the folder absolute: a worker's current folder
+    differs)."""
     params = FEATURES_STAGE.parameters(context.workflow)
-    options = _record_options(context)
-    folder = record_folder(context)
-    lowest = _lowest_usable_hz(context)
-    tasks = []
-    for row in inventory.to_dict(orient="records"):
-        index = int(row["channel_index"])
-        low = lowest.get(str(row["file"]))
-        key = make_key("features", FEATURES_VERSION, params, str(row["_key"]), str(index), str(low))
-        path = str((folder / str(row["file"])).absolute())
-        tasks.append(
-            Task(
-                key=key,
-                name=f"{row['file']} [{row['component']}]",
-                payload=(path, options, index, params, low, str(row["file"])),
-                context={
-                    "file": row["file"],
-                    "duplicates": row["duplicates"],
-                    "station": row["station"],
-                    "component": row["component"],
-                },
-            )
+    folder = str(record_folder(context).absolute())
+    return params, _record_options(context), folder, _lowest_usable_hz(context)
+
+
+def _feature_task(
+    args: FeaturesArgs,
+    inventory_key: str,
+    file: str,
+    duplicates: str,
+    sha: str,
+    row: dict[str, Any],
+) -> Task:
+    """The features task of one component (an inventory row of ``file``)."""
+    params, options, folder, lowest = args
+    index = int(row["channel_index"])
+    low = lowest.get(file)
+    return Task(
+        key=make_key("features", FEATURES_VERSION, params, inventory_key, str(index), str(low)),
+        name=f"{file} [{row['component']}]",
+        payload=(str(Path(folder) / file), options, index, params, low, file, sha),
+        context={
+            "file": file,
+            "duplicates": duplicates,
+            "station": row["station"],
+            "component": row["component"],
+        },
+    )
+
+
+def _features_tasks(context: Context) -> list[Task]:
+    args = _features_args(context)
+    rows: list[dict[str, Any]] = context.tables["inventory"].to_dict(orient="records")  # type: ignore[assignment]
+    return [
+        _feature_task(
+            args,
+            str(row["_key"]),
+            str(row["file"]),
+            str(row["duplicates"]),
+            str(row["content_sha256"]),
+            row,
         )
-    return tasks
+        for row in rows
+    ]
+
+
+def expand_features(args: FeaturesArgs, inventory: Task, rows: list[dict[str, Any]]) -> list[Task]:
+    """The features tasks of one inventory item, from its computed rows (worker side)."""
+    file, sha = str(inventory.context["file"]), str(inventory.context["content_sha256"])
+    duplicates = str(inventory.context["duplicates"])
+    return [_feature_task(args, inventory.key, file, duplicates, sha, row) for row in rows]
 
 
 def component_features(
-    payload: tuple[str, dict[str, Any], int, dict[str, Any], float | None, str],
+    payload: tuple[str, dict[str, Any], int, dict[str, Any], float | None, str, str],
 ) -> list[dict[str, Any]]:
     """Features and fitted parameters of one component (worker side): one row.
 
-    Reads the file from its path, takes the component at its position and calls
+    Takes the file's record (:func:`read_record`: read from its path unless this process has
+    just read it), the component at its position, and calls
     :func:`stepframe.stochastic.catalog_features.component_row`.
     """
     import numpy as np
 
-    from stepframe.records import read
     from stepframe.stochastic.catalog_features import Options, component_row
 
-    path, record_options, index, params, lowest_usable_hz, name = payload
+    path, record_options, index, params, lowest_usable_hz, name, sha = payload
     try:
-        trace = read(path, **read_kwargs(record_options))[index]
+        trace = read_record(path, record_options, sha)[index]
     except Exception as error:  # recorded as this item's failure
         raise ItemFailure(f"read: {_one_line(error, path, name)}") from None
     options = Options(**params, record_options=tuple(sorted(record_options.items())))
@@ -271,7 +345,7 @@ INVENTORY_STAGE = Stage(
     tasks=_inventory_tasks,
     compute=read_components,
     needs_records=True,
-    prepare=_write_example,
+    prepare=_prepare_inventory,
 )
 
 FEATURES_STAGE = Stage(
@@ -286,4 +360,6 @@ FEATURES_STAGE = Stage(
     compute=component_features,
     needs_records=True,
     check=_features_check,
+    expand=expand_features,
+    expand_args=_features_args,
 )

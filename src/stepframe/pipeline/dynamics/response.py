@@ -20,6 +20,7 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
     from obspy import Stream, Trace
 
+    from stepframe.pipeline.dynamics.resonance import ResonanceRun
     from stepframe.structure.frame import PortalFrame
     from stepframe.structure.simulator import SimulationResult
 
@@ -33,13 +34,17 @@ class RecordResponse:
     summary
         JSON-ready: ``record``, ``component``, ``npts``, ``dt_s``, ``scale``, ``pga_m_s2``
         (scaled), ``tail_s``, ``frame`` (its parameters, x* [m] and uplift acceleration
-        [m/s²]), the simulation summary and ``episodes``.
+        [m/s²]), the simulation summary, ``episodes`` and ``moving_resonance``
+        (:class:`~stepframe.pipeline.dynamics.resonance.MovingResonance`).
     result
-        The simulation (its history when asked for).
+        The simulation, with its history.
+    resonance
+        The record's band spectrum and the moving-resonance measures (the picture's data).
     """
 
     summary: dict[str, Any]
     result: SimulationResult = field(repr=False)
+    resonance: ResonanceRun = field(repr=False)
 
     @property
     def status(self) -> str:
@@ -70,6 +75,18 @@ class RecordResponse:
             )
             + ("" if ok else f"; numerical status: {data['status']}"),
         ]
+        resonance = data["moving_resonance"]
+        if resonance["status"] != "ok":
+            lines.append(f"moving resonance: not measured ({resonance['message']})")
+        else:
+            index = resonance["moving_resonance_index"]
+            lines.append(
+                "moving resonance: "
+                + ("R_m n/a (ω_f stayed near ω_1)" if index != index else f"R_m {index:.3g}")
+                + f", share M {resonance['moving_resonance_share']:.3g}, work depth "
+                f"{resonance['work_depth']:.3g}; ω_f down to "
+                f"{resonance['lowest_omega_f_rad_s']:.4g} rad/s"
+            )
         return "\n".join(lines)
 
 
@@ -79,7 +96,6 @@ def simulate_record(
     *,
     scale: float = 1.0,
     tail_s: float | None = None,
-    record_history: bool = False,
     name: str | PathLike[str] = "",
 ) -> RecordResponse:
     """Simulate ``frame`` under ``trace`` × ``scale`` and summarise.
@@ -94,8 +110,6 @@ def simulate_record(
         Factor on the record [-].
     tail_s
         Free vibration after the record [s] (default the simulator's).
-    record_history
-        Keep x(t), v(t) and the phase (for a figure).
     name
         The record file, reported and named in errors.
 
@@ -106,6 +120,7 @@ def simulate_record(
     """
     import numpy as np
 
+    from stepframe.pipeline.dynamics.resonance import default_band, measure_run
     from stepframe.structure.simulator import DEFAULT_TAIL_S, simulate
 
     dt_s = float(trace.stats.delta)
@@ -118,9 +133,8 @@ def simulate_record(
             name or None,
         )
     tail = DEFAULT_TAIL_S if tail_s is None else float(tail_s)
-    result = simulate(
-        frame, samples, dt_s, scale=float(scale), tail_s=tail, record_history=record_history
-    )
+    result = simulate(frame, samples, dt_s, scale=float(scale), tail_s=tail)
+    resonance = measure_run(result, samples, dt_s, default_band(frame))
     summary: dict[str, Any] = {
         "record": str(name),
         "component": str(trace.stats.channel),
@@ -136,8 +150,9 @@ def simulate_record(
         },
         **result.summary.to_dict(),
         "episodes": result.episode_records(),
+        "moving_resonance": resonance.measures.to_dict(),
     }
-    return RecordResponse(summary, result)
+    return RecordResponse(summary, result, resonance)
 
 
 @dataclass(frozen=True)
@@ -158,16 +173,38 @@ class SimulatedComponent:
         return self.response.describe()
 
     def figure(self) -> Figure:
-        """x(t) with the phases, under the scaled ground acceleration (needs the history)."""
+        """x(t) with the phases under the scaled ground acceleration, and below it the picture
+        of moving resonance: the record's spectrum over the frame's band with ω_f(t) over it,
+        and the ground's work."""
         import os
 
-        from stepframe.structure.plots import response_figure
+        from matplotlib.figure import Figure
+
+        from stepframe.pipeline.dynamics.resonance import draw_resonance
+        from stepframe.structure.plots import draw_response
 
         name = self.response.summary["record"]
-        return response_figure(
-            self.response.result, self.frame, title=f"{os.path.basename(name)} × {self.scale:g}",
-            ground_acc_m_s2=self.trace.data, scale=self.scale,
+        run = self.response.resonance
+        if run.spectrum is None:  # a motion too short for the spectrum: the response alone
+            from stepframe.structure.plots import response_figure
+
+            return response_figure(
+                run.result, self.frame, title=f"{os.path.basename(name)} × {self.scale:g}",
+                ground_acc_m_s2=self.trace.data, scale=self.scale,
+            )  # fmt: skip
+        figure = Figure(figsize=(9.0, 11.0), layout="constrained")
+        grid = figure.add_gridspec(2, 1, height_ratios=(6.2, 5.2))
+        top, bottom = figure.add_subfigure(grid[0]), figure.add_subfigure(grid[1])
+        draw_response(
+            top, self.response.result, self.frame,
+            title=f"{os.path.basename(name)} × {self.scale:g}", ground_acc_m_s2=self.trace.data,
+            scale=self.scale,
         )  # fmt: skip
+        draw_resonance(bottom, run.result, run.spectrum, run.measures, title="moving resonance")
+        end = float(run.spectrum["time"].values[-1])
+        for axes in top.axes:
+            axes.set_xlim(0.0, end)  # the spectrum's time axis, so the panels line up
+        return figure
 
 
 def simulate_component(
@@ -177,7 +214,6 @@ def simulate_component(
     name: str,
     scale: float = 1.0,
     tail_s: float | None = None,
-    record_history: bool = False,
 ) -> SimulatedComponent:
     """:func:`simulate_record` on the one component of a record file, its inputs checked.
 
@@ -189,7 +225,7 @@ def simulate_component(
         The record file's components; exactly one (else an error naming them).
     name
         The record, reported and named in errors.
-    scale, tail_s, record_history
+    scale, tail_s
         As :func:`simulate_record`; ``scale`` in (0, 1000], ``tail_s`` in (0, 10⁵] s.
     """
     from stepframe.core.validation import in_range, length
@@ -202,9 +238,7 @@ def simulate_component(
         )
     tail = None if tail_s is None else length("--tail-s", tail_s, high=1e5)
     factor = in_range("--scale", scale, 0.0, 1e3, low_open=True)
-    response = simulate_record(
-        frame, stream[0], scale=factor, tail_s=tail, record_history=record_history, name=name
-    )
+    response = simulate_record(frame, stream[0], scale=factor, tail_s=tail, name=name)
     return SimulatedComponent(response, frame, stream[0], factor)
 
 
@@ -237,7 +271,6 @@ def simulate_file(
     record: Callable[[], Stream],
     *,
     name: str,
-    record_history: bool = False,
 ) -> SimulatedComponent:
     """:func:`simulate_component` of the frame file of ``options`` under the record that
     ``record()`` reads (called after the frame file is read: a bad frame file is reported
@@ -251,7 +284,6 @@ def simulate_file(
         name=name,
         scale=options.scale,
         tail_s=options.tail_s,
-        record_history=record_history,
     )
 
 

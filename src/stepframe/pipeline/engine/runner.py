@@ -28,20 +28,27 @@ listed), 1 an output could not be produced. A file that cannot be written (disk 
 from __future__ import annotations
 
 import errno
-import operator
 import shutil
 import time
 import warnings
-from collections.abc import Callable
 from concurrent.futures import Executor
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from stepframe.core.execution import map_items
+from stepframe.core.execution import MapOutcome, map_items
 from stepframe.core.io import TEMPORARY_SUFFIX
 from stepframe.core.results import Failure, failures_path, set_column_dictionary
 from stepframe.errors import InputError
+from stepframe.pipeline.engine.chain import (
+    Computed,
+    Follower,
+    Group,
+    compute_group,
+    followers_of,
+    group_name,
+    groups,
+)
 from stepframe.pipeline.engine.history import item_outputs
 from stepframe.pipeline.engine.integrity import StorageError, StoreEvent
 from stepframe.pipeline.engine.lock import workspace_lock
@@ -58,12 +65,13 @@ if TYPE_CHECKING:
     import pandas as pd
 
 #: Items computed per stored segment by default: a killed run loses at most one batch, and
-#: each batch starts its worker processes (about 1 s of CPU each), so batches are not small.
+#: each batch waits for its slowest chunk, so batches are not small.
 DEFAULT_BATCH_ITEMS = 1024
 #: With many workers, at least this many items per worker in a batch.
 BATCH_ITEMS_PER_WORKER = 32
-#: A batch of at most this many items per worker runs in this process (no pool to start).
-SMALL_BATCH_PER_WORKER = 2
+#: Helper columns of the table assembly (task position, row position in the store).
+_TASK = "_task"
+_ROW = "_row"
 #: Errors of a write that no retry of the item would mend: the run stops with one line, exit 1.
 DISK_ERRORS = (errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EIO)
 
@@ -344,8 +352,9 @@ def run_workflow(
                 summary.status = "skipped"
                 summary.message = f"upstream stage {blocked[0]} has no result"
             elif stage.kind == "item":
+                followers = followers_of(stage, planned, stages, context, forced)
                 _run_items(stage, context, store, execution, summary, report, forced,
-                           retry_failed, batch)  # fmt: skip
+                           retry_failed, batch, followers)  # fmt: skip
             else:
                 _run_set(stage, context, store, summary, name in forced)
             summary.seconds = round(time.perf_counter() - start, 3)
@@ -376,8 +385,8 @@ def _finish(
 
 
 def _available(context: Context, name: str) -> bool:
-    if name in context.tables:
-        return len(context.tables[name]) > 0
+    if name in context.tables:  # a stage with no item at all is not missing anything
+        return len(context.tables[name]) > 0 or not context.item_keys.get(name)
     return name in context.set_dirs
 
 
@@ -387,12 +396,6 @@ def _remove_temporaries(folder: Path) -> None:
         for temporary in folder.rglob(f".*{TEMPORARY_SUFFIX}"):
             if temporary.is_file():
                 temporary.unlink(missing_ok=True)
-
-
-def _compute(item: tuple[Callable[[Any], list[dict[str, Any]]], Any, str]) -> list[dict[str, Any]]:
-    """Worker entry: the stage's compute function (carried with the task) on its payload."""
-    compute, payload, _name = item
-    return compute(payload)
 
 
 def _run_items(
@@ -405,10 +408,9 @@ def _run_items(
     forced: list[str],
     retry_failed: bool,
     batch_items: int,
+    followers: tuple[Follower, ...] = (),
 ) -> None:
-    import pandas as pd
-
-    assert stage.tasks is not None and stage.compute is not None
+    assert stage.tasks is not None and (stage.compute or stage.compute_many) is not None
     if stage.prepare is not None:
         stage.prepare(context)
     tasks = merge_same_key(stage.tasks(context))
@@ -422,51 +424,103 @@ def _run_items(
         return force or entry is None or (entry.failed and retry_failed)
 
     todo = [task for task in tasks if wanted(task)]
+    chained = context.chained.get(stage.name, set())
     summary.items = len(tasks)
-    summary.computed = len(todo)
-    summary.cached = len(tasks) - len(todo)
+    summary.computed = len(todo) + sum(1 for task in tasks if task.key in chained)
+    summary.cached = len(tasks) - summary.computed
     for start in range(0, len(todo), batch_items):
         batch = todo[start : start + batch_items]
-        label = stage.name
+        label = "+".join([stage.name, *(f.work.name for f in followers)])
         if len(todo) > batch_items:
-            label = f"{stage.name} {start + 1}-{start + len(batch)}/{len(todo)}"
-        # A few items cost less here than starting worker processes (each imports obspy, scipy
-        # and pandas: about a second) would: run them in this process.
-        jobs = execution.jobs if len(batch) > SMALL_BATCH_PER_WORKER * execution.jobs else 1
+            label = f"{label} {start + 1}-{start + len(batch)}/{len(todo)}"
+        # map_items keeps a batch in this process when that costs less than the workers would
+        work = groups(stage, batch, followers, execution.jobs)
         outcome = map_items(
-            _compute,
-            [(stage.compute, task.payload, task.name) for task in batch],
-            jobs=jobs if execution.executor is None else None,
+            compute_group,
+            work,
+            jobs=execution.jobs,
             executor=execution.executor,
+            chunk_size=1,
             stage=stage.name,
-            name_of=operator.itemgetter(2),
+            name_of=group_name,
             progress=label if context.progress else False,
         )
-        rows = []
-        for position, result in zip(outcome.indices, outcome.results, strict=True):
-            rows += [{KEY_COLUMN: batch[position].key, **row} for row in result]
-        done = set(outcome.indices)
-        failed_tasks = [task for i, task in enumerate(batch) if i not in done]
-        store.add_rows(
-            stage.name,
-            pd.DataFrame(rows),
-            zip([t.key for t in failed_tasks], outcome.failures, strict=True),
-        )
+        _store_batch(stage.name, work, outcome, store, context)
     keys = [task.key for task in tasks]
-    stored = store.rows(stage.name, keys)
-    parts = []
-    for task in tasks:
-        rows_of = stored.get(task.key)
-        if rows_of is None:
-            continue
-        part = rows_of.drop(columns=[KEY_COLUMN])
-        for column, value in task.context.items():
-            part[column] = value
-        part[KEY_COLUMN] = task.key
-        parts.append(part)
+    table = _stored_table(stage, tasks, store)
+    context.tables[stage.name] = table
+    failures = store.failures(stage.name, keys)
+    stage_failures = [named_now(failures[t.key], t.name) for t in tasks if t.key in failures]
+    summary.failed = len(stage_failures)
+    report.failures += stage_failures
+    context.item_keys[stage.name] = keys
+    if table.empty and tasks:
+        summary.status = "failed"
+        summary.message = f"no item computed ({summary.failed} failed of {summary.items})"
+
+
+def _store_batch(
+    name: str,
+    work: list[Group],
+    outcome: MapOutcome[Computed],
+    store: Store,
+    context: Context,
+) -> None:
+    """Store a computed batch as one segment per stage: its rows and failures, and those of the
+    followers' items computed with it (remembered in ``context.chained``). A group whose worker
+    failed as a whole (it died, say) fails each of its items."""
+    import pandas as pd
+
+    computed: Computed = [entry for entries in outcome.results for entry in entries]
+    done = set(outcome.indices)
+    lost = [group for i, group in enumerate(work) if i not in done]
+    for group, failure in zip(lost, outcome.failures, strict=True):
+        computed += [
+            (name, task.key, Failure(task.name, name, failure.error_type, failure.message))
+            for task in group[1]
+        ]
+    rows: dict[str, list[dict[str, Any]]] = {name: []}
+    failed: dict[str, list[tuple[str, Failure]]] = {name: []}
+    for stage, key, value in computed:
+        rows.setdefault(stage, [])
+        failed.setdefault(stage, [])
+        if isinstance(value, Failure):
+            failed[stage].append((key, value))
+        else:
+            rows[stage] += [{KEY_COLUMN: key, **row} for row in value]
+        if stage != name:
+            context.chained.setdefault(stage, set()).add(key)
+    for stage in rows:
+        store.add_rows(stage, pd.DataFrame(rows[stage]), failed[stage])
+
+
+def _stored_table(stage: Stage, tasks: list[Task], store: Store) -> pd.DataFrame:
+    """The stage's table: each task's stored rows in task order, with the task's context
+    columns (the current file path) and ``_key``, and the stage's column dictionary.
+
+    One pass over the store's segments and one join, whatever the number of items (a
+    per-item loop of row assignments cost about 3 ms an item).
+    """
+    import numpy as np
+    import pandas as pd
+
+    stored = store.table(stage.name, [task.key for task in tasks])
+    context_names = list(dict.fromkeys(name for task in tasks for name in task.context))
+    order = pd.DataFrame(
+        {
+            KEY_COLUMN: [task.key for task in tasks],
+            _TASK: np.arange(len(tasks)),
+            **{name: [task.context.get(name) for task in tasks] for name in context_names},
+        }
+    )
+    stored = stored.drop(columns=[c for c in context_names if c in stored.columns])
+    stored[_ROW] = np.arange(len(stored))
+    table = order.merge(stored, on=KEY_COLUMN, how="inner", sort=False)
+    table = table.sort_values([_TASK, _ROW], kind="stable", ignore_index=True)
     columns = [*stage.columns(), KEY_COLUMN]
-    table = pd.concat(parts, ignore_index=True) if parts else pd.DataFrame(columns=columns)
     table = table[[c for c in columns if c in table.columns]]
+    if table.empty:
+        table = pd.DataFrame(columns=columns)
     set_column_dictionary(
         table,
         pd.DataFrame(
@@ -474,15 +528,7 @@ def _run_items(
             columns=["column", "unit", "meaning"],
         ),
     )
-    context.tables[stage.name] = table
-    failures = store.failures(stage.name, keys)
-    stage_failures = [named_now(failures[t.key], t.name) for t in tasks if t.key in failures]
-    summary.failed = len(stage_failures)
-    report.failures += stage_failures
-    context.item_keys[stage.name] = keys
-    if table.empty:
-        summary.status = "failed"
-        summary.message = f"no item computed ({summary.failed} failed of {summary.items})"
+    return table
 
 
 def _run_set(
@@ -585,7 +631,6 @@ def _dry_run(
     """What a run would do: per stage, items to compute and cached (nothing written)."""
     report = RunReport(str(workflow.path), str(workflow.workspace), "dry run", True)
     context = Context(workflow, {}, {}, {}, {}, None, None, False, started_utc=utc_now())
-    import pandas as pd
 
     for name in planned:
         stage = stages[name]
@@ -610,15 +655,7 @@ def _dry_run(
                 summary.status = "pending"
                 summary.message = f"{len(todo)} item(s) to compute"
             else:
-                stored = store.rows(name, [t.key for t in tasks])
-                parts = []
-                for task in tasks:
-                    if task.key in stored:
-                        part = stored[task.key].copy()
-                        for column, value in task.context.items():
-                            part[column] = value
-                        parts.append(part)
-                context.tables[name] = pd.concat(parts) if parts else pd.DataFrame()
+                context.tables[name] = _stored_table(stage, tasks, store)
         else:
             assert stage.set_key is not None
             key = stage.set_key(context)

@@ -1,11 +1,13 @@
 """Where a run's work goes: this machine's process pool, a local Dask cluster, or a remote one.
 
-``None`` (default): each batch goes through :func:`stepframe.core.execution.map_items` with a
-process pool of ``jobs`` workers. ``"dask-local"`` starts a ``dask.distributed.LocalCluster``
-(loopback only, one thread per worker process, no dashboard); ``"tcp://HOST:PORT"`` connects to a
-running scheduler. Both hand ``map_items`` the client's ``concurrent.futures`` executor
-(``client.get_executor()``). Dask workers read records from their paths: they must see the same
-filesystem as the machine that runs ``stepframe run`` (docs/scaling.md).
+``None`` (default): the batches go through :func:`stepframe.core.execution.map_items` to one
+:class:`~stepframe.core.execution.WorkerPool` of ``jobs`` workers for the whole run (started by
+the first batch worth it; ``jobs=1`` runs everything in this process). ``"dask-local"`` starts a
+``dask.distributed.LocalCluster`` (loopback only, one thread per worker process, no dashboard);
+``"tcp://HOST:PORT"`` connects to a running scheduler. Both hand ``map_items`` the client's
+``concurrent.futures`` executor (``client.get_executor()``). Dask workers read records from their
+paths: they must see the same filesystem as the machine that runs ``stepframe run``
+(docs/scaling.md).
 """
 
 from __future__ import annotations
@@ -23,7 +25,7 @@ DASK_INSTALL = "pip install 'stepframe[dask]'"
 
 @dataclass(frozen=True)
 class Execution:
-    """The executor of a run: ``executor`` None means a process pool of ``jobs`` per batch."""
+    """The executor of a run: ``executor`` None means this process (``jobs`` 1)."""
 
     executor: Any
     jobs: int
@@ -72,7 +74,7 @@ def open_execution(
         An unknown scheduler, Dask missing (naming ``pip install 'stepframe[dask]'``), or a
         scheduler address that does not answer.
     """
-    from stepframe.core.execution import default_jobs
+    from stepframe.core.execution import default_jobs, worker_pool
 
     if jobs is not None and jobs < 1:
         raise InputError(f"--jobs {jobs}, expected ≥ 1")
@@ -82,7 +84,10 @@ def open_execution(
         return
     if scheduler is None:
         workers = default_jobs() if jobs is None else jobs
-        yield Execution(None, workers, f"process pool, {workers} worker(s)")
+        # One pool for the whole run, started by the first batch worth it: each batch used to
+        # start its own (about a second of worker start-up per batch and stage).
+        with worker_pool(workers) as pool:
+            yield Execution(pool, workers, f"process pool, {workers} worker(s)")
         return
     if scheduler == "dask-local":
         distributed = _import_dask()

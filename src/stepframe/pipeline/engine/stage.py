@@ -112,6 +112,9 @@ class Context:
     jobs: int | None
     executor: Any
     progress: bool
+    #: Per stage, the keys of items computed earlier in this run, in the same worker call as
+    #: their upstream item (:attr:`Stage.expand`).
+    chained: dict[str, set[str]] = field(default_factory=dict)
     #: Facts of this run a stage reports (timings): kept in the run log, not in the outputs.
     facts: dict[str, Any] = field(default_factory=dict)
     #: The tasks of each per-item stage in this run (one per key).
@@ -126,7 +129,9 @@ class Stage:
     """A registered stage (see the module docstring).
 
     Per-item stages give ``tasks`` (the items and their keys, from the context) and ``compute``
-    (module-level, run on workers: payload → list of row dicts; raises to fail the item).
+    (module-level, run on workers: payload → list of row dicts; raises to fail the item), or
+    ``compute_many`` (payloads → per payload its rows or the exception that failed it: for work
+    that costs less done together, such as simulations in one batch of the simulator).
     ``columns`` gives the column dictionary of a per-item stage's table (name → unit, meaning).
     ``check`` validates the stage's table beyond types (errors with file:line) before anything
     runs; with ``free_params`` the stage's table is passed through unchecked by the reader and
@@ -139,6 +144,14 @@ class Stage:
     a whole-set stage keeps only its latest result in the store (a result made for the records
     folder as it is now, such as the folder's processed waveforms, which a scheduled run over a
     trickle would otherwise store again, whole, each time a file arrives).
+
+    A per-item stage whose items each come from one item of its only upstream per-item stage
+    (``features``: one per component of an ``inventory`` file) may give ``expand`` (module-level:
+    ``expand(expand_args(context), upstream task, the upstream item's rows)`` → its tasks for
+    that item). Then an upstream item computed in a run has its own items computed in the same
+    worker call, right after it: each record file is read once (the stages share what the file
+    gave, :mod:`stepframe.pipeline.catalogue.stage`). ``tasks`` should build its tasks with the
+    same function, so that both give the same keys.
     """
 
     name: str
@@ -159,6 +172,9 @@ class Stage:
     free_params: bool = False
     prepare: Callable[[Context], None] | None = None
     latest_set_only: bool = False
+    expand: Callable[[Any, Task, list[dict[str, Any]]], list[Task]] | None = None
+    expand_args: Callable[[Context], Any] | None = None
+    compute_many: Callable[[list[Any]], list[list[dict[str, Any]] | Exception]] | None = None
 
     def parameters(self, workflow: Workflow) -> dict[str, Any]:
         """The stage's parameters in ``workflow`` (defaults filled in)."""

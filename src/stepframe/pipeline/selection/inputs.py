@@ -120,8 +120,11 @@ def read_metadata(path: str, files: list[str]) -> Any:
     return extra[extra["file"].notna()]
 
 
-def example_catalogue(jobs: int | None = None) -> tuple[Any, dict[tuple[str, str], Any], Any]:
-    """The embedded FEMA P695 catalogue as selection inputs.
+def example_catalogue(
+    jobs: int | None = None, executor: Any = None
+) -> tuple[Any, dict[tuple[str, str], Any], Any]:
+    """The embedded FEMA P695 catalogue as selection inputs (features computed with ``jobs``
+    workers or on ``executor``).
 
     Returns
     -------
@@ -136,7 +139,7 @@ def example_catalogue(jobs: int | None = None) -> tuple[Any, dict[tuple[str, str
     from stepframe.stochastic.catalog_features import catalog_features
 
     stream, metadata = fema_p695()
-    features, failures = catalog_features(stream, n_jobs=jobs)
+    features, failures = catalog_features(stream, n_jobs=jobs, executor=executor)
     rows: list[dict[str, Any]] = metadata.to_dict(orient="records")  # type: ignore[assignment]
     meta = metadata.assign(
         file=[file_name(row) for row in rows],
@@ -176,13 +179,17 @@ def folder_catalogue(
     metadata: str | None,
     record_options: dict[str, Any] | None,
     jobs: int | None,
+    executor: Any = None,
 ) -> tuple[Any, Any]:
-    """Features of the files of ``folders`` joined with the metadata CSV (first) and the values
-    the record headers give (then), and the features' failures."""
+    """Features of the files of ``folders`` (with ``jobs`` workers or on ``executor``) joined
+    with the metadata CSV (first) and the values the record headers give (then), and the
+    features' failures."""
     from stepframe.stochastic.catalog_features import catalog_features
 
     files = catalogue_files(folders)
-    table, failures = catalog_features(files, n_jobs=jobs, record_options=record_options)
+    table, failures = catalog_features(
+        files, n_jobs=jobs, executor=executor, record_options=record_options
+    )
     if metadata is not None:
         table = join_metadata(table, read_metadata(metadata, files))
     return join_headers(table, header_table(files, record_options)), failures
@@ -221,6 +228,22 @@ def select_from_catalogue(
     SelectionResult
         With the features' failures joined to the selection's (status ``degraded`` then).
     """
+    from stepframe.core.execution import worker_pool
+
+    with worker_pool(jobs) as pool:  # one pool for the features and the selection
+        return _select(frame, options, example, catalogue, metadata, record_options, jobs, pool)
+
+
+def _select(
+    frame: Any,
+    options: Any,
+    example: bool,
+    catalogue: str | list[str] | None,
+    metadata: str | None,
+    record_options: dict[str, Any] | None,
+    jobs: int | None,
+    pool: Any,
+) -> Any:
     import pandas as pd
 
     from stepframe.core.results import Failure, failures_table
@@ -238,11 +261,11 @@ def select_from_catalogue(
     parts, failure_parts = [], []
     records = None
     if example:
-        table, records, feature_failures = example_catalogue(jobs)
+        table, records, feature_failures = example_catalogue(jobs, pool)
         parts.append(table)
         failure_parts.append(feature_failures)
     if folders:
-        table, feature_failures = folder_catalogue(folders, metadata, record_options, jobs)
+        table, feature_failures = folder_catalogue(folders, metadata, record_options, jobs, pool)
         parts.append(table)
         failure_parts.append(feature_failures)
     table = pd.concat(parts, ignore_index=True) if len(parts) > 1 else parts[0]
@@ -253,7 +276,13 @@ def select_from_catalogue(
             f"no component gave features ({len(feature_failures)} failed), expected records"
         )
     result = select_records(
-        table, frame, options, records=records, jobs=jobs, record_options=record_options
+        table,
+        frame,
+        options,
+        records=records,
+        jobs=jobs,
+        executor=pool,
+        record_options=record_options,
     )
     if len(feature_failures):
         # Feature failures already have the one failure layout (item, stage, error type, message).

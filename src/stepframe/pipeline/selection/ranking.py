@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -19,7 +20,12 @@ from numpy.typing import NDArray
 
 from stepframe.core.results import Failure
 from stepframe.pipeline.selection.choose import percentile_scores
-from stepframe.pipeline.selection.exact import BISECTION_STEPS, LADDER, simulated_response
+from stepframe.pipeline.selection.exact import (
+    BISECTION_STEPS,
+    LADDER,
+    ResponseRanking,
+    simulated_response,
+)
 from stepframe.pipeline.selection.intensity import RankingIntensity, ranking_intensity
 from stepframe.pipeline.selection.names import SIMULATED_RESPONSE
 from stepframe.pipeline.selection.peers import PEERS
@@ -80,6 +86,8 @@ def rank_candidates(
     sd_t1_m: Floats,
     frame: Any,
     options: Any,
+    simulated: Mapping[int, Any] | None = None,
+    load: Callable[[list[int]], None] | None = None,
 ) -> tuple[Ranking, list[Failure], list[int]]:
     """Rank the passing rows of ``table`` at the options' intensity.
 
@@ -91,11 +99,18 @@ def rank_candidates(
     passing
         Rows still in.
     samples
-        Row → (ground acceleration [m/s²], dt [s]).
+        Row → (ground acceleration [m/s²], dt [s]) of the rows this process holds.
     sd_t1_m
         SD(T_1, ξ_1) per row [m] (the onset ratio's measure).
     frame, options
         The frame and the run's options.
+    simulated
+        Row → the record pass's outcome (:class:`~stepframe.pipeline.selection.record_pass.
+        Outcome`): its ``npts``, ``dt_s`` and, when the workers simulated the row at this very
+        base scale, its ``ranked`` response (used as it is: each candidate's simulation depends
+        on its record alone).
+    load
+        Called with the rows to simulate here whose samples ``samples`` lacks, to read them in.
 
     Returns
     -------
@@ -122,10 +137,22 @@ def rank_candidates(
         z[passing] = percentile_scores(tier_values(table, options.rank_by, base)[passing])
         return Ranking(intensity, the_plan, z, 0, 0.0), [], []
     failures: list[Failure] = []
-    usable = np.array([i for i in passing if math.isfinite(base[i]) and i in samples], dtype=int)
+    done = {
+        int(i): outcome
+        for i, outcome in (simulated or {}).items()
+        if outcome.ranked is not None and outcome.ranked["base"] == base[i]
+    }
+    need = [int(i) for i in passing if math.isfinite(base[i]) and i not in done]
+    if load is not None and need:
+        load(need)
+    usable = np.array(
+        [i for i in passing if math.isfinite(base[i]) and (i in samples or i in done)], dtype=int
+    )
     for i in sorted(set(passing.tolist()) - set(usable.tolist())):
         failures.append(_failure(table, i, f"ranking scale {base[i]:g}, expected a finite factor"))
-    tail = sum(samples[i][0].size + TAIL_S / samples[i][1] for i in usable)
+    tail = sum(
+        npts + TAIL_S / dt_s for npts, dt_s in (_size(i, samples, simulated) for i in usable)
+    )
     # at most the ladder's runs and the bisection's, per candidate
     the_plan = plan(options, int(usable.size), int(tail), len(LADDER) + BISECTION_STEPS)
     rows = usable
@@ -134,8 +161,8 @@ def rank_candidates(
         values = tier_values(table, the_plan.tier, base)[usable]
         rows = usable[np.sort(best_rows(values, the_plan.k))]
     start = time.perf_counter()
-    response = simulated_response(frame, [samples[i] for i in rows], base[rows])
-    seconds = time.perf_counter() - start
+    response, seconds = _responses(frame, rows, samples, base, done)
+    seconds += time.perf_counter() - start
     table.loc[rows, "simulated"] = True
     table.loc[rows, SIMULATED_RESPONSE] = response.response_m
     table.loc[rows, "overturn_factor"] = response.overturn_factor
@@ -147,6 +174,52 @@ def rank_candidates(
     failures += [_failure(table, i, response.failed[list(rows).index(i)]) for i in failed]
     bad = sorted(set(passing.tolist()) - set(usable.tolist())) + failed
     return Ranking(intensity, the_plan, z, int(rows.size), seconds), failures, bad
+
+
+def _size(
+    row: int, samples: Mapping[int, tuple[Floats, float]], simulated: Mapping[int, Any] | None
+) -> tuple[int, float]:
+    """A row's samples and dt [s], from its samples or its record pass."""
+    if row in samples:
+        return samples[row][0].size, samples[row][1]
+    assert simulated is not None
+    return simulated[row].npts, simulated[row].dt_s
+
+
+def _responses(
+    frame: Any,
+    rows: NDArray[np.int64],
+    samples: Mapping[int, tuple[Floats, float]],
+    base: Floats,
+    done: Mapping[int, Any],
+) -> tuple[ResponseRanking, float]:
+    """The simulated response of ``rows``: the workers' where they ran it (``done``), the rest
+    simulated here; and the workers' seconds."""
+    here = np.array([i for i in rows if i not in done], dtype=np.int64)
+    local = simulated_response(frame, [samples[i] for i in here], base[here])
+    position = {int(i): k for k, i in enumerate(here)}
+    n = len(rows)
+    response_m, factor, peak = np.full(n, np.nan), np.full(n, np.nan), np.full(n, np.nan)
+    overturned = np.zeros(n, dtype=bool)
+    n_overturned = np.zeros(n, dtype=np.int64)
+    failed = [""] * n
+    seconds = 0.0
+    for j, i in enumerate(rows):
+        if int(i) in done:
+            entry = done[int(i)].ranked
+            response_m[j], factor[j] = entry["response_m"], entry["overturn_factor"]
+            peak[j], overturned[j] = entry["peak_m"], entry["overturned"]
+            n_overturned[j], failed[j] = entry["n_overturned"], entry["failed"]
+            seconds += float(done[int(i)].seconds[0])
+            continue
+        k = position[int(i)]
+        response_m[j], factor[j] = local.response_m[k], local.overturn_factor[k]
+        peak[j], overturned[j] = local.peak_m[k], local.overturned[k]
+        n_overturned[j], failed[j] = local.n_overturned[k], local.failed[k]
+    ranking = ResponseRanking(
+        response_m, factor, peak, overturned, n_overturned, failed, local.factors
+    )
+    return ranking, seconds
 
 
 def _failure(table: Any, row: int, message: str) -> Failure:

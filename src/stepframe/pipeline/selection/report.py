@@ -12,6 +12,7 @@ draws only what the folder holds, saying what is missing.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable
 from os import PathLike
@@ -34,6 +35,7 @@ from stepframe.pipeline.reports.document import (
 )
 from stepframe.pipeline.reports.provenance import Provenance, collect_provenance, command_line
 from stepframe.pipeline.selection.report_folder import SelectionOutputs, read_selection_folder
+from stepframe.pipeline.selection.report_resonance import resonance_section
 from stepframe.stochastic.model import MODEL_FIELDS, GroundMotionModel
 
 TWO_PI = 2 * math.pi
@@ -43,6 +45,8 @@ SPECTRUM_PERIODS_S = np.geomspace(0.05, 10.0, 60)
 
 #: Records whose accelerograms are drawn (the best first).
 N_ACCELEROGRAMS = 3
+#: A table longer than this is drawn on the page by its first rows only (all of it in its CSV).
+PAGE_ROWS = 50
 
 #: Columns that name the filter that dropped a candidate (first present wins).
 DROPPED_COLUMNS = ("dropped_by", "filter", "dropped_by_filter")
@@ -537,17 +541,48 @@ def scores_section(outputs: SelectionOutputs, candidates: pd.DataFrame, rank_by:
             outputs.columns.get("selection", {}),
             sortable=True,
         ),
-        Table(
-            "candidates",
-            "Every candidate and its scores",
-            candidates,
-            "All candidates with the simulated response, every score and standard intensity "
-            "measure, and the filter that dropped them",
-            outputs.columns.get("candidates", {}),
-            sortable=True,
+        *_long_table(
+            Table(
+                "candidates",
+                "Every candidate and its scores",
+                candidates,
+                "All candidates with the simulated response, every score and standard "
+                "intensity measure, and the filter that dropped them",
+                outputs.columns.get("candidates", {}),
+                sortable=True,
+            ),
+            _best_first(candidates, rank_by),
+            "best ranked first, the chosen ones at the top",
         ),
     ]
     return Section("Ranking and scores", items)
+
+
+def _long_table(table: Table, ordered: pd.DataFrame, order: str) -> list[Table]:
+    """``table`` on the page, or, past :data:`PAGE_ROWS` rows, its first rows in ``ordered``'s
+    order on the page and the whole table as CSV only: a page of 43,000 rows is unreadable
+    (and tens of megabytes)."""
+    if len(table.frame) <= PAGE_ROWS:
+        return [table]
+    top = Table(
+        f"{table.key}_top",
+        f"{table.title}: the first {PAGE_ROWS} of {len(table.frame)}",
+        ordered.head(PAGE_ROWS),
+        f"{table.caption}; {order} (all {len(table.frame)} rows in {table.key}.csv)",
+        table.columns,
+        sortable=table.sortable,
+    )
+    return [top, dataclasses.replace(table, on_page=False)]
+
+
+def _best_first(candidates: pd.DataFrame, rank_by: str) -> pd.DataFrame:
+    """The candidates, chosen ones first, then best ranked first (by the ranking percentile, or
+    the ranking score itself when the folder has no percentile)."""
+    rank = "rank_score_percentile" if "rank_score_percentile" in candidates.columns else rank_by
+    keys = [c for c in ("selected", rank) if c in candidates.columns]
+    if not keys:
+        return candidates
+    return candidates.sort_values(keys, ascending=False, kind="stable", na_position="last")
 
 
 def confirmation_section(
@@ -572,7 +607,7 @@ def confirmation_section(
     chosen = set(zip(selection["file"].astype(str), _components(selection), strict=True))
     equal = _equal_intensity(table, candidates, rank_by)
     items, confirmation_numbers = _confirmation(equal, summary, chosen)
-    items.append(
+    items += _long_table(
         Table(
             "confirmation",
             "Confirmation table",
@@ -580,7 +615,9 @@ def confirmation_section(
             "Simulated response of the selected records and the controls",
             outputs.columns.get("confirmation", {}),
             sortable=True,
-        )
+        ),
+        outputs.tables["confirmation"],
+        "the selected records and the controls first",
     )
     numbers["confirmation"] = confirmation_numbers
     stated = _stated_correlations(summary, rank_by)
@@ -651,7 +688,8 @@ def selection_report(
 
     Its sections in order (docs/reports.md): the frame's band, the selected records'
     ω_g(t) paths, the best records' accelerograms, the scores, the spectra of the set, the
-    confirmation by simulation, the filters and failures.
+    confirmation by simulation, moving resonance in the best records' simulations, the filters
+    and failures.
     """
     summary = outputs.summary
     folder = outputs.folder
@@ -686,6 +724,11 @@ def selection_report(
         ("Scaling", str(summary.get("scale", summary.get("scaling", "none")))),
     ]
     best = rows[:N_ACCELEROGRAMS]
+    scales = [_scale_of(row) for row in best]
+
+    def load(row: dict[str, Any]) -> Any:
+        return record_loader(row, folder)
+
     sections = [
         band_section(summary, frame, band),
         paths_section(rows, names, band),
@@ -697,6 +740,7 @@ def selection_report(
         spectra_section(outputs, rows, names, band, record_loader, numbers, summary_lines),
         chosen_scale_section(summary, numbers, summary_lines),
         confirmation_section(outputs, candidates, rank_by, numbers, summary_lines),
+        resonance_section(best, names, scales, frame, band, load, numbers),
         filters_section(outputs, candidates, numbers),
     ]
     return Report(

@@ -93,9 +93,13 @@ def _dictionary(folder: Path, stem: str) -> tuple[dict[str, str], Path | None]:
     return {}, None
 
 
+#: Columns read as text whatever they look like: a component named "000" stays "000".
+TEXT_COLUMNS = {"file": str, "component": str, "station": str, "event": str}
+
+
 def _read_csv(path: Path) -> pd.DataFrame:
     try:
-        return pd.read_csv(path)
+        return pd.read_csv(path, dtype=TEXT_COLUMNS)
     except pd.errors.EmptyDataError:
         raise InputError("empty file, expected a CSV table with a header line", path) from None
     except (pd.errors.ParserError, UnicodeDecodeError) as error:

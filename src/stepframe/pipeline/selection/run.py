@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable, Mapping
 from concurrent.futures import Executor
@@ -11,10 +12,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from stepframe.core.execution import map_items
+from stepframe.core.execution import default_jobs, map_items
 from stepframe.core.results import Failure, failures_table, set_column_dictionary
 from stepframe.errors import InputError
 from stepframe.pipeline.selection import confirm as confirmation
+from stepframe.pipeline.selection import record_pass
 from stepframe.pipeline.selection import scores as sc
 from stepframe.pipeline.selection.band import FrameBand, frame_band
 from stepframe.pipeline.selection.choose import Units, choose, percentile_scores
@@ -32,13 +34,12 @@ from stepframe.pipeline.selection.names import (
 )
 from stepframe.pipeline.selection.options import SelectionOptions
 from stepframe.pipeline.selection.path import MODEL_COLUMNS, strong_motion_paths
-from stepframe.pipeline.selection.peers import PEERS, PeerPeriods, spectra_and_peers
+from stepframe.pipeline.selection.peers import PEERS
 from stepframe.pipeline.selection.ranking import RANKING_COLUMNS, Ranking, rank_candidates
 from stepframe.pipeline.selection.result import SelectionResult, column_dictionary
 from stepframe.pipeline.selection.samples import read_samples as _read_samples
 from stepframe.pipeline.selection.spectral import (
     G_M_S2,
-    misfit_periods_s,
     record_scales,
     scale_factors,
     spectral_misfit,
@@ -48,7 +49,6 @@ from stepframe.pipeline.selection.substitute import (
     SubstituteLevels,
     predicted_overturn_ratio,
     substitute_demand_ratio,
-    substitute_levels,
 )
 from stepframe.pipeline.selection.tiers import FIT_TIERS
 from stepframe.structure.frame import PortalFrame
@@ -124,27 +124,9 @@ PhysicsItem = tuple[str, dict[str, float], FrameBand, float, float, tuple[float,
 COMPUTE_FAILURES = ("physics_failed", "samples_failed", "spectra_failed")
 COMPUTED_RULE = "samples read, spectra and scores computed (the rest in failures.csv)"
 
-#: Rough cost of one item on one core [s]: the physics score, one record's spectrum.
-PHYSICS_S = 0.005
-SPECTRUM_S = 0.01
-#: Below this much work a process pool costs more than it saves (each worker imports numpy,
-#: scipy and loads the numba kernels: about a second of CPU).
-POOL_WORTH_S = 3.0
-
-
-def _workers(jobs: int | None, executor: Executor | None, work_s: float) -> int | None:
-    """``jobs``, or 1 (run in this process) for a small batch when no executor is given."""
-    if executor is None and jobs is None and work_s < POOL_WORTH_S:
-        return 1
-    return jobs
-
 
 def _item_name(item: PhysicsItem) -> str:
     return item[0]
-
-
-def _spectrum_name(item: tuple[Any, ...]) -> str:
-    return f"record of {item[0].size} samples, dt {item[1]:g} s"
 
 
 def _physics_item(item: PhysicsItem) -> tuple[float, float]:
@@ -197,7 +179,7 @@ def _physics(
     outcome = map_items(
         _physics_item,
         items,
-        jobs=_workers(jobs, executor, len(items) * PHYSICS_S),
+        jobs=jobs,
         executor=executor,
         stage="physics",
         name_of=_item_name,
@@ -298,58 +280,69 @@ def _drop_single_components(
 def _spectra(
     table: Any,
     dropped_by: NDArray[np.object_],
-    band: FrameBand,
-    levels: SubstituteLevels | None,
-    periods: Floats,
+    spec: record_pass.PassSpec,
     out: tuple[Floats, Floats, Floats],
-    sources: tuple[Mapping[RecordKey, Samples] | None, Mapping[str, Any] | None],
+    records: Mapping[RecordKey, Samples] | None,
     parallel: tuple[int | None, Executor | None],
-) -> tuple[dict[int, Samples], list[Failure]]:
-    """Read the passing candidates' samples and run their one spectra pass: PSA (5 %) at T_1
-    and the misfit periods into ``table["psa_t1_g"]`` and ``out[0]``, SD(T_1, ξ_1) into
-    ``out[1]``, SD at the substitute structure's levels into ``out[2]`` (when ``levels`` is
-    given), and the peers (:mod:`~stepframe.pipeline.selection.peers`) into the table. Rows
-    without samples or spectra get their ``dropped_by`` reason."""
+    responses: Mapping[RecordKey, Mapping[str, Any]] | None,
+) -> tuple[dict[int, record_pass.Outcome], list[Failure]]:
+    """The passing candidates' record pass (:mod:`.record_pass`: in the workers, or stored by
+    the ``responses`` stage for this very pass): PSA (5 %) at T_1 and the misfit periods into
+    ``table["psa_t1_g"]`` and ``out[0]``, SD(T_1, ξ_1) into ``out[1]``, SD at the substitute
+    structure's levels into ``out[2]`` (when the pass computes them), and the peers
+    (:mod:`~stepframe.pipeline.selection.peers`) into the table; the outcomes by row (with the
+    ranking's and the confirmation's simulations when the pass ran them). Rows without samples
+    or spectra get their ``dropped_by`` reason."""
     psa, sd_t1, sd_levels = out
     jobs, executor = parallel
     passing = np.flatnonzero(dropped_by == "")
-    samples, failures = _read_samples(table, passing, *sources)
-    have = np.array(sorted(samples), dtype=np.int64)
-    for i in set(passing.tolist()) - set(have.tolist()):
-        dropped_by[i] = "samples_failed"
-    with_t1 = np.concatenate([[band.period_1_s], periods])
-    frame = band.frame
-    groups = (
-        (with_t1, 0.05),
-        (np.array([band.period_1_s]), frame.xi_1),
-        *(levels.spectrum_groups() if levels is not None else ()),
-    )
-    peer_periods = PeerPeriods(band.period_1_s, 2.0 * math.pi / band.omega_low_rad_s)
-    outcome = map_items(
-        spectra_and_peers,
-        [(samples[i][0], samples[i][1], groups, peer_periods) for i in have],
-        jobs=_workers(jobs, executor, have.size * SPECTRUM_S),
+    digest = record_pass.spec_digest(spec) if responses else ""
+    files = table["file"].astype(str).to_numpy()
+    components = table["component"].astype(str).to_numpy()
+    results: list[record_pass.Outcome] = []
+    todo = []
+    for row in passing.tolist():
+        entry = responses.get((files[row], components[row])) if responses else None
+        if entry is not None and entry["spec"] == digest:
+            results.append(record_pass.from_stored(row, entry))
+        else:
+            todo.append(row)
+    computed = map_items(
+        record_pass.record_pass,
+        record_pass.items(table, todo, records, spec, jobs or default_jobs()),
+        jobs=jobs,
         executor=executor,
+        chunk_size=1,
         stage="spectra",
-        name_of=_spectrum_name,
+        name_of=record_pass.item_name,
     )
-    omega_sq = (2.0 * math.pi / with_t1) ** 2
+    results += [entry for entries in computed.results for entry in entries]
+    omega_sq = (2.0 * math.pi / spec.groups[0][0]) ** 2
+    psa_t1 = np.full(len(table), np.nan)
     peer_values = {name: np.full(len(table), np.nan) for name in PEERS}
-    for k, ((sd_5, sd_1, *by_group), peers) in zip(outcome.indices, outcome.results, strict=True):
-        row = int(have[k])
-        values = omega_sq * sd_5
-        table.loc[row, "psa_t1_g"] = values[0] / G_M_S2
-        psa[row] = values[1:]
-        sd_t1[row] = sd_1[0]
-        if levels is not None:
-            sd_levels[row] = levels.gather(by_group)
-        for name, value in peers.items():
-            peer_values[name][row] = value
-    for name, values in peer_values.items():
-        table[name] = values
-    missing = np.flatnonzero((dropped_by == "") & ~np.isfinite(table["psa_t1_g"].to_numpy()))
+    lost: dict[str, list[Failure]] = {"samples": [], "spectra": []}
+    outcomes: dict[int, record_pass.Outcome] = {}
+    for result in results:
+        if result.failure is not None:
+            lost[result.failure.stage].append(result.failure)
+            dropped_by[result.row] = f"{result.failure.stage}_failed"
+            continue
+        assert result.sd_5 is not None and result.peers is not None
+        values = omega_sq * result.sd_5
+        psa_t1[result.row] = values[0] / G_M_S2
+        psa[result.row] = values[1:]
+        sd_t1[result.row] = result.sd_t1_m
+        if result.sd_levels is not None:
+            sd_levels[result.row] = result.sd_levels
+        for name, value in result.peers.items():
+            peer_values[name][result.row] = value
+        outcomes[result.row] = result
+    table["psa_t1_g"] = psa_t1
+    for name, peer in peer_values.items():
+        table[name] = peer
+    missing = np.flatnonzero((dropped_by == "") & ~np.isfinite(psa_t1))
     dropped_by[missing] = "spectra_failed"
-    return samples, failures + outcome.failures
+    return outcomes, [*lost["samples"], *lost["spectra"], *computed.failures]
 
 
 @dataclass
@@ -393,8 +386,10 @@ class Candidates:
 @dataclass(frozen=True)
 class Spectra:
     """The record spectra of the passing candidates: PSA at the misfit periods, SD(T_1, ξ_1),
-    SD at the substitute structure's levels (NaN unless the substitute score is asked for), and
-    the samples they came from."""
+    SD at the substitute structure's levels (NaN unless the substitute score is asked for), the
+    record pass's outcomes by row (:mod:`.record_pass`: numbers, no samples), and the samples
+    of the few rows this process reads (:meth:`load`: the chosen set and its controls; every
+    candidate only where a step needs them together, such as a record's two components)."""
 
     periods_s: Floats
     psa: Floats
@@ -402,6 +397,18 @@ class Spectra:
     levels: SubstituteLevels
     samples: dict[int, Samples]
     sd_t1_m: Floats
+    outcomes: dict[int, record_pass.Outcome] = field(default_factory=dict)
+    sources: tuple[Mapping[RecordKey, Samples] | None, Mapping[str, Any] | None] = (None, None)
+
+    def load(self, table: Any, rows: Any) -> list[Failure]:
+        """Read the samples of ``rows`` this process does not hold yet (into :attr:`samples`);
+        the rows whose samples could not be had."""
+        missing = np.array([int(i) for i in rows if int(i) not in self.samples], dtype=np.int64)
+        if not missing.size:
+            return []
+        more, failures = _read_samples(table, missing, *self.sources)
+        self.samples.update(more)
+        return failures
 
 
 @dataclass(frozen=True)
@@ -481,31 +488,24 @@ def spectra_and_substitute(
     options: SelectionOptions,
     sources: tuple[Mapping[RecordKey, Samples] | None, Mapping[str, Any] | None],
     parallel: tuple[int | None, Executor | None],
+    responses: Mapping[RecordKey, Mapping[str, Any]] | None = None,
 ) -> Spectra:
-    """Step 3: read the passing records and run their one spectra pass (PSA at T_1 and the
-    misfit periods, SD(T_1, ξ_1), the peers, and SD at the substitute levels when the
-    substitute score is named); the substitute structure's scores."""
+    """Step 3: the passing records' one pass in the workers (:mod:`.record_pass`: PSA at T_1
+    and the misfit periods, SD(T_1, ξ_1), the peers, SD at the substitute levels when the
+    substitute score is named, and the simulations that depend on the record alone); the
+    substitute structure's scores."""
     table, band = candidates.table, candidates.band
-    fit_only = {options.rank_by, options.prefilter} <= {*FIT_TIERS, "none", "auto"}
-    needs_samples = (
-        options.confirm
-        or options.scale != "none"
-        or options.has_target
-        or not fit_only
-        or options.rank_by == SIMULATED_RESPONSE
-    )
+    _, periods, levels, spec = record_pass.selection_inputs(band.frame, options, sources[1])
     substitute = "substitute_demand_ratio" in _named(options)
-    periods = misfit_periods_s(options, band)
-    levels = substitute_levels(band)
     table["psa_t1_g"] = np.nan
     psa = np.full((len(table), periods.size), np.nan)
     sd_t1 = np.full(len(table), np.nan)
     sd_levels = np.full((len(table), levels.periods_s.size), np.nan)
-    samples: dict[int, Samples] = {}
-    if needs_samples:
-        samples, fails = _spectra(
-            table, candidates.dropped_by, band, levels if substitute else None, periods,
-            (psa, sd_t1, sd_levels), sources, parallel,
+    outcomes: dict[int, record_pass.Outcome] = {}
+    if spec is not None:
+        outcomes, fails = _spectra(
+            table, candidates.dropped_by, spec, (psa, sd_t1, sd_levels), sources[0], parallel,
+            responses,
         )  # fmt: skip
         candidates.failures += fails
     if substitute:
@@ -516,7 +516,7 @@ def spectra_and_substitute(
     _count_compute_failures(candidates, options)
     if options.unit == "record":
         _drop_single_components(table, candidates.dropped_by, candidates.reports)
-    return Spectra(periods, psa, sd_levels, levels, samples, sd_t1)
+    return Spectra(periods, psa, sd_levels, levels, {}, sd_t1, outcomes, sources)
 
 
 def _count_compute_failures(candidates: Candidates, options: SelectionOptions) -> None:
@@ -580,9 +580,15 @@ def _rank(
 ) -> Ranking:
     """The ranking at the stated intensity; rows whose simulation failed are dropped (and in
     failures.csv)."""
+    table = candidates.table
+
+    def load(rows: list[int]) -> None:  # where the workers could not rank: read here
+        candidates.failures.extend(spectra.load(table, rows))
+
     ranking, failures, failed = rank_candidates(
-        candidates.table, candidates.passing, spectra.samples, spectra.sd_t1_m, frame, options
-    )
+        table, candidates.passing, spectra.samples, spectra.sd_t1_m, frame, options,
+        spectra.outcomes, load,
+    )  # fmt: skip
     candidates.failures += failures
     if failed:
         candidates.dropped_by[failed] = "simulation_failed"
@@ -720,6 +726,7 @@ def select_records(
     jobs: int | None = None,
     executor: Executor | None = None,
     record_options: Mapping[str, Any] | None = None,
+    responses: Mapping[RecordKey, Mapping[str, Any]] | None = None,
 ) -> SelectionResult:
     """Select records by moving resonance for ``frame`` (docs/selection.md).
 
@@ -744,6 +751,10 @@ def select_records(
         confirmation is asked for.
     jobs, executor
         Parallelism of the per-candidate steps (:func:`stepframe.core.execution.map_items`).
+    responses
+        (file, component) → the stored outcome of the record pass
+        (:func:`.record_pass.stored`), as the workflow's ``responses`` stage computed it; a
+        candidate without one, or with one of another pass, is computed in the workers here.
 
     Returns
     -------
@@ -760,7 +771,9 @@ def select_records(
     parallel = (jobs, executor)
     candidates = filtered_candidates(features, frame, options, (records, record_options))
     physics_scores(candidates, frame, options, parallel)
-    spectra = spectra_and_substitute(candidates, options, (records, record_options), parallel)
+    spectra = spectra_and_substitute(
+        candidates, options, (records, record_options), parallel, responses
+    )
     z, log_psa, log_target, ranking = rank_and_scale(candidates, spectra, frame, options, target)
     choice = choose_set(candidates, z, log_psa, log_target, options)
     rank_stability(candidates, frame, choice, options, parallel)
@@ -802,7 +815,7 @@ def _result(
     if options.confirm:
         sd_t1 = spectra.sd_t1_m  # SD(T_1, ξ_1), the confirmation's intensity measure
         confirm_table, correlations, medians, throughput = _confirm(
-            table, frame, spectra.samples, choice.chosen_rows, choice.control_rows, sd_t1, options
+            table, frame, spectra, choice.chosen_rows, choice.control_rows, sd_t1, options
         )
     summary = {
         "rank_by": options.rank_by,
@@ -891,18 +904,21 @@ def ranking_summary(
 def _confirm(
     table: Any,
     frame: PortalFrame,
-    samples: dict[int, Samples],
+    spectra: Spectra,
     chosen: list[int],
     controls: list[int],
     sd_t1: Floats,
     options: SelectionOptions,
 ) -> tuple[Any, list[dict[str, Any]], dict[str, Any], float]:
+    """The confirmation: the chosen set and its controls simulated here at their chosen scale
+    (their records read again: 2n of them), every candidate's equal-intensity run as the record
+    pass computed it in the workers, then the correlations and medians."""
     import pandas as pd
 
     frames = []
 
     def rows_of(indices: list[int], group: str, case: str, scales: Floats, run: Any) -> Any:
-        out = run.table.drop(columns=["record", "scale"]).copy()
+        out = run.drop(columns=["record", "scale"]).copy()
         out.insert(0, "file", table["file"].to_numpy()[indices])
         out.insert(1, "component", table["component"].to_numpy()[indices])
         out.insert(2, "group", group)
@@ -912,8 +928,9 @@ def _confirm(
 
     pair = chosen + controls
     scales = table["scale_factor"].to_numpy()[pair]
-    run = confirmation.run_batch(frame, [samples[i] for i in pair], scales)
-    chosen_run = rows_of(pair, "selected", "chosen-scale", scales, run)
+    spectra.load(table, pair)
+    run = confirmation.run_batch(frame, [spectra.samples[i] for i in pair], scales)
+    chosen_run = rows_of(pair, "selected", "chosen-scale", scales, run.table)
     chosen_run.loc[len(chosen) :, "group"] = "control"
     frames.append(chosen_run)
     candidates = [
@@ -921,13 +938,13 @@ def _confirm(
         for i in np.flatnonzero(table["dropped_by"].to_numpy() == "")
         if np.isfinite(sd_t1[i]) and sd_t1[i] > 0
     ]
-    records = [samples[i] for i in candidates]
-    equal = confirmation.equal_intensity_scales(
-        sd_t1[candidates], frame, options.confirm_onset_ratio
-    )
-    run_equal = confirmation.run_batch(frame, records, equal)
+    if not candidates:
+        raise InputError("no candidate has a positive SD(T_1), expected one to confirm")
+    outcomes = [spectra.outcomes[i] for i in candidates]
+    run_equal = pd.DataFrame([outcome.equal for outcome in outcomes])
+    equal = run_equal["scale"].to_numpy(dtype=np.float64)
+    onset = run_equal.pop("overturn_onset_ratio").to_numpy(dtype=np.float64)
     equal_rows = rows_of(candidates, "candidate", "equal-psa-t1", equal, run_equal)
-    onset = confirmation.overturn_onset_ratios(frame, records, sd_t1[candidates])
     equal_rows["overturn_onset_ratio"] = onset
     frames.append(equal_rows)
     result = pd.concat(frames, ignore_index=True)
@@ -944,7 +961,7 @@ def _confirm(
     )
     is_chosen = np.isin(candidates, chosen)
     is_control = np.isin(candidates, controls)
-    overturned = run_equal.table["overturned"].to_numpy(dtype=bool)
+    overturned = run_equal["overturned"].to_numpy(dtype=bool)
     chosen_peak = run.table["peak_abs_x_m"].to_numpy(dtype=np.float64)
     in_set = np.arange(len(pair)) < len(chosen)
     medians = {
@@ -958,7 +975,9 @@ def _confirm(
         "n_control": len(controls),
         "n_equal_intensity": len(candidates),
     }
-    return result, correlations, medians, run_equal.samples_per_s
+    simulated = sum(outcome.npts for outcome in outcomes)
+    seconds = sum(outcome.seconds[1] for outcome in outcomes)
+    return result, correlations, medians, simulated / seconds if seconds > 0 else math.inf
 
 
 OVER_RANGE_TOP = confirmation.OVERTURN_RATIO_RANGE[1] * 2.0
@@ -1042,6 +1061,8 @@ def scale_records(
     for i in candidates.passing:
         members.setdefault(records[i], []).append(int(i))
     groups = list(members.values())
+    # a pair's spectrum needs both records at once: read here (the rows the pass computed)
+    candidates.failures += spectra.load(table, candidates.passing)
     scales, clipped, misfit, pair_log = record_scales(
         groups,
         spectra.samples,
@@ -1074,13 +1095,11 @@ def chosen_outcome(
     """Step 8: the chosen set's scaled spectra, the code's check, what it does to the frame at
     the chosen scale, and its motions (:func:`.chosen.chosen_set`)."""
     table = candidates.table
-    samples = dict(spectra.samples)
-    missing = np.array([i for i in choice.chosen_rows if i not in samples], dtype=np.int64)
-    if missing.size:  # none read yet (ranked by a score of the fit, no scaling or target)
-        more, _ = _read_samples(table, missing, *sources)  # unread: chosen_set says so
-        samples.update(more)
+    if spectra.sources == (None, None):  # no pass ran (ranked by a score of the fit)
+        spectra = dataclasses.replace(spectra, sources=sources)
+    spectra.load(table, choice.chosen_rows)  # unread: chosen_set says so
     return chosen_set(
-        table, choice.chosen_rows, samples, frame, candidates.band, options, target,
+        table, choice.chosen_rows, spectra.samples, frame, candidates.band, options, target,
         spectra.periods_s,
     )  # fmt: skip
 

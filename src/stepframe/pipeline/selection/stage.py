@@ -1,20 +1,27 @@
-"""The selection job's stages: ``selection`` and ``selection_report``.
+"""The selection job's stages: ``responses``, ``selection`` and ``selection_report``.
 
-``selection`` calls :func:`stepframe.pipeline.selection.run.select_records` on the ``features``
-table (joined with the inventory's event and magnitude, and the example catalogue's metadata);
-``selection_report`` writes the report of that selection (docs/reports.md) into the stage's
-folder, keyed by the selection's key, so it is rebuilt only when what it shows changes.
+``responses`` is the selection's work on each record (:mod:`.record_pass`: the spectra at the
+frame's periods with the peers, the ranking's simulations at the record's own scale and, with
+confirmation, the simulation at equal intensity), per component and stored, so a new record
+costs its own pass only; it follows ``features``
+(:attr:`~stepframe.pipeline.engine.stage.Stage.expand`), a group of files at a time, on the
+records the worker has just read. ``selection`` calls
+:func:`stepframe.pipeline.selection.run.select_records` on the ``features`` table (joined with
+the inventory's event and magnitude, and the example catalogue's metadata) and the stored
+responses; ``selection_report`` writes the report of that selection (docs/reports.md) into the
+stage's folder, keyed by the selection's key, so it is rebuilt only when what it shows changes.
 """
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from typing import Any
 
 from stepframe.core.io import copy_files
 from stepframe.errors import InputError
 from stepframe.pipeline.catalogue.stage import record_folder
-from stepframe.pipeline.engine.stage import Context, Stage
+from stepframe.pipeline.engine.stage import Context, Stage, Task
 from stepframe.pipeline.engine.store import make_key
 from stepframe.pipeline.reports.provenance import workflow_provenance
 
@@ -22,6 +29,8 @@ from stepframe.pipeline.reports.provenance import workflow_provenance
 # chosen set's spectra, code check, response and motions; 4: records by identity; 5: ranked by
 # the simulated response at a stated intensity
 SELECTION_VERSION = 5
+# 2: the peers and the ranking's simulations in the pass
+RESPONSES_VERSION = 2
 # 2: the best records' accelerograms; 3: stated correlations; 4: the run's spectra and check,
 # the chosen set at its scale, chosen records marked, "not run"; 5: records by identity; 6: the
 # ranking's sections; 7: the ranking intensity in the summary box
@@ -55,6 +64,7 @@ def _selection_key(context: Context) -> str:
             "frame": context.workflow.frame_source,
         },
         *map(str, table["_key"]),
+        *map(str, context.tables["responses"]["_key"]),
     )
 
 
@@ -62,19 +72,25 @@ def _selection_run(context: Context, folder: Path) -> None:
     from stepframe.pipeline.selection import select_records
 
     features = context.tables["features"].drop(columns=["_key"])
-    # select_records re-reads records by path (spectra, confirmation): give it absolute paths
+    # select_records re-reads records by path (the chosen set): give it absolute paths (joined
+    # as text: a Path per row cost seconds at 43,000 rows)
     folder_of_records = record_folder(context).absolute()
-    features["file"] = [str(folder_of_records / name) for name in features["file"]]
+    prefix = f"{folder_of_records}{os.sep}"
     inventory = context.tables["inventory"]
-    extra = inventory[["file", "component", "event", "magnitude"]].copy()
-    extra["file"] = [str(folder_of_records / name) for name in extra["file"]]
+    extra = inventory[["file", "component", "event", "magnitude"]]
     features = features.merge(extra, on=["file", "component"], how="left")
+    features["file"] = prefix + features["file"].astype(str)
     records = context.workflow.records
     if records is not None and records.example is not None:
         from stepframe.pipeline.catalogue.example_files import example_metadata
 
         features = _join_new_columns(features, example_metadata(folder_of_records))
-    kwargs: dict[str, Any] = {"jobs": context.jobs, "executor": context.executor}
+    stored = context.tables["responses"].drop(columns=["_key"]).to_dict(orient="records")
+    kwargs: dict[str, Any] = {
+        "jobs": context.jobs,
+        "executor": context.executor,
+        "responses": {(prefix + str(r["file"]), str(r["component"])): r for r in stored},
+    }
     if records is not None and records.options:
         kwargs["record_options"] = dict(records.options)
     result = select_records(
@@ -119,13 +135,128 @@ def _selection_publish(folder: Path, outputs: Path) -> list[Path]:
     return copy_files(folder, outputs / "selection")
 
 
+def _responses_args(context: Context) -> tuple[Any, str, dict[str, Any], str]:
+    """The pass the workflow's selection needs (None: none), its digest, the record options and
+    the records folder (absolute)."""
+    from stepframe.pipeline.selection import record_pass
+
+    workflow = context.workflow
+    records = dict(workflow.records.options) if workflow.records is not None else {}
+    spec = record_pass.selection_inputs(workflow.frame, _selection_options(workflow), records)[3]
+    digest = record_pass.spec_digest(spec) if spec is not None else ""
+    return spec, digest, records, str(record_folder(context).absolute())
+
+
+def _response_task(
+    args: tuple[Any, str, dict[str, Any], str],
+    features_key: str,
+    file: str,
+    component: str,
+    sha: str,
+) -> Task:
+    spec, digest, options, folder = args
+    return Task(
+        key=make_key("responses", RESPONSES_VERSION, {"spec": digest}, features_key),
+        name=f"{file} [{component}]",
+        payload=(f"{folder}{os.sep}{file}", options, component, sha, spec, digest),
+        context={"file": file, "component": component},
+    )
+
+
+def _responses_tasks(context: Context) -> list[Task]:
+    args = _responses_args(context)
+    if args[0] is None:
+        return []
+    features = context.tables["features"]
+    inventory = context.tables["inventory"]
+    sha = dict(zip(inventory["file"], inventory["content_sha256"], strict=True))
+    return [
+        _response_task(args, str(key), str(file), str(component), str(sha[file]))
+        for key, file, component in zip(
+            features["_key"], features["file"], features["component"], strict=True
+        )
+    ]
+
+
+def expand_responses(
+    args: tuple[Any, str, dict[str, Any], str], features: Task, rows: list[dict[str, Any]]
+) -> list[Task]:
+    """The responses task of one component, from its features task (worker side)."""
+    if args[0] is None or not rows:
+        return []
+    file, component = str(features.context["file"]), str(features.context["component"])
+    return [_response_task(args, features.key, file, component, str(features.payload[-1]))]
+
+
+def compute_responses(payloads: list[Any]) -> list[list[dict[str, Any]] | Exception]:
+    """The record pass of a group of components (worker side): the records from
+    :func:`~stepframe.pipeline.catalogue.stage.read_record` (read just before for their
+    features), simulated together; per component its stored row, or why it failed."""
+    from stepframe.pipeline.catalogue.stage import ItemFailure, read_record
+    from stepframe.pipeline.selection import record_pass
+
+    spec, digest = payloads[0][4], payloads[0][5]
+    out: list[list[dict[str, Any]] | Exception] = [ItemFailure("not computed")] * len(payloads)
+    members = []
+    for k, (path, options, component, sha, *_) in enumerate(payloads):
+        try:
+            samples = record_pass.component_samples(
+                read_record(path, options, sha), path, component
+            )
+        except Exception as error:  # recorded as this item's failure
+            out[k] = ItemFailure(f"samples: {error}")
+            continue
+        members.append(record_pass.Component(k, path, component, True, samples))
+    for outcome in record_pass.record_pass((tuple(members), spec)):
+        if outcome.failure is not None:
+            out[outcome.row] = ItemFailure(f"{outcome.failure.stage}: {outcome.failure.message}")
+        else:
+            out[outcome.row] = [record_pass.stored(outcome, digest)]
+    return out
+
+
+RESPONSES_COLUMNS: dict[str, tuple[str, str]] = {
+    "file": ("", "record file, relative to the records folder"),
+    "component": ("", "channel / component name"),
+    "spec": ("", "digest of the pass (periods, dampings, frame, intensities) it was computed for"),
+    "sd_5": ("m", "SD at T_1 and the misfit periods, 5 % damping (JSON list)"),
+    "sd_t1_m": ("m", "SD(T_1, xi_1)"),
+    "sd_levels": ("m", "SD at the substitute structure's levels (JSON list; empty: not named)"),
+    "npts": ("", "samples of the record"),
+    "dt_s": ("s", "sampling interval"),
+    "simulations": (
+        "",
+        "JSON: the peers, the ranking's simulated response at the record's own scale and the "
+        "equal-intensity simulation with its overturning ratio (null: not run in the pass)",
+    ),
+    "ranking_s": ("s", "time of the ranking's simulations (its share of its group's)"),
+    "equal_s": ("s", "time of the equal-intensity simulation (its share of its group's)"),
+}
+
+RESPONSES_STAGE = Stage(
+    name="responses",
+    version=RESPONSES_VERSION,
+    description="per component: the spectra, peers and simulated responses the selection uses",
+    kind="item",
+    params={},
+    upstream=lambda workflow: ("features",),
+    columns=lambda: RESPONSES_COLUMNS,
+    tasks=_responses_tasks,
+    compute_many=compute_responses,
+    needs_records=True,
+    needs_frame=True,
+    check=_selection_check,
+    expand=expand_responses,
+    expand_args=_responses_args,
+)
+
 SELECTION_STAGE = Stage(
     name="selection",
     version=SELECTION_VERSION,
     description="records ranked by their moving-resonance match to the frame",
     kind="set",
     params={},
-    upstream=lambda workflow: ("features",),
+    upstream=lambda workflow: ("features", "responses"),
     set_key=_selection_key,
     run_set=_selection_run,
     publish=_selection_publish,

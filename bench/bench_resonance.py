@@ -1,0 +1,92 @@
+"""Cost of the moving-resonance index beside the exact simulation of a candidate (issue 26).
+
+Run: ``python bench/bench_resonance.py [--repeat 5]``. Prints a Markdown table for
+docs/benchmarks.md.
+
+The runs are the selection confirmation's (bench/bench_simulator.py :func:`cases`: the Example 4
+frame and the wide frame under the two shortest FEMA P695 components of each class, elastic,
+stepping and standing, overturning). For each run, medians over ``repeat`` calls of CPU time
+of the benchmarking thread (the cores are shared; ratios are the numbers to compare):
+
+- the candidate's exact simulation as the selection runs it, without history;
+- the same with history (what the index reads: x, v and the phase at every sample);
+- the band spectrum of the record over the frame's band (once per record and frame, at any
+  scale) and the index itself (ω_f(t), the ground's work, closeness, half-cycles).
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import time
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from bench_simulator import TAIL_S, cases
+from stepframe.pipeline.dynamics.resonance import band_spectrum, default_band, resonance_index
+from stepframe.records.examples import fema_p695
+from stepframe.structure.simulator import simulate
+
+
+def _cpu(fn: Callable[[], Any], repeat: int) -> tuple[Any, float]:
+    """The last result of ``fn()`` and the median thread CPU time of ``repeat`` calls [s]."""
+    times, out = [], None
+    for _ in range(repeat):
+        start = time.thread_time()
+        out = fn()
+        times.append(time.thread_time() - start)
+    return out, statistics.median(times)
+
+
+def _measure(
+    frame: Any, band: tuple[float, float], acc: np.ndarray, dt_s: float, scale: float, repeat: int
+) -> dict[str, float]:
+    """One run's CPU times [s] (simulation without and with history, band spectrum, index;
+    ``extra`` what the index adds to the simulation without history) and its R_m and M."""
+    kw: dict[str, Any] = {"scale": scale, "tail_s": TAIL_S}
+    _, plain = _cpu(lambda: simulate(frame, acc, dt_s, record_history=False, **kw), repeat)
+    result, full = _cpu(lambda: simulate(frame, acc, dt_s, **kw), repeat)
+    n_samples = result.raw.hist_x.size
+    spectrum, spec_s = _cpu(lambda: band_spectrum(acc, dt_s, band, n_samples=n_samples), repeat)
+    measures, index_s = _cpu(lambda: resonance_index(result, spectrum, band), repeat)
+    return {
+        "plain": plain, "full": full, "spectrum": spec_s, "index": index_s,
+        "extra": full - plain + spec_s + index_s,
+        "R_m": measures.moving_resonance_index, "M": measures.moving_resonance_share,
+    }  # fmt: skip
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--repeat", type=int, default=5, help="calls per timing (median)")
+    repeat = parser.parse_args().repeat
+    stream, _ = fema_p695()
+    print(
+        "| case | record (index: samples + tail) | simulation, no history | with history "
+        "| band spectrum | index | index cost / simulation | R_m | M |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|")
+    totals = {"plain": 0.0, "extra": 0.0}
+    for label, (frame, runs) in cases(stream).items():
+        band = default_band(frame)
+        simulate(frame, np.zeros(3), 0.01)  # load the kernel before timing
+        for index, acc, dt_s, scale in runs:
+            row = _measure(frame, band, acc, dt_s, scale, repeat)
+            totals["plain"] += row["plain"]
+            totals["extra"] += row["extra"]
+            print(
+                f"| {label} | {index}: {acc.size:,} + {round(TAIL_S / dt_s)} | "
+                f"{1e3 * row['plain']:.2f} ms | {1e3 * row['full']:.2f} ms | "
+                f"{1e3 * row['spectrum']:.2f} ms | {1e3 * row['index']:.2f} ms | "
+                f"{row['extra'] / row['plain']:.2f} | {row['R_m']:.2f} | {row['M']:.2f} |"
+            )
+    print(
+        f"\nAll runs: simulation without history {1e3 * totals['plain']:.1f} ms, the index's "
+        f"extra cost {1e3 * totals['extra']:.1f} ms ({totals['extra'] / totals['plain']:.2f} ×)."
+    )
+
+
+if __name__ == "__main__":
+    main()

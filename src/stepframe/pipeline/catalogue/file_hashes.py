@@ -1,0 +1,108 @@
+"""The sha256 of each record file, hashed once: later runs reuse it while the file is unchanged.
+
+The store keys everything by the content of the record files
+(:func:`stepframe.pipeline.engine.store.file_sha256`), which means reading every byte of every
+file at every run: 4-5 GB for a catalogue the size of NGA-West2, several seconds even from the
+page cache. A file whose identity is unchanged since it was hashed (device, inode, size,
+modification and status-change times in nanoseconds, as ``git`` and ``make`` judge a file) keeps
+its hash: writing to a file, replacing it, or setting its times all change its status-change
+time, which no user call can set back. A file changed within :data:`RACY_S` of being hashed is
+not remembered (the clock's granularity could hide a second change), so it is hashed again next
+time. The remembered hashes are one Parquet table in the workspace (:data:`CACHE_NAME`), written
+atomically; a missing or unreadable one costs a re-hash, never a wrong key.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from collections.abc import Sequence
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+from stepframe.core.io import atomic_write
+from stepframe.pipeline.engine.store import file_sha256
+
+#: The workspace file that remembers the hashes.
+CACHE_NAME = "record-hashes.parquet"
+#: A file modified less than this before it was hashed is hashed again next run [s].
+RACY_S = 2.0
+_IDENTITY = ("device", "inode", "size", "mtime_ns", "ctime_ns")
+
+Identity = tuple[int, int, int, int, int]
+
+
+def _identity(stat: os.stat_result) -> Identity:
+    return (stat.st_dev, stat.st_ino, stat.st_size, stat.st_mtime_ns, stat.st_ctime_ns)
+
+
+def _read_cache(path: Path) -> dict[str, tuple[Identity, str]]:
+    import pandas as pd
+
+    try:
+        table = pd.read_parquet(path)
+        columns = [table[name].to_numpy().tolist() for name in ("path", *_IDENTITY, "sha256")]
+    except Exception:  # missing, damaged or of another layout: everything is hashed again
+        return {}
+    return {
+        str(name): (tuple(int(v) for v in identity), str(sha))  # type: ignore[misc]
+        for name, *identity, sha in zip(*columns, strict=True)
+    }
+
+
+def file_hashes(
+    paths: Sequence[Path], cache: Path | None = None, *, update: bool = False, threads: int = 1
+) -> list[str]:
+    """The sha256 (hex) of each file, from ``cache`` where the file is unchanged.
+
+    Parameters
+    ----------
+    paths
+        The files.
+    cache
+        The cache file (None: hash everything).
+    update
+        Write the cache for ``paths`` (only the files given are kept; nothing is written when
+        nothing changed). A dry run reads it and writes nothing.
+    threads
+        Threads hashing the files not in the cache (sha256 releases the GIL on large blocks).
+
+    Returns
+    -------
+    list of str
+        One hash per path, in order.
+    """
+    known = _read_cache(cache) if cache is not None else {}
+    names = [str(path.absolute()) for path in paths]
+    identities = [_identity(os.stat(path)) for path in paths]
+    hashes: list[str | None] = []
+    for name, identity in zip(names, identities, strict=True):
+        entry = known.get(name)
+        hashes.append(entry[1] if entry is not None and entry[0] == identity else None)
+    missing = [i for i, sha in enumerate(hashes) if sha is None]
+    started_ns = time.time_ns()
+    with ThreadPoolExecutor(max_workers=max(1, threads)) as pool:
+        for i, sha in zip(missing, pool.map(file_sha256, [paths[i] for i in missing]), strict=True):
+            hashes[i] = sha
+    result = [str(sha) for sha in hashes]
+    if update and cache is not None and (missing or len(known) != len(names)):
+        _write_cache(cache, names, identities, result, started_ns - int(RACY_S * 1e9))
+    return result
+
+
+def _write_cache(
+    cache: Path, names: list[str], identities: list[Identity], hashes: list[str], before_ns: int
+) -> None:
+    import pandas as pd
+
+    keep = [i for i, identity in enumerate(identities) if max(identity[3], identity[4]) < before_ns]
+    table = pd.DataFrame(
+        {
+            "path": [names[i] for i in keep],
+            **{column: [identities[i][k] for i in keep] for k, column in enumerate(_IDENTITY)},
+            "sha256": [hashes[i] for i in keep],
+        }
+    )
+    cache.parent.mkdir(parents=True, exist_ok=True)
+    with atomic_write(cache, "wb") as out:
+        table.to_parquet(out, index=False, engine="pyarrow")

@@ -1,0 +1,442 @@
+"""Moving resonance measured on a simulated response: the record's evolutionary energy at the
+frame's instantaneous frequency, weighted by the work the ground does on the frame.
+
+The steps of docs/selection.md, "Moving resonance, measured":
+
+1. the record's Morlet spectrum S(ω, t) over the frame's band widened by a third of an octave
+   either side (:func:`band_spectrum`: the ground acceleration the frame felt, record then the
+   tail's zeros, twelve bands per octave);
+2. the frame's instantaneous frequency ω_f(t) and the ground's work per sample interval from the
+   exact simulation's history (:mod:`stepframe.structure.frame_frequency`);
+3. at each sample, the **closeness** c(t) = the largest S within a third of an octave of
+   ω_f(t) over the largest S anywhere on the grid: 1 when the record's strongest energy in the
+   frame's reach lies near the frame's frequency, 0 when it has none there;
+4. the **depth** d(t) = (ln(ω_1/ω_f) - h)/(ln(ω_1/ω_low) - h) clipped to [0, 1], h a third of an
+   octave: 0 while the frame's frequency is near ω_1 (where a record tuned to ω_1 reaches it), 1
+   at the band's bottom or below;
+5. the response cut into half-cycles at the zero crossings of x; each half-cycle's net work of
+   the ground on the frame W_k, its mean closeness c_k and its mean depth d_k;
+6. the **moving-resonance index** R_m = Σ c_k d_k W_k⁺ / Σ d_k W_k⁺, and the **moving-resonance
+   share** M = Σ c_k d_k W_k⁺ / Σ W_k⁺ (:class:`MovingResonance`).
+
+Cost: the band spectrum is one FFT of the record and an inverse FFT of n/hop points per band
+(once per record and frame, at any scale); the index is a few vector operations over the
+history (docs/benchmarks.md, issue 26).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import asdict, dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from stepframe.errors import InputError
+
+if TYPE_CHECKING:
+    import xarray as xr
+    from matplotlib.figure import Figure, SubFigure
+
+    from stepframe.structure.frame import PortalFrame
+    from stepframe.structure.simulator import SimulationResult
+
+Floats = NDArray[np.float64]
+
+#: Morlet relative bandwidth ω/σ of the band spectrum (the project's wavelet default).
+MORLET_Q = 6.0
+#: Bands per octave of the band spectrum: four bands make :data:`NEAR_LN`, so the window of
+#: "near ω_f" is whole bands; a tone's density falls by 3 % (q = 6) between two bands.
+BANDS_PER_OCTAVE = 12
+#: Spacing of the band spectrum's frames [s].
+HOP_S = 0.1
+#: Half-width of "near ω_f" in ln ω: a third of an octave either side. The phase-locked frame of
+#: an ideal moving resonance (a chirp that captures the frame and leads it down its backbone)
+#: swings with an amplitude whose law frequency lies 12-29 % below the drive's (median 18 %, the
+#: wide frame of docs/selection.md), so "near" must hold at least that.
+NEAR_LN = math.log(2.0) / 3.0
+
+
+def band_grid_rad_s(band_rad_s: Sequence[float]) -> Floats:
+    """Band centres twelve per octave from the bottom of the frame's band widened by
+    :data:`NEAR_LN` (every frequency "near" a frequency of the band) up to the first at or above
+    its widened top [rad/s]."""
+    low, high = float(band_rad_s[0]), float(band_rad_s[1])
+    if not (math.isfinite(low) and math.isfinite(high) and 0 < low < high):
+        raise InputError(f"band_rad_s = {tuple(band_rad_s)}, expected 0 < low < high [rad/s]")
+    octaves = math.log2(high / low) + 2 * NEAR_LN / math.log(2.0)
+    count = max(2, math.ceil(BANDS_PER_OCTAVE * octaves - 1e-9) + 1)
+    return low * math.exp(-NEAR_LN) * 2.0 ** (np.arange(count) / BANDS_PER_OCTAVE)
+
+
+def band_spectrum(
+    ground_acc_m_s2: ArrayLike,
+    dt_s: float,
+    band_rad_s: Sequence[float],
+    *,
+    n_samples: int | None = None,
+    morlet_q: float = MORLET_Q,
+    hop_s: float = HOP_S,
+) -> xr.DataArray:
+    """The Morlet evolutionary spectrum of a ground motion over a frame's band.
+
+    Parameters
+    ----------
+    ground_acc_m_s2
+        Ground acceleration [m/s²] (at any scale: the index uses ratios of S at one time).
+    dt_s
+        Sampling interval [s].
+    band_rad_s
+        The frame's band (low, high) [rad/s].
+    n_samples
+        Samples to cover (the simulation's record plus tail): the motion is padded with zeros,
+        which is what the frame feels after the record.
+    morlet_q, hop_s
+        Wavelet bandwidth ω/σ and frame spacing [s].
+
+    Returns
+    -------
+    xarray.DataArray
+        :func:`stepframe.stochastic.spectra.evolutionary_spectrum` (``method="wavelet"``) on
+        :func:`band_grid_rad_s`.
+    """
+    from stepframe.stochastic.spectra import evolutionary_spectrum
+
+    acc = np.asarray(ground_acc_m_s2, dtype=np.float64)
+    if n_samples is not None and n_samples > acc.size:
+        acc = np.concatenate([acc, np.zeros(n_samples - acc.size)])
+    return evolutionary_spectrum(
+        acc, dt_s, "wavelet", omega_rad_s=band_grid_rad_s(band_rad_s), hop_s=hop_s,
+        morlet_q=morlet_q,
+    )  # fmt: skip
+
+
+@dataclass(frozen=True)
+class MovingResonance:
+    """The moving-resonance measures of one simulated response (docs/selection.md).
+
+    Attributes
+    ----------
+    moving_resonance_index
+        R_m = Σ c_k d_k W_k⁺ / Σ d_k W_k⁺ [0-1]: of the ground's positive half-cycle work W_k⁺
+        on the frame while its frequency had moved down its band (each half-cycle counted by how
+        far, d_k), the share delivered while the record's energy lay near ω_f (c_k); NaN when
+        the frame's frequency never left the neighbourhood of ω_1 (no moving resonance to judge).
+    moving_resonance_share
+        M = Σ c_k d_k W_k⁺ / Σ W_k⁺ = R_m · ``work_depth`` [0-1]: the share of all the ground's
+        positive half-cycle work that arrived by moving resonance (0 when the frame never moved).
+    work_depth
+        Σ d_k W_k⁺ / Σ W_k⁺ [0-1]: how far down its band the frame was when the ground pumped
+        it, on average (0: all near ω_1; 1: all at the band's bottom or below).
+    resonant_work_share
+        Σ c_k W_k⁺ / Σ W_k⁺ [0-1]: the closeness over every half-cycle's work, resonance at ω_1
+        included; NaN without positive work.
+    ridge_log_offset
+        RMS of ln(ω_ridge/ω_f) over the half-cycles, weighted by d_k W_k⁺ [-] (0: the record's
+        ridge follows ω_f; ln 2 = 0.69: a factor 2 away); NaN when the frame never moved.
+    n_half_cycles, n_stepping_half_cycles
+        Half-cycles of the response (up to overturning), and those in which the frame stepped.
+    input_energy_m2_s2
+        Net work of the ground on the frame over the response [m²/s², per unit mass].
+    lowest_omega_f_rad_s
+        Lowest ω_f reached before overturning [rad/s] (0: a state with no periodic orbit).
+    band_rad_s
+        The band the closeness was measured over [rad/s].
+    status, message
+        "ok", or "failed" with the reason (a simulation that failed, no history).
+    """
+
+    moving_resonance_index: float
+    moving_resonance_share: float
+    work_depth: float
+    resonant_work_share: float
+    ridge_log_offset: float
+    n_half_cycles: int
+    n_stepping_half_cycles: int
+    input_energy_m2_s2: float
+    lowest_omega_f_rad_s: float
+    band_rad_s: tuple[float, float]
+    status: str = "ok"
+    message: str = ""
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain dictionary (JSON-ready; NaN stays NaN for core.jsonable to map)."""
+        data = asdict(self)
+        data["band_rad_s"] = list(self.band_rad_s)
+        return data
+
+
+def _failed(band: tuple[float, float], message: str) -> MovingResonance:
+    nan = math.nan
+    return MovingResonance(nan, nan, nan, nan, nan, 0, 0, nan, nan, band, "failed", message)
+
+
+def _share(weight: Floats, value: Floats) -> float:
+    total = float(weight.sum())
+    return float(np.dot(weight, value) / total) if total > 0 else math.nan
+
+
+def closeness(
+    spectrum: xr.DataArray, time_s: Floats, omega_f_rad_s: Floats
+) -> tuple[Floats, Floats]:
+    """c(t) = max S(·, t) within :data:`NEAR_LN` of ω_f(t) / max S(·, t) over the spectrum's
+    bands, at the given times, and the record's ridge ω_ridge(t) [rad/s] there.
+
+    The windowed maximum is taken on the band grid (the bands within NEAR_LN of each band), then
+    interpolated linearly in time and in ln ω between frames and bands; ω_f outside the grid is
+    read at its nearer edge.
+    """
+    omega = np.asarray(spectrum["omega"].values, dtype=np.float64)
+    frames = np.asarray(spectrum["time"].values, dtype=np.float64)
+    psd = np.asarray(spectrum.transpose("time", "omega").values, dtype=np.float64)
+    if frames.size < 2 or omega.size < 2:
+        raise InputError(
+            f"band spectrum of {frames.size} frames × {omega.size} bands, expected ≥ 2 of each"
+        )
+    peak = psd.max(axis=1)
+    log_omega = np.log(omega)
+    log_step = (log_omega[-1] - log_omega[0]) / (omega.size - 1)
+    reach = round(NEAR_LN / log_step)
+    near = psd.copy()
+    for shift in range(1, reach + 1):
+        np.maximum(near[:, shift:], psd[:, :-shift], out=near[:, shift:])
+        np.maximum(near[:, :-shift], psd[:, shift:], out=near[:, :-shift])
+    ratio = near / np.where(peak > 0, peak, 1.0)[:, None]
+    # Fractional positions on the frame grid (uniform in time) and the band grid (uniform in ln ω).
+    position = np.clip((time_s - frames[0]) / (frames[1] - frames[0]), 0.0, frames.size - 1.0)
+    row = np.minimum(position.astype(np.intp), frames.size - 2)
+    t_frac = position - row
+    clipped = np.clip(omega_f_rad_s, omega[0], omega[-1])
+    band_pos = (np.log(clipped) - log_omega[0]) / log_step
+    col = np.minimum(band_pos.astype(np.intp), omega.size - 2)
+    w_frac = band_pos - col
+    low = ratio[row, col] * (1 - w_frac) + ratio[row, col + 1] * w_frac
+    high = ratio[row + 1, col] * (1 - w_frac) + ratio[row + 1, col + 1] * w_frac
+    ridge = omega[np.argmax(psd, axis=1)][np.rint(position).astype(np.intp)]
+    return np.asarray(low * (1 - t_frac) + high * t_frac), np.asarray(ridge)
+
+
+def resonance_index(
+    result: SimulationResult, spectrum: xr.DataArray, band_rad_s: Sequence[float]
+) -> MovingResonance:
+    """The moving-resonance measures of a simulation with history (module docstring).
+
+    Parameters
+    ----------
+    result
+        :func:`stepframe.structure.simulator.simulate` run with ``record_history=True``.
+    spectrum
+        :func:`band_spectrum` of the same ground motion (any scale), covering the history.
+    band_rad_s
+        The band (low, high) [rad/s] the spectrum covers.
+    """
+    from stepframe.structure.frame_frequency import (
+        felt_ground_acc,
+        half_cycle_starts,
+        interval_work,
+        motion_frequency,
+    )
+
+    band = (float(band_rad_s[0]), float(band_rad_s[1]))
+    if result.summary.status != "ok":
+        return _failed(band, f"simulation {result.summary.status}: {result.summary.message}")
+    raw, model = result.raw, result.model
+    if not raw.hist_x.size or model is None:
+        return _failed(band, "no history, expected a simulation with record_history=True")
+    omega_f = motion_frequency(result)[0]
+    n = omega_f.size
+    if n < 2:
+        return _failed(band, "fewer than two samples of motion before overturning")
+    x, v, phase = raw.hist_x[:n], raw.hist_v[:n], raw.hist_p[:n]
+    work = interval_work(x, v, phase, felt_ground_acc(result)[:n], result.dt_s, model.p_1,
+                         model.p_2)  # fmt: skip
+    time_s = np.arange(n, dtype=np.float64) * result.dt_s
+    near, ridge = closeness(spectrum, time_s, omega_f)
+    low, high = band
+    drop = np.log(high / np.clip(omega_f, 1e-300, None))
+    depth = np.clip((drop - NEAR_LN) / (math.log(high / low) - NEAR_LN), 0.0, 1.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        offset_sq = np.log(ridge / np.clip(omega_f, low, high)) ** 2
+    starts = half_cycle_starts(x, v, result.dt_s)
+    starts = starts[starts < n - 1]
+    counts = np.diff(np.append(starts, n - 1))
+
+    def per_cycle(values: Floats) -> Floats:
+        # The mean over each half-cycle's intervals, each interval its two ends' mean.
+        return np.asarray(np.add.reduceat(0.5 * (values[:-1] + values[1:]), starts) / counts)
+
+    pumped = np.maximum(np.add.reduceat(work, starts), 0.0)
+    moved = per_cycle(depth) * pumped
+    cycle_near = per_cycle(near)
+    stepped = np.add.reduceat((phase[:-1] != 0) | (phase[1:] != 0), starts) > 0
+    index = _share(moved, cycle_near)
+    total = float(pumped.sum())
+    depth_share = float(moved.sum()) / total if total > 0 else math.nan
+    return MovingResonance(
+        moving_resonance_index=index,
+        moving_resonance_share=index * depth_share if moved.sum() > 0 else 0.0,
+        work_depth=depth_share,
+        resonant_work_share=_share(pumped, cycle_near),
+        ridge_log_offset=math.sqrt(_share(moved, per_cycle(offset_sq))),
+        n_half_cycles=int(starts.size),
+        n_stepping_half_cycles=int(stepped.sum()),
+        input_energy_m2_s2=float(work.sum()),
+        lowest_omega_f_rad_s=float(np.min(omega_f)),
+        band_rad_s=band,
+    )
+
+
+@dataclass(frozen=True)
+class ResonanceRun:
+    """A simulated record with its band spectrum and moving-resonance measures (what the picture
+    needs: :meth:`figure`)."""
+
+    result: SimulationResult = field(repr=False)
+    spectrum: xr.DataArray | None = field(repr=False)
+    measures: MovingResonance
+    title: str = ""
+
+    def to_dict(self) -> dict[str, Any]:
+        """The measures, JSON-ready."""
+        return self.measures.to_dict()
+
+    def figure(self) -> Figure:
+        """The record's band spectrum with ω_f(t) over it, and the ground's work below
+        (:func:`stepframe.stochastic.plots.time_frequency_figure`)."""
+        if self.spectrum is None:
+            raise ValueError(f"no picture: {self.measures.message}")
+        return resonance_figure(self.result, self.spectrum, self.measures, title=self.title)
+
+
+def resonance_figure(
+    result: SimulationResult,
+    spectrum: xr.DataArray,
+    measures: MovingResonance,
+    *,
+    title: str = "",
+) -> Figure:
+    """The picture of moving resonance for one simulation with history: the record's spectrum
+    over the band as a heat map (log frequency, band shaded), ω_f(t) drawn over it, and the
+    accumulated work of the ground below, with R_m in the title."""
+    from matplotlib.figure import Figure
+
+    figure = Figure(figsize=(9.0, 5.6), layout="constrained")
+    draw_resonance(figure, result, spectrum, measures, title=title)
+    return figure
+
+
+def draw_resonance(
+    target: Figure | SubFigure,
+    result: SimulationResult,
+    spectrum: xr.DataArray,
+    measures: MovingResonance,
+    *,
+    title: str = "",
+) -> None:
+    """:func:`resonance_figure` drawn into ``target`` (a figure or a subfigure)."""
+    from stepframe.stochastic.plots import draw_time_frequency
+
+    omega_f, energy = result.frame_frequency, result.input_energy
+    if omega_f is None or energy is None:
+        raise ValueError("the simulation kept no history, expected record_history=True")
+    index = measures.moving_resonance_index
+    summary = "R_m = " + ("n/a: ω_f stayed near ω_1" if math.isnan(index) else f"{index:.2f}")
+    summary += f", M = {measures.moving_resonance_share:.2f}"
+    overturn = result.summary.overturn_time_s if result.summary.overturned else None
+    draw_time_frequency(
+        target,
+        spectrum,
+        band_rad_s=measures.band_rad_s,
+        path=(omega_f["time"].values, omega_f.values),
+        path_label="frame's ω_f(t)",
+        cumulative=(energy["time"].values, energy.values),
+        cumulative_label="ground's work [m²/s²]",
+        marker_s=overturn,
+        marker_label="overturned",
+        title=f"{title}  ({summary})" if title else summary,
+    )
+
+
+def default_band(frame: PortalFrame) -> tuple[float, float]:
+    """The frame's band of the selection, [ω(0.8 x*), ω_1] [rad/s]
+    (:func:`stepframe.pipeline.selection.band.frame_band`)."""
+    from stepframe.pipeline.selection.band import frame_band
+
+    found = frame_band(frame)
+    return (found.omega_low_rad_s, found.omega_1_rad_s)
+
+
+def measure_run(
+    result: SimulationResult,
+    ground_acc_m_s2: ArrayLike,
+    dt_s: float,
+    band_rad_s: Sequence[float],
+    *,
+    title: str = "",
+) -> ResonanceRun:
+    """The band spectrum of the record a simulation ran under (any scale) and the run's
+    moving-resonance measures; a motion too short for the spectrum gives measures "failed" with
+    the reason and no spectrum (the simulation stands without them)."""
+    try:
+        spectrum = band_spectrum(
+            ground_acc_m_s2, dt_s, band_rad_s, n_samples=result.raw.hist_x.size
+        )
+    except InputError as error:
+        band = (float(band_rad_s[0]), float(band_rad_s[1]))
+        return ResonanceRun(result, None, _failed(band, f"no band spectrum: {error}"), title)
+    return ResonanceRun(result, spectrum, resonance_index(result, spectrum, band_rad_s), title)
+
+
+def moving_resonance(
+    frame: PortalFrame,
+    ground_acc_m_s2: ArrayLike,
+    dt_s: float,
+    *,
+    scale: float = 1.0,
+    tail_s: float | None = None,
+    band_rad_s: Sequence[float] | None = None,
+    title: str = "",
+) -> ResonanceRun:
+    """Simulate ``frame`` under ``scale`` × the record and measure its moving resonance.
+
+    Parameters
+    ----------
+    frame
+        The stepping frame.
+    ground_acc_m_s2, dt_s
+        The record [m/s²] and its sampling interval [s].
+    scale
+        Factor on the record [-].
+    tail_s
+        Free vibration after the record [s] (default the simulator's).
+    band_rad_s
+        The band (low, high) [rad/s]; default :func:`default_band`.
+    title
+        The figure's title.
+    """
+    from stepframe.structure.simulator import DEFAULT_TAIL_S, simulate
+
+    band = default_band(frame) if band_rad_s is None else band_rad_s
+    tail = DEFAULT_TAIL_S if tail_s is None else float(tail_s)
+    result = simulate(frame, ground_acc_m_s2, dt_s, scale=scale, tail_s=tail)
+    return measure_run(result, ground_acc_m_s2, dt_s, band, title=title)
+
+
+__all__ = [
+    "BANDS_PER_OCTAVE",
+    "HOP_S",
+    "MORLET_Q",
+    "MovingResonance",
+    "ResonanceRun",
+    "band_grid_rad_s",
+    "band_spectrum",
+    "closeness",
+    "default_band",
+    "draw_resonance",
+    "measure_run",
+    "moving_resonance",
+    "resonance_figure",
+    "resonance_index",
+]

@@ -1,0 +1,128 @@
+"""The selection report's moving-resonance section: each best record's band spectrum with the
+frame's ω_f(t) of its simulation over it, and the ground's work (issue 26, item 5).
+
+One exact simulation with history per drawn record, at the record's scale factor of the
+selection, measured by :func:`stepframe.pipeline.dynamics.resonance.moving_resonance` over the
+report's band (docs/selection.md, "Moving resonance, measured").
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import pandas as pd
+
+from stepframe.pipeline.reports.document import Figure, Note, Section, Table, figure_from_matplotlib
+
+TITLE = "Moving resonance in the best records' simulations"
+
+#: The measures shown per record: (column, the measure's field, its column dictionary entry);
+#: short column names so that the table fits the page.
+SHOWN = (
+    ("R_m", "moving_resonance_index", "R_m: share of the work while stepped down the band that "
+     "arrived while the record's energy lay near ω_f [0-1]"),
+    ("M", "moving_resonance_share", "M: share of all the ground's positive work that arrived by "
+     "moving resonance [0-1]"),
+    ("depth", "work_depth", "how far down its band the frame was when the ground pumped it [0-1]"),
+    ("stepped_half_cycles", "n_stepping_half_cycles", "half-cycles in which the frame stepped"),
+    ("lowest_omega_f_rad_s", "lowest_omega_f_rad_s", "lowest ω_f before overturning [rad/s]"),
+    ("work_m2_s2", "input_energy_m2_s2", "net work of the ground on the frame [m²/s²]"),
+)  # fmt: skip
+COLUMNS = {
+    "record": "record",
+    "scale": "scale factor of the selection [-]",
+    **{column: meaning for column, _, meaning in SHOWN},
+    "overturned": "the frame overturned",
+}
+
+
+def resonance_section(
+    rows: Sequence[dict[str, Any]],
+    names: Sequence[str],
+    scales: Sequence[float],
+    frame: Any,
+    band_rad_s: tuple[float, float],
+    load: Callable[[dict[str, Any]], Any],
+    numbers: dict[str, Any],
+) -> Section:
+    """The section for the records ``rows`` (best first).
+
+    Parameters
+    ----------
+    rows, scales
+        The selection's rows and their scale factors [-].
+    names
+        Display names of the selection's rows, in order (at least as many as ``rows``).
+    frame
+        The stepping frame (None: the folder has none, nothing is simulated).
+    band_rad_s
+        The report's band (low, high) [rad/s].
+    load
+        The row's record as a Trace in m/s², or None when its file is not found.
+    numbers
+        The report's numbers; ``moving_resonance`` is set (a list of rows, or "not run").
+    """
+    from stepframe.pipeline.dynamics.resonance import moving_resonance
+
+    if frame is None:
+        numbers["moving_resonance"] = "not run"
+        return Section(TITLE, [Note("Not run: this selection folder names no frame file.")])
+    items: list[Figure | Table | Note] = []
+    measured, missing = [], []
+    for k, (row, name, scale) in enumerate(zip(rows, names, scales, strict=False)):
+        trace = load(row)
+        if trace is None:
+            missing.append(name)
+            continue
+        run = moving_resonance(
+            frame, trace.data, float(trace.stats.delta), scale=scale, band_rad_s=band_rad_s,
+            title=f"{name} × {scale:.3g}",
+        )  # fmt: skip
+        data = run.measures.to_dict()
+        if run.spectrum is None:
+            items.append(Note(f"{name}: {run.measures.message}", "warning"))
+            continue
+        measured.append(
+            {"record": name, "scale": scale}
+            | {column: data[key] for column, key, _ in SHOWN}
+            | {"overturned": bool(run.result.summary.overturned)}
+        )
+        items.append(
+            figure_from_matplotlib(
+                run.figure(),
+                key=f"moving_resonance_{k + 1}",
+                title=f"{name}: the record's spectrum over the band, and the frame's ω_f(t)",
+                alt=(
+                    "heat map of the record's spectrum, frequency in Hz (log) against time in s, "
+                    "the band shaded, the frame's frequency drawn over it; below, the ground's "
+                    "accumulated work on the frame"
+                ),
+                how_to_read=(
+                    "The record scaled as selected, simulated exactly: where the green line (the "
+                    "frame's own frequency, from its half-cycles) runs through bright colour, the "
+                    "record's energy is where the frame is. It leaves ω_1 only while the frame "
+                    "steps. R_m and M in the title (docs/selection.md, 'Moving resonance, "
+                    "measured')."
+                ),
+            )
+        )
+    if not measured:
+        numbers["moving_resonance"] = "not run"
+        return Section(TITLE, [Note("None of the best records' files could be found.")])
+    numbers["moving_resonance"] = measured
+    items.append(
+        Table(
+            "moving_resonance",
+            "Moving-resonance measures of each drawn record",
+            pd.DataFrame(measured),
+            "The exact simulator on each record at its scale factor, with the index",
+            COLUMNS,
+        )
+    )
+    if missing:
+        items.append(Note(f"Not found, not drawn: {', '.join(missing)}.", "warning"))
+    return Section(TITLE, items)
+
+
+__all__ = ["resonance_section"]

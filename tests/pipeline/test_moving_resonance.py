@@ -1,0 +1,196 @@
+"""The moving-resonance index on motions whose frequency path is known: a chirp that leads the
+frame down its backbone, one that runs the other way, a sine at ω_1; the closeness against the
+Morlet spectrum of a tone; the picture."""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+from matplotlib.figure import Figure
+
+from stepframe.pipeline.dynamics.resonance import (
+    NEAR_LN,
+    band_spectrum,
+    closeness,
+    moving_resonance,
+    resonance_index,
+)
+from stepframe.pipeline.selection.band import frame_band
+from stepframe.structure.frame import PortalFrame
+from stepframe.structure.frame_file import FRAME_TEMPLATE, frame_from_mapping
+from stepframe.structure.period_amplitude import period_amplitude
+from stepframe.structure.simulator import simulate
+
+DT = 0.02
+DURATION = 200.0
+AMPLITUDE_M_S2 = 1.5
+
+
+def wide_frame() -> PortalFrame:
+    """The frame template's physical inputs with l = L_F/2: x* = 34 x_c, room to step."""
+    tables = tomllib.loads(FRAME_TEMPLATE)
+    del tables["constants"]
+    return frame_from_mapping(tables)
+
+
+def path_motion(omega_rad_s: np.ndarray) -> np.ndarray:
+    """A sine of AMPLITUDE_M_S2 whose frequency follows ``omega_rad_s``, with 3-s ramps."""
+    t = np.arange(omega_rad_s.size) * DT
+    ramp = np.clip(t / 3, 0, 1) * np.clip((t[-1] - t) / 3, 0, 1)
+    return AMPLITUDE_M_S2 * ramp * np.sin(np.cumsum(omega_rad_s) * DT)
+
+
+@pytest.fixture(scope="module")
+def indices() -> dict[str, float]:
+    frame = wide_frame()
+    band = frame_band(frame)
+    low, high = band.omega_low_rad_s, band.omega_1_rad_s
+    t = np.arange(0, DURATION, DT)
+    # Down the backbone: ω(A(t)) with A rising from x_c to x*/2 after 10 s at ω_1.
+    amplitude = frame.x_c_m + (0.5 * frame.x_star_m - frame.x_c_m) * np.clip(
+        (t - 10) / (DURATION - 15), 0, 1
+    )
+    follow = 2 * math.pi / period_amplitude(frame, amplitude)
+    # Up through the band: from its bottom to 2 ω_1 at a constant rate in ln ω.
+    opposite = np.exp(np.log(low) + np.log(2 * high / low) * t / DURATION)
+    stationary = np.full(t.size, frame.omega_1_rad_s)
+    out = {}
+    for name, path in (("follow", follow), ("opposite", opposite), ("stationary", stationary)):
+        run = moving_resonance(frame, path_motion(path), DT)
+        assert run.measures.status == "ok"
+        out[name] = run.measures.moving_resonance_index
+        out[name + " share"] = run.measures.moving_resonance_share
+        out[name + " depth"] = run.measures.work_depth
+    return out
+
+
+def test_a_chirp_down_the_backbone_scores_near_the_maximum(indices: dict[str, float]) -> None:
+    # The frame is captured and led down its band: the record's energy is where the frame is.
+    assert indices["follow"] >= 0.95
+    assert indices["follow depth"] >= 0.4
+
+
+def test_a_chirp_the_other_way_scores_near_the_minimum(indices: dict[str, float]) -> None:
+    assert indices["opposite"] <= 0.3
+    assert indices["opposite share"] <= 0.01
+
+
+def test_a_sine_at_omega_1_scores_in_between(indices: dict[str, float]) -> None:
+    # Entrained near ω_1, the frame rarely moves down its band (depth ≈ 0.001), and when it does
+    # the sine's energy is partly within reach; the share of all the work that arrived by moving
+    # resonance is nil, as for the chirp the other way.
+    assert indices["opposite"] + 0.2 <= indices["stationary"] <= 0.85
+    assert indices["stationary depth"] <= 0.01
+    assert indices["stationary share"] <= 0.01
+
+
+def test_closeness_of_a_tone_follows_the_morlet_band_power() -> None:
+    # A tone at ω₀ has the Morlet density S_j ∝ exp(-q²(1 - ω₀/ω_j)²)/ω_j; the closeness at ω_f
+    # is that of the band nearest ω₀ within a third of an octave of ω_f.
+    omega_0, q, band = 3.0, 6.0, (0.5, 6.0)
+    t = np.arange(0, 120, 0.01)
+    spectrum = band_spectrum(np.sin(omega_0 * t), 0.01, band)
+    frames = spectrum["time"].values
+    mid = (frames > 40) & (frames < 80)
+    for omega_f, expected in ((3.0, 1.0), (3.0 * math.exp(0.9 * NEAR_LN), 1.0)):
+        near, ridge = closeness(spectrum, frames[mid], np.full(mid.sum(), omega_f))
+        assert np.allclose(near, expected, atol=0.03)
+        assert np.allclose(ridge, omega_0, rtol=0.05)
+    far = 3.0 * math.exp(2 * NEAR_LN)
+    reach = far * math.exp(-NEAR_LN)
+
+    def density(w: float) -> float:
+        return math.exp(-(q**2) * (1 - omega_0 / w) ** 2) / w
+
+    peak = max(density(w) for w in np.geomspace(2.5, 3.5, 2001))
+    near, _ = closeness(spectrum, frames[mid], np.full(mid.sum(), far))
+    assert np.allclose(near, density(reach) / peak, rtol=0.1)
+
+
+def test_without_history_or_with_a_failed_run_the_index_says_why() -> None:
+    frame = wide_frame()
+    acc = np.sin(np.arange(0, 20, 0.01))
+    result = simulate(frame, acc, 0.01, record_history=False)
+    spectrum = band_spectrum(acc, 0.01, (1.0, 6.0), n_samples=2000 + 1000)
+    measures = resonance_index(result, spectrum, (1.0, 6.0))
+    assert measures.status == "failed"
+    assert "record_history" in measures.message
+    assert math.isnan(measures.moving_resonance_index)
+
+
+def test_the_picture_draws_the_spectrum_the_path_and_the_work() -> None:
+    frame = wide_frame()
+    t = np.arange(0, 60, DT)
+    run = moving_resonance(frame, 3.0 * np.sin(frame.omega_1_rad_s * t), DT, title="sine")
+    figure = run.figure()
+    assert isinstance(figure, Figure)
+    top, below = figure.axes[0], figure.axes[1]  # the colour bar is axes[2]
+    assert top.get_yscale() == "log"
+    omega_f = run.result.frame_frequency
+    work = run.result.input_energy
+    assert omega_f is not None and work is not None
+    drawn = next(line for line in top.get_lines() if line.get_label() == "frame's ω_f(t)")
+    assert np.allclose(drawn.get_ydata(), omega_f.values / (2 * math.pi), equal_nan=True)
+    assert np.allclose(below.get_lines()[0].get_ydata(), work.values)
+    assert "R_m" in top.get_title()
+
+
+def test_simulate_plot_lines_up_the_response_and_the_spectrum(data_dir: Path) -> None:
+    # `structure simulate --plot`: x(t) above, the record's band spectrum with ω_f(t) below, on
+    # one time axis (the record plus the tail).
+    from stepframe.pipeline.dynamics.response import simulate_component
+    from stepframe.records import read
+
+    stream = read(data_dir / "peer_nga_west2/RSN8883_14383980_13849360.AT2")
+    simulated = simulate_component(wide_frame(), stream, name="rec.AT2", scale=6.0, tail_s=5.0)
+    figure = simulated.figure()
+    run = simulated.response.resonance
+    end_s = float(run.spectrum["time"].values[-1])
+    (spectrum_axes,) = [ax for ax in figure.axes if ax.get_yscale() == "log"]
+    (x_axes,) = [ax for ax in figure.axes if ax.get_ylabel() == "x [m]"]
+    assert x_axes.get_xlim() == pytest.approx((0.0, end_s))
+    assert end_s == pytest.approx((run.result.raw.hist_x.size - 1) * run.result.dt_s, abs=0.1)
+    assert "R_m" in spectrum_axes.get_title()
+
+
+def test_site_band_spectrum_is_eq_6_12_under_the_envelope_and_draws_the_frame_path() -> None:
+    # At ω = ω_g(t) eq. 6.12 is 4αω²I²/(4ω²α²) = I_g(t)²/α_g(t): place t where ω_g(t) is a node
+    # of the band grid (eq. 6.10 inverted) and compare with the closed form.
+    from stepframe.pipeline.amplification.time_frequency import (
+        model_band_spectrum,
+        site_band_figure,
+    )
+    from stepframe.pipeline.dynamics.resonance import band_grid_rad_s
+    from stepframe.stochastic.amplification import response_amplification
+    from stepframe.stochastic.envelope import default_envelope
+    from stepframe.stochastic.mean_square import FrameDriven, analysis_grid
+    from stepframe.stochastic.model import GroundMotionModel
+
+    model = GroundMotionModel(30.0, 8.0, 1.0, 0.3, 0.4, 6.0, 25.0)
+    frame = wide_frame()
+    band = (frame_band(frame).omega_low_rad_s, frame.omega_1_rad_s)
+    node = band_grid_rad_s(band)[20]
+    p, s, r = 30.0, 8.0, 1.0
+    t_node = 6.0 * math.log((node - r) / (p - r)) / math.log((s - r) / (p - r))
+    spectrum = model_band_spectrum(model, band, np.array([t_node - 1.0, t_node]))
+    intensity = default_envelope(np.array([t_node]), 6.0, 25.0, 1.0)[0]
+    expected = intensity**2 / float(model.alpha_g(t_node))
+    assert float(spectrum.isel(time=1, omega=20)) == pytest.approx(expected, rel=1e-12)
+    assert float(model.omega_g(t_node)) == pytest.approx(node, rel=1e-12)
+
+    driven = response_amplification(
+        model, None, frame.xi_1,
+        frame=FrameDriven(lambda a: float(period_amplitude(frame, a, beyond_x_star="inf"))),
+        peak_intensity=2.0 * frame.p_1, time_s=analysis_grid(model, n_steps=400),
+    )  # fmt: skip
+    figure = site_band_figure(model, band, driven.moving, title="site")
+    top, below = figure.axes[0], figure.axes[1]
+    drawn = next(ln for ln in top.get_lines() if str(ln.get_label()).startswith("frame's ω"))
+    omega = np.asarray(driven.moving.omega_rad_s).reshape(-1)
+    assert np.allclose(drawn.get_ydata(), omega / (2 * math.pi), equal_nan=True)
+    sigma = np.sqrt(np.asarray(driven.moving.mean_square_m2).reshape(-1))
+    assert np.allclose(below.get_lines()[0].get_ydata(), sigma, equal_nan=True)

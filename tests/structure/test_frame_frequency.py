@@ -1,0 +1,141 @@
+"""ω_f(t) and the ground's work from the simulated history, against closed forms."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+
+from stepframe.structure.frame import PortalFrame
+from stepframe.structure.frame_frequency import (
+    backbone_of,
+    energy,
+    potential,
+    swing_frequency_rad_s,
+)
+from stepframe.structure.period_amplitude import quarter_periods_s
+from stepframe.structure.simulator import simulate
+
+# A conservative frame with room to step: x* = 4 x_c.
+FREE = PortalFrame(omega_1_rad_s=6.4581, omega_2_rad_s=0.6445, p_1=1.1884, p_2=1.1884,
+                   gamma_1_m_s2=0.3178, xi_1=0.0, xi_2=0.0, x_c_m=0.19, c_r=1.0)  # fmt: skip
+
+
+def period_by_quadrature(frame: PortalFrame, amplitude: float) -> float:
+    """T(A) = 4 ∫_0^A dx / √(2(V(A) - V(x))), by quadrature of the potential (independent of the
+    law's closed form). On the stepped part V(A) - V(x) = (A - x)(γ₁ - ω₂²(A + x)/2): the
+    (A - x)^(-1/2) singularity is quad's algebraic weight."""
+    backbone = backbone_of(simulate(frame, np.zeros(2), 0.01, tail_s=0.0).model)  # type: ignore[arg-type]
+    top = float(potential(np.array([amplitude]), backbone)[0])
+    g1, w2 = frame.gamma_1_m_s2, frame.omega_2_rad_s
+
+    def unstepped(y: float) -> float:
+        return 1.0 / math.sqrt(2.0 * (top - 0.5 * frame.omega_1_rad_s**2 * y * y))
+
+    def stepped(y: float) -> float:
+        return 1.0 / math.sqrt(2.0 * (g1 - 0.5 * w2**2 * (amplitude + y)))
+
+    inner = quad(unstepped, 0.0, frame.x_c_m, epsabs=0.0, epsrel=1e-12)[0]
+    outer = quad(stepped, frame.x_c_m, amplitude, weight="alg", wvar=(0.0, -0.5),
+                 epsabs=0.0, epsrel=1e-12)[0]  # fmt: skip
+    return 4.0 * (inner + outer)
+
+
+@pytest.mark.parametrize("ratio", [1.3, 2.0, 3.6])
+def test_a_free_stepping_cycle_has_the_law_s_frequency(ratio: float) -> None:
+    amplitude = ratio * FREE.x_c_m
+    period = period_by_quadrature(FREE, amplitude)
+    result = simulate(FREE, np.zeros(2), 0.01, x0_m=amplitude, tail_s=4.2 * period)
+    omega = result.frame_frequency
+    assert omega is not None
+    # Every swing measured from its own zero crossings, and the law at the start.
+    assert np.allclose(omega.values, 2 * math.pi / period, rtol=2e-7, atol=0.0)
+    assert np.allclose(omega["omega_law"].values, 2 * math.pi / period, rtol=2e-7, atol=0.0)
+    assert np.allclose(omega["amplitude"].values, amplitude, rtol=1e-7)
+    assert omega.attrs["units"] == "rad/s"
+
+
+def test_an_impact_lengthens_the_return_as_the_law_and_the_impact_rule_say() -> None:
+    # C_r < 1, no damping: each stepping half-cycle goes out at amplitude A (quarter period
+    # t₁(A) + t₂(A)) and comes back through a touchdown that multiplies the speed by C_r, so its
+    # unstepped return takes arcsin(x_c/B')/ω₁ with B' = √(x_c² + (C_r v_c/ω₁)²).
+    frame = PortalFrame(**{**FREE.to_dict(), "c_r": 0.9})
+    result = simulate(frame, np.zeros(2), 0.01, x0_m=3.0 * frame.x_c_m, tail_s=40.0)
+    omega = result.frame_frequency
+    assert omega is not None
+    w1, w2, x_c, x_star = 6.4581, 0.6445, frame.x_c_m, frame.x_star_m
+    checked = 0
+    for episode in result.episode_records()[:-1]:
+        a = episode["peak_abs_x_m"]
+        t_in, t_step = (float(part) for part in quarter_periods_s(frame, a))
+        v_c = w2 * math.sqrt((a - x_c) * ((x_star - x_c) + (x_star - a)))
+        back = math.asin(x_c / math.hypot(x_c, 0.9 * v_c / w1)) / w1
+        expected = math.pi / (t_in + 2 * t_step + back)
+        mid = 0.5 * (episode["start_s"] + episode["end_s"])
+        assert omega.sel(time=mid, method="nearest").item() == pytest.approx(expected, rel=1e-6)
+        checked += 1
+    assert checked >= 3
+
+
+def test_linear_motion_is_at_omega_1_however_it_is_forced() -> None:
+    frame = PortalFrame(**{**FREE.to_dict(), "xi_1": 0.05, "c_r": 0.9})
+    t = np.arange(0, 30, 0.01)
+    for forcing in (0.8 * np.sin(2.0 * 6.4581 * t), 0.3 * np.sin(0.4 * t)):
+        result = simulate(frame, forcing, 0.01)
+        assert result.summary.n_stepping_episodes == 0
+        assert result.summary.peak_abs_x_m < frame.x_c_m
+        omega = result.frame_frequency
+        assert omega is not None
+        assert np.all(omega.values == frame.omega_1_rad_s)
+
+
+def test_the_ground_s_work_balances_the_frame_s_energy_and_the_impacts() -> None:
+    # Without damping, E(end) - E(0) = work of the ground - ½ Σ (v_in² - v_out²) at touchdowns.
+    # The cubic through x and ẋ is exact between switches; an interval holding a lift-off or a
+    # touchdown (a jump of ẍ, of ẋ at an impact, of P) is not, which the tolerance allows for.
+    rng = np.random.default_rng(1)
+    ground = np.convolve(rng.standard_normal(4000), np.hanning(40), "same") * 0.14
+    for p_2, c_r, tolerance in ((1.1884, 1.0, 3e-3), (1.1884, 0.9, 3e-3), (1.268, 0.9, 3e-3)):
+        frame = PortalFrame(**{**FREE.to_dict(), "p_2": p_2, "c_r": c_r,
+                               "gamma_1_m_s2": 8 * 0.1387})  # fmt: skip
+        result = simulate(frame, ground, 0.01, tail_s=5.0)
+        assert result.summary.n_stepping_episodes >= 5
+        assert not result.summary.overturned
+        history, work = result.history, result.input_energy
+        assert history is not None and work is not None and result.model is not None
+        e = energy(history["x"].values, history["v"].values, backbone_of(result.model))
+        touchdowns = result.events[result.events["kind"] == "touchdown"]
+        lost = 0.5 * float(np.sum(touchdowns["v_in_m_s"] ** 2 - touchdowns["v_out_m_s"] ** 2))
+        assert e[-1] - e[0] == pytest.approx(float(work.values[-1]) - lost, rel=tolerance)
+        # Between switches the balance holds to rounding: before the first lift-off.
+        first = int(result.events["time_s"].iloc[0] / 0.01)
+        assert e[first] - e[0] == pytest.approx(float(work.values[first]), rel=1e-7)
+        assert work.attrs["units"] == "m2/s2"
+
+
+def test_after_overturning_there_is_no_frequency_and_no_more_work() -> None:
+    t = np.arange(0, 20, 0.01)
+    frame = PortalFrame(**{**FREE.to_dict(), "x_cap_m": 1.5})
+    result = simulate(frame, 6.0 * np.sin(3.0 * t), 0.01)
+    assert result.summary.overturned
+    omega, work = result.frame_frequency, result.input_energy
+    assert omega is not None and work is not None
+    after = omega["time"].values > result.summary.overturn_time_s
+    assert np.all(np.isnan(omega.values[after]))
+    assert np.all(work.values[after] == work.values[after][0])
+    # Before it, on the last excursion, the law's frequency falls to 0: no orbit to return on.
+    assert np.nanmin(omega.values) == 0.0
+
+
+def test_swing_frequency_needs_no_result() -> None:
+    # The array function behind the property: a state released at rest at A in the unstepped
+    # phase swings at ω₁.
+    backbone = backbone_of(simulate(FREE, np.zeros(2), 0.01, tail_s=0.0).model)  # type: ignore[arg-type]
+    t = np.arange(0, 5, 0.01)
+    x, v = 0.1 * np.cos(6.4581 * t), -0.1 * 6.4581 * np.sin(6.4581 * t)
+    omega, amplitude, law = swing_frequency_rad_s(x, v, np.zeros(t.size, np.int8), 0.01, backbone)
+    assert np.all(omega == 6.4581)
+    assert np.allclose(amplitude, 0.1, rtol=1e-8)
+    assert np.allclose(law, 6.4581, rtol=1e-12)
