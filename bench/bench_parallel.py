@@ -3,7 +3,7 @@
 1. The features stage: ``catalog_features`` on the FEMA P695 catalogue (100 components) with
    ``n_jobs=1`` and ``n_jobs=2``, runs interleaved, ``--repeat`` times; the speed-up is the
    ratio of the medians.
-2. The batch simulator: ``simulate_batch`` (numba ``prange``) on 100 (record, scale) pairs with
+2. The batch simulator: ``simulate_batch`` (a thread per core) on 100 (record, scale) pairs with
    numba's thread count set to 1 and to 2, interleaved the same way.
 
 The load average is printed with the numbers: on a shared machine other jobs take cores and

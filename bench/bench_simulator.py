@@ -224,7 +224,7 @@ def chatter(stream: Any) -> None:
 
 
 def batch_executors(stream: Any) -> None:
-    """simulate_batch: one in-process block (numba prange) against blocks through map_items."""
+    """simulate_batch: one in-process block (threads) against blocks through map_items."""
     from concurrent.futures import ThreadPoolExecutor
 
     series = [(tr.data.astype(float) * STANDARD_GRAVITY_M_S2, tr.stats.delta) for tr in stream]
@@ -232,7 +232,7 @@ def batch_executors(stream: Any) -> None:
     print("| simulate_batch, 100 components × 4 scales | wall [s] | time / in-process |")
     print("|---|---|---|")
     _, base = _timed(lambda: simulate_batch(FRAME, series, scales, tail_s=0.0), 5)
-    print(f"| jobs=1 (default: one block, numba prange on all cores) | {base:.3f} | 1.0 |")
+    print(f"| jobs=1 (default: one block, a thread per core) | {base:.3f} | 1.0 |")
     _, pool = _timed(lambda: simulate_batch(FRAME, series, scales, tail_s=0.0, jobs=2), 3)
     print(f"| jobs=2 (process pool, 8 blocks, pool started per call) | {pool:.3f} | "
           f"{pool / base:.1f} |")  # fmt: skip

@@ -40,7 +40,7 @@ from typing import Any
 
 import numpy as np
 
-from stepframe.core.jit import njit, prange
+from stepframe.core.jit import njit
 from stepframe.structure.status import (
     CHATTER_DRIFT,
     CHATTER_EPS,
@@ -319,7 +319,9 @@ def _impact_rule(
     return 2, delay, 0.0
 
 
-@njit(cache=True, inline="always")
+# Called, not inlined at the IR level (inline="always" typed a copy per call site into integrate:
+# about 0.5 s of its first compilation); the batch runs as fast (bench/bench_batch_threads.py).
+@njit(cache=True)
 def _push(
     n_ev: int,
     ev_t: np.ndarray,
@@ -441,13 +443,8 @@ def integrate(
             # beyond x_c is an episode already under way (no lift-off event).
             n_lift += 1
             cur_lift = 0
-            if cap_ev > 0:
-                ev_t[0] = 0.0
-                ev_kind[0] = EVENT_LIFTOFF
-                ev_v_in[0] = v
-                ev_v_out[0] = v
-                ev_peak[0] = cur_side * xc
-            n_ev = 1
+            n_ev = _push(n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak,
+                         0.0, EVENT_LIFTOFF, v, v, cur_side * xc)  # fmt: skip
 
     n_total = n_rec + n_tail
     i = 0
@@ -484,13 +481,8 @@ def integrate(
                 s = 1.0 if phase > 0 else -1.0
                 if s * v - lam2 * (s * x - x_star) > 0.0 and overturned == 0:
                     overturned = 1
-                    if n_ev < cap_ev:
-                        ev_t[n_ev] = t0
-                        ev_kind[n_ev] = EVENT_ESCAPE
-                        ev_v_in[n_ev] = v
-                        ev_v_out[n_ev] = v
-                        ev_peak[n_ev] = x
-                    n_ev += 1
+                    n_ev = _push(n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak,
+                                 t0, EVENT_ESCAPE, v, v, x)  # fmt: skip
                     if xcap == math.inf:
                         t_over = t0
                         break
@@ -579,13 +571,8 @@ def integrate(
                     cur_lift = n_ev
                     cur_side = 1.0 if phase > 0 else -1.0
                     ep_peak = xc
-                    if n_ev < cap_ev:
-                        ev_t[n_ev] = t0 + tau
-                        ev_kind[n_ev] = EVENT_LIFTOFF
-                        ev_v_in[n_ev] = 0.0
-                        ev_v_out[n_ev] = 0.0
-                        ev_peak[n_ev] = cur_side * xc
-                    n_ev += 1
+                    n_ev = _push(n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak,
+                                 t0 + tau, EVENT_LIFTOFF, 0.0, 0.0, cur_side * xc)  # fmt: skip
                 continue
 
             beta, k, disc, q0, q1 = _phase_coeffs(
@@ -670,13 +657,8 @@ def integrate(
                             cur_lift = n_ev
                             cur_side = 1.0 if phase > 0 else -1.0
                             ep_peak = xc
-                            if n_ev < cap_ev:
-                                ev_t[n_ev] = t_ev
-                                ev_kind[n_ev] = EVENT_LIFTOFF
-                                ev_v_in[n_ev] = v_ev
-                                ev_v_out[n_ev] = v_ev
-                                ev_peak[n_ev] = cur_side * xc
-                            n_ev += 1
+                            n_ev = _push(n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak, t_ev,
+                                         EVENT_LIFTOFF, v_ev, v_ev, cur_side * xc)  # fmt: skip
                             s = 1.0 if phase > 0 else -1.0
                             p_back = w2 * w2 * xc - g1 - s * p2 * (ag_a + slope * tau)
                             graze = 2.0 * abs(v_ev) / -p_back if p_back < 0.0 else math.inf
@@ -752,13 +734,8 @@ def integrate(
                             v = v_ev
                             overturned = 1
                             t_over = t_ev
-                            if n_ev < cap_ev:
-                                ev_t[n_ev] = t_ev
-                                ev_kind[n_ev] = EVENT_CAP
-                                ev_v_in[n_ev] = v_ev
-                                ev_v_out[n_ev] = v_ev
-                                ev_peak[n_ev] = ev_target
-                            n_ev += 1
+                            n_ev = _push(n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak,
+                                         t_ev, EVENT_CAP, v_ev, v_ev, ev_target)  # fmt: skip
                             stop = True
                         fresh = True
                         event_found = True
@@ -838,7 +815,8 @@ def integrate(
     )
 
 
-def _batch(
+@njit(cache=True, nogil=True)
+def integrate_batch(
     flat_ag: np.ndarray,
     offsets: np.ndarray,
     rec_index: np.ndarray,
@@ -848,16 +826,19 @@ def _batch(
     params: np.ndarray,
     out: np.ndarray,
 ) -> None:
-    """Run :func:`integrate` for many (record, scale) pairs in parallel, summaries only.
+    """Run :func:`integrate` for many (record, scale) pairs on this thread, summaries only.
 
     ``params`` = (ω₁, ω₂, P₁, P₂, γ₁, ξ₁, ξ₂, x_c, C_r, x_cap, x₀, v₀); ``out[j]`` receives
     (status, n_liftoffs, n_impacts, peak, t_peak, overturned, t_overturn, x_end, v_end, phase_end).
+    The GIL is released: threads of the caller run disjoint slices of the pairs at once. (A
+    ``prange`` loop here cost 3 s more of compilation on a first run, numba's parfor lowering,
+    for the same speed: docs/benchmarks.md.)
     """
     n_pairs = rec_index.shape[0]
     empty_f = np.empty(0)
     empty_i = np.empty(0, dtype=np.int8)
     empty_k = np.empty(0, dtype=np.int8)
-    for j in prange(n_pairs):
+    for j in range(n_pairs):
         r = rec_index[j]
         ag = flat_ag[offsets[r] : offsets[r + 1]] * scales[j]
         res = integrate(
@@ -895,10 +876,3 @@ def _batch(
         out[j, 7] = res[8]
         out[j, 8] = res[9]
         out[j, 9] = res[10]
-
-
-#: All cores through numba's parallel loop (the default, from a process's main thread).
-integrate_batch = njit(cache=True, parallel=True)(_batch)
-#: The same loop on one thread: for worker threads of an executor, where a parallel launch from
-#: several threads at once is not safe with every numba threading layer (workqueue aborts).
-integrate_batch_serial = njit(cache=True)(_batch)

@@ -689,28 +689,53 @@ class _BatchBlock:
         return f"pairs {self.first}-{self.first + self.scales.size - 1}"
 
 
+def _batch_threads() -> int:
+    """Threads of an in-process batch: numba's thread count (``numba.set_num_threads`` when the
+    caller set it, else ``NUMBA_NUM_THREADS``, by default the CPUs this process may use), read
+    without starting numba's thread pool, which the batch does not use."""
+    import numba
+    from numba.np.ufunc import parallel
+
+    if getattr(parallel, "_is_initialized", False):  # set_num_threads started the pool
+        return int(numba.get_num_threads())
+    return int(numba.config.NUMBA_NUM_THREADS)  # type: ignore[attr-defined]
+
+
 def _run_block(block: _BatchBlock) -> np.ndarray:
-    """Summaries of one block, all cores through numba's ``prange`` (see docs/benchmarks.md).
+    """Summaries of one block, on all cores through threads (the kernel releases the GIL).
 
     In a worker (a thread of a thread pool, or a process of a pool) the block runs on that one
-    thread: the pool is the parallelism there, and numba's OpenMP layer must not be used in a
-    process forked after its parent used it (the child is killed).
+    thread: the pool is the parallelism there. In the process's main thread the pairs are cut
+    into four pieces per thread, taken in turn by :func:`_batch_threads` threads (records
+    differ in length).
     """
     import multiprocessing
     import threading
+    from concurrent.futures import ThreadPoolExecutor
 
     from stepframe.structure import _exact
 
-    kernel = _exact.integrate_batch
+    n_pairs = block.scales.size
+    threads = min(_batch_threads(), n_pairs)
     worker_thread = threading.current_thread() is not threading.main_thread()
     if worker_thread or multiprocessing.parent_process() is not None:
-        kernel = _exact.integrate_batch_serial
-
+        threads = 1
+    flat = np.concatenate(block.series)
     offsets = np.zeros(len(block.series) + 1, dtype=np.int64)
     offsets[1:] = np.cumsum([a.size for a in block.series])
-    out = np.empty((block.scales.size, 10))
-    kernel(np.concatenate(block.series), offsets, block.rec_local, block.scales,
-           block.dts, block.tails, block.params, out)  # fmt: skip
+    out = np.empty((n_pairs, 10))
+
+    def run(first: int, stop: int) -> None:
+        _exact.integrate_batch(flat, offsets, block.rec_local[first:stop],
+                               block.scales[first:stop], block.dts, block.tails, block.params,
+                               out[first:stop])  # fmt: skip
+
+    if threads <= 1:
+        run(0, n_pairs)
+        return out
+    bounds = np.linspace(0, n_pairs, min(n_pairs, 4 * threads) + 1).astype(np.int64)
+    with ThreadPoolExecutor(threads) as pool:
+        list(pool.map(run, bounds[:-1].tolist(), bounds[1:].tolist()))
     return out
 
 
@@ -755,7 +780,8 @@ def simulate_batch(
     """Summaries of many (record, scale) pairs with the exact method, through the one executor.
 
     The pairs are cut into blocks handed to :func:`stepframe.core.execution.map_items`; each
-    block runs on all the cores of its worker through numba's parallel loop. With the default
+    block runs on all the cores of its worker (threads running a kernel that releases the GIL;
+    one thread in a pool's worker). With the default
     ``jobs=1`` there is one block, run in this process: on one machine that is the fastest way
     (docs/benchmarks.md measures it against a process pool). ``jobs`` > 1 or an ``executor``
     (a Dask client's ``get_executor()``) spreads blocks over workers, for clusters.
@@ -826,8 +852,6 @@ def simulate_batch(
     spread = executor is not None or jobs > 1
     n_blocks = 4 * max(1, jobs) if spread else 1
     blocks = _blocks(series, dts, rec_index, pair_scales, tail_s, params, n_blocks)
-    # map_items starts its process pool from a fork server: a forked child of a process that ran
-    # numba's OpenMP loop would be killed by the OpenMP runtime.
     outcome = map_items(
         _run_block, blocks, jobs=jobs, executor=executor, chunk_size=1, stage="simulate",
         progress=progress,
