@@ -90,8 +90,10 @@ def test_demo_selects_for_example_4(demo_run: tuple[dict[str, object], Path]) ->
     low = 2 * math.pi / period_amplitude(frame, 0.8 * 0.1387 / 0.6445**2)
     assert payload["band_rad_s"] == pytest.approx([low, 6.4581], rel=1e-4)
     assert payload["n_candidates"] == 100
-    candidates = pd.read_csv(out / "selection" / "candidates.csv")
-    candidates["dropped_by"] = candidates["dropped_by"].fillna("")
+    # an empty reason is read as NaN: read the column as text
+    candidates = pd.read_csv(
+        out / "selection" / "candidates.csv", dtype={"dropped_by": str}, keep_default_na=False
+    )
     assert payload["n_filtered"] == int((candidates["dropped_by"] != "").sum())
     passed = candidates[candidates["dropped_by"] == ""]
     rank_by = str(payload["rank_by"])  # the library's default ranking
@@ -151,6 +153,15 @@ def test_demo_is_the_shipped_selection_workflow(demo_run: tuple[dict[str, object
     names = zip(chosen["file"], chosen["component"], strict=True)
     best = [f"{file.rsplit('/', 1)[-1]} [{component}]" for file, component in names]
     assert numbers["accelerogram_records"] == best[:3]
+    # the report simulates the frame the run ranked with (selection.json carries it): the
+    # moving-resonance section runs on the three best records at their scale factors
+    summary = json.loads((out / "selection" / "selection.json").read_text())
+    assert [summary["frame"][k] for k in ("omega_1_rad_s", "x_c_m")] == pytest.approx(
+        [6.4581, 0.19043], rel=1e-4
+    )  # Example 4's printed constants
+    drawn = numbers["moving_resonance"]
+    assert [row["record"] for row in drawn] == best[:3]
+    assert [row["scale"] for row in drawn] == pytest.approx(chosen["scale_factor"][:3].tolist())
     features = pd.read_parquet(out / "features.parquet")
     assert len(features) == 100
     assert (out / "store").is_dir() and (out / "lock").is_file()

@@ -821,6 +821,8 @@ def _result(
         "rank_by": options.rank_by,
         "scale": options.scale,
         "band": band.to_dict(),
+        # the frame ranked with, so that a report made later simulates the same frame
+        "frame": {k: v for k, v in dataclasses.asdict(frame).items() if v is not None},
         "substitute": spectra.levels.to_dict(),
         "filters": [r.to_dict() for r in candidates.reports],
         "filter_summary": candidates.summary_line,

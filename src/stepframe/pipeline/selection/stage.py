@@ -27,14 +27,15 @@ from stepframe.pipeline.reports.provenance import workflow_provenance
 
 # 2: default rank_by substitute_demand_ratio; 3: records grouped, verticals left out, the
 # chosen set's spectra, code check, response and motions; 4: records by identity; 5: ranked by
-# the simulated response at a stated intensity
-SELECTION_VERSION = 5
+# the simulated response at a stated intensity; 6: the frame in selection.json
+SELECTION_VERSION = 6
 # 2: the peers and the ranking's simulations in the pass
 RESPONSES_VERSION = 2
 # 2: the best records' accelerograms; 3: stated correlations; 4: the run's spectra and check,
 # the chosen set at its scale, chosen records marked, "not run"; 5: records by identity; 6: the
-# ranking's sections; 7: the ranking intensity in the summary box
-SELECTION_REPORT_VERSION = 7
+# ranking's sections; 7: the ranking intensity in the summary box; 8: the frame from
+# selection.json (the moving-resonance section runs)
+SELECTION_REPORT_VERSION = 8
 SELECTION_REPORT_HTML = "selection_report.html"
 
 
