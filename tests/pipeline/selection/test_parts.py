@@ -180,6 +180,28 @@ def test_spearman_matches_scipy() -> None:
     assert spearman_interval(x, y, seed=0)[3] == 39
 
 
+def test_bootstrap_in_blocks_gives_the_intervals_of_one_draw(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The resamples are drawn and ranked in blocks (memory at catalogue size); the intervals
+    equal those of every resample drawn at once, recomputed here from one draw."""
+    from scipy.stats import spearmanr
+
+    from stepframe.pipeline.selection import confirm
+
+    rng = np.random.default_rng(11)
+    x, r = rng.normal(size=57), rng.normal(size=57)
+    y = x + 0.5 * r + rng.normal(size=57)
+    picks = np.random.default_rng(3).integers(0, 57, size=(200, 57))
+    direct = np.array([spearmanr(x[p], y[p])[0] for p in picks])
+    paired = direct - np.array([spearmanr(r[p], y[p])[0] for p in picks])
+    monkeypatch.setattr(confirm, "BLOCK_INDICES", 5 * 57 + 3)  # blocks of 5 resamples
+    _, low, high, _ = confirm.spearman_interval(x, y, seed=3, n_resamples=200)
+    assert [low, high] == pytest.approx(np.percentile(direct, [2.5, 97.5]), rel=1e-12)
+    _, low, high, _ = confirm.paired_delta_rho(x, r, y, seed=3, n_resamples=200)
+    assert [low, high] == pytest.approx(np.percentile(paired, [2.5, 97.5]), rel=1e-12)
+
+
 def test_equal_intensity_puts_the_linear_peak_at_the_ratio(example4: PortalFrame) -> None:
     """Below the onset of stepping the frame is linear: its peak is P_1·SD(T_1, ξ_1), so the
     scale for onset ratio 0.8 gives a simulated peak of 0.8·x_c."""
