@@ -154,14 +154,14 @@ def test_demo_is_the_shipped_selection_workflow(demo_run: tuple[dict[str, object
     best = [f"{file.rsplit('/', 1)[-1]} [{component}]" for file, component in names]
     assert numbers["accelerogram_records"] == best[:3]
     # the report simulates the frame the run ranked with (selection.json carries it): the
-    # moving-resonance section runs on the three best records at their scale factors
+    # moving-resonance section runs on the three best records at the ranking intensity
     summary = json.loads((out / "selection" / "selection.json").read_text())
     assert [summary["frame"][k] for k in ("omega_1_rad_s", "x_c_m")] == pytest.approx(
         [6.4581, 0.19043], rel=1e-4
     )  # Example 4's printed constants
     drawn = numbers["moving_resonance"]
     assert [row["record"] for row in drawn] == best[:3]
-    assert [row["scale"] for row in drawn] == pytest.approx(chosen["scale_factor"][:3].tolist())
+    assert [row["scale"] for row in drawn] == pytest.approx(chosen["ranking_scale"][:3].tolist())
     features = pd.read_parquet(out / "features.parquet")
     assert len(features) == 100
     assert (out / "store").is_dir() and (out / "lock").is_file()

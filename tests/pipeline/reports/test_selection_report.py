@@ -123,7 +123,7 @@ def test_candidates_mark_the_selected(selection_dir: Path, selection_html: Path)
 
 
 def test_moving_resonance_of_the_best_records(selection_dir: Path, selection_html: Path) -> None:
-    # Each drawn record is the selection's record at its scale factor, simulated with the index
+    # Each drawn record is the selection's record at the ranking intensity, simulated with the index
     # over the report's band: the numbers are those of the library on the same record.
     from stepframe.pipeline.dynamics.resonance import moving_resonance
     from stepframe.records.examples import fema_p695
@@ -138,11 +138,13 @@ def test_moving_resonance_of_the_best_records(selection_dir: Path, selection_htm
     trace = next(t for t in stream if t.stats.stepframe.source_file == first["file"])
     summary = json.loads((selection_dir / "selection.json").read_text())
     frame = read_frame_file(selection_dir / summary["frame_file"])
+    # the factor at the ranking intensity; a run ranked by a tier has none: its scale factor
+    scale = float(first.get("ranking_scale", first["scale_factor"]))
     run = moving_resonance(
-        frame, trace.data, trace.stats.delta, scale=float(first["scale_factor"]),
+        frame, trace.data, trace.stats.delta, scale=scale,
         band_rad_s=numbers["band_rad_s"],
     )  # fmt: skip
-    assert drawn[0]["scale"] == pytest.approx(first["scale_factor"])
+    assert drawn[0]["scale"] == pytest.approx(scale)
     for column, key in (("M", "moving_resonance_share"), ("depth", "work_depth"),
                         ("work_m2_s2", "input_energy_m2_s2")):  # fmt: skip
         assert drawn[0][column] == pytest.approx(getattr(run.measures, key), rel=1e-12), key

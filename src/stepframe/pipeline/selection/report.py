@@ -724,7 +724,6 @@ def selection_report(
         ("Scaling", str(summary.get("scale", summary.get("scaling", "none")))),
     ]
     best = rows[:N_ACCELEROGRAMS]
-    scales = [_scale_of(row) for row in best]
 
     def load(row: dict[str, Any]) -> Any:
         return record_loader(row, folder)
@@ -740,7 +739,9 @@ def selection_report(
         spectra_section(outputs, rows, names, band, record_loader, numbers, summary_lines),
         chosen_scale_section(summary, numbers, summary_lines),
         confirmation_section(outputs, candidates, rank_by, numbers, summary_lines),
-        resonance_section(best, names, scales, frame, band, load, numbers),
+        resonance_section(
+            best, names, [_ranking_scale_of(row) for row in best], frame, band, load, numbers
+        ),
         filters_section(outputs, candidates, numbers),
     ]
     return Report(
@@ -941,6 +942,15 @@ def chosen_scale_section(
 def _scale_of(row: dict[str, Any]) -> float:
     scale = row.get("scale_factor", 1.0)
     return 1.0 if scale is None or pd.isna(scale) else float(scale)
+
+
+def _ranking_scale_of(row: dict[str, Any]) -> float:
+    """The record's factor at the ranking intensity (``ranking_scale``: where the ranking saw
+    it respond), else its scale factor."""
+    scale = row.get("ranking_scale")
+    if scale is None or pd.isna(scale) or not float(scale) > 0:
+        return _scale_of(row)
+    return float(scale)
 
 
 def _accelerogram_items(

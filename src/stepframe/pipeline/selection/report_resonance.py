@@ -1,8 +1,9 @@
 """The selection report's moving-resonance section: each best record's band spectrum with the
 frame's ω_f(t) of its simulation over it, and the ground's work (issue 26, item 5).
 
-One exact simulation with history per drawn record, at the record's scale factor of the
-selection, measured by :func:`stepframe.pipeline.dynamics.resonance.moving_resonance` over the
+One exact simulation with history per drawn record, at the ranking intensity (the record's
+``ranking_scale``: where the ranking saw it respond; its scale factor when the run has none),
+measured by :func:`stepframe.pipeline.dynamics.resonance.moving_resonance` over the
 report's band (docs/selection.md, "Moving resonance, measured").
 """
 
@@ -31,7 +32,7 @@ SHOWN = (
 )  # fmt: skip
 COLUMNS = {
     "record": "record",
-    "scale": "scale factor of the selection [-]",
+    "scale": "the record's factor at the ranking intensity (ranking_scale) [-]",
     **{column: meaning for column, _, meaning in SHOWN},
     "overturned": "the frame overturned",
 }
@@ -51,7 +52,7 @@ def resonance_section(
     Parameters
     ----------
     rows, scales
-        The selection's rows and their scale factors [-].
+        The selection's rows and the factors they are simulated at [-] (the ranking's).
     names
         Display names of the selection's rows, in order (at least as many as ``rows``).
     frame
@@ -99,11 +100,11 @@ def resonance_section(
                     "accumulated work on the frame"
                 ),
                 how_to_read=(
-                    "The record scaled as selected, simulated exactly: where the green line (the "
-                    "frame's own frequency, from its half-cycles) runs through bright colour, the "
-                    "record's energy is where the frame is. It leaves ω_1 only while the frame "
-                    "steps. R_m and M in the title (docs/selection.md, 'Moving resonance, "
-                    "measured')."
+                    "The record at the ranking intensity, simulated exactly: where the green line "
+                    "(the frame's own frequency, from its half-cycles) runs through bright "
+                    "colour, the record's energy is where the frame is. It leaves ω_1 only while "
+                    "the frame steps. R_m and M in the title (docs/selection.md, 'Moving "
+                    "resonance, measured')."
                 ),
             )
         )
@@ -116,7 +117,7 @@ def resonance_section(
             "moving_resonance",
             "Moving-resonance measures of each drawn record",
             pd.DataFrame(measured),
-            "The exact simulator on each record at its scale factor, with the index",
+            "The exact simulator on each record at the ranking intensity, with the index",
             COLUMNS,
         )
     )
