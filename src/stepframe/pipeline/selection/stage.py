@@ -34,8 +34,8 @@ RESPONSES_VERSION = 2
 # 2: the best records' accelerograms; 3: stated correlations; 4: the run's spectra and check,
 # the chosen set at its scale, chosen records marked, "not run"; 5: records by identity; 6: the
 # ranking's sections; 7: the ranking intensity in the summary box; 8: the frame from
-# selection.json (the moving-resonance section runs)
-SELECTION_REPORT_VERSION = 8
+# selection.json (the moving-resonance section runs); 9: that section at the ranking intensity
+SELECTION_REPORT_VERSION = 9
 SELECTION_REPORT_HTML = "selection_report.html"
 
 
