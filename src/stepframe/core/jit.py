@@ -34,10 +34,9 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 import numba
-from numba import prange
 from numba.core import event
 
-__all__ = ["ANNOUNCE", "cache_folder", "njit", "prange"]
+__all__ = ["ANNOUNCE", "cache_folder", "njit"]
 
 #: Print the compile notice on stderr (one line per compiling run of a stepframe kernel).
 ANNOUNCE = os.environ.get("STEPFRAME_COMPILE_NOTICE", "1") != "0"
