@@ -184,3 +184,23 @@ def test_every_shipped_file_is_package_data() -> None:
         assert any(
             path.match(glob) and len(path.parts) == len(PurePosixPath(glob).parts) for glob in globs
         ), file
+
+
+def test_demo_names_a_damaged_stored_object(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """A features segment overwritten on disk: the next demo quarantines it, recomputes the
+    features and says so in its summary, as `stepframe run` does; the tables are unchanged."""
+    folder = tmp_path / "demo"
+    assert main(["demo", "-o", str(folder), "--jobs", "1"]) == 0
+    before = (folder / "selection" / "selection.csv").read_bytes()
+    segment = sorted((folder / "store" / "features").glob("seg-*.parquet"))[0]
+    segment.write_bytes(b"garbage")
+    capsys.readouterr()
+    assert main(["demo", "-o", str(folder), "--jobs", "1"]) == 0
+    store_lines = [
+        line for line in capsys.readouterr().out.splitlines() if line.startswith("store:")
+    ]
+    assert len(store_lines) == 1 and segment.name in store_lines[0]
+    assert (folder / "store" / "quarantine" / "features").is_dir()
+    assert (folder / "selection" / "selection.csv").read_bytes() == before

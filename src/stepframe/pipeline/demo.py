@@ -84,6 +84,8 @@ class DemoRun:
             [
                 *self.selection.summary_lines(),
                 *ranking_lines(self.selection.summary),
+                # a damaged stored object was quarantined and recomputed: say so, as `run` does
+                *(f"store: {event.line()}" for event in self.run.store_events),
                 f"report: {self.report_html}",
                 f"tables: {self.folder / 'selection'}/ (selection.csv, candidates.csv, "
                 "confirmation.csv, failures.csv, columns.csv, selection.json)",
