@@ -252,11 +252,13 @@ def wavelet_power(
 
     The default bands (96, log-spaced) run from the lowest frequency outside the cone of
     influence anywhere in the record, 2√2·q/T (:func:`cone_of_influence`; at least 0.2 rad/s),
-    to 0.8 × Nyquist. Cost: one FFT of the record, then per band the bins of its Gaussian and one
-    inverse FFT of npts/hop points (a band over the lowest 1 Hz of a 40-s record at 100 Hz
-    costs about 20 µs; docs/benchmarks.md, issue 26).
+    to 0.8 × Nyquist. Cost: one FFT of the record, the bins of every band's Gaussian folded in
+    one compiled loop (:mod:`stepframe.stochastic._wavelet_kernel`), and one inverse FFT of
+    about 2·npts/hop points per band, all bands in one call (docs/benchmarks.md, issue 26).
     """
     import scipy.fft as sfft
+
+    from stepframe.stochastic._wavelet_kernel import folded_bands
 
     npts = data.size
     nyquist = math.pi / dt_s
@@ -276,26 +278,18 @@ def wavelet_power(
     # Only the frames, every hop samples, are wanted. With nfft = hop·m the inverse transform at
     # those samples is the m-point inverse FFT of the band's spectrum folded modulo m (exact:
     # e^{2πik·l·hop/nfft} depends on k mod m only), and each band keeps the bins within 10σ_j
-    # of its centre (the Gaussian gain beyond is below e⁻⁵⁰). nfft is the fast length ≥ 2·npts
-    # (zero padding against wrap-around) rounded up to a multiple of hop: fewer than hop more
-    # zeros change the wrap-around of the longest bands, inside the cone of influence, only.
-    m = -(-sfft.next_fast_len(2 * npts) // hop)
+    # of its centre (the Gaussian gain beyond is below e⁻⁵⁰). nfft = hop·m with m the fast
+    # length ≥ 2·npts/hop (zero padding against wrap-around): both transforms fast. (m rounded
+    # up from a fast nfft could be prime: 2,300 samples at hop 10 gave m = 461 and a spectrum
+    # 6 times slower.) The extra zeros change the wrap-around of the longest bands, inside the
+    # cone of influence, only.
+    m = sfft.next_fast_len(-(-2 * npts // hop))
     nfft = m * hop
     spectrum = sfft.rfft(data, nfft)
     step = 2 * math.pi / (nfft * dt_s)  # bin spacing [rad/s]
-    folded = np.zeros((omega.size, m), dtype=np.complex128)
-    for j, wj in enumerate(omega):
-        sigma = wj / morlet_q
-        first = max(0, math.floor((wj - _GAIN_REACH * sigma) / step))
-        last = min(spectrum.size, math.ceil((wj + _GAIN_REACH * sigma) / step) + 1)
-        bins = np.arange(first, last)
-        gain = np.exp(-0.5 * ((bins * step - wj) / sigma) ** 2)
-        values = 2.0 * spectrum[first:last] * gain  # analytic signal: positive frequencies only
-        where = bins % m
-        folded[j].real = np.bincount(where, values.real, minlength=m)
-        folded[j].imag = np.bincount(where, values.imag, minlength=m)
-    u = sfft.ifft(folded, axis=-1)[:, :n_frames] / hop
     sigmas = omega / morlet_q
+    folded = folded_bands(spectrum, omega, sigmas, step, m, _GAIN_REACH)
+    u = sfft.ifft(folded, axis=-1, overwrite_x=True)[:, :n_frames] / hop
     psd = np.ascontiguousarray(
         (math.sqrt(math.pi) * (u.real**2 + u.imag**2) / (2.0 * sigmas[:, None])).T
     )
