@@ -14,6 +14,7 @@ from matplotlib.figure import Figure
 
 from stepframe.pipeline.dynamics.resonance import (
     NEAR_LN,
+    band_power,
     band_spectrum,
     closeness,
     moving_resonance,
@@ -109,6 +110,45 @@ def test_closeness_of_a_tone_follows_the_morlet_band_power() -> None:
     peak = max(density(w) for w in np.geomspace(2.5, 3.5, 2001))
     near, _ = closeness(spectrum, frames[mid], np.full(mid.sum(), far))
     assert np.allclose(near, density(reach) / peak, rtol=0.1)
+
+
+def closeness_from_the_definition(
+    psd: np.ndarray, frames: np.ndarray, omega: np.ndarray, t: float, omega_f: float
+) -> float:
+    """c at one time, straight from docs/selection.md step 3, independently of the kernel: the
+    largest S of the bands within NEAR_LN (in ln ω, on the grid) of each band, over the frame's
+    largest, read bilinearly in (t, ln ω) with ω_f held at the grid's edges."""
+    log_w = np.log(omega)
+    reach = round(NEAR_LN / (log_w[1] - log_w[0]))
+    windowed = np.array(
+        [[row[max(0, j - reach) : j + reach + 1].max() / row.max() for j in range(omega.size)]
+         for row in psd]
+    )  # fmt: skip
+    at_time = np.array([np.interp(t, frames, windowed[:, j]) for j in range(omega.size)])
+    return float(np.interp(np.log(np.clip(omega_f, omega[0], omega[-1])), log_w, at_time))
+
+
+def test_closeness_kernel_reproduces_the_definition_on_a_random_spectrum() -> None:
+    rng = np.random.default_rng(7)
+    acc = rng.standard_normal(1500) * np.hanning(1500)
+    spectrum = band_power(acc, 0.01, (0.6, 6.0))
+    times = rng.uniform(0.0, spectrum.time_s[-1], 200)
+    omega_f = np.exp(rng.uniform(math.log(0.2), math.log(12.0), 200))  # some beyond the grid
+    near, _ = closeness(spectrum, times, omega_f)
+    expected = [
+        closeness_from_the_definition(spectrum.psd, spectrum.time_s, spectrum.omega_rad_s, t, w)
+        for t, w in zip(times, omega_f, strict=True)
+    ]
+    assert np.allclose(near, expected, rtol=1e-12, atol=1e-14)
+
+
+def test_band_power_is_the_band_spectrum_without_labels() -> None:
+    acc = np.random.default_rng(3).standard_normal(2300)
+    arrays = band_power(acc, 0.01, (0.65, 6.46), n_samples=2400)
+    labelled = band_spectrum(acc, 0.01, (0.65, 6.46), n_samples=2400)
+    assert np.array_equal(arrays.psd, labelled.transpose("time", "omega").values)
+    assert np.array_equal(arrays.omega_rad_s, labelled["omega"].values)
+    assert np.array_equal(arrays.time_s, labelled["time"].values)
 
 
 def test_without_history_or_with_a_failed_run_the_index_says_why() -> None:

@@ -139,3 +139,33 @@ def test_swing_frequency_needs_no_result() -> None:
     assert np.all(omega == 6.4581)
     assert np.allclose(amplitude, 0.1, rtol=1e-8)
     assert np.allclose(law, 6.4581, rtol=1e-12)
+
+
+def test_the_law_at_the_edges_only_gives_the_same_frequency() -> None:
+    # law_everywhere=False (the index's path) evaluates A(t) and the law before the first zero
+    # crossing and after the last only: ω_f must be the same to the bit, on a run that steps
+    # many times and on one that overturns; A and the law are NaN between, given at the edges.
+    rng = np.random.default_rng(1)
+    ground = np.convolve(rng.standard_normal(4000), np.hanning(40), "same") * 0.14
+    frame = PortalFrame(**{**FREE.to_dict(), "gamma_1_m_s2": 8 * 0.1387})
+    for scale in (1.0, 6.0):
+        result = simulate(frame, ground, 0.01, scale=scale, tail_s=5.0)
+        assert result.model is not None and result.raw.hist_x.size
+        raw, backbone = result.raw, backbone_of(result.model)
+        n = (
+            raw.hist_x.size
+            if not result.summary.overturned
+            else int(
+                result.summary.overturn_time_s / 0.01  # type: ignore[operator]
+            )
+        )
+        args = (raw.hist_x[:n], raw.hist_v[:n], raw.hist_p[:n], 0.01, backbone)
+        full = swing_frequency_rad_s(*args, overturns=result.summary.overturned)
+        edges = swing_frequency_rad_s(
+            *args, overturns=result.summary.overturned, law_everywhere=False
+        )
+        assert np.array_equal(full[0], edges[0])
+        given = ~np.isnan(edges[1])
+        assert 0 < given.sum() < n
+        assert np.array_equal(full[1][given], edges[1][given])
+        assert np.array_equal(full[2][given], edges[2][given])

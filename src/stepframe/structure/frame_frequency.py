@@ -171,7 +171,13 @@ def turning_points(
 
 
 def swing_amplitude_m(
-    x_m: Floats, v_m_s: Floats, dt_s: float, backbone: ModelBackbone, *, overturns: bool = False
+    x_m: Floats,
+    v_m_s: Floats,
+    dt_s: float,
+    backbone: ModelBackbone,
+    *,
+    overturns: bool = False,
+    at: NDArray[np.intp] | None = None,
 ) -> Floats:
     """The swing amplitude A(t) at each sample [m] (module docstring).
 
@@ -184,8 +190,12 @@ def swing_amplitude_m(
     overturns
         The history ends by overturning: after its last turning point A(t) also follows the
         energy amplitude (∞ once the free frame could not return).
+    at
+        Sample numbers to evaluate A at (default every sample); the turning points are found on
+        the whole history either way.
     """
-    time_s = np.arange(x_m.size) * dt_s
+    samples = np.arange(x_m.size) if at is None else np.asarray(at, dtype=np.intp)
+    time_s = samples * dt_s
     start = energy_amplitude_m(x_m[:1], v_m_s[:1], backbone)
     t_turn, a_turn = turning_points(x_m, v_m_s, dt_s)
     later = t_turn > 0.0
@@ -194,8 +204,9 @@ def swing_amplitude_m(
     amplitude = np.interp(time_s, knots_t, knots_a)
     if overturns:
         last = time_s > knots_t[-1]
+        chosen = samples[last]
         amplitude[last] = np.maximum(
-            amplitude[last], energy_amplitude_m(x_m[last], v_m_s[last], backbone)
+            amplitude[last], energy_amplitude_m(x_m[chosen], v_m_s[chosen], backbone)
         )
     return np.asarray(amplitude)
 
@@ -232,7 +243,7 @@ def zero_crossings(
 
 def swing_frequency_rad_s(
     x_m: Floats, v_m_s: Floats, phase: NDArray[np.int8], dt_s: float, backbone: ModelBackbone,
-    *, overturns: bool = False,
+    *, overturns: bool = False, law_everywhere: bool = True,
 ) -> tuple[Floats, Floats, Floats]:  # fmt: skip
     """ω_f(t) [rad/s], the swing amplitude A(t) [m] and the law's frequency at it 2π/T(A(t))
     [rad/s] at each sample (module docstring).
@@ -245,10 +256,21 @@ def swing_frequency_rad_s(
         The frame's law constants.
     overturns
         The history ends by overturning (see :func:`swing_amplitude_m`).
+    law_everywhere
+        False: A(t) and the law's frequency only where ω_f needs them (before the first zero
+        crossing and after the last), NaN between: ω_f is the same, at a third of the cost for
+        a history of many half-cycles (the moving-resonance index's path, docs/benchmarks.md).
     """
-    amplitude = swing_amplitude_m(x_m, v_m_s, dt_s, backbone, overturns=overturns)
-    omega = frequency_rad_s(amplitude, backbone)
     i, z = zero_crossings(x_m, v_m_s, dt_s)
+    samples = np.arange(x_m.size)
+    if not law_everywhere and i.size >= 2:
+        samples = np.concatenate((samples[: i[0] + 1], samples[i[-1] + 1 :]))
+    amplitude = np.full(x_m.size, np.nan)
+    amplitude[samples] = swing_amplitude_m(
+        x_m, v_m_s, dt_s, backbone, overturns=overturns, at=samples
+    )
+    omega = np.full(x_m.size, np.nan)
+    omega[samples] = frequency_rad_s(amplitude[samples], backbone)
     law = omega.copy()
     if i.size >= 2:
         # Half-cycle k holds the samples i[k] + 1 ... i[k + 1].
@@ -316,16 +338,19 @@ def felt_ground_acc(result: SimulationResult) -> Floats:
     return acc
 
 
-def motion_frequency(result: SimulationResult) -> tuple[Floats, Floats, Floats]:
+def motion_frequency(
+    result: SimulationResult, *, law_everywhere: bool = True
+) -> tuple[Floats, Floats, Floats]:
     """ω_f(t) [rad/s], A(t) [m] and 2π/T(A(t)) [rad/s] over the samples of motion
-    (:func:`motion_samples`) of a simulation with history and model."""
+    (:func:`motion_samples`) of a simulation with history and model (``law_everywhere`` as
+    :func:`swing_frequency_rad_s`)."""
     if result.model is None or not result.raw.hist_x.size:
         raise ValueError("the simulation kept no history, expected record_history=True")
     n = motion_samples(result)
     raw = result.raw
     return swing_frequency_rad_s(
         raw.hist_x[:n], raw.hist_v[:n], raw.hist_p[:n], result.dt_s, backbone_of(result.model),
-        overturns=result.summary.overturned,
+        overturns=result.summary.overturned, law_everywhere=law_everywhere,
     )  # fmt: skip
 
 

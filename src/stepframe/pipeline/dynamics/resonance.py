@@ -20,8 +20,8 @@ The steps of docs/selection.md, "Moving resonance, measured":
    share** M = Σ c_k d_k W_k⁺ / Σ W_k⁺ (:class:`MovingResonance`).
 
 Cost: the band spectrum is one FFT of the record and an inverse FFT of n/hop points per band
-(once per record and frame, at any scale); the index is a few vector operations over the
-history (docs/benchmarks.md, issue 26).
+(once per record and frame, at any scale; :func:`band_power` gives it without the DataArray);
+the index is some forty vector operations over the history (docs/benchmarks.md, issue 26).
 """
 
 from __future__ import annotations
@@ -71,6 +71,70 @@ def band_grid_rad_s(band_rad_s: Sequence[float]) -> Floats:
     return low * math.exp(-NEAR_LN) * 2.0 ** (np.arange(count) / BANDS_PER_OCTAVE)
 
 
+@dataclass(frozen=True)
+class BandPower:
+    """The Morlet spectrum of a motion over a frame's band as plain arrays (what the index reads;
+    :func:`band_spectrum` is the same numbers as a labelled DataArray, for the pictures).
+
+    Attributes
+    ----------
+    time_s
+        Frame times [s] from the record start, every ``hop_s``.
+    omega_rad_s
+        Band centres [rad/s] (:func:`band_grid_rad_s`).
+    psd
+        S(ω, t) [(m/s²)²·s/rad], frames × bands.
+    """
+
+    time_s: Floats
+    omega_rad_s: Floats
+    psd: Floats
+
+    @classmethod
+    def of(cls, spectrum: BandPower | xr.DataArray) -> BandPower:
+        """The arrays of a :class:`BandPower` or of a (time, omega) DataArray."""
+        if isinstance(spectrum, BandPower):
+            return spectrum
+        return cls(
+            np.asarray(spectrum["time"].values, dtype=np.float64),
+            np.asarray(spectrum["omega"].values, dtype=np.float64),
+            np.asarray(spectrum.transpose("time", "omega").values, dtype=np.float64),
+        )
+
+
+def _padded(acc: ArrayLike, n_samples: int | None) -> Floats:
+    """The motion followed by zeros up to ``n_samples`` (what the frame feels after it)."""
+    data = np.asarray(acc, dtype=np.float64)
+    if n_samples is not None and n_samples > data.size:
+        data = np.concatenate([data, np.zeros(n_samples - data.size)])
+    return data
+
+
+def band_power(
+    ground_acc_m_s2: ArrayLike,
+    dt_s: float,
+    band_rad_s: Sequence[float],
+    *,
+    n_samples: int | None = None,
+    morlet_q: float = MORLET_Q,
+    hop_s: float = HOP_S,
+) -> BandPower:
+    """:func:`band_spectrum`'s numbers without the DataArray around them (the index's path: the
+    labels cost more than the spectrum of a short record, docs/benchmarks.md, issue 26).
+
+    Parameters and errors as :func:`band_spectrum`; the motion is the one a simulation already
+    accepted (finite), so only its length is checked here, as the spectrum checks it.
+    """
+    from stepframe.stochastic.transforms import DEFAULT_WINDOW_S, wavelet_power, window_samples
+
+    data = _padded(ground_acc_m_s2, n_samples)
+    window_samples(DEFAULT_WINDOW_S, dt_s, data.size)
+    time_s, omega, psd = wavelet_power(
+        data, dt_s, hop_s=hop_s, omega_rad_s=band_grid_rad_s(band_rad_s), morlet_q=morlet_q
+    )
+    return BandPower(time_s, omega, psd)
+
+
 def band_spectrum(
     ground_acc_m_s2: ArrayLike,
     dt_s: float,
@@ -104,13 +168,11 @@ def band_spectrum(
     """
     from stepframe.stochastic.spectra import evolutionary_spectrum
 
-    acc = np.asarray(ground_acc_m_s2, dtype=np.float64)
-    if n_samples is not None and n_samples > acc.size:
-        acc = np.concatenate([acc, np.zeros(n_samples - acc.size)])
+    data = _padded(ground_acc_m_s2, n_samples)
+    grid = band_grid_rad_s(band_rad_s)
     return evolutionary_spectrum(
-        acc, dt_s, "wavelet", omega_rad_s=band_grid_rad_s(band_rad_s), hop_s=hop_s,
-        morlet_q=morlet_q,
-    )  # fmt: skip
+        data, dt_s, "wavelet", omega_rad_s=grid, hop_s=hop_s, morlet_q=morlet_q
+    )
 
 
 @dataclass(frozen=True)
@@ -179,7 +241,7 @@ def _share(weight: Floats, value: Floats) -> float:
 
 
 def closeness(
-    spectrum: xr.DataArray, time_s: Floats, omega_f_rad_s: Floats
+    spectrum: BandPower | xr.DataArray, time_s: Floats, omega_f_rad_s: Floats
 ) -> tuple[Floats, Floats]:
     """c(t) = max S(·, t) within :data:`NEAR_LN` of ω_f(t) / max S(·, t) over the spectrum's
     bands, at the given times, and the record's ridge ω_ridge(t) [rad/s] there.
@@ -188,9 +250,8 @@ def closeness(
     interpolated linearly in time and in ln ω between frames and bands; ω_f outside the grid is
     read at its nearer edge.
     """
-    omega = np.asarray(spectrum["omega"].values, dtype=np.float64)
-    frames = np.asarray(spectrum["time"].values, dtype=np.float64)
-    psd = np.asarray(spectrum.transpose("time", "omega").values, dtype=np.float64)
+    arrays = BandPower.of(spectrum)
+    omega, frames, psd = arrays.omega_rad_s, arrays.time_s, arrays.psd
     if frames.size < 2 or omega.size < 2:
         raise InputError(
             f"band spectrum of {frames.size} frames × {omega.size} bands, expected ≥ 2 of each"
@@ -199,11 +260,14 @@ def closeness(
     log_omega = np.log(omega)
     log_step = (log_omega[-1] - log_omega[0]) / (omega.size - 1)
     reach = round(NEAR_LN / log_step)
-    near = psd.copy()
+    # The largest S within `reach` bands either side, band rows contiguous (shifting whole
+    # rows is three times faster than shifting columns of the frames × bands array).
+    by_band = np.ascontiguousarray(psd.T)
+    near_t = by_band.copy()
     for shift in range(1, reach + 1):
-        np.maximum(near[:, shift:], psd[:, :-shift], out=near[:, shift:])
-        np.maximum(near[:, :-shift], psd[:, shift:], out=near[:, :-shift])
-    ratio = near / np.where(peak > 0, peak, 1.0)[:, None]
+        np.maximum(near_t[shift:], by_band[:-shift], out=near_t[shift:])
+        np.maximum(near_t[:-shift], by_band[shift:], out=near_t[:-shift])
+    ratio = near_t.T / np.where(peak > 0, peak, 1.0)[:, None]
     # Fractional positions on the frame grid (uniform in time) and the band grid (uniform in ln ω).
     position = np.clip((time_s - frames[0]) / (frames[1] - frames[0]), 0.0, frames.size - 1.0)
     row = np.minimum(position.astype(np.intp), frames.size - 2)
@@ -219,7 +283,7 @@ def closeness(
 
 
 def resonance_index(
-    result: SimulationResult, spectrum: xr.DataArray, band_rad_s: Sequence[float]
+    result: SimulationResult, spectrum: BandPower | xr.DataArray, band_rad_s: Sequence[float]
 ) -> MovingResonance:
     """The moving-resonance measures of a simulation with history (module docstring).
 
@@ -228,7 +292,8 @@ def resonance_index(
     result
         :func:`stepframe.structure.simulator.simulate` run with ``record_history=True``.
     spectrum
-        :func:`band_spectrum` of the same ground motion (any scale), covering the history.
+        :func:`band_power` (or :func:`band_spectrum`) of the same ground motion (any scale),
+        covering the history.
     band_rad_s
         The band (low, high) [rad/s] the spectrum covers.
     """
@@ -245,7 +310,7 @@ def resonance_index(
     raw, model = result.raw, result.model
     if not raw.hist_x.size or model is None:
         return _failed(band, "no history, expected a simulation with record_history=True")
-    omega_f = motion_frequency(result)[0]
+    omega_f = motion_frequency(result, law_everywhere=False)[0]
     n = omega_f.size
     if n < 2:
         return _failed(band, "fewer than two samples of motion before overturning")
@@ -428,9 +493,11 @@ __all__ = [
     "BANDS_PER_OCTAVE",
     "HOP_S",
     "MORLET_Q",
+    "BandPower",
     "MovingResonance",
     "ResonanceRun",
     "band_grid_rad_s",
+    "band_power",
     "band_spectrum",
     "closeness",
     "default_band",
