@@ -557,6 +557,14 @@ def draw_time_frequency(
         for edge in (low, high):
             ax.axhline(edge, color="#58a6ff", lw=1.0, ls="--")
         ax.plot([], [], color="#58a6ff", ls="--", label=f"band {low:.3g}-{high:.3g} Hz")
+    if "omega_floor" in spectrum.coords:
+        # Edge effects: below the lowest frequency resolved at each time (a wavelet's cone of
+        # influence, a window's floor) the estimate leans on the record's ends; grey it out.
+        resolved = np.asarray(spectrum["omega_floor"].values, dtype=np.float64) / TWO_PI
+        top = np.clip(np.nan_to_num(resolved, nan=freq[-1], posinf=freq[-1]), freq[0], freq[-1])
+        if np.any(top > freq[0]):
+            ax.fill_between(time, freq[0], top, step="mid", facecolor="#8b949e", alpha=0.45,
+                            edgecolor="none", label="edge effects (not resolved)")  # fmt: skip
     if path is not None:
         path_w = np.asarray(path[1], dtype=np.float64)
         shown = np.where(np.isfinite(path_w) & (path_w > 0), path_w / TWO_PI, np.nan)

@@ -201,3 +201,27 @@ def test_components_named_like_numbers_stay_text(
     outputs = read_selection_folder(folder)
     assert set(outputs.tables["selection"]["component"]) == {"000"}
     assert set(outputs.tables["candidates"]["component"]) == {"000"}
+
+
+def test_a_selection_without_its_band_is_drawn_on_the_selection_s_default_band(
+    tmp_path: Path,
+) -> None:
+    # An older selection.json without band_rad_s: the report falls back on the band the
+    # selection would have ranked on, frame_band's [ω(0.8 x*), ω_1], computed here from the
+    # period-amplitude law at 0.8 x* (not A half-way from x_c to x*, as it once did).
+    import math
+    import tomllib
+
+    from stepframe.pipeline.selection.report import _band
+    from stepframe.structure.frame_file import FRAME_TEMPLATE, frame_from_mapping
+    from stepframe.structure.period_amplitude import period_amplitude
+
+    tables = tomllib.loads(FRAME_TEMPLATE)
+    del tables["constants"]
+    frame = frame_from_mapping(tables)
+    low, high = _band({}, frame, tmp_path)
+    expected = 2 * math.pi / float(period_amplitude(frame, 0.8 * frame.x_star_m))
+    assert low == pytest.approx(expected, rel=1e-9)
+    assert high == pytest.approx(frame.omega_1_rad_s, rel=1e-12)
+    with pytest.raises(InputError, match="no band_rad_s and no frame"):
+        _band({}, None, tmp_path)

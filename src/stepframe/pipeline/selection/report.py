@@ -109,10 +109,11 @@ def _band(summary: dict[str, Any], frame: Any, where: Path) -> tuple[float, floa
             "no band_rad_s and no frame, expected the frame's band in the summary",
             where / "selection.json",
         )
-    from stepframe.structure.period_amplitude import period_amplitude
+    # The selection's own default band (frame_band: ω at 0.8 x* up to ω_1); the report once
+    # used A half-way from x_c to x* here, a band the selection never ranked on.
+    from stepframe.pipeline.dynamics.resonance import default_band
 
-    a_max = frame.x_c_m + 0.5 * (frame.x_star_m - frame.x_c_m)
-    return TWO_PI / float(period_amplitude(frame, a_max)), float(frame.omega_1_rad_s)
+    return default_band(frame)
 
 
 def load_record(row: dict[str, Any], folder: Path) -> Any:
