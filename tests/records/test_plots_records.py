@@ -45,3 +45,15 @@ def test_title_with_one_name_or_none() -> None:
     )
     with pytest.raises(ValueError, match="3 record names for 2 components"):
         spectra_title(["a", "b", "c"], ["HNE", "HNN"], 0.05)
+
+
+def test_a_vertical_named_like_peer_s_h_up_leaves_the_two_horizontals_for_rotd() -> None:
+    # With a third component named H-UP (PEER's vertical), RotD50 is still the two horizontals'
+    # (the catalogue's spectra once read H-UP as horizontal, found three, and drew no RotD).
+    traces = [read(PEER / name)[0] for name in NAMES]
+    vertical = traces[0].copy()
+    vertical.stats.channel = "H-UP"
+    both = record_spectra(traces, damping=0.05)
+    three = record_spectra([*traces, vertical], damping=0.05)
+    assert three["h1"] == "360" and three["h2"] == "90"
+    np.testing.assert_array_equal(three["rotd50_g"], both["rotd50_g"])

@@ -11,13 +11,14 @@ from stepframe.pipeline.selection.grouping import (
     group_records,
     grouping_line,
     grouping_summary,
-    is_vertical,
 )
 from stepframe.pipeline.selection.inputs import header_table, join_headers
+from stepframe.records.channels import is_vertical
 
 
 @pytest.mark.parametrize(
-    "channel", ["HNZ", "BHZ", "UD", "UD1", "UD2", "UP", "H-UP", "DWN", "V", "Z", "RIO-UP"]
+    "channel",
+    ["HNZ", "BHZ", "UD", "UD1", "UD2", "UP", "H-UP", "DWN", "V", "Z", "RIO-UP", "vert", "Down"],
 )
 def test_verticals(channel: str) -> None:
     assert is_vertical(channel)

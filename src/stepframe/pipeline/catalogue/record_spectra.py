@@ -17,20 +17,12 @@ from typing import TYPE_CHECKING, Any
 
 from stepframe.core.options import Range, check_fields, option
 from stepframe.errors import InputError
+from stepframe.records.channels import is_vertical
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
     from numpy.typing import ArrayLike
     from obspy import Trace
-
-#: Channel names of vertical components (SEED codes ending in Z are vertical too).
-VERTICAL_NAMES = {"up", "ud", "ud1", "ud2", "z", "v", "ver", "vert", "vertical", "dwn", "down"}
-
-
-def is_vertical(channel: str) -> bool:
-    """Whether a channel name is a vertical component (``UP``, ``Z``, SEED ``..Z``)."""
-    name = channel.strip().lower()
-    return name in VERTICAL_NAMES or (len(name) == 3 and name.endswith("z"))
 
 
 def record_info(traces: Sequence[Trace], file: str | PathLike[str] = "") -> list[dict[str, Any]]:
@@ -196,9 +188,7 @@ def spectra_text(data: Mapping[str, Any]) -> str:
 
 
 __all__ = [
-    "VERTICAL_NAMES",
     "info_text",
-    "is_vertical",
     "record_info",
     "record_spectra",
     "spectra_figure",

@@ -31,6 +31,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from stepframe.records.channels import is_vertical
+
 #: The columns the grouping adds to the candidate table (:func:`.filters.add_grouping`).
 COLUMNS: dict[str, tuple[str, str]] = {
     "record": ("", "the record the component belongs to (RSN174, a station and event, a file)"),
@@ -55,19 +57,6 @@ _NIED_NAME = re.compile(
     r"^([A-Z]{3,4}\d{2,3})(\d{10})\.(?:EW|NS|UD)([12]?)(?:\.gz)?$", re.IGNORECASE
 )
 _KIKNET_CHANNEL = re.compile(r"^(?:EW|NS|UD)([12])$", re.IGNORECASE)
-#: Vertical channels: SEED codes ending in Z (HNZ, BHZ), NIED's UD/UD1/UD2, PEER's and COSMOS's
-#: UP/DWN/DOWN/V/VER/VERT (``RSN8883_..._UP``, ``H-UP``), possibly after a prefix and separator.
-_VERTICAL = re.compile(
-    r"(?:^|[^A-Z])(?:UP|DWN|DOWN|UD[12]?|V|VER|VERT|VERTICAL|Z)$|^[A-Z]{2}Z$", re.IGNORECASE
-)
-
-
-def is_vertical(channel: str) -> bool:
-    """Whether a channel name is a vertical component (``HNZ``, ``UD2``, ``UP``, ``H-UP``,
-    ``DWN``, ``V``); azimuths (``090``, ``H-E11230``), ``E``/``N``/``EW``/``NS`` and SEED's
-    ``HN1``/``HN2`` are horizontal."""
-    name = channel.strip().upper()
-    return bool(_VERTICAL.search(name)) or name in {"Z", "UD", "UP", "V"}
 
 
 def _text(value: Any) -> str:
