@@ -258,3 +258,23 @@ def test_prefilter_simulates_the_tiers_best_k(example_inputs: Any, example4: Por
     assert (ranking["method"], ranking["tier"], ranking["k"]) == ("prefilter", "n_p_band", 20)
     assert ranking["n_simulated"] == 20 and "prefiltered as asked" in ranking["text"]
     assert result.summary["tiers"] == []  # no exact ranking of every candidate to compare with
+
+
+def test_the_plan_is_the_same_on_every_machine(monkeypatch: pytest.MonkeyPatch) -> None:
+    # The estimate is CPU seconds of one core (samples × runs × the per-sample cost), so the
+    # plan and selection.json do not change with the CPUs a machine has (they once did).
+    import os
+
+    from stepframe.pipeline.selection import tiers
+
+    options = SelectionOptions(n=10, exact_budget_s=100.0)
+    samples, runs = 10**9, 13
+    expected = samples * runs * tiers.SIMULATION_S_PER_SAMPLE
+    plans = []
+    for cpus in ({0}, set(range(64))):
+        monkeypatch.setattr(os, "sched_getaffinity", lambda _pid, c=cpus: c, raising=False)
+        monkeypatch.setattr(os, "cpu_count", lambda c=cpus: len(c))
+        plans.append(plan(options, 1000, samples, runs).to_dict())
+    assert plans[0] == plans[1]
+    assert plans[0]["estimated_exact_s"] == pytest.approx(expected, rel=1e-12)
+    assert plans[0]["method"] == "prefilter"  # 481 CPU s over the budget of 100, on any machine

@@ -268,9 +268,9 @@ class SelectionOptions:
         valid=Range(1.0),
     )
     exact_budget_s: float = option(
-        600.0,
-        "auto prefilter: simulate every candidate while the estimate is under this [s] "
-        "(default: %(default)s)",
+        1200.0,
+        "auto prefilter: simulate every candidate while their estimated CPU time on one core "
+        "is under this [s] (default: %(default)s, 10 min on 2 cores)",
         kind="positive",
         metavar="S",
         valid=Range(0.0, low_open=True),

@@ -27,8 +27,9 @@ from stepframe.pipeline.reports.provenance import workflow_provenance
 
 # 2: default rank_by substitute_demand_ratio; 3: records grouped, verticals left out, the
 # chosen set's spectra, code check, response and motions; 4: records by identity; 5: ranked by
-# the simulated response at a stated intensity; 6: the frame in selection.json
-SELECTION_VERSION = 6
+# the simulated response at a stated intensity; 6: the frame in selection.json; 7: the ranking's
+# estimate and budget in CPU seconds of one core (the same on every machine)
+SELECTION_VERSION = 7
 # 2: the peers and the ranking's simulations in the pass
 RESPONSES_VERSION = 2
 # 2: the best records' accelerograms; 3: stated correlations; 4: the run's spectra and check,

@@ -10,20 +10,21 @@ is more severe.
 
 The prefilter ranks the candidates by a tier and simulates only its best K. By default
 (``prefilter = "auto"``) every candidate is simulated while the estimated cost of doing so
-(:func:`estimated_exact_s`) stays under the budget; above it the run prefilters with
+(:func:`estimated_exact_s`, CPU seconds of one core: the same on every machine, so the plan and
+selection.json do not depend on the machine's CPUs) stays under the budget; above it the run
+prefilters with
 :data:`DEFAULT_PREFILTER` and K = :data:`PREFILTER_SHARE` of the candidates (at least
 :data:`MIN_K_PER_N` × n): the tier and share that kept every one of the exact top 10 in 12
 frame × catalogue cases of bench/ranking_tiers.py (docs/selection.md, "Tiers"). No tier does
 that with a small K: the exact top n of a stepping frame is decided by how close a record comes
 to overturning it, which no intensity measure reads, so a prefilter saves little, and the
-budget (600 s by default, about 350,000 candidates of 6,000 samples on 2 cores) is set so that
-a catalogue the size of NGA-West2 is ranked exactly.
+budget (1,200 CPU s by default, 10 minutes on 2 cores: about 350,000 candidates of 6,000
+samples) is set so that a catalogue the size of NGA-West2 is ranked exactly.
 """
 
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass
 from typing import Any
 
@@ -64,12 +65,14 @@ def tier_values(table: Any, name: str, base_scales: Floats) -> Floats:
     return values
 
 
-def estimated_exact_s(samples: int, runs: int, cores: int | None = None) -> float:
-    """Estimated wall time of simulating ``samples`` input samples (records plus their tails)
-    ``runs`` times each on ``cores`` cores (default: the CPUs available) [s]."""
-    if cores is None:
-        cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else 1
-    return samples * runs * SIMULATION_S_PER_SAMPLE / max(cores, 1)
+def estimated_exact_s(samples: int, runs: int) -> float:
+    """Estimated CPU time of simulating ``samples`` input samples (records plus their tails)
+    ``runs`` times each, on one core [s].
+
+    CPU time, not wall time over the cores at hand: the plan it decides, and selection.json
+    that records it, are then the same on every machine (a laptop and a 64-core server rank a
+    catalogue the same way)."""
+    return samples * runs * SIMULATION_S_PER_SAMPLE
 
 
 @dataclass(frozen=True)
@@ -84,7 +87,7 @@ class Plan:
     tier, k
         The prefilter's tier and K (None for ``exact``).
     estimated_s, budget_s
-        The estimated cost of simulating every candidate and the budget [s].
+        The estimated CPU time of simulating every candidate on one core and the budget [s].
     reason
         One line for people.
     """
@@ -124,17 +127,15 @@ def plan(options: Any, n_candidates: int, samples: int, runs: int) -> Plan:
     if options.prefilter == "none" or (
         options.prefilter == "auto" and (estimate <= budget or k >= n_candidates)
     ):
-        why = (
-            f"every candidate simulated ({n_candidates}; estimated {estimate:.3g} s"
-            f"{' within the budget ' + format(budget, 'g') + ' s' if estimate <= budget else ''})"
-        )
+        within = f" within the budget {budget:g} CPU s" if estimate <= budget else ""
+        why = f"every candidate simulated ({n_candidates}; estimated {estimate:.3g} CPU s{within})"
         return Plan("exact", None, None, estimate, budget, why)
     tier = DEFAULT_PREFILTER if options.prefilter == "auto" else options.prefilter
     k = min(k, n_candidates)
     if options.prefilter == "auto":
         why = (
-            f"estimated {estimate:.3g} s for all {n_candidates} candidates, over the budget "
-            f"{budget:g} s: the best {k} by {tier} simulated"
+            f"estimated {estimate:.3g} CPU s for all {n_candidates} candidates, over the budget "
+            f"{budget:g} CPU s: the best {k} by {tier} simulated"
         )
     else:
         why = f"prefiltered as asked: the best {k} of {n_candidates} by {tier} simulated"
