@@ -348,7 +348,9 @@ class BifurcationSweep:
         return bifurcation_figure(self.dataset, g_m_s2=G_M_S2)
 
 
-def bifurcation_sweep(frame: PortalFrame, options: BifurcationOptions) -> BifurcationSweep:
+def bifurcation_sweep(
+    frame: PortalFrame, options: BifurcationOptions, *, figure: bool = False
+) -> BifurcationSweep:
     """Sweep the amplitude at a fixed frequency, or the frequency at a fixed amplitude.
 
     Parameters
@@ -360,10 +362,24 @@ def bifurcation_sweep(frame: PortalFrame, options: BifurcationOptions) -> Bifurc
         n) [g], or ``amplitude_g`` [g] with ``omegas_rad_s`` (low, high, n) [rad/s]; the
         initial states per value (seeded, spread over |x| < x*), the forcing periods per run
         (the last ``min(20, periods)`` stroboscopic points are kept) and the worker processes.
+    figure
+        Whether the diagram will be drawn (its memory is in the estimate).
+
+    Raises
+    ------
+    InputError
+        A diagram whose memory
+        (:func:`~stepframe.structure.bifurcation.diagram_memory_bytes`) passes the run's budget.
     """
     import numpy as np
 
-    from stepframe.structure.bifurcation import bifurcation_diagram, frequency_diagram, orbit_period
+    from stepframe.core.memory import check_memory
+    from stepframe.structure.bifurcation import (
+        bifurcation_diagram,
+        diagram_memory_bytes,
+        frequency_diagram,
+        orbit_period,
+    )
 
     omega_rad_s, amplitudes_g = options.omega_rad_s, options.amplitudes_g
     amplitude_g, omegas_rad_s = options.amplitude_g, options.omegas_rad_s
@@ -381,6 +397,14 @@ def bifurcation_sweep(frame: PortalFrame, options: BifurcationOptions) -> Bifurc
         "n_keep": min(20, periods),
         "jobs": options.jobs,
     }
+    sizes = amplitudes_g or omegas_rad_s
+    n_points = int(sizes[2]) * initial * min(20, periods) if sizes else 0
+    check_memory(
+        diagram_memory_bytes(n_points, figure),
+        f"a bifurcation diagram of {n_points} points (values × initial states × the last "
+        f"{min(20, periods)} periods)" + (" drawn" if figure else ""),
+        "fewer values or initial states" + (", or no --plot" if figure else ""),
+    )
     if amplitudes_g is not None and omega_rad_s is not None:
         lo, hi, n = amplitudes_g
         values = np.linspace(lo, hi, n)
@@ -559,6 +583,21 @@ class IdaStudy:
         return ida_figure(self.items, names=self.names, intensity_label=self.intensity)
 
 
+#: Peak memory of an IDA over records [bytes per sample]: each record held and once more in the
+#: batch's concatenated block (16; the tail is not stored), the largest one's read and its
+#: block built beside it (48 more) (measured 12 MiB for one record of 200,000 samples, 39 MiB
+#: for two of 800,000, 22 MiB for six of 200,000: tracemalloc, docs/benchmarks.md).
+IDA_BYTES_PER_SAMPLE, IDA_LARGEST_BYTES_PER_SAMPLE = 16.0, 48.0
+
+
+def ida_memory_bytes(samples: Sequence[int]) -> float:
+    """The estimated peak memory of an IDA over records of ``samples`` samples each [bytes];
+    independent of the number of scales since a record's runs share one copy of it."""
+    if not samples:
+        return 0.0
+    return IDA_BYTES_PER_SAMPLE * float(sum(samples)) + IDA_LARGEST_BYTES_PER_SAMPLE * max(samples)
+
+
 def ida_study(
     frame: PortalFrame, options: IdaOptions, records: Sequence[tuple[str, Stream]] = ()
 ) -> IdaStudy:
@@ -581,6 +620,7 @@ def ida_study(
     """
     import numpy as np
 
+    from stepframe.core.memory import check_memory
     from stepframe.structure.ida import IdaSettings, ida_pulse, ida_records
 
     fema_p695, pulse, omegas_rad_s = options.fema_p695, options.pulse, options.omegas_rad_s
@@ -618,6 +658,11 @@ def ida_study(
             names.append(f"{path} [{trace.stats.channel}]")
     if not motions:
         raise InputError("no records: give RECORD files or --fema-p695 N, expected at least one")
+    check_memory(
+        ida_memory_bytes([acc.size for acc, _ in motions]),
+        f"an IDA of {len(motions)} record(s) of {sum(acc.size for acc, _ in motions)} samples",
+        "fewer or shorter records",
+    )
     items = ida_records(frame, motions, settings=settings, tail_s=tail_s)
     return IdaStudy(items, names, settings, "PGA [g]")
 
@@ -634,5 +679,6 @@ __all__ = [
     "bifurcation_sweep",
     "frame_or_block",
     "harmonic_study",
+    "ida_memory_bytes",
     "ida_study",
 ]
