@@ -213,6 +213,14 @@ REFUSALS = {
 }
 
 
+#: Peak resident memory each refusal may reach [MiB]: refused before the work, the child holds
+#: the interpreter, the record read and (select) the features it computed first (measured 61,
+#: 61, 84, 34 and 203 MiB in a child limited to 3 GiB; the ceiling about 1.5 times that).
+REFUSAL_CEILING_MIB = {
+    "simulate": 96, "simulate-plot": 96, "ida": 128, "bifurcation": 64, "select": 320
+}  # fmt: skip
+
+
 @pytest.mark.parametrize("case", list(REFUSALS))
 def test_command_refused_over_its_budget(
     case: str, frame: Path, record_400k: Path, tmp_path: Path
@@ -228,28 +236,31 @@ def test_command_refused_over_its_budget(
     else:
         assert line.endswith(ending), line
     assert not (tmp_path / "x.png").exists() and not (tmp_path / "p" / "selection.json").exists()
-    assert peak < CHILD_ADDRESS_SPACE
+    assert peak < REFUSAL_CEILING_MIB[case] * MIB < CHILD_ADDRESS_SPACE, peak / MIB
 
 
 @pytest.mark.parametrize(
-    ("argv", "key"),
+    "argv",
     [
         (["structure", "ida", "--frame", "{frame}", "--memory-mb", "128", "--resolution-g",
-          "0.05", *["{record}"] * 8], "items"),
+          "0.05", *["{record}"] * 8]),
         (["structure", "bifurcation", "--frame", "{frame}", "--memory-mb", "64", "--omega-rad-s",
           "7.854", "--amplitudes-g", "0.05,0.5,100", "--initial", "100", "--periods", "20",
-          "--jobs", "1"], "points"),
+          "--jobs", "1"]),
     ],
     ids=["ida", "bifurcation"],
 )  # fmt: skip
 def test_command_runs_within_its_budget(
-    argv: list[str], key: str, frame: Path, record_400k: Path, tmp_path: Path
+    argv: list[str], frame: Path, record_400k: Path, tmp_path: Path
 ) -> None:
     """The same work the refusals name, within a budget it fits (the IDA's eight records under
-    128 MiB; the diagram with 100 initial states, 13.7 MiB, under 64 MiB)."""
+    128 MiB; the diagram with 100 initial states, 13.7 MiB, under 64 MiB), below a ceiling of
+    resident memory (measured 315 and 264 MiB: the budget counts the work, not the interpreter
+    and the compiled kernels' runtime, about 200 MiB)."""
     filled = [a.format(frame=frame, record=record_400k) for a in argv]
-    status, stderr, _ = _child([*filled, "--json"], tmp_path)
+    status, stderr, peak = _child([*filled, "--json"], tmp_path)
     assert status == 0, stderr[-400:]
+    assert peak < 512 * MIB, peak / MIB
 
 
 #: A child that runs the command under tracemalloc and prints its peak and every estimate
