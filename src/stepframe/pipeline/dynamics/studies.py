@@ -544,11 +544,17 @@ class IdaStudy:
 
     def to_dict(self) -> dict[str, Any]:
         """Table rows, fractiles of the first overturning, simulation counts."""
+        from stepframe.core.jsonable import without_none
         from stepframe.structure.ida import capacity_fractiles, fixed_step_runs, ida_table
 
         return {
             "intensity": self.intensity,
-            "items": ida_table(self.items, self.names).to_dict(orient="records"),
+            # a capacity not found is absent (a pandas column of None and numbers is NaN, of
+            # None alone None: both left out, as a number documented "absent")
+            "items": [
+                without_none((str(key), value) for key, value in row.items())
+                for row in ida_table(self.items, self.names).to_dict(orient="records")
+            ],
             "fractiles": capacity_fractiles(self.items),
             "simulations": int(sum(item.n_runs for item in self.items)),
             "fixed_step_simulations": fixed_step_runs(self.items, self.settings),
@@ -564,7 +570,7 @@ class IdaStudy:
             f"resurrection in {data['resurrected']}"
         ]
         for row in data["items"][:50]:
-            first = row["first_overturning"]
+            first = row.get("first_overturning")
             shown = "none found" if first is None or first != first else f"{first:.6g}"
             extra = ""
             if row["resurrected"]:
