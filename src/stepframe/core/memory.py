@@ -56,7 +56,8 @@ class MemoryOptions:
     memory_mb: float | None = option(
         None,
         "memory this run may use [MiB]; work estimated to need more is refused before it "
-        "starts (default: half the machine's memory; also the variable STEPFRAME_MEMORY_MB)",
+        "starts (default: half the machine's memory; under ulimit -v at most half of what it "
+        "leaves; also the variable STEPFRAME_MEMORY_MB)",
         kind="positive",
         metavar="MB",
         valid=Range(MIN_MB, MAX_MB),
