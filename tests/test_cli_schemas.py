@@ -1,5 +1,8 @@
 """docs/cli.md states one JSON shape per command: the top-level keys of each command's output,
-run as written there on the shipped files, are exactly the documented ones."""
+run as written there on the shipped files, are exactly the documented ones; and in the outputs
+of ``demo``, ``select`` and the ``structure`` commands (what they print and the JSON files they
+write), no key the page documents as a number (or integer) is null, at any depth: an undefined
+number is absent (core/jsonable.py)."""
 
 from __future__ import annotations
 
@@ -19,6 +22,51 @@ ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT / "tests" / "data"
 
 
+def _documented_types(block: str) -> dict[tuple[str, ...], str]:
+    """Path of keys (arrays transparent) → documented type, from a block of docs/cli.md
+    (two spaces of indent per level; ``a, b: numbers`` documents both keys)."""
+    types: dict[tuple[str, ...], str] = {}
+    stack: list[str] = []
+    for line in block.splitlines():
+        depth = (len(line) - len(line.lstrip(" "))) // 2
+        names, _, kind = line.strip().partition(": ")
+        del stack[depth:]
+        for name in names.split(", "):
+            types[(*stack, name)] = kind
+        stack.append(names.split(", ")[0])
+    return types
+
+
+def _numbers_documented(kind: str) -> bool:
+    return kind.startswith(("number", "integer", "array of numbers", "array of integers"))
+
+
+def nulls_where_numbers(value: object, types: dict[tuple[str, ...], str]) -> list[str]:
+    """The paths of ``value`` whose documented type is a number and whose value is null."""
+    found: list[str] = []
+
+    def walk(item: object, path: tuple[str, ...]) -> None:
+        if isinstance(item, dict):
+            for key, sub in item.items():
+                walk(sub, (*path, str(key)))
+        elif isinstance(item, list):
+            for sub in item:
+                walk(sub, path)
+        elif item is None and _numbers_documented(types.get(path, "")):
+            found.append(".".join(path))
+
+    walk(value, ())
+    return found
+
+
+def test_nulls_where_numbers_finds_them() -> None:
+    """The walker of the test below finds a null at depth and in an array of numbers."""
+    types = _documented_types("a: number\nb: array of objects\n  c: number, or null\n"
+                              "  d: string\ne: array of numbers\n")  # fmt: skip
+    data = {"a": 1.0, "b": [{"c": 2.0, "d": None}, {"c": None}], "e": [1.0, None]}
+    assert nulls_where_numbers(data, types) == ["b.c", "e"]
+
+
 def _sections() -> list[tuple[str, str, list[str]]]:
     text = (ROOT / "docs" / "cli.md").read_text()
     found = []
@@ -27,10 +75,15 @@ def _sections() -> list[tuple[str, str, list[str]]]:
     ):
         keys = [line.split(":")[0] for line in block.splitlines() if not line.startswith(" ")]
         found.append((name, command, keys))
+        TYPES[name] = _documented_types(block)
     return found
 
 
+#: Command → its documented key paths and types.
+TYPES: dict[str, dict[tuple[str, ...], str]] = {}
 SECTIONS = _sections()
+#: The commands whose outputs are held to "a number or absent, never null" at every depth.
+NO_NULL_NUMBERS = ("demo", "select", "structure ")
 
 
 def test_every_command_is_documented() -> None:
@@ -81,9 +134,22 @@ def test_documented_top_level_keys(
         with contextlib.redirect_stdout(out):
             assert main(setup) == 0
         Path(target).write_text(out.getvalue())
+    before = {path: path.stat().st_mtime_ns for path in workspace.rglob("*.json")}
     data = _json(shlex.split(command)[1:])
+    if name.startswith(NO_NULL_NUMBERS):
+        assert nulls_where_numbers(data, TYPES[name]) == [], name
+        # the JSON files it wrote: a selection's summary has the shape of `select --json`
+        written = [
+            path for path in workspace.rglob("selection.json")
+            if before.get(path) != path.stat().st_mtime_ns
+        ]  # fmt: skip
+        for path in written:
+            found = nulls_where_numbers(json.loads(path.read_text()), TYPES["select"])
+            assert found == [], (name, path)
     if isinstance(data, list):  # one object per component
         assert data and all(isinstance(item, dict) for item in data)
         data = data[0]
     assert isinstance(data, dict)
-    assert list(data) == keys, name
+    # a key documented "absent when ..." may be left out (an undefined number), in its place
+    optional = {key for key in keys if "absent" in TYPES[name].get((key,), "")}
+    assert list(data) == [key for key in keys if key in data or key not in optional], name

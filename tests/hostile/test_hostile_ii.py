@@ -348,18 +348,20 @@ def test_amplification_grid_over_the_budget(tmp_path: Path) -> None:
 
 
 def test_monte_carlo_over_the_budget(tmp_path: Path) -> None:
-    """A Monte Carlo whose motions need 14.9 GiB is refused under a 4 GiB budget, in a child
-    that could not map them anyway."""
+    """A Monte Carlo whose motions need 1.49 GiB is refused under a 1 GiB budget, in a child
+    whose address space could not hold them beside the interpreter (the one wording of
+    core/memory.py, with the largest count that fits: 1 GiB / 1,600,016 B)."""
     status, stderr, _ = _child(
-        ["stochastic", "amplify", *SITE, "--f0-hz", "2", "--n-steps", "1000000",
-         "--monte-carlo", "1000", "--memory-mb", "4096"],
+        ["stochastic", "amplify", *SITE, "--f0-hz", "2", "--n-steps", "100000",
+         "--monte-carlo", "1000", "--memory-mb", "1024"],
         tmp_path,
     )  # fmt: skip
     assert status == 2
-    # each motion keeps x² and its forcing on the grid: 1000 × 16 B × (10⁶ + 1)
-    assert size_text(1000 * 16.0 * 1_000_001) == "14.9 GiB"
-    assert "n_realisations = 1000 needs about 14.9 GiB of memory, expected at most 4 GiB" in (
-        _error(stderr)
+    # each motion keeps x² and its forcing on the grid: 1000 × 16 B × (10⁵ + 1)
+    assert size_text(1000 * 16.0 * 100_001) == "1.49 GiB"
+    assert _error(stderr).endswith(
+        "n_realisations = 1000 needs about 1.49 GiB of memory, over the budget of 1 GiB "
+        "(--memory-mb), expected work that fits it: at most 671"
     )
 
 
@@ -447,10 +449,10 @@ def test_response_spectrum_of_a_long_record_over_the_budget(
     long_record: Path, tmp_path: Path
 ) -> None:
     """A period of 1 ms at dt = 5 ms upsamples the record 50 times (10 points a period):
-    1.5·10⁶ × 50 samples × 48 bytes = 3.35 GiB, refused under a 2,000 MiB budget before it
+    1.5·10⁶ × 50 samples × 48 bytes = 3.35 GiB, refused under a 1,000 MiB budget before it
     starts (in a child that could not map it)."""
     status, stderr, _ = _child(
-        ["records", "spectrum", "--periods-s", "0.001,1", "--memory-mb", "2000", str(long_record)],
+        ["records", "spectrum", "--periods-s", "0.001,1", "--memory-mb", "1000", str(long_record)],
         tmp_path,
     )
     assert status == 2
@@ -458,7 +460,7 @@ def test_response_spectrum_of_a_long_record_over_the_budget(
     assert need == "3.35 GiB"
     assert _error(stderr).endswith(
         f"the response spectrum of 1500000 samples upsampled 50 times (nigam_jennings) needs "
-        f"about {need} of memory, over the budget of 1.95 GiB (--memory-mb), expected work that "
+        f"about {need} of memory, over the budget of 1000 MiB (--memory-mb), expected work that "
         "fits it: a shortest period nearer 10 dt (it sets the upsampling)"
     )
 

@@ -102,7 +102,8 @@ def test_format_names_light_and_complete() -> None:
         (lambda: validation.seed("seed", -1), r"seed = -1, expected an integer 0\.\."),
         (
             lambda: validation.count("bootstrap", 10**9, bytes_each=40.0, budget_bytes=4 * 1024**3),
-            r"bootstrap = 1000000000 needs about 37\.3 GiB of memory, expected at most 4 GiB",
+            r"bootstrap = 1000000000 needs about 37\.3 GiB of memory, over the budget of 4 GiB "
+            r"\(as given\), expected work that fits it: at most 107374182$",
         ),
         (lambda: validation.length("window_s", 1e308), r"window_s = 1e\+308 s, expected"),
         (lambda: validation.frequency("f0", 0.0), r"f0 = 0 Hz, expected a value in \(0"),

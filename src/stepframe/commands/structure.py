@@ -137,7 +137,7 @@ def run_simulate(args: argparse.Namespace) -> SimulatedComponent:
     source = options_from(args, RecordSource)
     return simulate_file(
         options_from(args, SimulateOptions), lambda: source.read(args.record),
-        name=source.name(args.record),
+        name=source.name(args.record), figure=args.plot is not None,
     )  # fmt: skip
 
 
@@ -172,7 +172,9 @@ def run_bifurcation(args: argparse.Namespace) -> studies.BifurcationSweep:
     stepframe structure bifurcation --block 0.25,1.0 --amplitude-g 0.3 --omegas-rad-s 5,40,100
     """
     frame = options_from(args, FrameSource).portal_frame()
-    return studies.bifurcation_sweep(frame, options_from(args, BifurcationOptions))
+    return studies.bifurcation_sweep(
+        frame, options_from(args, BifurcationOptions), figure=args.plot is not None
+    )
 
 
 def run_ida(args: argparse.Namespace) -> studies.IdaStudy:

@@ -8,10 +8,14 @@ or a process the kernel kills.
 
 The budget is :data:`DEFAULT_FRACTION` of the memory this process may use: the machine's
 physical memory, or a container's limit (cgroup v2 ``memory.max``, v1
-``memory.limit_in_bytes``) when it is lower. ``--memory-mb MB`` (every command,
-:class:`MemoryOptions`) sets it, through the environment variable :data:`ENVIRONMENT`, which the
-worker processes of a run inherit; a library user sets it with :func:`set_budget_mb` (or the
-variable). Standard library only: the command line reads :class:`MemoryOptions` for its help.
+``memory.limit_in_bytes``) when it is lower; under an address-space limit (``ulimit -v``,
+``RLIMIT_AS``) it is at most :data:`ADDRESS_SPACE_FRACTION` of what that limit leaves above
+the address space already mapped (the interpreter's libraries map far more than they touch, so
+the limit, not the machine, is what a large allocation meets first). ``--memory-mb MB`` (every
+command, :class:`MemoryOptions`) sets it, through the environment variable :data:`ENVIRONMENT`,
+which the worker processes of a run inherit; a library user sets it with :func:`set_budget_mb`
+(or the variable). Standard library only: the command line reads :class:`MemoryOptions` for its
+help.
 """
 
 from __future__ import annotations
@@ -29,6 +33,9 @@ ENVIRONMENT = "STEPFRAME_MEMORY_MB"
 #: Share of the machine's (or container's) memory one run may use by default: the rest is the
 #: operating system's, the page cache's and other programs'.
 DEFAULT_FRACTION = 0.5
+#: Share of an address-space limit's room (the limit less what is mapped already) one run may
+#: use: numpy's temporaries and the allocator's slack are mapped beside what the estimate counts.
+ADDRESS_SPACE_FRACTION = 0.5
 #: Budget when the machine's memory cannot be read [bytes] (4 GiB).
 FALLBACK_BYTES = 4 * 1024**3
 #: Smallest and largest budget a user may set [MiB] (the interpreter and its libraries alone
@@ -49,7 +56,8 @@ class MemoryOptions:
     memory_mb: float | None = option(
         None,
         "memory this run may use [MiB]; work estimated to need more is refused before it "
-        "starts (default: half the machine's memory; also the variable STEPFRAME_MEMORY_MB)",
+        "starts (default: half the machine's memory; under ulimit -v at most half of what it "
+        "leaves; also the variable STEPFRAME_MEMORY_MB)",
         kind="positive",
         metavar="MB",
         valid=Range(MIN_MB, MAX_MB),
@@ -93,6 +101,26 @@ def machine_bytes() -> int | None:
     return min(usable) if usable else None
 
 
+def address_space_room() -> int | None:
+    """What the address-space limit (``RLIMIT_AS``, ``ulimit -v``) leaves this process above
+    the address space it has mapped now [bytes]; None without a limit (or where it cannot be
+    read)."""
+    try:
+        import resource
+
+        soft, _ = resource.getrlimit(resource.RLIMIT_AS)
+    except (ImportError, OSError, ValueError, AttributeError):
+        return None
+    if soft == resource.RLIM_INFINITY or soft <= 0:
+        return None
+    mapped = 0
+    with contextlib.suppress(OSError, ValueError, StopIteration):
+        with open("/proc/self/status") as handle:
+            line = next(x for x in handle if x.startswith("VmSize:"))
+        mapped = int(line.split()[1]) * 1024
+    return max(soft - mapped, 0)
+
+
 def set_budget_mb(mb: float) -> None:
     """Set the budget of this process and of the workers it starts [MiB]."""
     MemoryOptions(memory_mb=mb)  # the one check of the option
@@ -101,7 +129,17 @@ def set_budget_mb(mb: float) -> None:
 
 def budget_bytes() -> float:
     """The budget [bytes]: :data:`ENVIRONMENT` when set, else :data:`DEFAULT_FRACTION` of
-    :func:`machine_bytes`."""
+    :func:`machine_bytes`; either way at most :data:`ADDRESS_SPACE_FRACTION` of
+    :func:`address_space_room` under an address-space limit."""
+    return min(_given_or_machine(), _address_space_budget())
+
+
+def _address_space_budget() -> float:
+    room = address_space_room()
+    return math.inf if room is None else ADDRESS_SPACE_FRACTION * room
+
+
+def _given_or_machine() -> float:
     text = os.environ.get(ENVIRONMENT)
     if text:
         from stepframe.errors import InputError
@@ -121,6 +159,9 @@ def budget_bytes() -> float:
 
 
 def _budget_source() -> str:
+    """Where the budget came from, for the refusal."""
+    if _address_space_budget() < _given_or_machine():
+        return f"{ADDRESS_SPACE_FRACTION:.0%} of what the address-space limit (ulimit -v) leaves"
     if os.environ.get(ENVIRONMENT):
         return "--memory-mb"
     return f"{DEFAULT_FRACTION:.0%} of this machine's memory; --memory-mb MB sets it"
@@ -135,8 +176,11 @@ def size_text(n_bytes: float) -> str:
     return f"{n_bytes:.0f} bytes"
 
 
-def check_memory(need_bytes: float, what: str, advice: str = "") -> None:
-    """Refuse work estimated to need more than the budget.
+def check_memory(
+    need_bytes: float, what: str, advice: str = "", *, budget: float | None = None
+) -> None:
+    """Refuse work estimated to need more than the budget: the one place a refusal for memory
+    is worded (:func:`refusal`).
 
     Parameters
     ----------
@@ -146,33 +190,44 @@ def check_memory(need_bytes: float, what: str, advice: str = "") -> None:
         The work, as the user asked for it ("fitting 15000000 samples").
     advice
         What to change, for the message ("fewer frequencies").
+    budget
+        The budget [bytes] (default :func:`budget_bytes`).
 
     Raises
     ------
     InputError
-        ``<what> needs about <size>, over the memory budget of <size> (<source>), expected
-        ...``.
+        :func:`refusal`'s one line.
     """
-    budget = budget_bytes()
-    if need_bytes <= budget:  # also False for NaN
+    limit = budget_bytes() if budget is None else float(budget)
+    if need_bytes <= limit:  # also False for NaN
         return
     from stepframe.errors import InputError
 
+    source = _budget_source() if budget is None else "as given"
+    raise InputError(refusal(need_bytes, what, limit, source, advice))
+
+
+def refusal(need_bytes: float, what: str, budget: float, source: str, advice: str = "") -> str:
+    """The one wording of a refusal for memory: ``<what> needs about <size> of memory, over
+    the budget of <size> (<source>), expected work that fits it[: <advice>]``."""
     finite = math.isfinite(need_bytes) and need_bytes < 1e30
     need = size_text(need_bytes) if finite else "more memory than any machine has"
-    raise InputError(
+    return (
         f"{what} needs about {need} of memory, over the budget of {size_text(budget)} "
-        f"({_budget_source()}), expected work that fits it" + (f": {advice}" if advice else "")
+        f"({source}), expected work that fits it" + (f": {advice}" if advice else "")
     )
 
 
 __all__ = [
+    "ADDRESS_SPACE_FRACTION",
     "DEFAULT_FRACTION",
     "ENVIRONMENT",
     "MemoryOptions",
+    "address_space_room",
     "budget_bytes",
     "check_memory",
     "machine_bytes",
+    "refusal",
     "set_budget_mb",
     "size_text",
 ]

@@ -188,21 +188,20 @@ def count(
     Raises
     ------
     InputError
-        Not an integer, below ``low``, or needing more than the budget (the estimate is in the
-        message).
+        Not an integer, below ``low``, or needing more than the budget (the one refusal of
+        :func:`stepframe.core.memory.check_memory`, with the largest count that fits).
     """
     from stepframe.core.memory import budget_bytes as run_budget
-    from stepframe.core.memory import size_text
+    from stepframe.core.memory import check_memory
 
     number = integer(name, value, low=low)
-    need = float(number) * float(bytes_each)
     budget = run_budget() if budget_bytes is None else budget_bytes
-    if need > budget:
-        raise InputError(
-            f"{name} = {number} needs about {size_text(need)} of memory, expected at most "
-            f"{size_text(budget)}, the memory budget (at most "
-            f"{int(budget // max(bytes_each, 1.0))}; --memory-mb MB sets the budget)"
-        )
+    check_memory(
+        float(number) * float(bytes_each),
+        f"{name} = {number}",
+        f"at most {int(budget // max(bytes_each, 1.0))}",
+        budget=budget_bytes,
+    )
     return number
 
 

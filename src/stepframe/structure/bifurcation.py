@@ -67,12 +67,26 @@ def _omega_chunk_name(item: tuple[Any, ...]) -> str:
     return f"ω = {item[2][0]:.6g}..{item[2][-1]:.6g} rad/s"
 
 
+#: Peak memory of a bifurcation diagram per map point kept (value × initial state × period
+#: kept) [bytes]: x, ẋ and impacts in the workers' chunks and in the assembled dataset, its
+#: outcome and the orbit search (measured 65-66 on 10⁵ and 8·10⁵ points), and what ``--plot``
+#: adds (measured 37) (tracemalloc, docs/benchmarks.md "Memory of the commands").
+DIAGRAM_BYTES_PER_POINT, DIAGRAM_FIGURE_BYTES_PER_POINT = 72.0, 48.0
+
+
+def diagram_memory_bytes(points: int, figure: bool = False) -> float:
+    """The estimated peak memory of a diagram of ``points`` map points [bytes]."""
+    return points * (DIAGRAM_BYTES_PER_POINT + (DIAGRAM_FIGURE_BYTES_PER_POINT if figure else 0))
+
+
 def _check_sweep_work(
     prm: np.ndarray, omegas: list[float], periods_each: float, samples: float, workers: int,
     what: str,
 ) -> None:  # fmt: skip
     """Refuse a sweep whose work (``periods_each`` forcing periods at every ω) passes the limit
-    times the workers (:mod:`stepframe.structure.work`)."""
+    times the workers (:mod:`stepframe.structure.work`), or whose ``samples`` map points kept
+    pass the memory budget (:func:`diagram_memory_bytes`)."""
+    from stepframe.core.memory import check_memory
     from stepframe.structure import work
 
     units = sum(
@@ -81,6 +95,10 @@ def _check_sweep_work(
     work.check_work(
         units + samples, what, "ask for fewer values, initial states or periods",
         limit=work.MAX_WORK_UNITS * max(workers, 1),
+    )  # fmt: skip
+    check_memory(
+        diagram_memory_bytes(int(samples)), f"{what}: {int(samples)} map points kept",
+        "ask for fewer values or initial states",
     )  # fmt: skip
 
 

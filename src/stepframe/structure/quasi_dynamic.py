@@ -39,6 +39,7 @@ from typing import Any, Literal
 
 from stepframe.core import validation
 from stepframe.core.io import read_toml
+from stepframe.core.jsonable import without_none
 from stepframe.core.results import Status
 from stepframe.errors import InputError
 from stepframe.structure.damping import (
@@ -338,8 +339,8 @@ class FixedPoint:
     on_branch: bool
 
     def to_dict(self) -> dict[str, Any]:
-        """The fields as a dictionary."""
-        return asdict(self)
+        """The fields as a dictionary; δ*, T* and f'(δ*) absent when the formula has no root."""
+        return asdict(self, dict_factory=without_none)
 
 
 def closed_form_fixed_points(
@@ -459,8 +460,8 @@ class Iteration:
     to_zero: bool = False
 
     def to_dict(self) -> dict[str, Any]:
-        """Trace and outcome as a dictionary."""
-        return asdict(self)
+        """Trace and outcome as a dictionary (a row's K_i absent where it is not known)."""
+        return asdict(self, dict_factory=without_none)
 
 
 def iterate(
@@ -645,8 +646,9 @@ class DesignResult:
     message: str = ""
 
     def to_dict(self) -> dict[str, Any]:
-        """The fields as a dictionary."""
-        return asdict(self)
+        """The fields as a dictionary; δ*, T*, f'(δ*), the branch, SE and the iteration absent
+        where there are none (a failed design)."""
+        return asdict(self, dict_factory=without_none)
 
 
 def stepping_effectiveness(

@@ -25,6 +25,28 @@ if TYPE_CHECKING:
     from stepframe.structure.simulator import SimulationResult
 
 
+#: Peak memory of :func:`simulate_record` per sample of the record and its tail [bytes]: the
+#: simulator's history (x, ẋ, phase), its xarray form, ω_f(t), the ground's work and the band
+#: spectrum's temporaries (measured 255 bytes on 200,000 and 800,000 samples, tracemalloc,
+#: docs/benchmarks.md "Memory of the commands").
+SIMULATE_BYTES_PER_SAMPLE = 280.0
+#: What ``--plot`` adds per sample (the figure's lines and the spectrum's image; measured 310)
+#: and once (matplotlib's figure; measured 25 MiB) [bytes].
+FIGURE_BYTES_PER_SAMPLE = 340.0
+FIGURE_FIXED_BYTES = 32.0 * 1024**2
+
+
+def simulate_memory_bytes(n_samples: int, dt_s: float, tail_s: float, figure: bool) -> float:
+    """The estimated peak memory of one simulation summarised (and drawn, with ``figure``)
+    [bytes]: the record's samples and the tail's, times :data:`SIMULATE_BYTES_PER_SAMPLE`
+    (and the figure's share)."""
+    import math
+
+    samples = n_samples + math.ceil(tail_s / dt_s)
+    per_sample = SIMULATE_BYTES_PER_SAMPLE + (FIGURE_BYTES_PER_SAMPLE if figure else 0.0)
+    return samples * per_sample + (FIGURE_FIXED_BYTES if figure else 0.0)
+
+
 @dataclass(frozen=True)
 class RecordResponse:
     """A frame's response to one record.
@@ -214,8 +236,10 @@ def simulate_component(
     name: str,
     scale: float = 1.0,
     tail_s: float | None = None,
+    figure: bool = False,
 ) -> SimulatedComponent:
-    """:func:`simulate_record` on the one component of a record file, its inputs checked.
+    """:func:`simulate_record` on the one component of a record file, its inputs checked and
+    its memory (:func:`simulate_memory_bytes`) within the run's budget.
 
     Parameters
     ----------
@@ -227,8 +251,12 @@ def simulate_component(
         The record, reported and named in errors.
     scale, tail_s
         As :func:`simulate_record`; ``scale`` in (0, 1000], ``tail_s`` in (0, 10⁵] s.
+    figure
+        Whether the figure will be drawn (its memory is in the estimate).
     """
+    from stepframe.core.memory import check_memory
     from stepframe.core.validation import in_range, length
+    from stepframe.structure.simulator import DEFAULT_TAIL_S
 
     if len(stream) != 1:
         channels = ", ".join(str(trace.stats.channel) for trace in stream)
@@ -238,6 +266,13 @@ def simulate_component(
         )
     tail = None if tail_s is None else length("--tail-s", tail_s, high=1e5)
     factor = in_range("--scale", scale, 0.0, 1e3, low_open=True)
+    trace, tail_used = stream[0], DEFAULT_TAIL_S if tail is None else tail
+    check_memory(
+        simulate_memory_bytes(int(trace.stats.npts), float(trace.stats.delta), tail_used, figure),
+        f"simulating {trace.stats.npts} samples with a {tail_used:g} s tail"
+        + (" and drawing them" if figure else ""),
+        "a shorter record or tail" + (", or no --plot" if figure else ""),
+    )
     response = simulate_record(frame, stream[0], scale=factor, tail_s=tail, name=name)
     return SimulatedComponent(response, frame, stream[0], factor)
 
@@ -271,10 +306,11 @@ def simulate_file(
     record: Callable[[], Stream],
     *,
     name: str,
+    figure: bool = False,
 ) -> SimulatedComponent:
     """:func:`simulate_component` of the frame file of ``options`` under the record that
     ``record()`` reads (called after the frame file is read: a bad frame file is reported
-    before a long read)."""
+    before a long read); ``figure``: whether its figure will be drawn."""
     from stepframe.structure.frame_file import read_frame_file
 
     frame = read_frame_file(options.frame)
@@ -284,6 +320,7 @@ def simulate_file(
         name=name,
         scale=options.scale,
         tail_s=options.tail_s,
+        figure=figure,
     )
 
 
@@ -293,5 +330,6 @@ __all__ = [
     "SimulatedComponent",
     "simulate_component",
     "simulate_file",
+    "simulate_memory_bytes",
     "simulate_record",
 ]

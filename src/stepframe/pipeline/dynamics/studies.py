@@ -348,7 +348,9 @@ class BifurcationSweep:
         return bifurcation_figure(self.dataset, g_m_s2=G_M_S2)
 
 
-def bifurcation_sweep(frame: PortalFrame, options: BifurcationOptions) -> BifurcationSweep:
+def bifurcation_sweep(
+    frame: PortalFrame, options: BifurcationOptions, *, figure: bool = False
+) -> BifurcationSweep:
     """Sweep the amplitude at a fixed frequency, or the frequency at a fixed amplitude.
 
     Parameters
@@ -360,10 +362,24 @@ def bifurcation_sweep(frame: PortalFrame, options: BifurcationOptions) -> Bifurc
         n) [g], or ``amplitude_g`` [g] with ``omegas_rad_s`` (low, high, n) [rad/s]; the
         initial states per value (seeded, spread over |x| < x*), the forcing periods per run
         (the last ``min(20, periods)`` stroboscopic points are kept) and the worker processes.
+    figure
+        Whether the diagram will be drawn (its memory is in the estimate).
+
+    Raises
+    ------
+    InputError
+        A diagram whose memory
+        (:func:`~stepframe.structure.bifurcation.diagram_memory_bytes`) passes the run's budget.
     """
     import numpy as np
 
-    from stepframe.structure.bifurcation import bifurcation_diagram, frequency_diagram, orbit_period
+    from stepframe.core.memory import check_memory
+    from stepframe.structure.bifurcation import (
+        bifurcation_diagram,
+        diagram_memory_bytes,
+        frequency_diagram,
+        orbit_period,
+    )
 
     omega_rad_s, amplitudes_g = options.omega_rad_s, options.amplitudes_g
     amplitude_g, omegas_rad_s = options.amplitude_g, options.omegas_rad_s
@@ -381,6 +397,14 @@ def bifurcation_sweep(frame: PortalFrame, options: BifurcationOptions) -> Bifurc
         "n_keep": min(20, periods),
         "jobs": options.jobs,
     }
+    sizes = amplitudes_g or omegas_rad_s
+    n_points = int(sizes[2]) * initial * min(20, periods) if sizes else 0
+    check_memory(
+        diagram_memory_bytes(n_points, figure),
+        f"a bifurcation diagram of {n_points} points (values × initial states × the last "
+        f"{min(20, periods)} periods)" + (" drawn" if figure else ""),
+        "fewer values or initial states" + (", or no --plot" if figure else ""),
+    )
     if amplitudes_g is not None and omega_rad_s is not None:
         lo, hi, n = amplitudes_g
         values = np.linspace(lo, hi, n)
@@ -520,11 +544,17 @@ class IdaStudy:
 
     def to_dict(self) -> dict[str, Any]:
         """Table rows, fractiles of the first overturning, simulation counts."""
+        from stepframe.core.jsonable import without_none
         from stepframe.structure.ida import capacity_fractiles, fixed_step_runs, ida_table
 
         return {
             "intensity": self.intensity,
-            "items": ida_table(self.items, self.names).to_dict(orient="records"),
+            # a capacity not found is absent (a pandas column of None and numbers is NaN, of
+            # None alone None: both left out, as a number documented "absent")
+            "items": [
+                without_none((str(key), value) for key, value in row.items())
+                for row in ida_table(self.items, self.names).to_dict(orient="records")
+            ],
             "fractiles": capacity_fractiles(self.items),
             "simulations": int(sum(item.n_runs for item in self.items)),
             "fixed_step_simulations": fixed_step_runs(self.items, self.settings),
@@ -540,7 +570,7 @@ class IdaStudy:
             f"resurrection in {data['resurrected']}"
         ]
         for row in data["items"][:50]:
-            first = row["first_overturning"]
+            first = row.get("first_overturning")
             shown = "none found" if first is None or first != first else f"{first:.6g}"
             extra = ""
             if row["resurrected"]:
@@ -557,6 +587,21 @@ class IdaStudy:
         from stepframe.structure.dynamics_plots import ida_figure
 
         return ida_figure(self.items, names=self.names, intensity_label=self.intensity)
+
+
+#: Peak memory of an IDA over records [bytes per sample]: each record held and once more in the
+#: batch's concatenated block (16; the tail is not stored), the largest one's read and its
+#: block built beside it (48 more) (measured 12 MiB for one record of 200,000 samples, 39 MiB
+#: for two of 800,000, 22 MiB for six of 200,000: tracemalloc, docs/benchmarks.md).
+IDA_BYTES_PER_SAMPLE, IDA_LARGEST_BYTES_PER_SAMPLE = 16.0, 48.0
+
+
+def ida_memory_bytes(samples: Sequence[int]) -> float:
+    """The estimated peak memory of an IDA over records of ``samples`` samples each [bytes];
+    independent of the number of scales since a record's runs share one copy of it."""
+    if not samples:
+        return 0.0
+    return IDA_BYTES_PER_SAMPLE * float(sum(samples)) + IDA_LARGEST_BYTES_PER_SAMPLE * max(samples)
 
 
 def ida_study(
@@ -581,6 +626,7 @@ def ida_study(
     """
     import numpy as np
 
+    from stepframe.core.memory import check_memory
     from stepframe.structure.ida import IdaSettings, ida_pulse, ida_records
 
     fema_p695, pulse, omegas_rad_s = options.fema_p695, options.pulse, options.omegas_rad_s
@@ -618,6 +664,11 @@ def ida_study(
             names.append(f"{path} [{trace.stats.channel}]")
     if not motions:
         raise InputError("no records: give RECORD files or --fema-p695 N, expected at least one")
+    check_memory(
+        ida_memory_bytes([acc.size for acc, _ in motions]),
+        f"an IDA of {len(motions)} record(s) of {sum(acc.size for acc, _ in motions)} samples",
+        "fewer or shorter records",
+    )
     items = ida_records(frame, motions, settings=settings, tail_s=tail_s)
     return IdaStudy(items, names, settings, "PGA [g]")
 
@@ -634,5 +685,6 @@ __all__ = [
     "bifurcation_sweep",
     "frame_or_block",
     "harmonic_study",
+    "ida_memory_bytes",
     "ida_study",
 ]

@@ -275,8 +275,8 @@ def ranking_lines(summary: dict[str, Any]) -> list[str]:
         )
         lines.append(
             f"ρ with {response.replace('_', ' ')} at equal PSA(T_1) (the frame ranked with; "
-            f"perturbed frames: docs/selection.md): {rank_by} {_number(mine['spearman'])} "
-            f"[{_number(mine['low'])}, {_number(mine['high'])}]; next best {best}"
+            f"perturbed frames: docs/selection.md): {rank_by} {_number(mine.get('spearman'))} "
+            f"[{_number(mine.get('low'))}, {_number(mine.get('high'))}]; next best {best}"
         )
     tiers = [
         t

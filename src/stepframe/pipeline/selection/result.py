@@ -131,8 +131,9 @@ class SelectionResult:
             if entry["score"] == summary.get("rank_by"):
                 lines.append(
                     f"confirmation: Spearman({entry['score']}, {entry['response']}) = "
-                    f"{_number(entry['spearman'], '.2f')} [{_number(entry['low'], '.2f')}, "
-                    f"{_number(entry['high'], '.2f')}], n = {entry['n']}"
+                    f"{_number(entry.get('spearman'), '.2f')} "
+                    f"[{_number(entry.get('low'), '.2f')}, "
+                    f"{_number(entry.get('high'), '.2f')}], n = {entry['n']}"
                 )
         medians = summary.get("medians") or {}
         if medians:

@@ -25,6 +25,7 @@ from stepframe.pipeline.selection.filters import FilterReport, apply_filters, fi
 from stepframe.pipeline.selection.grouping import COLUMNS as GROUPING_COLUMNS
 from stepframe.pipeline.selection.grouping import grouping_summary
 from stepframe.pipeline.selection.intensity import checked_target
+from stepframe.pipeline.selection.memory import check_selection_memory
 from stepframe.pipeline.selection.names import (
     DOMINATED,
     PEER_NAMES,
@@ -763,11 +764,14 @@ def select_records(
     Raises
     ------
     InputError
-        A features table without the model columns; every candidate filtered out; fewer
-        candidates left than ``options.n`` (the message says how many passed each filter).
+        A features table without the model columns; a run whose memory estimate passes the
+        budget (:mod:`.memory`); every candidate filtered out; fewer candidates left than
+        ``options.n`` (the message says how many passed each filter).
     """
     _check_table(features)
     target = checked_target(options, frame)  # an unreadable target fails before any work
+    workers = 1 if jobs == 1 and executor is None else (jobs or default_jobs())
+    check_selection_memory(features, records, workers, int(options.n))
     parallel = (jobs, executor)
     candidates = filtered_candidates(features, frame, options, (records, record_options))
     physics_scores(candidates, frame, options, parallel)

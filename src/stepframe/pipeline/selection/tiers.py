@@ -100,8 +100,8 @@ class Plan:
     reason: str
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready."""
-        return {
+        """JSON-ready (``k`` absent unless prefiltered: a count is a number or absent)."""
+        data: dict[str, Any] = {
             "method": self.method,
             "tier": self.tier,
             "k": self.k,
@@ -109,6 +109,9 @@ class Plan:
             "budget_s": self.budget_s,
             "text": self.reason,
         }
+        if self.k is None:
+            del data["k"]
+        return data
 
 
 def plan(options: Any, n_candidates: int, samples: int, runs: int) -> Plan:
