@@ -264,7 +264,7 @@ NO_ENVELOPE_MESSAGE = (
     "site; the paper's site has 5 and 20 s) or the site from --record FILE"
 )
 
-#: The keys of :meth:`AmplificationResult.to_dict` that need the envelope (None without it).
+#: The keys of :meth:`AmplificationResult.to_dict` that need the envelope (absent without it).
 ENVELOPE_KEYS = (
     "response_amplification_vs_fixed",
     "response_amplification_vs_stationary",
@@ -282,8 +282,9 @@ class SpectralRatios:
     """Eq. 6.18's spectral ratio and eq. 6.19's approximations of a site without its envelope.
 
     What :func:`spectral_ratios` returns. :meth:`to_dict` has the keys of
-    :meth:`AmplificationResult.to_dict` in the same order, :data:`ENVELOPE_KEYS` None, the
-    model's ``t_max_s`` and ``t_dur_s`` None, and ``message`` saying how to get the rest.
+    :meth:`AmplificationResult.to_dict` in the same order, but not :data:`ENVELOPE_KEYS` nor
+    the model's ``t_max_s`` and ``t_dur_s`` (a number is a number or absent, never null), and
+    ``message`` saying how to get the rest.
     """
 
     spectral_ratio_eq_6_18: float
@@ -303,11 +304,12 @@ class SpectralRatios:
         return _describe(self.to_dict())
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready form, shaped as :meth:`AmplificationResult.to_dict`."""
+        """JSON-ready form, shaped as :meth:`AmplificationResult.to_dict` without what needs the
+        envelope."""
         out: dict[str, Any] = {}
         for item in fields(AmplificationResult):
-            if item.name != "monte_carlo":
-                out[item.name] = None if item.name in ENVELOPE_KEYS else getattr(self, item.name)
+            if item.name != "monte_carlo" and item.name not in ENVELOPE_KEYS:
+                out[item.name] = getattr(self, item.name)
         out["lower_bound"] = False
         return out
 
@@ -351,7 +353,7 @@ def spectral_ratios(
     model = GroundMotionModel.from_hz(
         fp_hz, fs_hz, fr_hz, xi_p, xi_r, t_max_s=1.0, t_dur_s=1.0, alpha_reading="paper"
     )
-    described = model.to_dict() | {"t_max_s": None, "t_dur_s": None}
+    described = {k: v for k, v in model.to_dict().items() if k not in ("t_max_s", "t_dur_s")}
     omega_0 = 2 * math.pi * oscillator.f0_hz
     base = 1.0 if peak_intensity_m_s2 is None else peak_intensity_m_s2
     return SpectralRatios(
@@ -376,7 +378,7 @@ def _describe(data: dict[str, Any]) -> str:
         f"  eq. 6.19 first approximation           {data['approx_eq_6_19_first']:.4g}",
         f"  eq. 6.19 last approximation (ωp/ωs)²   {data['approx_eq_6_19_last']:.4g}",
     ]
-    if data["response_amplification_vs_fixed"] is None:
+    if "response_amplification_vs_fixed" not in data:
         import textwrap
 
         lines += textwrap.wrap(data["message"], 96, initial_indent="  ", subsequent_indent="    ")
