@@ -119,3 +119,21 @@ def test_a_shared_worker_pool_starts_on_first_use_and_serves_many_batches() -> N
     workers = set(first.results) | set(second.results)
     assert os.getpid() not in workers
     assert len(workers) <= 2  # both batches ran on the same two processes
+
+
+def sum_group_or_fail(group: list[int]) -> list[int]:
+    """A group's items squared, -1 for a negative item; a group holding 13 fails whole."""
+    if 13 in group:
+        raise ValueError("thirteen")
+    return [-1 if item < 0 else item * item for item in group]
+
+
+def test_progress_counts_the_units_of_grouped_items(capsys: pytest.CaptureFixture[str]) -> None:
+    groups = [[1, 2, 3], [4, -5], [13, 6, 7, 8], [9]]
+    map_items(
+        sum_group_or_fail, groups, jobs=1, progress="groups",
+        units_of=len, failures_in=lambda squares: squares.count(-1),
+    )  # fmt: skip
+    err = capsys.readouterr().err.strip().splitlines()
+    # 10 items; failed: the -5 inside a group, and the four of the group that raised
+    assert len(err) == 1 and err[0].startswith("groups: 10 items, 5 failed, "), err

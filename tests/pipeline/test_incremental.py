@@ -176,3 +176,16 @@ def test_record_options_of_the_records_table_reach_the_reader(tmp_path: Path) ->
     table = pd.read_parquet(tmp_path / "stepframe-work" / "outputs" / "inventory.parquet")
     assert table["dt_s"].tolist() == [0.01] and table["npts"].tolist() == [3000]
     assert table["pga_m_s2"].iloc[0] == pytest.approx(np.abs(samples).max() * 9.80665, rel=1e-9)
+
+
+def test_the_progress_line_counts_items_and_their_failures(
+    scene: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    # The chained stages run in groups of items; the line counts the items (it once said
+    # "inventory+features: 2 items, 0 failed" for SMALL + 1 files, one of them unreadable).
+    (scene / "records" / "garbage.txt").write_text("this is not a record\n")
+    capsys.readouterr()
+    _run(scene / "wf.toml", progress=True)
+    lines = [line for line in capsys.readouterr().err.splitlines() if "items/s" in line]
+    assert len(lines) == 1, lines
+    assert lines[0].startswith(f"inventory+features: {SMALL + 1} items, 1 failed, "), lines

@@ -262,6 +262,8 @@ def map_items(
     name_of: Callable[[Item], str] = str,
     progress: bool | str = False,
     worth_s: float | None = None,
+    units_of: Callable[[Item], int] | None = None,
+    failures_in: Callable[[Result], int] | None = None,
 ) -> MapOutcome[Result]:
     """Apply ``function`` to every item, in parallel, recording failures instead of stopping.
 
@@ -295,6 +297,10 @@ def map_items(
     worth_s
         Least work [s] worth starting the workers for (default :data:`POOL_WORTH_S`; none for an
         executor whose workers run); 0 hands every item to them, with no probe.
+    units_of, failures_in
+        What the progress counts when an item holds several (a group of a stage's items): the
+        units in an item (default 1), and the failed units inside a successful result (default
+        none); a failed item counts all its units as failed.
 
     Returns
     -------
@@ -315,12 +321,19 @@ def map_items(
         raise InputError(f"chunk_size = {chunk_size}, expected ≥ 1")
     indexed = list(enumerate(items))
     label = progress if isinstance(progress, str) else (stage or "items")
-    bar = _Progress(len(indexed), label, bool(progress))
+    units = [1 if units_of is None else units_of(item) for item in items]
+    bar = _Progress(sum(units), label, bool(progress))
     collected: list[tuple[int, bool, Any]] = []
 
     def take(part: list[tuple[int, bool, Any]]) -> None:
         collected.extend(part)
-        bar.update(len(part), sum(1 for _, ok, _ in part if not ok))
+        failed = 0
+        for index, ok, value in part:
+            if not ok:
+                failed += units[index]
+            elif failures_in is not None:
+                failed += failures_in(value)
+        bar.update(sum(units[index] for index, _, _ in part), failed)
 
     try:
         rest = indexed

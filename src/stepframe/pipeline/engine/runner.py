@@ -444,6 +444,9 @@ def _run_items(
             stage=stage.name,
             name_of=group_name,
             progress=label if context.progress else False,
+            # Count the stage's items, not the groups that carry them, and the failures inside.
+            units_of=lambda group: len(group[1]),
+            failures_in=lambda computed: sum(isinstance(v, Failure) for _, _, v in computed),
         )
         _store_batch(stage.name, work, outcome, store, context)
     keys = [task.key for task in tasks]
