@@ -189,3 +189,22 @@ def test_the_progress_line_counts_items_and_their_failures(
     lines = [line for line in capsys.readouterr().err.splitlines() if "items/s" in line]
     assert len(lines) == 1, lines
     assert lines[0].startswith(f"inventory+features: {SMALL + 1} items, 1 failed, "), lines
+
+
+def test_a_run_lists_the_records_folder_once(scene: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    # The check before any work, the inventory's file contents and its tasks all ask for the
+    # files; the folder is walked once (it was three times: a second each at 43,000 files).
+    import stepframe.core.paths as paths
+
+    walked: list[Path] = []
+    original = paths.walk_files
+
+    def counting(folder: Path, *args: object, **kwargs: object) -> object:
+        walked.append(Path(folder))
+        return original(folder, *args, **kwargs)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(paths, "walk_files", counting)
+    _run(scene / "wf.toml")
+    assert walked == [scene / "records"]
+    _run(scene / "wf.toml")  # a second run lists again: its own workflow, its own listing
+    assert len(walked) == 2

@@ -76,16 +76,15 @@ def _prepare_inventory(context: Context) -> None:
 
         write_example_files(record_folder(context))
     elif records is not None:
-        import warnings
-
         # the folder's warnings (links skipped) come once, from the task listing that follows
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            _record_contents(context, update=True)
+        _record_contents(context, update=True, quiet=True)
 
 
-def _record_contents(context: Context, *, update: bool = False) -> list[tuple[Path, str]]:
-    """Each record file with the sha256 of its bytes (the example's hashed in memory)."""
+def _record_contents(
+    context: Context, *, update: bool = False, quiet: bool = False
+) -> list[tuple[Path, str]]:
+    """Each record file with the sha256 of its bytes (the example's hashed in memory);
+    ``quiet`` keeps the folder listing's warnings for a later call."""
     workflow = context.workflow
     assert workflow.records is not None
     if workflow.records.example is not None:
@@ -98,7 +97,7 @@ def _record_contents(context: Context, *, update: bool = False) -> list[tuple[Pa
     from stepframe.core.execution import default_jobs
     from stepframe.pipeline.catalogue.file_hashes import CACHE_NAME, file_hashes
 
-    paths = workflow.record_files()
+    paths = workflow.record_files(quiet=quiet)
     threads = context.jobs or default_jobs()
     hashes = file_hashes(paths, workflow.workspace / CACHE_NAME, update=update, threads=threads)
     return list(zip(paths, hashes, strict=True))

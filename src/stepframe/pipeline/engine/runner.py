@@ -30,7 +30,6 @@ from __future__ import annotations
 import errno
 import shutil
 import time
-import warnings
 from concurrent.futures import Executor
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -210,11 +209,9 @@ def _prepare(workflow: Workflow, forced: list[str], stages: StageTable) -> list[
                 workflow.path,
             )
         if records.folder is not None:
-            # listed here for its errors only (exit 2 before any work): its warnings (links
-            # skipped) come once, from the listing the catalogue stage makes
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                workflow.record_files()
+            # listed here for its errors (exit 2 before any work); the listing is kept for the
+            # stages, whose first use gives its warnings (links skipped)
+            workflow.record_files(quiet=True)
     _check_writable(workflow.workspace)
     _check_writable(workflow.outputs_folder)
     store = workflow.workspace / "store"

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import difflib
 import re
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -146,9 +147,16 @@ class Workflow:
     outputs_folder: Path
     history: bool
     lines: Lines = field(repr=False)
+    #: The folder's listing and its warnings, made once per workflow (a run loads its own).
+    _listing: dict[str, Any] = field(default_factory=dict, init=False, repr=False, compare=False)
 
-    def record_files(self) -> list[Path]:
+    def record_files(self, *, quiet: bool = False) -> list[Path]:
         """The record files of ``[records]`` (sorted), checked to exist and be non-empty.
+
+        The folder is listed once per workflow: a run asks for its files several times (the
+        check before any work, the inventory's contents and its tasks), and a folder of 43,000
+        files takes a second to walk. The listing's warnings (links skipped) are given once, by
+        the first call that is not ``quiet``.
 
         Raises
         ------
@@ -168,7 +176,15 @@ class Workflow:
                 "records",
                 "folder",
             )
-        files = self._listed(folder, records)
+        if "files" not in self._listing:
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                self._listing["files"] = self._listed(folder, records)
+            self._listing["warnings"] = list(caught)
+        if not quiet:
+            for found in self._listing.pop("warnings", []):
+                warnings.warn_explicit(found.message, found.category, found.filename, found.lineno)
+        files: list[Path] = list(self._listing["files"])
         if not files:
             raise self.lines.error(
                 f"[records] folder {str(folder)!r} has no file matching {records.glob!r}, "
