@@ -421,12 +421,12 @@ def integrate(
         else:
             phase = _surface_phase(s0, ag[0] if n_rec >= 0 else 0.0, w1, w2, p1, p2, g1, xc)
     status = STATUS_OK
-    # int64 values, not literals: numba compiles a copy of a called kernel for each literal
-    # argument (_push six times, _root twice: about 1 s of the first compilation)
-    n_ev = np.int64(0)
-    k_liftoff, k_touchdown = np.int64(EVENT_LIFTOFF), np.int64(EVENT_TOUCHDOWN)
-    k_settle, k_escape, k_cap = np.int64(EVENT_SETTLE), np.int64(EVENT_ESCAPE), np.int64(EVENT_CAP)
-    on_x, on_v = np.int64(0), np.int64(1)
+    # int(...), not literals (numba types int(c) as int64, a literal as its own type): numba
+    # compiles a called kernel once per literal argument (_push six times, _root twice)
+    n_ev = int(0)  # noqa: UP018, RUF046
+    k_liftoff, k_touchdown = int(EVENT_LIFTOFF), int(EVENT_TOUCHDOWN)
+    k_settle, k_escape, k_cap = int(EVENT_SETTLE), int(EVENT_ESCAPE), int(EVENT_CAP)
+    on_x, on_v = int(0), int(1)  # noqa: UP018, RUF046
     n_lift = 0
     n_imp = 0
     peak = abs(x)
