@@ -19,6 +19,7 @@ using the smallest factor it needs.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from typing import Any, Literal
@@ -113,7 +114,18 @@ def nigam_jennings_coefficients(
         ``u' = a11 u + a12 v + b11 a_i + b12 a_{i+1}`` and
         ``v' = a21 u + a22 v + b21 a_i + b22 a_{i+1}`` (u [m], v [m/s], a [m/s²]).
     """
-    w = np.atleast_1d(np.asarray(omega_rad_s, dtype=np.float64))
+    w = np.ascontiguousarray(np.atleast_1d(np.asarray(omega_rad_s, dtype=np.float64)))
+    # a copy: the cached array is shared by every later call with the same arguments
+    return _coefficients(w.tobytes(), float(damping), float(dt_s)).copy()
+
+
+@functools.lru_cache(maxsize=64)
+def _coefficients(omega_bytes: bytes, damping: float, dt_s: float) -> NDArray[np.float64]:
+    """:func:`nigam_jennings_coefficients` of the frequencies packed in ``omega_bytes``,
+    remembered: a catalogue's records share a few sampling intervals and the selection asks
+    the same periods of each, and these coefficients were a quarter of its spectra pass's
+    time (docs/benchmarks.md, the responses stage's cost)."""
+    w = np.frombuffer(omega_bytes, dtype=np.float64)
     out = _closed_form(w, damping, dt_s)
     small = w * dt_s < SERIES_BELOW_OMEGA_DT
     if np.any(small):

@@ -421,7 +421,12 @@ def integrate(
         else:
             phase = _surface_phase(s0, ag[0] if n_rec >= 0 else 0.0, w1, w2, p1, p2, g1, xc)
     status = STATUS_OK
-    n_ev = 0
+    # int(...), not literals (numba types int(c) as int64, a literal as its own type): numba
+    # compiles a called kernel once per literal argument (_push six times, _root twice)
+    n_ev = int(0)  # noqa: UP018, RUF046
+    k_liftoff, k_touchdown = int(EVENT_LIFTOFF), int(EVENT_TOUCHDOWN)
+    k_settle, k_escape, k_cap = int(EVENT_SETTLE), int(EVENT_ESCAPE), int(EVENT_CAP)
+    on_x, on_v = int(0), int(1)  # noqa: UP018, RUF046
     n_lift = 0
     n_imp = 0
     peak = abs(x)
@@ -444,7 +449,7 @@ def integrate(
             n_lift += 1
             cur_lift = 0
             n_ev = _push(n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak,
-                         0.0, EVENT_LIFTOFF, v, v, cur_side * xc)  # fmt: skip
+                         0.0, k_liftoff, v, v, cur_side * xc)  # fmt: skip
 
     n_total = n_rec + n_tail
     i = 0
@@ -473,7 +478,7 @@ def integrate(
                 overturned = 1
                 t_over = t0
                 n_ev = _push(n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak,
-                             t0, EVENT_ESCAPE, v, v, x)  # fmt: skip
+                             t0, k_escape, v, v, x)  # fmt: skip
                 break
         if in_free and not escape_checked:
             escape_checked = True
@@ -482,7 +487,7 @@ def integrate(
                 if s * v - lam2 * (s * x - x_star) > 0.0 and overturned == 0:
                     overturned = 1
                     n_ev = _push(n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak,
-                                 t0, EVENT_ESCAPE, v, v, x)  # fmt: skip
+                                 t0, k_escape, v, v, x)  # fmt: skip
                     if xcap == math.inf:
                         t_over = t0
                         break
@@ -572,7 +577,7 @@ def integrate(
                     cur_side = 1.0 if phase > 0 else -1.0
                     ep_peak = xc
                     n_ev = _push(n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak,
-                                 t0 + tau, EVENT_LIFTOFF, 0.0, 0.0, cur_side * xc)  # fmt: skip
+                                 t0 + tau, k_liftoff, 0.0, 0.0, cur_side * xc)  # fmt: skip
                 continue
 
             beta, k, disc, q0, q1 = _phase_coeffs(
@@ -594,7 +599,7 @@ def integrate(
                 ends = (b_k, b_k)
                 n_sub = 1
                 if (v_a > 0.0 and v_b < 0.0) or (v_a < 0.0 and v_b > 0.0):
-                    ends = (_root(seg, a_k, b_k, 0.0, 1), b_k)
+                    ends = (_root(seg, a_k, b_k, 0.0, on_v), b_k)
                     n_sub = 2
                 for sub in range(n_sub):
                     e_k = ends[sub]
@@ -615,7 +620,7 @@ def integrate(
                                     continue
                                 # Within rounding past x_c (after such a touch) moving on out:
                                 # the lift-off is right there.
-                                ev_sig = _root(seg, a_k, e_k, sgn * xc, 0) if fa < 0.0 else a_k
+                                ev_sig = _root(seg, a_k, e_k, sgn * xc, on_x) if fa < 0.0 else a_k
                                 ev_type = EVENT_LIFTOFF
                                 ev_target = sgn * xc
                     else:
@@ -632,14 +637,14 @@ def integrate(
                         # From within rounding past the surface (an excursion below the
                         # rounding of x, at a threshold) moving back in: a touchdown right there.
                         if fb <= 0.0 and fa >= -tol_x and fb < fa and not just_left:
-                            ev_sig = _root(seg, a_k, e_k, s * xc, 0) if fa > 0.0 else a_k
+                            ev_sig = _root(seg, a_k, e_k, s * xc, on_x) if fa > 0.0 else a_k
                             ev_type = EVENT_TOUCHDOWN
                             ev_target = s * xc
                         if xcap < math.inf and ev_type == 0:
                             fa = s * x_a - xcap
                             fb = s * x_b - xcap
                             if fa < 0.0 and fb >= 0.0:
-                                ev_sig = _root(seg, a_k, e_k, s * xcap, 0)
+                                ev_sig = _root(seg, a_k, e_k, s * xcap, on_x)
                                 ev_type = EVENT_CAP
                                 ev_target = s * xcap
                     if ev_type != 0:
@@ -658,7 +663,7 @@ def integrate(
                             cur_side = 1.0 if phase > 0 else -1.0
                             ep_peak = xc
                             n_ev = _push(n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak, t_ev,
-                                         EVENT_LIFTOFF, v_ev, v_ev, cur_side * xc)  # fmt: skip
+                                         k_liftoff, v_ev, v_ev, cur_side * xc)  # fmt: skip
                             s = 1.0 if phase > 0 else -1.0
                             p_back = w2 * w2 * xc - g1 - s * p2 * (ag_a + slope * tau)
                             graze = 2.0 * abs(v_ev) / -p_back if p_back < 0.0 else math.inf
@@ -691,7 +696,7 @@ def integrate(
                             )  # fmt: skip
                             n_ev = _push(
                                 n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak,
-                                t_ev, EVENT_TOUCHDOWN, v_ev, -s * w_reb, ep_peak,
+                                t_ev, k_touchdown, v_ev, -s * w_reb, ep_peak,
                             )  # fmt: skip
                             if kind == 0:
                                 v = -s * w_reb
@@ -705,7 +710,7 @@ def integrate(
                                     cur_side = -s
                                     ep_peak = 0.0
                                     n_ev = _push(n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak,
-                                                 t_ev, EVENT_LIFTOFF, v, v, 0.0)  # fmt: skip
+                                                 t_ev, k_liftoff, v, v, 0.0)  # fmt: skip
                             elif kind == 1:
                                 tau += delay
                                 t_ev += delay
@@ -713,7 +718,7 @@ def integrate(
                                     # The block's return strikes again before it lifts off.
                                     n_imp += 1
                                     n_ev = _push(n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak,
-                                                 t_ev, EVENT_TOUCHDOWN, s * w_reb, s * w_back,
+                                                 t_ev, k_touchdown, s * w_reb, s * w_back,
                                                  0.0)  # fmt: skip
                                 phase = int(s)
                                 v = s * w_back
@@ -722,20 +727,20 @@ def integrate(
                                 cur_side = s
                                 ep_peak = xc
                                 n_ev = _push(n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak,
-                                             t_ev, EVENT_LIFTOFF, v, v, s * xc)  # fmt: skip
+                                             t_ev, k_liftoff, v, v, s * xc)  # fmt: skip
                             else:
                                 tau += delay
                                 t_ev += delay
                                 v = 0.0
                                 phase = 2 * int(s)
                                 n_ev = _push(n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak,
-                                             t_ev, EVENT_SETTLE, -s * w_reb, 0.0, 0.0)  # fmt: skip
+                                             t_ev, k_settle, -s * w_reb, 0.0, 0.0)  # fmt: skip
                         elif ev_type == EVENT_CAP:
                             v = v_ev
                             overturned = 1
                             t_over = t_ev
                             n_ev = _push(n_ev, ev_t, ev_kind, ev_v_in, ev_v_out, ev_peak,
-                                         t_ev, EVENT_CAP, v_ev, v_ev, ev_target)  # fmt: skip
+                                         t_ev, k_cap, v_ev, v_ev, ev_target)  # fmt: skip
                             stop = True
                         fresh = True
                         event_found = True

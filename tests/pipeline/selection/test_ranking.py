@@ -278,3 +278,37 @@ def test_the_plan_is_the_same_on_every_machine(monkeypatch: pytest.MonkeyPatch) 
     assert plans[0] == plans[1]
     assert plans[0]["estimated_exact_s"] == pytest.approx(expected, rel=1e-12)
     assert plans[0]["method"] == "prefilter"  # 481 CPU s over the budget of 100, on any machine
+
+
+def test_overturning_scan_in_rounds_equals_every_level(example4: PortalFrame) -> None:
+    """The confirmation's overturning scan stops a record at its first overturning level
+    (rounds of SCAN_ROUND levels): the same factors as simulating every record at every level
+    first (the verdict table of ladder_runs over all of SCAN_LEVELS, then first_overturn), for
+    records that overturn in the first round, in the second, and never."""
+    from stepframe.pipeline.selection import confirm
+    from stepframe.pipeline.selection.exact import first_overturn, ladder_runs
+
+    dt = 0.01
+    time_s = np.arange(0.0, 20.0, dt)
+    ramp = np.minimum(time_s / 5.0, 1.0)
+    resonant = ramp * np.sin(example4.omega_1_rad_s * time_s)
+    records = [(resonant, dt), (resonant, dt), (resonant, dt), (resonant * 0.0 + 1e-6, dt)]
+    # the same record at three base scales: first overturning level low, in the second round,
+    # and above the last level
+    every = ladder_runs(example4, records[:1], np.ones(1), confirm.SCAN_LEVELS.tolist())
+    first_level = int(np.argmax(every.overturned[0]))
+    assert every.overturned[0].any() and first_level > 0
+    top = float(confirm.SCAN_LEVELS[-1])
+    base = np.array([
+        confirm.SCAN_LEVELS[first_level] / confirm.SCAN_LEVELS[1],
+        confirm.SCAN_LEVELS[first_level] / confirm.SCAN_LEVELS[confirm.SCAN_ROUND + 2],
+        0.5 * confirm.SCAN_LEVELS[first_level] / top,
+        1.0,
+    ])  # fmt: skip
+    got = confirm.overturn_factors(example4, records, base, confirm.SCAN_LEVELS)
+    verdicts = ladder_runs(example4, records, base, confirm.SCAN_LEVELS.tolist()).overturned
+    expected = first_overturn(example4, records, base, confirm.SCAN_LEVELS, verdicts)
+    assert np.array_equal(got, expected, equal_nan=True)
+    firsts = [int(np.argmax(row)) if row.any() else -1 for row in verdicts]
+    assert firsts[0] < confirm.SCAN_ROUND <= firsts[1] and firsts[2:] == [-1, -1]
+    assert np.isfinite(got[:2]).all() and np.isnan(got[2:]).all()

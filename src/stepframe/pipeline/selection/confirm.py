@@ -68,18 +68,38 @@ def overturn_onset_ratios(
     return overturn_factors(frame, records, base, SCAN_LEVELS)
 
 
+#: Levels of the overturning scan simulated per round: a record that overturns in a round is
+#: not simulated at the levels above it (its first overturning level is all the scan gives).
+#: Most records overturn by the 8th of :data:`SCAN_LEVELS`, so the upper half is rarely run:
+#: the scan cost 25 % less per record (docs/benchmarks.md, "the responses stage's cost").
+SCAN_ROUND = 8
+
+
 def overturn_factors(
     frame: Any, records: list[tuple[Floats, float]], base_scales: Floats, levels: Floats
 ) -> Floats:
     """Lowest factor on ``base_scales`` found to overturn the frame, per record; NaN when no
-    level does, ``levels[0]`` when the first already does: every record simulated at every
-    level of ``levels`` (increasing), then the bracket below the first level that overturns
-    bisected (:func:`stepframe.pipeline.selection.exact.first_overturn`)."""
+    level does, ``levels[0]`` when the first already does: every record simulated at the levels
+    of ``levels`` (increasing) up to the first that overturns it (in rounds of
+    :data:`SCAN_ROUND` levels), then the bracket below that level bisected
+    (:func:`stepframe.pipeline.selection.exact.first_overturn`). The levels above a record's
+    first overturning one are never read, so skipping them changes no result."""
     from stepframe.pipeline.selection.exact import first_overturn, ladder_runs
 
     base = np.asarray(base_scales, dtype=np.float64)
-    scan = ladder_runs(frame, records, base, [float(level) for level in levels])
-    return first_overturn(frame, records, base, np.asarray(levels), scan.overturned)
+    grid = np.asarray(levels, dtype=np.float64)
+    overturned = np.zeros((len(records), grid.size), dtype=bool)
+    pending = np.arange(len(records))
+    for first in range(0, grid.size, SCAN_ROUND):
+        if not pending.size:
+            break
+        part = slice(first, min(first + SCAN_ROUND, grid.size))
+        scan = ladder_runs(
+            frame, [records[int(i)] for i in pending], base[pending], grid[part].tolist()
+        )
+        overturned[pending, part] = scan.overturned
+        pending = pending[~scan.overturned.any(axis=1)]
+    return first_overturn(frame, records, base, grid, overturned)
 
 
 #: Bootstrap indices drawn and ranked at once: 1,000 resamples of 43,000 candidates at once
@@ -97,6 +117,57 @@ def _resamples(rng: np.random.Generator, n: int, n_resamples: int) -> Iterator[N
         yield rng.integers(0, n, size=(min(rows, n_resamples - start), n))
 
 
+def _resample_counts(rng: np.random.Generator, n: int, n_resamples: int) -> Iterator[NDArray[Any]]:
+    """How many times each candidate (rows) is drawn in each resample (columns, in drawing
+    order), from the index blocks of :func:`_resamples`: candidates as rows, so that taking
+    them in a variable's order moves whole rows."""
+    for picks in _resamples(rng, n, n_resamples):
+        rows = picks.shape[0]
+        flat = picks * rows + np.arange(rows)[:, None]
+        yield np.bincount(flat.ravel(), minlength=rows * n).reshape(n, rows)
+
+
+class _TieGroups:
+    """A variable's order and its groups of equal values, for ranking its resamples.
+
+    A resample's ranks follow from how often each candidate is drawn (counts) without sorting
+    it again: in the variable's order, a group of equal values drawn C times in all, after S
+    draws of smaller values, has the average rank S + (C + 1)/2 (ties averaged, as
+    ``scipy.stats.rankdata``). Ranking each resample by sorting was 75 % of the selection stage
+    at 1,000 candidates (docs/benchmarks.md, "the confirmation's bootstrap by counts").
+    """
+
+    def __init__(self, values: Floats) -> None:
+        self.order = np.argsort(values, kind="stable")
+        ordered = values[self.order]
+        fresh = np.concatenate([[True], ordered[1:] != ordered[:-1]])
+        self.starts = np.flatnonzero(fresh)
+        self.group = np.cumsum(fresh) - 1  # group of each position in the order
+
+    def centred_ranks(self, counts: NDArray[Any]) -> Floats:
+        """Each candidate's rank (rows, in input order) in each resample (columns) less the
+        mean rank (n + 1)/2."""
+        totals = np.add.reduceat(counts[self.order], self.starts, axis=0).astype(np.float64)
+        average = np.cumsum(totals, axis=0) - 0.5 * (totals - 1.0)
+        average -= 0.5 * (counts.shape[0] + 1.0)
+        out = np.empty(counts.shape, dtype=np.float64)
+        out[self.order] = average[self.group]
+        return out
+
+
+def _resampled_rho(ra: Floats, rb: Floats, counts: NDArray[Any]) -> Floats:
+    """Spearman ρ of each resample (columns of ``counts``) from the centred ranks of
+    :meth:`_TieGroups.centred_ranks`: the Pearson correlation of the ranks over the drawn
+    candidates, each counted as often as drawn (what :func:`_rank_rho` gives on the drawn
+    values)."""
+    weighted = counts * rb
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.asarray(
+            (weighted * ra).sum(axis=0)
+            / np.sqrt((counts * ra**2).sum(axis=0) * (weighted * rb).sum(axis=0))
+        )
+
+
 def spearman_interval(
     x: Floats, y: Floats, seed: int, n_resamples: int = N_RESAMPLES, level: float = 0.95
 ) -> tuple[float, float, float, int]:
@@ -112,8 +183,12 @@ def spearman_interval(
         return math.nan, math.nan, math.nan, n
     value = float(_rank_rho(xs, ys))
     rng = np.random.default_rng(seed)
+    x_ranks, y_ranks = _TieGroups(xs), _TieGroups(ys)
     samples = np.concatenate(
-        [_rank_rho(xs[picks], ys[picks]) for picks in _resamples(rng, n, n_resamples)]
+        [
+            _resampled_rho(x_ranks.centred_ranks(counts), y_ranks.centred_ranks(counts), counts)
+            for counts in _resample_counts(rng, n, n_resamples)
+        ]
     )
     samples = samples[np.isfinite(samples)]
     if samples.size == 0:
@@ -150,10 +225,11 @@ def paired_delta_rho(
         return math.nan, math.nan, math.nan, n
     value = float(_rank_rho(xs, ys) - _rank_rho(rs, ys))
     rng = np.random.default_rng(seed)
+    x_ranks, r_ranks, y_ranks = _TieGroups(xs), _TieGroups(rs), _TieGroups(ys)
     samples = np.concatenate(
         [
-            _rank_rho(xs[picks], ys[picks]) - _rank_rho(rs[picks], ys[picks])
-            for picks in _resamples(rng, n, n_resamples)
+            _paired(x_ranks, r_ranks, y_ranks.centred_ranks(counts), counts)
+            for counts in _resample_counts(rng, n, n_resamples)
         ]
     )
     samples = samples[np.isfinite(samples)]
@@ -161,6 +237,12 @@ def paired_delta_rho(
         return value, math.nan, math.nan, n
     low, high = np.percentile(samples, [2.5, 97.5])
     return value, float(low), float(high), n
+
+
+def _paired(x: _TieGroups, r: _TieGroups, ry: Floats, counts: NDArray[Any]) -> Floats:
+    """ρ(x, y) - ρ(r, y) of each resample, y's centred ranks given (computed once)."""
+    rx, rr = x.centred_ranks(counts), r.centred_ranks(counts)
+    return _resampled_rho(rx, ry, counts) - _resampled_rho(rr, ry, counts)
 
 
 def efficiency(measure: Floats, response: Floats) -> tuple[float, int]:
