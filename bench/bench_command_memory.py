@@ -32,35 +32,12 @@ corpus = importlib.util.module_from_spec(_SPEC)
 sys.modules[_SPEC.name] = corpus  # dataclasses look their module up there
 _SPEC.loader.exec_module(corpus)
 
-CHILD = """\
-import json, os, sys, tracemalloc
-from stepframe.core import memory
-asked = []
-original = memory.check_memory
-def spy(need, what, advice="", **kw):
-    asked.append((need, what))
-    return original(need, what, advice, **kw)
-memory.check_memory = spy
-for name in ("stepframe.pipeline.selection.memory", "stepframe.structure.bifurcation"):
-    __import__(name)
-    sys.modules[name].check_memory = spy
-from stepframe.cli import main
-if os.environ.get("WARM"):
-    main(json.loads(os.environ["WARM"]))
-    asked.clear()
-tracemalloc.start()
-status = main(sys.argv[1:])
-print(json.dumps({"status": status, "peak": tracemalloc.get_traced_memory()[1],
-                  "asked": asked}), file=sys.stderr)
-"""
-
 
 def measure(argv: list[str], warm: list[str] | None, what: str, cwd: Path) -> tuple[float, float]:
     """(peak, estimate) [MiB] of one command."""
     env = dict(os.environ, WARM=json.dumps(warm) if warm else "")
-    done = subprocess.run(
-        [sys.executable, "-c", CHILD, *argv], capture_output=True, text=True, cwd=cwd, env=env
-    )
+    command = [sys.executable, "-c", corpus.MEASURE_CHILD, *argv]
+    done = subprocess.run(command, capture_output=True, text=True, cwd=cwd, env=env)
     data = json.loads(done.stderr.strip().splitlines()[-1])
     assert data["status"] == 0, done.stderr[-500:]
     estimate = max(need for need, text in data["asked"] if text.startswith(what))

@@ -215,3 +215,30 @@ def write_long_at2(path: Path, npts: int) -> Path:
         for i in range(0, len(rest), 5):
             handle.write("".join(rest[i : i + 5]) + "\n")
     return path
+
+
+#: A child process (``python -c MEASURE_CHILD ARGV...``) that runs a stepframe command under
+#: tracemalloc and prints on its last stderr line the exit status, the peak of every Python and
+#: numpy allocation and each estimate asked of ``check_memory`` (need, what); the command in the
+#: environment variable WARM (JSON), when given, runs first, outside the measure (imports, the
+#: kernels' loading). Used by tests/hostile/test_memory_budget.py and bench/bench_command_memory.py.
+MEASURE_CHILD = """\
+import json, os, sys, tracemalloc
+from stepframe.core import memory
+asked = []
+original = memory.check_memory
+def spy(need, what, advice="", **kw):
+    asked.append((need, what))
+    return original(need, what, advice, **kw)
+memory.check_memory = spy
+import stepframe.pipeline.selection.memory as selection
+selection.check_memory = spy  # bound at its import; the others import it when they check
+from stepframe.cli import main
+if os.environ.get("WARM"):
+    main(json.loads(os.environ["WARM"]))
+    asked.clear()
+tracemalloc.start()
+status = main(sys.argv[1:])
+peak = tracemalloc.get_traced_memory()[1]
+print(json.dumps({"status": status, "peak": peak, "asked": asked}), file=sys.stderr)
+"""

@@ -263,39 +263,12 @@ def test_command_runs_within_its_budget(
     assert peak < 512 * MIB, peak / MIB
 
 
-#: A child that runs the command under tracemalloc and prints its peak and every estimate
-#: asked of check_memory (the selection's and the simulation's among them); the command in
-#: WARM (JSON), when given, runs first, outside the measure (imports, loading the kernels).
-_MEASURE = """\
-import json, os, sys, tracemalloc
-from stepframe.core import memory
-asked = []
-original = memory.check_memory
-def spy(need, what, advice="", **kw):
-    asked.append((need, what))
-    return original(need, what, advice, **kw)
-memory.check_memory = spy
-import stepframe.pipeline.dynamics.response, stepframe.pipeline.selection.memory as selection
-selection.check_memory = spy
-from stepframe.cli import main
-if os.environ.get("WARM"):
-    main(json.loads(os.environ["WARM"]))
-    asked.clear()
-tracemalloc.start()
-status = main(sys.argv[1:])
-peak = tracemalloc.get_traced_memory()[1]
-print(json.dumps({"status": status, "peak": peak, "asked": asked}), file=sys.stderr)
-"""
-
-
 def _measured(
     argv: list[str], cwd: Path, warm: list[str] | None
 ) -> tuple[float, list[tuple[float, str]]]:
     env = dict(os.environ, WARM=json.dumps(warm) if warm else "")
-    done = subprocess.run(
-        [sys.executable, "-c", _MEASURE, *argv], capture_output=True, text=True, cwd=cwd,
-        timeout=900, env=env,
-    )  # fmt: skip
+    command = [sys.executable, "-c", corpus_module.MEASURE_CHILD, *argv]
+    done = subprocess.run(command, capture_output=True, text=True, cwd=cwd, timeout=900, env=env)
     data = json.loads(done.stderr.strip().splitlines()[-1])
     assert data["status"] == 0, done.stderr[-600:]
     return float(data["peak"]), [(float(n), str(w)) for n, w in data["asked"]]
