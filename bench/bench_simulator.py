@@ -77,6 +77,23 @@ def _errors(run: Any, truth: Any) -> tuple[float, float, float]:
     return peak, switch, over
 
 
+def fema_series(stream: Any) -> list[tuple[np.ndarray, float]]:
+    """Each component of ``stream`` as (ground acceleration [m/s²], dt [s])."""
+    return [(tr.data.astype(float) * STANDARD_GRAVITY_M_S2, tr.stats.delta) for tr in stream]
+
+
+def confirmation_scales(
+    frame: PortalFrame, ratio: float, series: list[tuple[np.ndarray, float]]
+) -> np.ndarray:
+    """The confirmation's scale of each record: equal PSA at T_1, ``ratio`` × the onset of
+    stepping (the elastic peak p_1·S_d(T_1) reaching ``ratio``·x_c)."""
+    from stepframe.records.spectra import peak_displacements_m
+
+    t1 = 2 * math.pi / frame.omega_1_rad_s
+    sd = np.array([peak_displacements_m(a, dt, [t1], frame.xi_1)[0] for a, dt in series])
+    return np.asarray(ratio * frame.x_c_m / (frame.p_1 * sd))
+
+
 def cases(stream: Any) -> dict[str, tuple[Any, list[tuple[int, np.ndarray, float, float]]]]:
     """The work-precision cases: (frame, [(catalogue index, ag [m/s²], dt [s], scale)]) by name.
 
@@ -86,15 +103,12 @@ def cases(stream: Any) -> dict[str, tuple[Any, list[tuple[int, np.ndarray, float
     (solve_ivp restarts at every sample, so its time grows with the length).
     """
     from selection_confirmation import frames
-    from stepframe.records.spectra import peak_displacements_m
 
-    series = [(tr.data.astype(float) * STANDARD_GRAVITY_M_S2, tr.stats.delta) for tr in stream]
+    series = fema_series(stream)
     order = np.argsort([a.size for a, _ in series], kind="stable")
     out: dict[str, tuple[Any, list[tuple[int, np.ndarray, float, float]]]] = {}
     for name, (frame, ratio) in frames().items():
-        t1 = 2 * math.pi / frame.omega_1_rad_s
-        sd = np.array([peak_displacements_m(a, dt, [t1], frame.xi_1)[0] for a, dt in series])
-        scales = ratio * frame.x_c_m / (frame.p_1 * sd)
+        scales = confirmation_scales(frame, ratio, series)
         table = simulate_batch(frame, series, scales, pairs="zip", tail_s=TAIL_S)
         over = table["overturned"].to_numpy()
         impacts = table["n_impacts"].to_numpy()
@@ -176,7 +190,7 @@ def _worst(runs: list[Any], truths: list[Any]) -> tuple[float, float, float]:
 
 
 def throughput(stream: Any) -> None:
-    series = [(tr.data.astype(float) * STANDARD_GRAVITY_M_S2, tr.stats.delta) for tr in stream]
+    series = fema_series(stream)
     n_samples = sum(s[0].size for s in series)
     print("| batch (100 FEMA P695 components, exact, tail 0) | threads | scales | input samples "
           "| wall [s] | samples/s/core | stepping runs |")  # fmt: skip
@@ -227,7 +241,7 @@ def batch_executors(stream: Any) -> None:
     """simulate_batch: one in-process block (threads) against blocks through map_items."""
     from concurrent.futures import ThreadPoolExecutor
 
-    series = [(tr.data.astype(float) * STANDARD_GRAVITY_M_S2, tr.stats.delta) for tr in stream]
+    series = fema_series(stream)
     scales = [0.05, 0.1, 0.2, 0.4]
     print("| simulate_batch, 100 components × 4 scales | wall [s] | time / in-process |")
     print("|---|---|---|")
