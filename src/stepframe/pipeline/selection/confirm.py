@@ -117,55 +117,45 @@ def _resamples(rng: np.random.Generator, n: int, n_resamples: int) -> Iterator[N
         yield rng.integers(0, n, size=(min(rows, n_resamples - start), n))
 
 
-def _resample_counts(rng: np.random.Generator, n: int, n_resamples: int) -> Iterator[NDArray[Any]]:
-    """How many times each candidate (rows) is drawn in each resample (columns, in drawing
-    order), from the index blocks of :func:`_resamples`: candidates as rows, so that taking
-    them in a variable's order moves whole rows."""
-    for picks in _resamples(rng, n, n_resamples):
-        rows = picks.shape[0]
-        flat = picks * rows + np.arange(rows)[:, None]
-        yield np.bincount(flat.ravel(), minlength=rows * n).reshape(n, rows)
-
-
 class _TieGroups:
     """A variable's order and its groups of equal values, for ranking its resamples.
 
-    A resample's ranks follow from how often each candidate is drawn (counts) without sorting
-    it again: in the variable's order, a group of equal values drawn C times in all, after S
-    draws of smaller values, has the average rank S + (C + 1)/2 (ties averaged, as
-    ``scipy.stats.rankdata``). Ranking each resample by sorting was 75 % of the selection stage
-    at 1,000 candidates (docs/benchmarks.md, "the confirmation's bootstrap by counts").
+    A resample's ranks follow from how often each candidate is drawn without sorting it again:
+    in the variable's order, a group of equal values drawn T times in all, after S draws of
+    smaller values, has the average rank S + (T + 1)/2 (ties averaged, as
+    ``scipy.stats.rankdata``), computed by the compiled
+    :func:`~stepframe.pipeline.selection._bootstrap_kernel.resampled_rhos`.
+    Ranking each resample by sorting was 75 % of the selection stage at 1,000 candidates
+    (docs/benchmarks.md, "the confirmation's bootstrap by counts").
     """
 
     def __init__(self, values: Floats) -> None:
-        self.order = np.argsort(values, kind="stable")
+        self.order = np.argsort(values, kind="stable").astype(np.int64)
         ordered = values[self.order]
         fresh = np.concatenate([[True], ordered[1:] != ordered[:-1]])
-        self.starts = np.flatnonzero(fresh)
-        self.group = np.cumsum(fresh) - 1  # group of each position in the order
-
-    def centred_ranks(self, counts: NDArray[Any]) -> Floats:
-        """Each candidate's rank (rows, in input order) in each resample (columns) less the
-        mean rank (n + 1)/2."""
-        totals = np.add.reduceat(counts[self.order], self.starts, axis=0).astype(np.float64)
-        average = np.cumsum(totals, axis=0) - 0.5 * (totals - 1.0)
-        average -= 0.5 * (counts.shape[0] + 1.0)
-        out = np.empty(counts.shape, dtype=np.float64)
-        out[self.order] = average[self.group]
-        return out
+        self.group = (np.cumsum(fresh) - 1).astype(np.int64)  # group of each position
+        self.n_groups = int(self.group[-1]) + 1
 
 
-def _resampled_rho(ra: Floats, rb: Floats, counts: NDArray[Any]) -> Floats:
-    """Spearman ρ of each resample (columns of ``counts``) from the centred ranks of
-    :meth:`_TieGroups.centred_ranks`: the Pearson correlation of the ranks over the drawn
-    candidates, each counted as often as drawn (what :func:`_rank_rho` gives on the drawn
-    values)."""
-    weighted = counts * rb
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return np.asarray(
-            (weighted * ra).sum(axis=0)
-            / np.sqrt((counts * ra**2).sum(axis=0) * (weighted * rb).sum(axis=0))
-        )
+def _resampled_rhos(
+    variables: list[_TieGroups], pairs: list[tuple[int, int]], rng: np.random.Generator,
+    n_resamples: int,
+) -> NDArray[np.float64]:  # fmt: skip
+    """Spearman's ρ of each ``pairs`` of ``variables`` in each bootstrap resample (resamples ×
+    pairs), the resamples drawn by :func:`_resamples` from ``rng``."""
+    from stepframe.pipeline.selection._bootstrap_kernel import resampled_rhos
+
+    n = variables[0].order.size
+    orders = np.stack([v.order for v in variables])
+    groups = np.stack([v.group for v in variables])
+    n_groups = np.array([v.n_groups for v in variables], dtype=np.int64)
+    pair_array = np.array(pairs, dtype=np.int64)
+    return np.concatenate(
+        [
+            resampled_rhos(picks.astype(np.int64, copy=False), orders, groups, n_groups, pair_array)
+            for picks in _resamples(rng, n, n_resamples)
+        ]
+    )
 
 
 def spearman_interval(
@@ -183,13 +173,7 @@ def spearman_interval(
         return math.nan, math.nan, math.nan, n
     value = float(_rank_rho(xs, ys))
     rng = np.random.default_rng(seed)
-    x_ranks, y_ranks = _TieGroups(xs), _TieGroups(ys)
-    samples = np.concatenate(
-        [
-            _resampled_rho(x_ranks.centred_ranks(counts), y_ranks.centred_ranks(counts), counts)
-            for counts in _resample_counts(rng, n, n_resamples)
-        ]
-    )
+    samples = _resampled_rhos([_TieGroups(xs), _TieGroups(ys)], [(0, 1)], rng, n_resamples)[:, 0]
     samples = samples[np.isfinite(samples)]
     if samples.size == 0:
         return value, math.nan, math.nan, n
@@ -225,24 +209,15 @@ def paired_delta_rho(
         return math.nan, math.nan, math.nan, n
     value = float(_rank_rho(xs, ys) - _rank_rho(rs, ys))
     rng = np.random.default_rng(seed)
-    x_ranks, r_ranks, y_ranks = _TieGroups(xs), _TieGroups(rs), _TieGroups(ys)
-    samples = np.concatenate(
-        [
-            _paired(x_ranks, r_ranks, y_ranks.centred_ranks(counts), counts)
-            for counts in _resample_counts(rng, n, n_resamples)
-        ]
+    rhos = _resampled_rhos(
+        [_TieGroups(xs), _TieGroups(rs), _TieGroups(ys)], [(0, 2), (1, 2)], rng, n_resamples
     )
+    samples = rhos[:, 0] - rhos[:, 1]
     samples = samples[np.isfinite(samples)]
     if samples.size == 0:
         return value, math.nan, math.nan, n
     low, high = np.percentile(samples, [2.5, 97.5])
     return value, float(low), float(high), n
-
-
-def _paired(x: _TieGroups, r: _TieGroups, ry: Floats, counts: NDArray[Any]) -> Floats:
-    """ρ(x, y) - ρ(r, y) of each resample, y's centred ranks given (computed once)."""
-    rx, rr = x.centred_ranks(counts), r.centred_ranks(counts)
-    return _resampled_rho(rx, ry, counts) - _resampled_rho(rr, ry, counts)
 
 
 def efficiency(measure: Floats, response: Floats) -> tuple[float, int]:
