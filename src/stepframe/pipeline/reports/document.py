@@ -147,12 +147,20 @@ def _undrawn_tick_labels(figure: MplFigure) -> set[int]:
     return hidden
 
 
+def _place_texts(figure: MplFigure) -> None:
+    """Lay the figure out as a draw would (the layout engine places the texts at draw time)
+    without painting a pixel: the texts' extents are those of the PNG that savefig paints
+    after. Painting here too made a third of a report's figure time (a heat map painted three
+    times: docs/benchmarks.md, issue 29 item 2)."""
+    figure.draw_without_rendering()
+
+
 def texts_outside(figure: MplFigure) -> list[str]:
     """The drawn texts of a figure (titles, labels, tick labels, legends) that reach past its
     edges: clipped in the PNG. Empty for a figure that shows all its words."""
     from matplotlib.text import Text
 
-    figure.canvas.draw()  # the layout engine places the texts at draw time
+    _place_texts(figure)
     renderer = figure.canvas.get_renderer()  # type: ignore[attr-defined]
     width, height = figure.bbox.width, figure.bbox.height
     hidden = _undrawn_tick_labels(figure)
@@ -178,7 +186,7 @@ def fit_titles(figure: MplFigure) -> None:
     import textwrap
 
     for _ in range(4):
-        figure.canvas.draw()
+        _place_texts(figure)
         renderer = figure.canvas.get_renderer()  # type: ignore[attr-defined]
         width = figure.bbox.width
         wrapped = False
