@@ -264,6 +264,15 @@ def draw_figures(
     go to the workers (a figure is drawn in whole by one process: the same PNG bytes whatever
     draws it).
 
+    Parameters
+    ----------
+    sections
+        The report's sections, their figures still :class:`FigureJob` items.
+    more
+        Picklable zero-argument calls made in the same batch.
+    jobs, executor
+        Where (:func:`stepframe.core.execution.map_items`; default this process).
+
     Returns
     -------
     tuple
