@@ -42,8 +42,9 @@ confirm = true
 [outputs]
 features = true
 selection = true
-selection_report = true
 """
+#: The same with the report, whose figures and simulations run on the workers too.
+SELECTION_AND_REPORT = SELECTION + "selection_report = true\n"
 #: The outputs compared byte for byte: the selection's tables and summary, and the report's
 #: numbers and tables (its page names the workflow file, which differs between the runs: its
 #: figures are compared instead).
@@ -99,7 +100,8 @@ def test_outputs_are_identical_in_this_process_on_a_pool_and_on_dask(
         ("pool", {"jobs": 2}),
         ("dask", {"scheduler": "dask-local", "jobs": 2}),
     ):
-        workflow = write_workflow(selection_scene, SELECTION.format(workspace=name), f"{name}.toml")
+        text = SELECTION_AND_REPORT.format(workspace=name)
+        workflow = write_workflow(selection_scene, text, f"{name}.toml")
         report = run_workflow(workflow, shipped_stages(), **kwargs)
         assert report.exit_code == 0, report.describe()
         runs[name] = report
