@@ -105,6 +105,7 @@ def _case(name: str, runs: dict[int, list[str]], cwd: Path, repeat: int, fresh: 
     walls: dict[int, list[float]] = {1: [], 2: []}
     cpus: dict[int, list[float]] = {1: [], 2: []}
     paths: dict[int, list[float]] = {1: [], 2: []}
+    mains: dict[int, list[float]] = {1: [], 2: []}
     stages: dict[int, list[dict[str, float]]] = {1: [], 2: []}
     loads = []
     for _ in range(repeat):
@@ -116,6 +117,7 @@ def _case(name: str, runs: dict[int, list[str]], cwd: Path, repeat: int, fresh: 
             walls[jobs].append(wall)
             cpus[jobs].append(cpu)
             paths[jobs].append(main_cpu + busiest)
+            mains[jobs].append(main_cpu)
             if report is not None:
                 stages[jobs].append({s["name"]: s["seconds"] for s in report["stages"]})
             loads.append(os.getloadavg()[0])
@@ -128,6 +130,10 @@ def _case(name: str, runs: dict[int, list[str]], cwd: Path, repeat: int, fresh: 
         "cpu1_s": statistics.median(cpus[1]),
         "cpu2_s": statistics.median(cpus[2]),
         "critical_path2_s": statistics.median(paths[2]),
+        "main1_s": statistics.median(mains[1]),
+        "main2_s": statistics.median(mains[2]),
+        # the share of the work that stays in the main process with workers to hand it to
+        "serial_fraction2": statistics.median(mains[2]) / statistics.median(cpus[2]),
         "cpu_speed_up": statistics.median(cpus[1]) / statistics.median(paths[2]),
         "stages": stages,
         "load": [min(loads), max(loads)],
@@ -206,6 +212,16 @@ def main() -> None:
             f"{row['speed_up']:.2f}× | {row['cpu1_s']:.1f} / {row['cpu2_s']:.1f} | "
             f"{row['critical_path2_s']:.1f} | {row['cpu_speed_up']:.2f}× | "
             f"{row['load'][0]:.1f}-{row['load'][1]:.1f} |"
+        )
+    print(
+        "\n| case | main-process CPU --jobs 1 / 2 [s] | all CPU --jobs 1 / 2 [s] |"
+        " serial fraction (--jobs 2) |"
+    )
+    print("|---|---:|---:|---:|")
+    for row in rows:
+        print(
+            f"| {row['case']} | {row['main1_s']:.1f} / {row['main2_s']:.1f} | "
+            f"{row['cpu1_s']:.1f} / {row['cpu2_s']:.1f} | {row['serial_fraction2']:.1%} |"
         )
     for row in rows:
         for jobs, runs_stages in row["stages"].items():

@@ -137,3 +137,30 @@ def test_progress_counts_the_units_of_grouped_items(capsys: pytest.CaptureFixtur
     err = capsys.readouterr().err.strip().splitlines()
     # 10 items; failed: the -5 inside a group, and the four of the group that raised
     assert len(err) == 1 and err[0].startswith("groups: 10 items, 5 failed, "), err
+
+
+def input_error(value: int) -> int:
+    raise InputError(f"value {value}, expected another", "records/a.AT2", 3)
+
+
+def test_call_each_results_in_order_on_the_workers_and_a_failure_raised() -> None:
+    """call_each: independent calls of one step, their results in order; on a started pool (no
+    probe) none in this process; a call that raised fails the step with its message, an
+    InputError as an InputError."""
+    import functools
+    import os
+
+    from stepframe.core.execution import WorkerPool, call_each
+
+    calls = [functools.partial(square_or_fail, v) for v in (2, 4, 7)]
+    assert call_each(calls) == [4, 16, 49]
+    with WorkerPool(2) as pool:
+        pool.submit(int).result()  # started, as by a run's first batch
+        pids = call_each([functools.partial(process_id, 0.0)] * 4, jobs=2, executor=pool)
+        assert os.getpid() not in pids
+        assert call_each(calls, jobs=2, executor=pool) == [4, 16, 49]
+        with pytest.raises(InputError, match=r"^records/a\.AT2:3: value 1, expected another$"):
+            call_each([functools.partial(input_error, 1)], jobs=2, executor=pool)
+        unlucky = [functools.partial(square_or_fail, v) for v in (1, 3, 8)]
+        with pytest.raises(RuntimeError, match=r"^square: ValueError: 3 is unlucky$"):
+            call_each(unlucky, jobs=2, executor=pool, stage="square")

@@ -4,7 +4,9 @@ remembered while a file is unchanged."""
 
 from __future__ import annotations
 
+import json
 import os
+import re
 import shutil
 from collections import Counter
 from pathlib import Path
@@ -41,7 +43,11 @@ confirm = true
 features = true
 selection = true
 """
-#: The outputs compared byte for byte (selection.json holds a measured throughput).
+#: The same with the report, whose figures and simulations run on the workers too.
+SELECTION_AND_REPORT = SELECTION + "selection_report = true\n"
+#: The outputs compared byte for byte: the selection's tables and summary, and the report's
+#: numbers and tables (its page names the workflow file, which differs between the runs: its
+#: figures are compared instead).
 COMPARED = (
     "features.parquet",
     "features.csv",
@@ -50,6 +56,12 @@ COMPARED = (
     "selection/candidates.csv",
     "selection/confirmation.csv",
     "selection/failures.csv",
+    "selection/selection.json",
+    "selection/spectra.csv",
+    "selection_report_files/numbers.json",
+    "selection_report_files/correlations.csv",
+    "selection_report_files/tiers.csv",
+    "selection_report_files/moving_resonance.csv",
 )
 
 
@@ -61,17 +73,24 @@ def selection_scene(tmp_path: Path) -> Path:
     return tmp_path
 
 
-def _outputs(folder: Path) -> dict[str, bytes]:
-    return {name: (folder / "outputs" / name).read_bytes() for name in COMPARED}
+def _outputs(folder: Path) -> dict[str, Any]:
+    """The compared outputs' bytes, and the report's figures (PNG bytes, in page order)."""
+    page = (folder / "outputs" / "selection_report.html").read_text(encoding="utf-8")
+    figures = re.findall(r"data:image/png;base64,([A-Za-z0-9+/=]+)", page)
+    return {name: (folder / "outputs" / name).read_bytes() for name in COMPARED} | {
+        "figures": figures
+    }
 
 
 @pytest.mark.slow
 def test_outputs_are_identical_in_this_process_on_a_pool_and_on_dask(
     selection_scene: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """--jobs 1, --jobs 2 and a Dask cluster give the same bytes. Without this monkeypatch the
-    batches of this small catalogue would all stay in this process (POOL_WORTH_S): 0 sends every
-    batch to the workers."""
+    """--jobs 1, --jobs 2 and a Dask cluster give the same bytes, the selection's whole-set
+    parts made on the workers too (the bootstrap intervals of the tiers and the confirmation,
+    the report's figures and moving-resonance runs). Without this monkeypatch the batches of
+    this small catalogue would all stay in this process (POOL_WORTH_S): 0 sends every batch to
+    the workers."""
     pytest.importorskip("dask.distributed")
     monkeypatch.setattr(execution, "POOL_WORTH_S", 0.0)
     monkeypatch.chdir(selection_scene)
@@ -81,7 +100,8 @@ def test_outputs_are_identical_in_this_process_on_a_pool_and_on_dask(
         ("pool", {"jobs": 2}),
         ("dask", {"scheduler": "dask-local", "jobs": 2}),
     ):
-        workflow = write_workflow(selection_scene, SELECTION.format(workspace=name), f"{name}.toml")
+        text = SELECTION_AND_REPORT.format(workspace=name)
+        workflow = write_workflow(selection_scene, text, f"{name}.toml")
         report = run_workflow(workflow, shipped_stages(), **kwargs)
         assert report.exit_code == 0, report.describe()
         runs[name] = report
@@ -90,6 +110,11 @@ def test_outputs_are_identical_in_this_process_on_a_pool_and_on_dask(
     serial = _outputs(selection_scene / "serial")
     assert _outputs(selection_scene / "pool") == serial
     assert _outputs(selection_scene / "dask") == serial
+    # what the workers made is there: 8 figures (3 of moving resonance), the intervals
+    assert len(serial["figures"]) == 8
+    numbers = json.loads(serial["selection_report_files/numbers.json"])
+    assert len(numbers["moving_resonance"]) == 3
+    assert json.loads(serial["selection/selection.json"])["correlations"]
     selection = pd.read_csv(selection_scene / "serial" / "outputs" / "selection" / "selection.csv")
     assert len(selection) == 3
     confirmation = pd.read_csv(

@@ -365,6 +365,60 @@ def map_items(
     return MapOutcome(results, failures, indices, time.perf_counter() - start)
 
 
+def _call(call: Callable[[], Result]) -> Result:
+    return call()
+
+
+def call_each(
+    calls: Sequence[Callable[[], Result]],
+    *,
+    jobs: int | None = 1,
+    executor: Executor | None = None,
+    stage: str = "",
+) -> list[Result]:
+    """The result of each zero-argument call, in order: the independent parts of one whole-set
+    step (a report's figures, a confirmation's bootstrap intervals) spread over the workers as
+    one :func:`map_items` batch, so they follow its rules (kept in this process when too small
+    to pay; on a run's started workers, none in this process).
+
+    Parameters
+    ----------
+    calls
+        Picklable zero-argument callables (``functools.partial`` of module-level functions, or
+        instances of module-level classes) for a process pool or a remote executor.
+    jobs, executor
+        As :func:`map_items` (default: this process).
+    stage
+        Named in the error of a call that raised.
+
+    Returns
+    -------
+    list
+        ``calls[k]()`` for each k.
+
+    Raises
+    ------
+    InputError
+        A call raised an :class:`InputError` (its message), as it would have in this process;
+        the step fails as a whole.
+    RuntimeError
+        A call raised anything else (its type and message).
+    """
+    outcome = map_items(
+        _call, calls, jobs=jobs, executor=executor, chunk_size=1, stage=stage, name_of=_call_name
+    )
+    if outcome.failures:
+        first = outcome.failures[0]
+        if first.error_type == "InputError":
+            raise InputError(first.message)
+        raise RuntimeError(f"{stage}: {first.error_type}: {first.message}")
+    return outcome.results
+
+
+def _call_name(call: Callable[[], Any]) -> str:
+    return getattr(getattr(call, "func", call), "__name__", type(call).__name__)
+
+
 def _worth_s(executor: Executor | None) -> float:
     """Least work [s] worth handing to ``executor`` (None: a pool to start); 0 when its workers
     run."""

@@ -16,8 +16,9 @@ import base64
 import io
 import json
 import math
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Callable, Mapping, Sequence
+from concurrent.futures import Executor
+from dataclasses import dataclass, field, replace
 from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -82,7 +83,7 @@ class Section:
     """A titled group of figures, tables and notes."""
 
     title: str
-    items: Sequence[Figure | Table | Note]
+    items: Sequence[Figure | Table | Note | FigureJob]
     intro: str = ""
 
 
@@ -115,6 +116,10 @@ class Report:
     numbers: Mapping[str, Any] = field(default_factory=dict)
     warnings: Sequence[str] = ()
 
+    def __post_init__(self) -> None:
+        if any(isinstance(item, FigureJob) for s in self.sections for item in s.items):
+            raise ValueError("a figure of the report is not drawn, expected draw_figures first")
+
     def tables(self) -> list[Table]:
         """Every table of the report (on the page or CSV only), in page order."""
         return [item for s in self.sections for item in s.items if isinstance(item, Table)]
@@ -142,12 +147,20 @@ def _undrawn_tick_labels(figure: MplFigure) -> set[int]:
     return hidden
 
 
+def _place_texts(figure: MplFigure) -> None:
+    """Lay the figure out as a draw would (the layout engine places the texts at draw time)
+    without painting a pixel: the texts' extents are those of the PNG that savefig paints
+    after. Painting here too made a third of a report's figure time (a heat map painted three
+    times: docs/benchmarks.md, issue 29 item 2)."""
+    figure.draw_without_rendering()
+
+
 def texts_outside(figure: MplFigure) -> list[str]:
     """The drawn texts of a figure (titles, labels, tick labels, legends) that reach past its
     edges: clipped in the PNG. Empty for a figure that shows all its words."""
     from matplotlib.text import Text
 
-    figure.canvas.draw()  # the layout engine places the texts at draw time
+    _place_texts(figure)
     renderer = figure.canvas.get_renderer()  # type: ignore[attr-defined]
     width, height = figure.bbox.width, figure.bbox.height
     hidden = _undrawn_tick_labels(figure)
@@ -173,7 +186,7 @@ def fit_titles(figure: MplFigure) -> None:
     import textwrap
 
     for _ in range(4):
-        figure.canvas.draw()
+        _place_texts(figure)
         renderer = figure.canvas.get_renderer()  # type: ignore[attr-defined]
         width = figure.bbox.width
         wrapped = False
@@ -212,6 +225,67 @@ def figure_from_matplotlib(
     figure.savefig(buffer, format="png", dpi=FIGURE_DPI)
     figure.clear()
     return Figure(key, title, buffer.getvalue(), alt, how_to_read, clipped)
+
+
+@dataclass(frozen=True)
+class FigureJob:
+    """A figure still to draw: ``make()`` gives the matplotlib figure, which
+    :func:`figure_from_matplotlib` renders with the other fields. A section holds it until
+    :func:`draw_figures` draws every figure of a report at once (in the workers): ``make`` is
+    picklable (``functools.partial`` of a module-level function on plain data)."""
+
+    make: Callable[[], MplFigure]
+    key: str
+    title: str
+    alt: str
+    how_to_read: str
+
+    def __call__(self) -> Figure:
+        """The figure drawn and rendered to PNG."""
+        return figure_from_matplotlib(
+            self.make(),
+            key=self.key,
+            title=self.title,
+            alt=self.alt,
+            how_to_read=self.how_to_read,
+        )
+
+
+def draw_figures(
+    sections: Sequence[Section],
+    more: Sequence[Callable[[], Any]] = (),
+    *,
+    jobs: int | None = 1,
+    executor: Executor | None = None,
+) -> tuple[list[Section], list[Any]]:
+    """Every :class:`FigureJob` of ``sections`` drawn, and the calls ``more`` (other parts of
+    the report that cost as much, such as simulations drawn with their figure) made, in one
+    batch of :func:`stepframe.core.execution.call_each`: the figures are independent, so they
+    go to the workers (a figure is drawn in whole by one process: the same PNG bytes whatever
+    draws it).
+
+    Parameters
+    ----------
+    sections
+        The report's sections, their figures still :class:`FigureJob` items.
+    more
+        Picklable zero-argument calls made in the same batch.
+    jobs, executor
+        Where (:func:`stepframe.core.execution.map_items`; default this process).
+
+    Returns
+    -------
+    tuple
+        The sections with their figures drawn, and the results of ``more`` in order.
+    """
+    from stepframe.core.execution import call_each
+
+    pending = [item for s in sections for item in s.items if isinstance(item, FigureJob)]
+    calls: list[Callable[[], Any]] = [*pending, *more]
+    done: list[Any] = call_each(calls, jobs=jobs, executor=executor, stage="report")
+    figures = dict(zip(map(id, pending), done, strict=False))
+    drawn = [replace(s, items=[figures.get(id(item), item) for item in s.items]) for s in sections]
+    return drawn, done[len(pending) :]
 
 
 def format_value(value: Any) -> str:

@@ -15,6 +15,8 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Callable
+from concurrent.futures import Executor
+from functools import partial
 from os import PathLike
 from pathlib import Path
 from typing import Any
@@ -26,16 +28,17 @@ from stepframe.errors import InputError
 from stepframe.pipeline.reports import figures
 from stepframe.pipeline.reports.document import (
     Figure,
+    FigureJob,
     Note,
     Report,
     Section,
     Table,
-    figure_from_matplotlib,
+    draw_figures,
     write_report,
 )
 from stepframe.pipeline.reports.provenance import Provenance, collect_provenance, command_line
 from stepframe.pipeline.selection.report_folder import SelectionOutputs, read_selection_folder
-from stepframe.pipeline.selection.report_resonance import resonance_section
+from stepframe.pipeline.selection.report_resonance import resonance_runs, resonance_section
 from stepframe.stochastic.model import MODEL_FIELDS, GroundMotionModel
 
 TWO_PI = 2 * math.pi
@@ -250,7 +253,7 @@ def _stated_correlations(summary: dict[str, Any], rank_by: str) -> str:
 
 def _confirmation(
     table: pd.DataFrame, summary: dict[str, Any], selected: set[tuple[str, str]]
-) -> tuple[list[Figure | Table | Note], dict[str, Any]]:
+) -> tuple[list[Figure | Table | Note | FigureJob], dict[str, Any]]:
     from scipy.stats import spearmanr
 
     rank_by = str(summary.get("rank_by", "score"))
@@ -293,10 +296,16 @@ def _confirmation(
         "median_response_selected": medians["selected"],
         "median_response_controls": medians["controls"],
     }
-    items: list[Figure | Table | Note] = [
-        figure_from_matplotlib(
-            figures.confirmation_figure(
-                x, y, chosen[ok], score_name=score, response_name=response, rho=rho
+    items: list[Figure | Table | Note | FigureJob] = [
+        FigureJob(
+            partial(
+                figures.confirmation_figure,
+                x,
+                y,
+                chosen[ok],
+                score_name=score,
+                response_name=response,
+                rho=rho,
             ),
             key="confirmation",
             title="Score against simulated peak response at equal intensity",
@@ -356,7 +365,7 @@ def _confirmation(
     return items, numbers
 
 
-Items = list[Figure | Table | Note]
+Items = list[Figure | Table | Note | FigureJob]
 
 
 def _or_not_run(value: Any, spec: str | None = None) -> Any:
@@ -377,8 +386,8 @@ def band_section(summary: dict[str, Any], frame: Any, band: tuple[float, float])
     hz = f"{band[0] / TWO_PI:.3g}-{band[1] / TWO_PI:.3g} Hz"
     if frame is None and details.get("level_amplitudes_m") and details.get("level_omegas_rad_s"):
         items.append(
-            figure_from_matplotlib(
-                figures.backbone_points_figure(details, band),
+            FigureJob(
+                partial(figures.backbone_points_figure, details, band),
                 key="backbone",
                 title="Period-amplitude backbone and band",
                 alt=(
@@ -394,8 +403,9 @@ def band_section(summary: dict[str, Any], frame: Any, band: tuple[float, float])
         )
     elif frame is not None:
         items.append(
-            figure_from_matplotlib(
-                backbone_figure(
+            FigureJob(
+                partial(
+                    backbone_figure,
                     frame,
                     band,
                     a_max_m=None if a_max is None else float(a_max),
@@ -445,8 +455,8 @@ def paths_section(
             "Dominant-frequency paths of the selected records",
             [Note("The selection table carries no fitted parameters to draw.")],
         )
-    figure = figure_from_matplotlib(
-        figures.omega_paths_figure(paths, band),
+    figure = FigureJob(
+        partial(figures.omega_paths_figure, paths, band),
         key="omega_paths",
         title="Selected records' ω_g(t) against the band",
         alt=(
@@ -684,13 +694,17 @@ def selection_report(
     *,
     provenance: Provenance,
     record_loader: RecordLoader = load_record,
+    jobs: int | None = 1,
+    executor: Executor | None = None,
 ) -> Report:
     """Assemble the selection report from a read selection folder (no file written).
 
     Its sections in order (docs/reports.md): the frame's band, the selected records'
     ω_g(t) paths, the best records' accelerograms, the scores, the spectra of the set, the
     confirmation by simulation, moving resonance in the best records' simulations, the filters
-    and failures.
+    and failures. The figures and the moving-resonance simulations are independent of each
+    other: they are made in one batch (:func:`~stepframe.pipeline.reports.document.draw_figures`,
+    on the workers of ``jobs`` or ``executor``; default this process).
     """
     summary = outputs.summary
     folder = outputs.folder
@@ -729,7 +743,7 @@ def selection_report(
     def load(row: dict[str, Any]) -> Any:
         return record_loader(row, folder)
 
-    sections = [
+    drawn = [
         band_section(summary, frame, band),
         paths_section(rows, names, band),
         Section(
@@ -740,9 +754,13 @@ def selection_report(
         spectra_section(outputs, rows, names, band, record_loader, numbers, summary_lines),
         chosen_scale_section(summary, numbers, summary_lines),
         confirmation_section(outputs, candidates, rank_by, numbers, summary_lines),
-        resonance_section(
-            best, names, [_ranking_scale_of(row) for row in best], frame, band, load, numbers
-        ),
+    ]
+    runs, missing = resonance_runs(
+        best, names, [_ranking_scale_of(row) for row in best], frame, band, load
+    )
+    sections, measured = draw_figures(drawn, runs, jobs=jobs, executor=executor)
+    sections += [
+        resonance_section(frame, measured, missing, numbers),
         filters_section(outputs, candidates, numbers),
     ]
     return Report(
@@ -811,8 +829,9 @@ def _run_spectra_items(
         fraction_range = (float(check["fraction"]), (low, high))
     measure = described.get("measure", "component")
     items: Items = [
-        figure_from_matplotlib(
-            figures.spectra_figure(
+        FigureJob(
+            partial(
+                figures.spectra_figure,
                 periods,
                 psa,
                 units,
@@ -960,7 +979,7 @@ def _accelerogram_items(
     folder: Path,
     record_loader: RecordLoader,
     numbers: dict[str, Any],
-) -> list[Figure | Table | Note]:
+) -> list[Figure | Table | Note | FigureJob]:
     """The best records' time series, as scaled for the selection."""
     from stepframe.records.units import STANDARD_GRAVITY_M_S2
 
@@ -975,9 +994,9 @@ def _accelerogram_items(
     if not drawn:
         return [Note("None of the best records' files could be found: no accelerogram drawn.")]
     numbers["accelerogram_records"] = [name for name, _, _ in drawn]
-    items: list[Figure | Table | Note] = [
-        figure_from_matplotlib(
-            figures.accelerograms_figure(drawn),
+    items: list[Figure | Table | Note | FigureJob] = [
+        FigureJob(
+            partial(figures.accelerograms_figure, drawn),
             key="accelerograms",
             title=f"The {len(drawn)} best records' accelerograms",
             alt=f"{len(drawn)} panels of ground acceleration in g against time in s, best first",
@@ -1000,7 +1019,7 @@ def _spectra_items(
     band: tuple[float, float],
     record_loader: RecordLoader,
     numbers: dict[str, Any],
-) -> list[Figure | Table | Note]:
+) -> list[Figure | Table | Note | FigureJob]:
     from stepframe.records.spectra import response_spectrum
 
     damping = float(summary.get("damping", 0.05))
@@ -1022,9 +1041,10 @@ def _spectra_items(
         return [Note("None of the selected records' files could be found: no spectra drawn.")]
     psa = np.vstack(spectra)
     target = _target(summary)
-    items: list[Figure | Table | Note] = [
-        figure_from_matplotlib(
-            figures.spectra_figure(
+    items: list[Figure | Table | Note | FigureJob] = [
+        FigureJob(
+            partial(
+                figures.spectra_figure,
                 SPECTRUM_PERIODS_S,
                 psa,
                 used,
@@ -1111,6 +1131,8 @@ def write_selection_report(
     *,
     provenance: Provenance,
     record_loader: RecordLoader = load_record,
+    jobs: int | None = 1,
+    executor: Executor | None = None,
 ) -> Path:
     """Write the selection report of a selection folder, all or nothing.
 
@@ -1124,6 +1146,9 @@ def write_selection_report(
         From :func:`stepframe.pipeline.reports.provenance.collect_provenance`.
     record_loader
         Finds a selected record's trace (default: files, then the example catalogue).
+    jobs, executor
+        Where the figures and the moving-resonance simulations are made
+        (:func:`stepframe.core.execution.map_items`; default this process).
 
     Returns
     -------
@@ -1137,7 +1162,9 @@ def write_selection_report(
     """
     outputs = read_selection_folder(selection_dir)
     target = Path(selection_dir) / "selection_report.html" if out_html is None else Path(out_html)
-    report = selection_report(outputs, provenance=provenance, record_loader=record_loader)
+    report = selection_report(
+        outputs, provenance=provenance, record_loader=record_loader, jobs=jobs, executor=executor
+    )
     return write_report(report, target)
 
 

@@ -10,6 +10,7 @@ report's band (docs/selection.md, "Moving resonance, measured").
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from functools import partial
 from typing import Any
 
 import pandas as pd
@@ -38,16 +39,22 @@ COLUMNS = {
 }
 
 
-def resonance_section(
+#: One record's row of the table and its figure, or the note that replaces them.
+Measured = tuple[dict[str, Any] | None, Figure | Note]
+
+
+def resonance_runs(
     rows: Sequence[dict[str, Any]],
     names: Sequence[str],
     scales: Sequence[float],
     frame: Any,
     band_rad_s: tuple[float, float],
     load: Callable[[dict[str, Any]], Any],
-    numbers: dict[str, Any],
-) -> Section:
-    """The section for the records ``rows`` (best first).
+) -> tuple[list[Callable[[], Measured]], list[str]]:
+    """The section's simulations for the records ``rows`` (best first), as calls to make where
+    the report's figures are drawn (:func:`~stepframe.pipeline.reports.document.draw_figures`:
+    each one a simulation with history and its figure), and the names of the rows whose record
+    was not found. The records are read here.
 
     Parameters
     ----------
@@ -61,62 +68,86 @@ def resonance_section(
         The report's band (low, high) [rad/s].
     load
         The row's record as a Trace in m/s², or None when its file is not found.
-    numbers
-        The report's numbers; ``moving_resonance`` is set (a list of rows, or "not run").
     """
-    from stepframe.pipeline.dynamics.resonance import moving_resonance
-
     if frame is None:
-        numbers["moving_resonance"] = "not run"
-        return Section(TITLE, [Note("Not run: this selection folder names no frame file.")])
-    items: list[Figure | Table | Note] = []
-    measured, missing = [], []
+        return [], []
+    calls: list[Callable[[], Measured]] = []
+    missing = []
     for k, (row, name, scale) in enumerate(zip(rows, names, scales, strict=False)):
         trace = load(row)
         if trace is None:
             missing.append(name)
             continue
-        run = moving_resonance(
-            frame, trace.data, float(trace.stats.delta), scale=scale, band_rad_s=band_rad_s,
-            title=f"{name} × {scale:.3g}",
-        )  # fmt: skip
-        data = run.measures.to_dict()
-        if run.spectrum is None:
-            items.append(Note(f"{name}: {run.measures.message}", "warning"))
-            continue
-        measured.append(
-            {"record": name, "scale": scale}
-            | {column: data[key] for column, key, _ in SHOWN}
-            | {"overturned": bool(run.result.summary.overturned)}
-        )
-        items.append(
-            figure_from_matplotlib(
-                run.figure(),
-                key=f"moving_resonance_{k + 1}",
-                title=f"{name}: the record's spectrum over the band, and the frame's ω_f(t)",
-                alt=(
-                    "heat map of the record's spectrum, frequency in Hz (log) against time in s, "
-                    "the band shaded, the frame's frequency drawn over it; below, the ground's "
-                    "accumulated work on the frame"
-                ),
-                how_to_read=(
-                    "The record at the ranking intensity, simulated exactly: where the green line "
-                    "(the frame's own frequency, from its half-cycles) runs through bright "
-                    "colour, the record's energy is where the frame is. It leaves ω_1 only while "
-                    "the frame steps. R_m and M in the title (docs/selection.md, 'Moving "
-                    "resonance, measured')."
-                ),
-            )
-        )
-    if not measured:
+        record = (trace.data, float(trace.stats.delta))
+        calls.append(partial(measured, frame, record, scale, band_rad_s, (name, k)))
+    return calls, missing
+
+
+def measured(
+    frame: Any,
+    record: tuple[Any, float],
+    scale: float,
+    band_rad_s: tuple[float, float],
+    name_position: tuple[str, int],
+) -> Measured:
+    """One record at ``scale`` simulated exactly with the index measured
+    (:func:`~stepframe.pipeline.dynamics.resonance.moving_resonance`), its row of the table
+    and its figure (None and a note when the band spectrum could not be had)."""
+    from stepframe.pipeline.dynamics.resonance import moving_resonance
+
+    name, k = name_position
+    run = moving_resonance(
+        frame, record[0], record[1], scale=scale, band_rad_s=band_rad_s,
+        title=f"{name} × {scale:.3g}",
+    )  # fmt: skip
+    data = run.measures.to_dict()
+    if run.spectrum is None:
+        return None, Note(f"{name}: {run.measures.message}", "warning")
+    row = (
+        {"record": name, "scale": scale}
+        | {column: data[key] for column, key, _ in SHOWN}
+        | {"overturned": bool(run.result.summary.overturned)}
+    )
+    figure = figure_from_matplotlib(
+        run.figure(),
+        key=f"moving_resonance_{k + 1}",
+        title=f"{name}: the record's spectrum over the band, and the frame's ω_f(t)",
+        alt=(
+            "heat map of the record's spectrum, frequency in Hz (log) against time in s, "
+            "the band shaded, the frame's frequency drawn over it; below, the ground's "
+            "accumulated work on the frame"
+        ),
+        how_to_read=(
+            "The record at the ranking intensity, simulated exactly: where the green line "
+            "(the frame's own frequency, from its half-cycles) runs through bright "
+            "colour, the record's energy is where the frame is. It leaves ω_1 only while "
+            "the frame steps. R_m and M in the title (docs/selection.md, 'Moving "
+            "resonance, measured')."
+        ),
+    )
+    return row, figure
+
+
+def resonance_section(
+    frame: Any, results: Sequence[Measured], missing: Sequence[str], numbers: dict[str, Any]
+) -> Section:
+    """The section from the results of :func:`resonance_runs`' calls (in order) and the
+    records not found; ``numbers["moving_resonance"]`` is set (a list of rows, or "not
+    run")."""
+    if frame is None:
+        numbers["moving_resonance"] = "not run"
+        return Section(TITLE, [Note("Not run: this selection folder names no frame file.")])
+    items: list[Figure | Table | Note] = [item for _, item in results]
+    measured_rows = [row for row, _ in results if row is not None]
+    if not measured_rows:
         numbers["moving_resonance"] = "not run"
         return Section(TITLE, [Note("None of the best records' files could be found.")])
-    numbers["moving_resonance"] = measured
+    numbers["moving_resonance"] = measured_rows
     items.append(
         Table(
             "moving_resonance",
             "Moving-resonance measures of each drawn record",
-            pd.DataFrame(measured),
+            pd.DataFrame(measured_rows),
             "The exact simulator on each record at the ranking intensity, with the index",
             COLUMNS,
         )
@@ -126,4 +157,4 @@ def resonance_section(
     return Section(TITLE, items)
 
 
-__all__ = ["resonance_section"]
+__all__ = ["measured", "resonance_runs", "resonance_section"]

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from collections.abc import Callable, Mapping
 from concurrent.futures import Executor
@@ -12,7 +13,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from stepframe.core.execution import default_jobs, map_items
+from stepframe.core.execution import call_each, default_jobs, map_items
 from stepframe.core.results import Failure, failures_table, set_column_dictionary
 from stepframe.errors import InputError
 from stepframe.pipeline.selection import confirm as confirmation
@@ -784,7 +785,8 @@ def select_records(
     _mark_choice(candidates, choice)
     chosen = chosen_outcome(candidates, spectra, choice, frame, options, target,
                             (records, record_options))  # fmt: skip
-    return with_chosen(_result(candidates, spectra, choice, frame, options, ranking), chosen)
+    result = _result(candidates, spectra, choice, frame, options, ranking, parallel)
+    return with_chosen(result, chosen)
 
 
 def _result(
@@ -794,8 +796,10 @@ def _result(
     frame: PortalFrame,
     options: SelectionOptions,
     ranking: Ranking,
+    parallel: tuple[int | None, Executor | None] = (1, None),
 ) -> SelectionResult:
-    """Step 7: the confirmation by simulation (when asked) and the result's tables."""
+    """Step 7: the confirmation by simulation (when asked) and the result's tables; the
+    bootstrap intervals of the tiers and of the confirmation in the workers (``parallel``)."""
     import pandas as pd
 
     table, band, failures = candidates.table, candidates.band, candidates.failures
@@ -819,8 +823,9 @@ def _result(
     if options.confirm:
         sd_t1 = spectra.sd_t1_m  # SD(T_1, ξ_1), the confirmation's intensity measure
         confirm_table, correlations, medians, throughput = _confirm(
-            table, frame, spectra, choice.chosen_rows, choice.control_rows, sd_t1, options
-        )
+            table, frame, spectra, (choice.chosen_rows, choice.control_rows), sd_t1, options,
+            parallel,
+        )  # fmt: skip
     summary = {
         "rank_by": options.rank_by,
         "scale": options.scale,
@@ -834,7 +839,9 @@ def _result(
         "medians": medians,
         "confirmation_samples_per_s": throughput,
         "options": options.to_dict(),
-        **ranking_summary(table, candidates.passing, choice.chosen_rows, ranking, options),
+        **ranking_summary(
+            table, candidates.passing, choice.chosen_rows, ranking, options, parallel
+        ),
     }
     selection_columns = {
         "rank": (
@@ -865,10 +872,12 @@ def ranking_summary(
     chosen: list[int],
     ranking: Ranking,
     options: SelectionOptions,
+    parallel: tuple[int | None, Executor | None] = (1, None),
 ) -> dict[str, Any]:
     """``ranking_intensity`` (the stated intensity), ``ranking`` (what was simulated, and the
     chosen set's simulated response against the rest at that intensity) and ``tiers`` (each
-    tier against this run's exact ranking, when every candidate was simulated)."""
+    tier against this run's exact ranking, when every candidate was simulated; their bootstrap
+    intervals in the workers, ``parallel``)."""
     from stepframe.pipeline.selection.tiers import agreement, tier_values
 
     out = ranking.summary()
@@ -903,7 +912,7 @@ def ranking_summary(
         for name in TIERS
         if name in table.columns and (name not in DOMINATED or name in named)
     }
-    out["tiers"] = agreement(ranking.z[rows], tiers, options.n)
+    out["tiers"] = agreement(ranking.z[rows], tiers, options.n, parallel)
     return out
 
 
@@ -911,16 +920,17 @@ def _confirm(
     table: Any,
     frame: PortalFrame,
     spectra: Spectra,
-    chosen: list[int],
-    controls: list[int],
+    pair_rows: tuple[list[int], list[int]],
     sd_t1: Floats,
     options: SelectionOptions,
+    parallel: tuple[int | None, Executor | None],
 ) -> tuple[Any, list[dict[str, Any]], dict[str, Any], float]:
     """The confirmation: the chosen set and its controls simulated here at their chosen scale
     (their records read again: 2n of them), every candidate's equal-intensity run as the record
     pass computed it in the workers, then the correlations and medians."""
     import pandas as pd
 
+    chosen, controls = pair_rows
     frames = []
 
     def rows_of(indices: list[int], group: str, case: str, scales: Floats, run: Any) -> Any:
@@ -964,6 +974,7 @@ def _confirm(
         {"peak_drift": np.where(over_equal, np.nan, peak), "overturn_margin": onset},
         options.rank_by,
         options.seed,
+        parallel,
     )
     is_chosen = np.isin(candidates, chosen)
     is_control = np.isin(candidates, controls)
@@ -1016,29 +1027,55 @@ def compared_rankings(
     efficiency_responses: dict[str, Floats],
     reference: str,
     seed: int,
+    parallel: tuple[int | None, Executor | None] = (1, None),
 ) -> list[dict[str, Any]]:
     """Each ranking against each simulated response: Spearman ρ with its bootstrap interval,
     the paired difference Δρ from the ``reference`` ranking with its interval, and the
     efficiency (the dispersion of ln response given ln |value|, :func:`confirm.efficiency`,
     over ``efficiency_responses``: peaks of the runs that stay up, overturning ratios of those
-    that overturn)."""
-    out = []
+    that overturn). Each entry is independent, its bootstrap drawn from its own seed (``seed``
+    plus the ranking's position): they run in the workers (``parallel``, one batch), with the
+    same numbers whatever the number of workers."""
     base = values.get(reference)
-    for k, (name, x) in enumerate(values.items()):
-        for response, y in responses.items():
-            rho, low, high, n = confirmation.spearman_interval(x, y, seed + k)
-            entry: dict[str, Any] = {
-                "score": name, "response": response, "spearman": rho, "low": low,
-                "high": high, "n": n,
-            }  # fmt: skip
-            if base is not None and name != reference:
-                delta = confirmation.paired_delta_rho(x, base, y, seed + k)
-                entry.update(delta_vs=reference, delta=delta[0], delta_low=delta[1])
-                entry["delta_high"] = delta[2]
-            sigma, count = confirmation.efficiency(np.abs(x), efficiency_responses[response])
-            entry.update(efficiency=sigma, efficiency_n=count)
-            out.append(entry)
-    return out
+    calls = [
+        functools.partial(
+            _compared_entry,
+            (name, response, reference),
+            x,
+            None if name == reference else base,
+            (y, efficiency_responses[response]),
+            seed + k,
+        )
+        for k, (name, x) in enumerate(values.items())
+        for response, y in responses.items()
+    ]
+    jobs, executor = parallel
+    return call_each(calls, jobs=jobs, executor=executor, stage="confirmation")
+
+
+def _compared_entry(
+    names: tuple[str, str, str],
+    x: Floats,
+    base: Floats | None,
+    ys: tuple[Floats, Floats],
+    seed: int,
+) -> dict[str, Any]:
+    """One entry of :func:`compared_rankings`: ranking ``names[0]`` (values ``x``) against
+    response ``names[1]`` (values ``ys[0]``; ``ys[1]`` for the efficiency), with Δρ from
+    ``names[2]`` (values ``base``; None: not compared)."""
+    name, response, reference = names
+    y, y_efficiency = ys
+    rho, low, high, n = confirmation.spearman_interval(x, y, seed)
+    entry: dict[str, Any] = {
+        "score": name, "response": response, "spearman": rho, "low": low, "high": high, "n": n,
+    }  # fmt: skip
+    if base is not None:
+        delta = confirmation.paired_delta_rho(x, base, y, seed)
+        entry.update(delta_vs=reference, delta=delta[0], delta_low=delta[1])
+        entry["delta_high"] = delta[2]
+    sigma, count = confirmation.efficiency(np.abs(x), y_efficiency)
+    entry.update(efficiency=sigma, efficiency_n=count)
+    return entry
 
 
 def _median(values: Floats, mask: NDArray[np.bool_]) -> float:

@@ -285,6 +285,9 @@ def _selection_report_run(context: Context, folder: Path) -> None:
         context.set_dirs["selection"],
         folder / SELECTION_REPORT_HTML,
         provenance=workflow_provenance(context.workflow.path, {"selection": options}),
+        # the figures and the best records' simulations on the run's workers
+        jobs=context.jobs,
+        executor=context.executor,
     )
 
 

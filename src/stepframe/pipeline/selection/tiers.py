@@ -25,6 +25,7 @@ samples) is set so that a catalogue the size of NGA-West2 is ranked exactly.
 from __future__ import annotations
 
 import math
+from concurrent.futures import Executor
 from dataclasses import dataclass
 from typing import Any
 
@@ -164,7 +165,12 @@ def recall(exact_top: NDArray[np.int64], values: Floats, k: int) -> float:
 RECALL_MULTIPLES = (1, 2, 5, 10)
 
 
-def agreement(exact: Floats, tiers: dict[str, Floats], n: int) -> list[dict[str, Any]]:
+def agreement(
+    exact: Floats,
+    tiers: dict[str, Floats],
+    n: int,
+    parallel: tuple[int | None, Executor | None] = (1, None),
+) -> list[dict[str, Any]]:
     """Each tier against the exact ranking of the same candidates: Spearman ρ with it and the
     recall of the exact top ``n`` inside the tier's top K = m·n (m in :data:`RECALL_MULTIPLES`).
 
@@ -176,13 +182,25 @@ def agreement(exact: Floats, tiers: dict[str, Floats], n: int) -> list[dict[str,
         Tier name → its values at the ranking intensity (larger more severe), same candidates.
     n
         The size of the chosen set.
+    parallel
+        (jobs, executor) of the Spearman intervals' bootstraps (independent, each from seed 0:
+        the same numbers on any number of workers; default this process).
     """
+    import functools
+
+    from stepframe.core.execution import call_each
     from stepframe.pipeline.selection.confirm import spearman_interval
 
     top = best_rows(exact, n)
     rows = []
-    for name, values in tiers.items():
-        rho, low, high, count = spearman_interval(values, exact, seed=0)
+    jobs, executor = parallel
+    intervals = call_each(
+        [functools.partial(spearman_interval, values, exact, 0) for values in tiers.values()],
+        jobs=jobs,
+        executor=executor,
+        stage="tiers",
+    )
+    for (name, values), (rho, low, high, count) in zip(tiers.items(), intervals, strict=True):
         row: dict[str, Any] = {"tier": name, "spearman": rho, "low": low, "high": high, "n": count}
         finite = values[np.isfinite(values)]
         ranks = finite.size > 1 and bool(np.ptp(finite) > 0)
