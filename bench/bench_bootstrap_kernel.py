@@ -67,8 +67,8 @@ def main() -> None:
         x[::7] = np.round(x[::7], 1)  # ties
         y[:3] = np.inf  # overturned runs rank last
         cases = {
-            "Spearman ρ": lambda m: m.spearman_interval(x, y, seed=4),
-            "paired Δρ": lambda m: m.paired_delta_rho(x, r, y, seed=5),
+            "Spearman ρ": lambda m, x=x, y=y: m.spearman_interval(x, y, seed=4),
+            "paired Δρ": lambda m, x=x, r=r, y=y: m.paired_delta_rho(x, r, y, seed=5),
         }
         for label, call in cases.items():
             times: dict[str, list[float]] = {"former": [], "now": []}
