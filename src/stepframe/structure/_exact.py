@@ -323,83 +323,100 @@ def _impact_rule(
 def _fast_step(
     x: float,
     v: float,
-    ag_a: float,
-    slope: float,
-    p1: float,
+    q0: float,
+    q1: float,
     beta: float,
     k: float,
-    wd_sq: float,
     ec: float,
     es: float,
     dt: float,
-    chord: float,
-    lim_x: float,
-    peak: float,
+    bound: Any,
+    lo: float,
+    hi: float,
+    top: float,
 ) -> tuple[float, float, int]:
-    """One unstepped interval in closed form, when nothing inside it needs locating.
+    """One interval of a phase in closed form, when nothing inside it needs locating.
 
-    Returns (x_b, v_b, kind): the state at the interval's end and kind 0 (take the slow path:
-    an event or a new peak may lie inside), 1 (no event, |x| < ``peak`` throughout) or 2 (no
-    event, x monotone: the largest |x| is at an end). ``ec``, ``es`` are E_C(dt), E_S(dt) of the
-    unstepped phase, ``chord`` = dt²/8, ``lim_x`` = x_c less a margin (tol_x) far above the
-    rounding of the values compared.
+    The phase is unstepped or stepped (not held), with forcing q₀ + q₁σ and constants β, k,
+    E_C(dt) = ``ec``, E_S(dt) = ``es`` (module docstring); ``bound`` = (ω_d⁻², c_C, c_S,
+    dt²/8) from :func:`_bound_constants`. Returns (x_b, v_b, kind): the state at the interval's
+    end and kind 0 (take the slow path: an event or a new peak may lie inside), 1 (x stays in
+    (lo, hi), the phase's side of its thresholds, and |x| < ``top``, the running peak,
+    throughout) or 2 (x stays in (lo, hi) and is monotone: its largest |x| is at an end).
 
     Why it is exact. Over the interval the ground acceleration is linear, so x = x_p + y with x_p
     affine (module docstring), hence ẍ = y⁽²⁾ and x⁽³⁾ = y⁽³⁾, and every derivative of y is a
-    free vibration of the phase: y⁽ʲ⁾(σ) = e^{-βσ}(y_j·C + (y_{j+1} + βy_j)·S), y_{j+2} =
-    -2βy_{j+1} - k·y_j. Under-damped (ω_d² = k - β² > 0), C = cos ω_dσ and S = sin(ω_dσ)/ω_d,
-    so with β ≥ 0
+    free vibration of the phase: y⁽ʲ⁾(σ) = e^{-βσ}(y_j·C(σ) + (y_{j+1} + βy_j)·S(σ)), with
+    y_{j+2} = -2βy_{j+1} - k·y_j. With β ≥ 0 (e^{-βσ} ≤ 1), on [0, dt]:
 
-        |y⁽ʲ⁾(σ)| ≤ M_j = √(y_j² + (y_{j+1} + βy_j)²/ω_d²)     for σ ≥ 0;
-
-    over- or critically damped (0 ≤ d² = β² - k < β²), e^{-βσ}cosh dσ ≤ 1 and
-    e^{-βσ}sinh(dσ)/d ≤ σ, so M_j = |y_j| + |y_{j+1} + βy_j|·dt bounds it on [0, dt].
+    - under-damped (ω_d² = k - β² > 0): C = cos ω_dσ, S = sin(ω_dσ)/ω_d, so
+      |y⁽ʲ⁾| ≤ M_j = √(y_j² + (y_{j+1} + βy_j)²/ω_d²);
+    - over- or critically damped unstepped phase (0 ≤ d² = β² - k < β²): e^{-βσ}cosh dσ ≤ 1 and
+      e^{-βσ}sinh(dσ)/d ≤ σ, so M_j = |y_j| + |y_{j+1} + βy_j|·dt;
+    - stepped phase (k = -ω₂² < 0, d > β): cosh dσ and sinh(dσ)/d grow with σ, so
+      M_j = |y_j|·cosh(d·dt) + |y_{j+1} + βy_j|·sinh(d·dt)/d.
 
     Chord bound: a C² function f on [0, h] with |f''| ≤ M differs from its chord (the line
     through f(0) and f(h)) by g with g(0) = g(h) = 0 and |g''| ≤ M; P(σ) = M·σ(h - σ)/2 has
     the same ends and P'' = -M, so P - g and P + g are concave with zero ends, hence ≥ 0:
-    |g(σ)| ≤ M·σ(h - σ)/2 ≤ M·h²/8. With f = x and M = M_2:
+    |g(σ)| ≤ M·σ(h - σ)/2 ≤ M·h²/8. With f = x and M = M_2, on the whole interval
 
-        |x(σ)| ≤ max(|x_a|, |x_b|) + M_2·dt²/8   on the whole interval.
+        min(x_a, x_b) - M_2·dt²/8 ≤ x(σ) ≤ max(x_a, x_b) + M_2·dt²/8.
 
-    If that is below x_c (less the margin), x reaches neither ±x_c inside: no lift-off, and a
-    graze of x_c between samples (which the bound covers) is never skipped; if it is also below
-    the running peak, no new peak lies inside (kind 1). Monotone test: the same bound for
-    f = ẋ with M = M_3 keeps ẋ of one sign when v_a and v_b share it and
-    min(|v_a|, |v_b|) > M_3·dt²/8; then x is monotone, its largest |x| is at an end, and both
-    ends below x_c mean no crossing either (kind 2). Otherwise the slow path locates what there
-    is. The a-priori envelope this replaces, |x_p| + M_0 < min(x_c, peak), is looser by the
-    whole free-vibration amplitude M_0; here the slack is M_2·dt²/8 ≈ (ω₁dt)²/8 of it.
+    If that range lies inside (lo, hi), x crosses no threshold inside: no lift-off (unstepped),
+    no touchdown nor cap (stepped), and a graze of a threshold between samples, which the range
+    covers, is never skipped; if it also lies inside (-top, top), no new peak lies inside
+    (kind 1). Monotone test: the same bound for f = ẋ with M = M_3 keeps ẋ of one sign when v_a
+    and v_b share it and min(|v_a|, |v_b|) > M_3·dt²/8; then x is monotone, its extremes are its
+    ends, and both ends in (lo, hi) mean no crossing either (kind 2). Otherwise the slow path
+    locates what there is. (The a-priori envelope this replaced, |x_p| + M_0 below x_c and the
+    peak, is looser by the whole free-vibration amplitude M_0; the slack here is M_2·dt²/8, about
+    (ω₁dt)²/8 of M_0 in the unstepped phase.)
     """
-    b_p = -p1 * slope / k
-    a_p = (-p1 * ag_a - 2.0 * beta * b_p) / k
+    b_p = q1 / k
+    a_p = (q0 - 2.0 * beta * b_p) / k
     y0 = x - a_p
     y1 = v - b_p
     y2 = -2.0 * beta * y1 - k * y0
     x_b = a_p + b_p * dt + y0 * (ec + beta * es) + y1 * es
     v_b = b_p + y1 * (ec + beta * es) + y2 * es
-    ends = max(abs(x), abs(x_b))
-    if not ends < lim_x:
+    low = min(x, x_b)
+    high = max(x, x_b)
+    if not (lo < low and high < hi):
         return x_b, v_b, 0
+    wd_inv, c_c, c_s, chord = bound
     y3 = -2.0 * beta * y2 - k * y1
     q = y3 + beta * y2
-    room = min(lim_x, peak) - ends
-    if room > 0.0:
-        if wd_sq > 0.0:
-            if (y2 * y2 + q * q / wd_sq) * chord * chord < room * room:
-                return x_b, v_b, 1
-        elif (abs(y2) + abs(q) * dt) * chord < room:
-            return x_b, v_b, 1
+    if wd_inv > 0.0:
+        m2 = math.sqrt(y2 * y2 + q * q * wd_inv)
+    else:
+        m2 = abs(y2) * c_c + abs(q) * c_s
+    reach = m2 * chord
+    if lo < low - reach and high + reach < hi and max(high + reach, reach - low) < top:
+        return x_b, v_b, 1
     if (v > 0.0 and v_b > 0.0) or (v < 0.0 and v_b < 0.0):
-        speed = min(abs(v), abs(v_b))
         y4 = -2.0 * beta * y3 - k * y2
         r = y4 + beta * y3
-        if wd_sq > 0.0:
-            if (y3 * y3 + r * r / wd_sq) * chord * chord < speed * speed:
-                return x_b, v_b, 2
-        elif (abs(y3) + abs(r) * dt) * chord < speed:
+        if wd_inv > 0.0:
+            m3 = math.sqrt(y3 * y3 + r * r * wd_inv)
+        else:
+            m3 = abs(y3) * c_c + abs(r) * c_s
+        if m3 * chord < min(abs(v), abs(v_b)):
             return x_b, v_b, 2
     return x_b, v_b, 0
+
+
+@njit(cache=True)
+def _bound_constants(beta: float, k: float, disc: float, dt: float) -> Any:
+    """(ω_d⁻², c_C, c_S, dt²/8) of :func:`_fast_step`'s bounds for one phase and dt:
+    ω_d⁻² > 0 for an under-damped phase, else 0 and M_j = |y_j|·c_C + |y_{j+1} + βy_j|·c_S."""
+    chord = dt * dt / 8.0
+    if disc < 0.0:
+        return (-1.0 / disc, 0.0, 0.0, chord)
+    if k > 0.0:
+        return (0.0, 1.0, dt, chord)
+    d = math.sqrt(disc)
+    return (0.0, math.cosh(d * dt), math.sinh(d * dt) / d, chord)
 
 
 # Called, not inlined at the IR level (inline="always" typed a copy per call site into integrate:
@@ -482,18 +499,22 @@ def integrate(
         for jj in range(n_rec, -1, -1):
             suffix[jj] = max(abs(ag[jj]), suffix[jj + 1])
 
-    # Full-interval constants of the unstepped phase, for the event-free fast path.
+    # Full-interval constants of the unstepped and stepped phases, for the fast path.
     beta1 = xi1 * w1
     k1 = w1 * w1
     disc1 = w1 * w1 * (xi1 - 1.0) * (xi1 + 1.0)
     ec1, es1 = _ecs(beta1, disc1, dt)
-    wd1_sq = -disc1
-    chord = dt * dt / 8.0
-    # The fast path's bounds take e^{-β₁σ} ≤ 1 (β₁ ≥ 0, as frames validate); and it keeps a
-    # margin of tol_x below x_c, far above the rounding of the values it compares.
-    fast_ok = beta1 >= 0.0
+    bound1 = _bound_constants(beta1, k1, disc1, dt)
+    beta2 = xi2 * w2
+    k2 = -w2 * w2
+    disc2 = w2 * w2 * (xi2 * xi2 + 1.0)
+    ec2, es2 = _ecs(beta2, disc2, dt)
+    bound2 = _bound_constants(beta2, k2, disc2, dt)
+    # The fast path's bounds take e^{-βσ} ≤ 1 (β ≥ 0, as frames validate), and keep a margin of
+    # tol_x inside the thresholds, far above the rounding of the values they compare.
+    fast_ok = beta1 >= 0.0 and beta2 >= 0.0
     lim_x = xc - tol_x
-
+    lim_cap = xcap - tol_x
     x = x0
     v = v0
     if abs(x) < xc:
@@ -580,24 +601,32 @@ def integrate(
                         t_over = t0
                         break
 
-        # Fast path: unstepped over the whole interval, and no event nor new interior peak
+        # Fast path: unstepped or stepped over the whole interval, with no event nor new peak
         # possible inside it (the chord bound and the monotone test of _fast_step).
-        if phase == 0 and fast_ok:
-            x_b, v_b, kind = _fast_step(
-                x, v, ag_a, slope, p1, beta1, k1, wd1_sq, ec1, es1, dt, chord, lim_x, peak
-            )
+        if fast_ok and (phase == 0 or phase == 1 or phase == -1):
+            if phase == 0:
+                x_b, v_b, kind = _fast_step(x, v, -p1 * ag_a, -p1 * slope, beta1, k1, ec1, es1,
+                                            dt, bound1, -lim_x, lim_x, peak)  # fmt: skip
+            else:
+                s = 1.0 if phase > 0 else -1.0
+                lo, hi = (xc + tol_x, lim_cap) if phase > 0 else (-lim_cap, -xc - tol_x)
+                x_b, v_b, kind = _fast_step(x, v, -s * g1 - p2 * ag_a, -p2 * slope, beta2, k2,
+                                            ec2, es2, dt, bound2, lo, hi, ep_peak)  # fmt: skip
             if kind != 0:
                 x = x_b
                 v = v_b
                 i += 1
-                if kind == 2 and abs(x) > peak:
+                if kind == 2:
                     # x monotone over the interval: its largest |x| is at an end.
-                    peak = abs(x)
-                    t_peak = t0 + dt
+                    if abs(x) > peak:
+                        peak = abs(x)
+                        t_peak = t0 + dt
+                    if phase != 0 and abs(x) > ep_peak:
+                        ep_peak = abs(x)
                 if do_hist and i < hist_x.shape[0]:
                     hist_x[i] = x
                     hist_v[i] = v
-                    hist_p[i] = 0
+                    hist_p[i] = phase
                 if not (math.isfinite(x) and math.isfinite(v)):
                     status = STATUS_NONFINITE
                     break
