@@ -149,46 +149,63 @@ def roofline_exact_peak(
 @numba.njit(cache=True)
 def classify(
     ag: np.ndarray, dt: float, hist_x: np.ndarray, hist_v: np.ndarray, hist_p: np.ndarray,
-    n_steps: int, w1: float, xi1: float, p1: float, xc: float, tol_x: float,
+    n_steps: int, model: Any, tol_x: float,
 ) -> np.ndarray:  # fmt: skip
-    """Intervals by class: fast, stepped or held, slow near x_c, slow near the running peak;
-    then how many of the fast ones passed by the monotone test, and how many the envelope test
-    of the kernel before the chord bound passed (module docstring)."""
-    counts = np.zeros(6, dtype=np.int64)
-    beta1 = xi1 * w1
-    k1 = w1 * w1
+    """Interval counts by class (module docstring): fast unstepped, fast stepped, held on the
+    surface, slow near a threshold, slow for the peak only; then the fast ones passed by the
+    monotone test, and the unstepped ones the earlier envelope test passed."""
+    w1, w2, p1, p2, g1, xi1, xi2, xc, _, xcap = model
+    counts = np.zeros(7, dtype=np.int64)
+    beta1, k1 = xi1 * w1, w1 * w1
     disc1 = w1 * w1 * (xi1 - 1.0) * (xi1 + 1.0)
     ec1, es1 = _exact._ecs(beta1, disc1, dt)
-    wd1_sq = -disc1
-    chord = dt * dt / 8.0
+    bound1 = _exact._bound_constants(beta1, k1, disc1, dt)
+    beta2, k2 = xi2 * w2, -w2 * w2
+    disc2 = w2 * w2 * (xi2 * xi2 + 1.0)
+    ec2, es2 = _exact._ecs(beta2, disc2, dt)
+    bound2 = _exact._bound_constants(beta2, k2, disc2, dt)
+    lim_x, lim_cap = xc - tol_x, xcap - tol_x
     peak = abs(hist_x[0])
+    ep_peak = abs(hist_x[0])
     n_rec = ag.size - 1
     for i in range(n_steps):
         x = hist_x[i]
         v = hist_v[i]
+        phase = hist_p[i]
         peak = max(peak, abs(x))
-        if hist_p[i] != 0:
-            counts[1] += 1
+        # The episode's peak from its samples (from x_c at its lift-off).
+        ep_peak = max(ep_peak, abs(x)) if phase != 0 and i > 0 and hist_p[i - 1] != 0 else xc
+        if phase == 2 or phase == -2:
+            counts[2] += 1
             continue
         ag_a = ag[i] if i < n_rec else 0.0
         ag_b = ag[i + 1] if i < n_rec else 0.0
         slope = (ag_b - ag_a) / dt
-        step = (x, v, ag_a, slope, p1, beta1, k1, wd1_sq, ec1, es1, dt, chord, xc - tol_x)
-        kind = _exact._fast_step(*step, peak)[2]
-        # The envelope test the kernel had before the chord bound: |x_p| + M_0 < min(x_c, peak).
-        b_p = -p1 * slope / k1
-        a_p = (-p1 * ag_a - 2.0 * beta1 * b_p) / k1
-        y0 = x - a_p
-        q = v - b_p + beta1 * y0
-        m = max(abs(a_p), abs(a_p + b_p * dt))
-        counts[5] += math.sqrt(y0 * y0 + q * q / wd1_sq) < min(xc, peak) - m
-        if kind != 0:
-            counts[0] += 1
-            counts[4] += kind == 2
-        elif _exact._fast_step(*step, math.inf)[2] == 0:
-            counts[2] += 1  # slow even with no peak to keep: its bound reaches x_c
+        if phase == 0:
+            step = (x, v, -p1 * ag_a, -p1 * slope, beta1, k1, ec1, es1, dt, bound1,
+                    -lim_x, lim_x)  # fmt: skip
+            top = peak
+            # The envelope test of the kernel before: |x_p| + M_0 < min(x_c, peak).
+            b_p = -p1 * slope / k1
+            a_p = (-p1 * ag_a - 2.0 * beta1 * b_p) / k1
+            y0 = x - a_p
+            q = v - b_p + beta1 * y0
+            m = max(abs(a_p), abs(a_p + b_p * dt))
+            counts[6] += math.sqrt(y0 * y0 + q * q / -disc1) < min(xc, peak) - m
         else:
-            counts[3] += 1
+            s = 1.0 if phase > 0 else -1.0
+            lo, hi = (xc + tol_x, lim_cap) if phase > 0 else (-lim_cap, -xc - tol_x)
+            step = (x, v, -s * g1 - p2 * ag_a, -p2 * slope, beta2, k2, ec2, es2, dt, bound2,
+                    lo, hi)  # fmt: skip
+            top = ep_peak
+        kind = _exact._fast_step(*step, top)[2]
+        if kind != 0:
+            counts[0 if phase == 0 else 1] += 1
+            counts[5] += kind == 2
+        elif _exact._fast_step(*step, math.inf)[2] == 0:
+            counts[3] += 1  # slow even with no peak to keep: its range reaches a threshold
+        else:
+            counts[4] += 1
     return counts
 
 
@@ -311,18 +328,18 @@ def main() -> None:
                  t_sim / t_roof)
             )  # fmt: skip
             # Account: per-pair times against the class counts of its intervals.
-            counts = np.zeros((len(series), 7))
+            counts = np.zeros((len(series), 8))
             times = np.zeros(len(series))
             for j, (acc, dt) in enumerate(series):
                 ag = acc * scales[j]
                 res, hist = _run(model, ag, dt, tails[j], history=True)
                 last = padded[j].size - 1
                 steps = min(round(float(res[11]) / dt), last) if res[6] else last
-                counts[j, :6] = classify(
-                    padded[j] * scales[j], dt, *hist, steps, frame.omega_1_rad_s, frame.xi_1,
-                    frame.p_1, frame.x_c_m, INVARIANT_RTOL * max(frame.x_c_m, frame.x_star_m),
+                counts[j, :7] = classify(
+                    padded[j] * scales[j], dt, *hist, steps, tuple(model),
+                    INVARIANT_RTOL * max(frame.x_c_m, frame.x_star_m),
                 )  # fmt: skip
-                counts[j, 6] = res[1]
+                counts[j, 7] = res[1]
                 times[j] = _median_time(
                     functools.partial(_run, model, ag, dt, tails[j], False), args.repeat
                 )
@@ -343,37 +360,40 @@ def main() -> None:
 
 def _account(rows: list[Any], throughput: list[Any]) -> None:
     """Least-squares cost of each interval class and event, and the time shares they make."""
-    classes = [0, 1, 2, 3, 6]  # fast, stepped/held, near x_c, near peak, events
     all_counts = np.concatenate([c for _, _, c, _ in rows])
     all_times = np.concatenate([t for _, _, _, t in rows])
+
+    def grouped(counts: np.ndarray) -> np.ndarray:
+        """Fast (either phase), held, slow (near a threshold or for the peak), events."""
+        return np.column_stack([counts[:, 0] + counts[:, 1], counts[:, 2],
+                                counts[:, 3] + counts[:, 4], counts[:, 7]])  # fmt: skip
+
     # Per-run constant (the call, its allocations), then one cost per class and per event.
-    design = np.column_stack([np.ones(all_times.size), all_counts[:, classes]])
+    design = np.column_stack([np.ones(all_times.size), grouped(all_counts)])
     cost, *_ = np.linalg.lstsq(design, all_times, rcond=None)
     fitted = design @ cost
     r2 = 1 - np.sum((all_times - fitted) ** 2) / np.sum((all_times - all_times.mean()) ** 2)
     roof_ns = 1e9 / statistics.median(r[6] for r in throughput)  # the roofline's rate
-    names = ("per run", "fast interval", "stepped/held interval", "near-x_c interval",
-             "near-peak interval", "event")  # fmt: skip
+    names = ("per run", "fast interval", "held interval", "slow interval", "event")
     print(f"Cost per item (least squares over {all_times.size} runs, R² = {r2:.3f}); "
           f"roofline sample: {roof_ns:.2f} ns.\n")  # fmt: skip
     print("| item | cost [ns] | in roofline samples |")
     print("|---|---|---|")
     for item, value in zip(names, cost, strict=True):
         print(f"| {item} | {1e9 * value:,.1f} | {1e9 * value / roof_ns:,.1f} |")
-    print("\n| frame | runs | fast (of them by the monotone test) | stepped/held | near x_c | "
-          "near peak | events per 1,000 intervals | time: fast / stepped / near x_c / near peak / "
-          "events | fast by the envelope test (before the chord bound) |")  # fmt: skip
+    print("\n| frame | runs | fast: unstepped / stepped (by the monotone test) | held | slow "
+          "near a threshold | slow for the peak | events per 1,000 intervals | time: fast / held "
+          "/ slow / events | unstepped fast by the envelope test (before) |")  # fmt: skip
     print("|---|---|---|---|---|---|---|---|---|")
     for name, label, counts, _ in rows:
         sums = counts.sum(axis=0)
-        total = sums[:4].sum()
-        shares = " | ".join(f"{100 * v / total:.1f} %" for v in sums[1:4])
-        fast = f"{100 * sums[0] / total:.1f} % ({100 * sums[4] / total:.1f} %)"
-        parts = sums[classes] * cost[1:]
+        total = sums[:5].sum()
+        pct = 100 * sums / total
+        parts = grouped(sums[None, :])[0] * cost[1:]
         split = " / ".join(f"{100 * v / parts.sum():.0f} %" for v in parts)
-        events = 1000 * sums[6] / total
-        print(f"| {name} | {label} | {fast} | {shares} | {events:.1f} | {split} | "
-              f"{100 * sums[5] / total:.1f} % |")  # fmt: skip
+        print(f"| {name} | {label} | {pct[0]:.1f} % / {pct[1]:.1f} % ({pct[5]:.1f} %) | "
+              f"{pct[2]:.1f} % | {pct[3]:.2f} % | {pct[4]:.2f} % | {1000 * sums[7] / total:.1f} | "
+              f"{split} | {pct[6]:.1f} % |")  # fmt: skip
     print(f"\n(measured total of these runs: {1e3 * all_times.sum():.1f} ms; model "
           f"{1e3 * fitted.sum():.1f} ms)\n")  # fmt: skip
 
