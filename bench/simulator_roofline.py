@@ -158,11 +158,9 @@ def classify(
     counts = np.zeros(7, dtype=np.int64)
     beta1, k1 = xi1 * w1, w1 * w1
     disc1 = w1 * w1 * (xi1 - 1.0) * (xi1 + 1.0)
-    ec1, es1 = _exact._ecs(beta1, disc1, dt)
     bound1 = _exact._bound_constants(beta1, k1, disc1, dt)
     beta2, k2 = xi2 * w2, -w2 * w2
     disc2 = w2 * w2 * (xi2 * xi2 + 1.0)
-    ec2, es2 = _exact._ecs(beta2, disc2, dt)
     bound2 = _exact._bound_constants(beta2, k2, disc2, dt)
     lim_x, lim_cap = xc - tol_x, xcap - tol_x
     peak = abs(hist_x[0])
@@ -182,7 +180,7 @@ def classify(
         ag_b = ag[i + 1] if i < n_rec else 0.0
         slope = (ag_b - ag_a) / dt
         if phase == 0:
-            step = (x, v, -p1 * ag_a, -p1 * slope, beta1, k1, ec1, es1, dt, bound1,
+            step = (x, v, -p1 * ag_a, -p1 * slope, beta1, k1, bound1,
                     -lim_x, lim_x)  # fmt: skip
             top = peak
             # The envelope test of the kernel before: |x_p| + M_0 < min(x_c, peak).
@@ -195,7 +193,7 @@ def classify(
         else:
             s = 1.0 if phase > 0 else -1.0
             lo, hi = (xc + tol_x, lim_cap) if phase > 0 else (-lim_cap, -xc - tol_x)
-            step = (x, v, -s * g1 - p2 * ag_a, -p2 * slope, beta2, k2, ec2, es2, dt, bound2,
+            step = (x, v, -s * g1 - p2 * ag_a, -p2 * slope, beta2, k2, bound2,
                     lo, hi)  # fmt: skip
             top = ep_peak
         kind = _exact._fast_step(*step, top)[2]

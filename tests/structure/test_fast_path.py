@@ -54,10 +54,8 @@ def fast_step(x: float, v: float, ag_a: float, slope: float, xi: float, dt: floa
     """The kernel's test with the constants integrate derives for this phase."""
     beta, k = xi * W1, W1 * W1
     disc = W1 * W1 * (xi - 1.0) * (xi + 1.0)
-    ec, es = _exact._ecs(beta, disc, dt)
-    return _exact._fast_step(
-        x, v, ag_a, slope, P1, beta, k, -disc, ec, es, dt, dt * dt / 8.0, lim_x, peak
-    )
+    bound = _exact._bound_constants(beta, k, disc, dt)
+    return _exact._fast_step(x, v, -P1 * ag_a, -P1 * slope, beta, k, bound, -lim_x, lim_x, peak)
 
 
 @pytest.mark.parametrize("xi", [0.0, 0.05, 1.0, 2.0])

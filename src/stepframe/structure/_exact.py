@@ -19,7 +19,9 @@ Events are found without sampling: the zeros of ẍ (inflections of x) are close
 segment is cut into pieces where ẋ is monotone; each holds at most one zero of ẋ (a true extremum
 of x, found by bracketed Newton), which cuts it into pieces where x is monotone; on each of those a
 threshold crossing is bracketed by the end values and found by bracketed Newton. A brief excursion
-past x_c between two samples (grazing) is therefore never missed.
+past x_c between two samples (grazing) is therefore never missed. Most intervals hold nothing to
+locate: :func:`_fast_step` proves that from the interval's end values and a bound of ẍ (the chord
+bound) or of x⁽³⁾ (x monotone), and takes the closed form's end state in a few products.
 
 Phase codes: 0 unstepped, +1/-1 stepped on that side, +2/-2 held at x = ±x_c with ẋ = 0 (the
 contact force balance keeps the frame on the switching surface). An impact whose rebound is too
@@ -327,9 +329,6 @@ def _fast_step(
     q1: float,
     beta: float,
     k: float,
-    ec: float,
-    es: float,
-    dt: float,
     bound: Any,
     lo: float,
     hi: float,
@@ -337,9 +336,9 @@ def _fast_step(
 ) -> tuple[float, float, int]:
     """One interval of a phase in closed form, when nothing inside it needs locating.
 
-    The phase is unstepped or stepped (not held), with forcing q₀ + q₁σ and constants β, k,
-    E_C(dt) = ``ec``, E_S(dt) = ``es`` (module docstring); ``bound`` = (ω_d⁻², c_C, c_S,
-    dt²/8) from :func:`_bound_constants`. Returns (x_b, v_b, kind): the state at the interval's
+    The phase is unstepped or stepped (not held), with forcing q₀ + q₁σ and constants β, k
+    (module docstring); ``bound`` holds the phase's constants for dt from
+    :func:`_bound_constants`. Returns (x_b, v_b, kind): the state at the interval's
     end and kind 0 (take the slow path: an event or a new peak may lie inside), 1 (x stays in
     (lo, hi), the phase's side of its thresholds, and |x| < ``top``, the running peak,
     throughout) or 2 (x stays in (lo, hi) and is monotone: its largest |x| is at an end).
@@ -373,19 +372,20 @@ def _fast_step(
     peak, is looser by the whole free-vibration amplitude M_0; the slack here is M_2·dt²/8, about
     (ω₁dt)²/8 of M_0 in the unstepped phase.)
     """
-    b_p = q1 / k
-    a_p = (q0 - 2.0 * beta * b_p) / k
-    y0 = x - a_p
-    y1 = v - b_p
-    y2 = -2.0 * beta * y1 - k * y0
-    x_b = a_p + b_p * dt + y0 * (ec + beta * es) + y1 * es
-    v_b = b_p + y1 * (ec + beta * es) + y2 * es
+    wd_inv, c_c, c_s, chord, inv_k, e_v, e_x, es = bound
+    b_p = q1 * inv_k
+    a_p = (q0 - 2.0 * beta * b_p) * inv_k
+    # ẍ and x⁽³⁾ at the start, from the equation of motion and its derivative: the y₂ and y₃ of
+    # the module docstring (ÿ = ẍ, x_p being affine), without forming y₀ and y₁, so that x_b
+    # and v_b are each one short chain of products from the state (as in Nigam-Jennings).
+    y2 = q0 - 2.0 * beta * v - k * x
+    y3 = q1 - 2.0 * beta * y2 - k * v
+    x_b = e_v * x + es * v + (1.0 - e_v) * a_p + e_x * b_p
+    v_b = e_v * v + es * y2 + (1.0 - e_v) * b_p
     low = min(x, x_b)
     high = max(x, x_b)
     if not (lo < low and high < hi):
         return x_b, v_b, 0
-    wd_inv, c_c, c_s, chord = bound
-    y3 = -2.0 * beta * y2 - k * y1
     q = y3 + beta * y2
     # Room left between the ends and the thresholds, and the peak, against the reach M_2·dt²/8
     # (compared squared where M_2 is a root: no square root on the fast path).
@@ -410,15 +410,18 @@ def _fast_step(
 
 @njit(cache=True)
 def _bound_constants(beta: float, k: float, disc: float, dt: float) -> Any:
-    """(ω_d⁻², c_C, c_S, dt²/8) of :func:`_fast_step`'s bounds for one phase and dt:
-    ω_d⁻² > 0 for an under-damped phase, else 0 and M_j = |y_j|·c_C + |y_{j+1} + βy_j|·c_S."""
+    """Constants of :func:`_fast_step` for one phase and dt: (ω_d⁻², c_C, c_S, dt²/8, 1/k,
+    E_C + βE_S, dt - E_S, E_S) at σ = dt. ω_d⁻² > 0 for an under-damped phase, else 0 and
+    M_j = |y_j|·c_C + |y_{j+1} + βy_j|·c_S."""
     chord = dt * dt / 8.0
+    ec, es = _ecs(beta, disc, dt)
+    tail = (ec + beta * es, dt - es, es)
     if disc < 0.0:
-        return (-1.0 / disc, 0.0, 0.0, chord)
+        return (-1.0 / disc, 0.0, 0.0, chord, 1.0 / k, *tail)
     if k > 0.0:
-        return (0.0, 1.0, dt, chord)
+        return (0.0, 1.0, dt, chord, 1.0 / k, *tail)
     d = math.sqrt(disc)
-    return (0.0, math.cosh(d * dt), math.sinh(d * dt) / d, chord)
+    return (0.0, math.cosh(d * dt), math.sinh(d * dt) / d, chord, 1.0 / k, *tail)
 
 
 # Called, not inlined at the IR level (inline="always" typed a copy per call site into integrate:
@@ -505,12 +508,10 @@ def integrate(
     beta1 = xi1 * w1
     k1 = w1 * w1
     disc1 = w1 * w1 * (xi1 - 1.0) * (xi1 + 1.0)
-    ec1, es1 = _ecs(beta1, disc1, dt)
     bound1 = _bound_constants(beta1, k1, disc1, dt)
     beta2 = xi2 * w2
     k2 = -w2 * w2
     disc2 = w2 * w2 * (xi2 * xi2 + 1.0)
-    ec2, es2 = _ecs(beta2, disc2, dt)
     bound2 = _bound_constants(beta2, k2, disc2, dt)
     # The fast path's bounds take e^{-βσ} ≤ 1 (β ≥ 0, as frames validate), and keep a margin of
     # tol_x inside the thresholds, far above the rounding of the values they compare.
@@ -607,13 +608,13 @@ def integrate(
         # possible inside it (the chord bound and the monotone test of _fast_step).
         if fast_ok and (phase == 0 or phase == 1 or phase == -1):
             if phase == 0:
-                x_b, v_b, kind = _fast_step(x, v, -p1 * ag_a, -p1 * slope, beta1, k1, ec1, es1,
-                                            dt, bound1, -lim_x, lim_x, peak)  # fmt: skip
+                x_b, v_b, kind = _fast_step(x, v, -p1 * ag_a, -p1 * slope, beta1, k1, bound1,
+                                            -lim_x, lim_x, peak)  # fmt: skip
             else:
                 s = 1.0 if phase > 0 else -1.0
                 lo, hi = (xc + tol_x, lim_cap) if phase > 0 else (-lim_cap, -xc - tol_x)
                 x_b, v_b, kind = _fast_step(x, v, -s * g1 - p2 * ag_a, -p2 * slope, beta2, k2,
-                                            ec2, es2, dt, bound2, lo, hi, ep_peak)  # fmt: skip
+                                            bound2, lo, hi, ep_peak)  # fmt: skip
             if kind != 0:
                 x = x_b
                 v = v_b
@@ -629,7 +630,8 @@ def integrate(
                     hist_x[i] = x
                     hist_v[i] = v
                     hist_p[i] = phase
-                if not (math.isfinite(x) and math.isfinite(v)):
+                # (x_b passed its range test, so it is finite.)
+                if not math.isfinite(v):
                     status = STATUS_NONFINITE
                     break
                 continue
