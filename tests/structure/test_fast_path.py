@@ -34,11 +34,12 @@ def frame(**changes: Any) -> PortalFrame:
     return PortalFrame(**{**base, **changes})
 
 
-def true_path(x: float, v: float, ag_a: float, slope: float, xi: float, dt: float) -> np.ndarray:
-    """x on N_GRID + 1 equal steps of [0, dt] of ẍ + 2ξω₁ẋ + ω₁²x = -P₁(ag_a + slope·σ)."""
+def true_path(x: float, v: float, beta: float, k: float, q0: float, q1: float,
+              dt: float) -> np.ndarray:  # fmt: skip
+    """x on N_GRID + 1 equal steps of [0, dt] of ẍ + 2βẋ + k·x = q₀ + q₁σ."""
     a = np.zeros((4, 4))
     a[0, 1] = 1.0
-    a[1] = (-(W1**2), -2.0 * xi * W1, -P1 * ag_a, -P1 * slope)
+    a[1] = (-k, -2.0 * beta, q0, q1)
     a[3, 2] = 1.0
     step = expm(a * (dt / N_GRID))
     z = np.array([x, v, 1.0, 0.0])
@@ -51,7 +52,7 @@ def true_path(x: float, v: float, ag_a: float, slope: float, xi: float, dt: floa
 
 def fast_step(x: float, v: float, ag_a: float, slope: float, xi: float, dt: float,
               lim_x: float, peak: float) -> tuple[float, float, int]:  # fmt: skip
-    """The kernel's test with the constants integrate derives for this phase."""
+    """The kernel's test of the unstepped phase, with the constants integrate derives."""
     beta, k = xi * W1, W1 * W1
     disc = W1 * W1 * (xi - 1.0) * (xi + 1.0)
     bound = _exact._bound_constants(beta, k, disc, dt)
@@ -68,7 +69,7 @@ def test_fast_step_claims_hold_on_the_true_solution(xi: float, dt: float) -> Non
     for _ in range(150):
         x, v = rng.normal(0.0, 0.02), rng.normal(0.0, 0.02 * W1)
         ag_a, slope = rng.normal(0.0, 0.5), rng.normal(0.0, 0.5 / dt)
-        path = true_path(x, v, ag_a, slope, xi, dt)
+        path = true_path(x, v, xi * W1, W1 * W1, -P1 * ag_a, -P1 * slope, dt)
         top = float(np.max(np.abs(path)))
         ends = max(abs(path[0]), abs(path[-1]))
         for lim_x, peak in (
@@ -91,6 +92,45 @@ def test_fast_step_claims_hold_on_the_true_solution(xi: float, dt: float) -> Non
                 assert np.all(steps >= 0.0) or np.all(steps <= 0.0)
                 assert top == ends
     # Each kind is exercised: the test cannot pass by always declining.
+    assert np.all(kinds > 0), kinds
+
+
+@pytest.mark.parametrize("xi_2", [0.0, 0.1])
+@pytest.mark.parametrize("dt", [0.005, 0.02])
+def test_stepped_phase_claims_hold_on_the_true_solution(xi_2: float, dt: float) -> None:
+    """The stepped phase on side +1 (k = -ω₂², forcing -γ₁ - P₂ẍ_g): touchdown at x_c and the
+    cap a hair inside or outside the interval's true range, the episode's peak likewise."""
+    w2, p2, g1 = 0.6445, 1.2680, 0.1387
+    beta, k = xi_2 * w2, -(w2**2)
+    bound = _exact._bound_constants(beta, k, w2 * w2 * (xi_2 * xi_2 + 1.0), dt)
+    rng = np.random.default_rng(5)
+    kinds = np.zeros(3, dtype=int)
+    for _ in range(100):
+        x, v = rng.uniform(0.06, 0.5), rng.normal(0.0, 0.1)
+        ag_a, slope = rng.normal(0.0, 1.0), rng.normal(0.0, 1.0 / dt)
+        q0, q1 = -g1 - p2 * ag_a, -p2 * slope
+        path = true_path(x, v, beta, k, q0, q1, dt)
+        low, high = float(path.min()), float(path.max())
+        ends = (min(path[0], path[-1]), max(path[0], path[-1]))
+        for lo, hi, top in (
+            (low * 0.5, 10.0, 10.0),  # clear of the thresholds and the peak
+            (low * (1 + 1e-7), 10.0, 10.0),  # a touchdown grazed between samples
+            (0.0, high * (1 - 1e-7), 10.0),  # the cap reached between samples
+            (0.0, 10.0, high * (1 - 1e-7)),  # a new episode peak, by a hair
+            (0.0, 10.0, ends[1] * (1 + 1e-9)),  # peak at the larger end
+        ):
+            x_b, _, kind = _exact._fast_step(x, v, q0, q1, beta, k, bound, lo, hi, top)
+            assert x_b == pytest.approx(path[-1], rel=1e-9, abs=1e-15)
+            kinds[kind] += 1
+            if kind == 0:
+                continue
+            assert lo < low and high < hi
+            if kind == 1:
+                assert high < top
+            else:
+                steps = np.diff(path)
+                assert np.all(steps >= 0.0) or np.all(steps <= 0.0)
+                assert (low, high) == ends
     assert np.all(kinds > 0), kinds
 
 
