@@ -95,6 +95,17 @@ def compare(path_a: str, path_b: str) -> None:
         d = float(np.max(np.abs(a[key + "|x"] - b[key + "|x"])))
         if d > worst["history x"]:
             worst["history x"], where["history x"] = d, key
+    # By frame and scale factor: the largest event-time and relative peak differences.
+    groups: dict[str, list[float]] = {}
+    for key in keys:
+        group = key.rsplit("|", 1)[0]
+        ea, eb = a[key + "|events"], b[key + "|events"]
+        d_t = float(np.max(np.abs(ea[:, 0] - eb[:, 0]))) if ea.shape == eb.shape and ea.size else 0
+        pa, pb = a[key + "|summary"][4], b[key + "|summary"][4]
+        row = groups.setdefault(group, [0.0, 0.0, 0.0])
+        row[0] = max(row[0], d_t)
+        row[1] = max(row[1], abs(pa - pb) / pa if pa > 0 else 0.0)
+        row[2] += ea.shape[0]
     n_events = sum(a[k + "|events"].shape[0] for k in keys)
     print(f"{len(keys)} runs, {n_events:,} events; runs differing in status or counts: "
           f"{len(differing)}\n")  # fmt: skip
@@ -102,6 +113,11 @@ def compare(path_a: str, path_b: str) -> None:
     print("|---|---|---|")
     for label, value in worst.items():
         print(f"| {label} | {value:.3g} | {where.get(label, '')} |")
+    print("\n| frame, factor of the confirmation's scale | events | largest event-time "
+          "difference [s] | largest peak difference (relative) |")  # fmt: skip
+    print("|---|---|---|---|")
+    for group, (d_t, d_p, n) in groups.items():
+        print(f"| {group.replace('|', ', ')} | {n:.0f} | {d_t:.2g} | {d_p:.2g} |")
     for key, sa, sb in differing:
         print(f"differs: {key}: {sa} against {sb}")
 

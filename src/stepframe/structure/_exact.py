@@ -376,8 +376,9 @@ def _fast_step(
     b_p = q1 * inv_k
     a_p = (q0 - 2.0 * beta * b_p) * inv_k
     # ẍ and x⁽³⁾ at the start, from the equation of motion and its derivative: the y₂ and y₃ of
-    # the module docstring (ÿ = ẍ, x_p being affine), without forming y₀ and y₁, so that x_b
-    # and v_b are each one short chain of products from the state (as in Nigam-Jennings).
+    # _segment (ÿ = ẍ, x_p being affine), without forming y₀ and y₁, so that x_b and v_b are
+    # each one short chain of products from the state (as in Nigam-Jennings): the same closed
+    # form as _x_at and _v_at at σ = dt, rearranged, so equal to them up to rounding.
     y2 = q0 - 2.0 * beta * v - k * x
     y3 = q1 - 2.0 * beta * y2 - k * v
     x_b = e_v * x + es * v + (1.0 - e_v) * a_p + e_x * b_p
