@@ -19,16 +19,19 @@ overturns stops there; the simulator is charged for the whole record, as the iss
 were).
 
 Account: every sample interval of every run is classed as the kernel classes it
-(``_exact.integrate``): the fast path (unstepped, with an a-priori bound of the interval's
-response below x_c and below the running peak: one closed-form step) or the slow path (events
-located by closed-form inflections, bracketed Newton on ẋ = 0 and on the thresholds). The slow
-intervals are split by why they are slow: stepped or held on the surface; unstepped with the
-bound reaching x_c; unstepped with the bound below x_c but reaching the running peak (the peak is
-then resolved between samples). The classification replays the kernel's fast-path test on the
-sampled history (running peak from the samples, which the kernel's exceeds by at most the
-between-sample rise: a handful of intervals). The cost of each class comes from timing runs
-(per pair, median of ``--repeat``) and least squares on the class counts; the slow path's parts
-from micro-benchmarks of the kernel's own functions.
+(``_exact.integrate``): the fast path (unstepped or stepped, and ``_exact._fast_step`` proves
+that nothing inside needs locating: the chord bound keeps x inside the phase's thresholds and
+below the running peak, or x is monotone with both ends inside; one closed-form step); held on
+the surface; or the slow path (events located by closed-form inflections, bracketed Newton on
+ẋ = 0 and on the thresholds), split by why it was taken: the range reaches a threshold, or only
+the running peak (which is then resolved between samples). The classification replays the
+kernel's own test on the sampled history (running and episode peaks from the samples, which the
+kernel's exceed by at most the between-sample rise: a handful of intervals); beside it, the share
+of unstepped intervals the kernel's earlier a-priori envelope test passed (|x_p| + the free
+vibration's amplitude below x_c and the peak). The cost of each class comes from timing runs
+(per pair, median of ``--repeat`` calls of ten runs in one call of the batch kernel) and least
+squares on the class counts; the slow path's parts from micro-benchmarks of the kernel's own
+functions.
 """
 
 from __future__ import annotations
@@ -54,8 +57,10 @@ from stepframe.records.spectra import nigam_jennings_coefficients, peak_displace
 from stepframe.records.units import STANDARD_GRAVITY_M_S2
 from stepframe.structure import _exact
 from stepframe.structure.simulator import DEFAULT_TAIL_S, model_of, simulate_batch
+from stepframe.structure.status import INVARIANT_RTOL
 
 ELASTIC_FACTOR = 0.05
+RUNS_PER_CALL = 10
 
 
 @numba.njit(cache=True)
@@ -146,47 +151,61 @@ def roofline_exact_peak(
 @numba.njit(cache=True)
 def classify(
     ag: np.ndarray, dt: float, hist_x: np.ndarray, hist_v: np.ndarray, hist_p: np.ndarray,
-    n_steps: int, w1: float, xi1: float, p1: float, xc: float,
+    n_steps: int, model: Any, tol_x: float,
 ) -> np.ndarray:  # fmt: skip
-    """Intervals by class: fast, stepped or held, near x_c, near the running peak; then how many
-    of the near-x_c and near-peak ones a sharper test would let through (module docstring)."""
-    counts = np.zeros(6, dtype=np.int64)
-    beta1 = xi1 * w1
-    k1 = w1 * w1
-    wd1_sq = -w1 * w1 * (xi1 - 1.0) * (xi1 + 1.0)
+    """Interval counts by class (module docstring): fast unstepped, fast stepped, held on the
+    surface, slow near a threshold, slow for the peak only; then the fast ones passed by the
+    monotone test, and the unstepped ones the earlier envelope test passed."""
+    w1, w2, p1, p2, g1, xi1, xi2, xc, _, xcap = model
+    counts = np.zeros(7, dtype=np.int64)
+    beta1, k1 = xi1 * w1, w1 * w1
+    disc1 = w1 * w1 * (xi1 - 1.0) * (xi1 + 1.0)
+    bound1 = _exact._bound_constants(beta1, k1, disc1, dt)
+    beta2, k2 = xi2 * w2, -w2 * w2
+    disc2 = w2 * w2 * (xi2 * xi2 + 1.0)
+    bound2 = _exact._bound_constants(beta2, k2, disc2, dt)
+    lim_x, lim_cap = xc - tol_x, xcap - tol_x
     peak = abs(hist_x[0])
+    ep_peak = abs(hist_x[0])
     n_rec = ag.size - 1
     for i in range(n_steps):
         x = hist_x[i]
         v = hist_v[i]
+        phase = hist_p[i]
         peak = max(peak, abs(x))
-        if hist_p[i] != 0:
-            counts[1] += 1
+        # The episode's peak from its samples (from x_c at its lift-off).
+        ep_peak = max(ep_peak, abs(x)) if phase != 0 and i > 0 and hist_p[i - 1] != 0 else xc
+        if phase == 2 or phase == -2:
+            counts[2] += 1
             continue
         ag_a = ag[i] if i < n_rec else 0.0
         ag_b = ag[i + 1] if i < n_rec else 0.0
         slope = (ag_b - ag_a) / dt
-        b_p = -p1 * slope / k1
-        a_p = (-p1 * ag_a - 2.0 * beta1 * b_p) / k1
-        y0 = x - a_p
-        y1 = v - b_p
-        m = max(abs(a_p), abs(a_p + b_p * dt))
-        q = y1 + beta1 * y0
-        bound = math.sqrt(y0 * y0 + q * q / wd1_sq)
-        # Sharper: x - (its chord) ≤ max|ẍ|·dt²/8 over the interval, and ẍ = ÿ (the particular
-        # solution is linear) has the envelope of a free vibration too.
-        y2 = -2.0 * beta1 * y1 - k1 * y0
-        y3 = -2.0 * beta1 * y2 - k1 * y1
-        curvature = math.sqrt(y2 * y2 + (y3 + beta1 * y2) ** 2 / wd1_sq)
-        reach = max(abs(x), abs(hist_x[i + 1])) + curvature * dt * dt / 8.0
-        if bound >= xc - m:
-            counts[2] += 1
-            counts[4] += reach < min(xc, peak)
-        elif bound >= peak - m:
-            counts[3] += 1
-            counts[5] += reach < min(xc, peak)
+        if phase == 0:
+            step = (x, v, -p1 * ag_a, -p1 * slope, beta1, k1, bound1,
+                    -lim_x, lim_x)  # fmt: skip
+            top = peak
+            # The envelope test of the kernel before: |x_p| + M_0 < min(x_c, peak).
+            b_p = -p1 * slope / k1
+            a_p = (-p1 * ag_a - 2.0 * beta1 * b_p) / k1
+            y0 = x - a_p
+            q = v - b_p + beta1 * y0
+            m = max(abs(a_p), abs(a_p + b_p * dt))
+            counts[6] += math.sqrt(y0 * y0 + q * q / -disc1) < min(xc, peak) - m
         else:
-            counts[0] += 1
+            s = 1.0 if phase > 0 else -1.0
+            lo, hi = (xc + tol_x, lim_cap) if phase > 0 else (-lim_cap, -xc - tol_x)
+            step = (x, v, -s * g1 - p2 * ag_a, -p2 * slope, beta2, k2, bound2,
+                    lo, hi)  # fmt: skip
+            top = ep_peak
+        kind = _exact._fast_step(*step, top)[2]
+        if kind != 0:
+            counts[0 if phase == 0 else 1] += 1
+            counts[5] += kind == 2
+        elif _exact._fast_step(*step, math.inf)[2] == 0:
+            counts[3] += 1  # slow even with no peak to keep: its range reaches a threshold
+        else:
+            counts[4] += 1
     return counts
 
 
@@ -240,6 +259,18 @@ def _median_time(function: Any, repeat: int) -> float:
         function()
         times.append(time.thread_time() - start)
     return statistics.median(times)
+
+
+def _run_many(model: Any, ag: np.ndarray, dt: float, n_tail: int) -> None:
+    """``RUNS_PER_CALL`` runs of one pair in one call of the batch kernel (summaries only): the
+    Python call's own cost, tens of µs, shared out so that it does not drown a run's slow
+    intervals in its noise."""
+    out = np.empty((RUNS_PER_CALL, 10))
+    _exact.integrate_batch(
+        ag, np.array([0, ag.size]), np.zeros(RUNS_PER_CALL, dtype=np.int64),
+        np.ones(RUNS_PER_CALL), np.array([dt]), np.array([n_tail]), np.array([*model, 0.0, 0.0]),
+        out,
+    )  # fmt: skip
 
 
 def _run(model: Any, ag: np.ndarray, dt: float, n_tail: int, history: bool) -> tuple[Any, ...]:
@@ -309,20 +340,21 @@ def main() -> None:
                  t_sim / t_roof)
             )  # fmt: skip
             # Account: per-pair times against the class counts of its intervals.
-            counts = np.zeros((len(series), 7))
+            counts = np.zeros((len(series), 8))
             times = np.zeros(len(series))
             for j, (acc, dt) in enumerate(series):
                 ag = acc * scales[j]
                 res, hist = _run(model, ag, dt, tails[j], history=True)
                 last = padded[j].size - 1
                 steps = min(round(float(res[11]) / dt), last) if res[6] else last
-                counts[j, :6] = classify(
-                    padded[j] * scales[j], dt, *hist, steps, frame.omega_1_rad_s, frame.xi_1,
-                    frame.p_1, frame.x_c_m,
+                counts[j, :7] = classify(
+                    padded[j] * scales[j], dt, *hist, steps, tuple(model),
+                    INVARIANT_RTOL * max(frame.x_c_m, frame.x_star_m),
                 )  # fmt: skip
-                counts[j, 6] = res[1]
-                times[j] = _median_time(
-                    functools.partial(_run, model, ag, dt, tails[j], False), args.repeat
+                counts[j, 7] = res[1]
+                times[j] = (
+                    _median_time(functools.partial(_run_many, model, ag, dt, tails[j]), args.repeat)
+                    / RUNS_PER_CALL
                 )
             account_rows.append((name, label, counts, times))
     print("| frame | runs | stepping / overturned / impacts | simulator [samples/s/core] | "
@@ -340,44 +372,41 @@ def main() -> None:
 
 
 def _account(rows: list[Any], throughput: list[Any]) -> None:
-    """Least-squares cost of each interval class and event, the time shares they make, and what
-    the sharper test would leave (projected with the same costs)."""
-    classes = [0, 1, 2, 3, 6]  # fast, stepped/held, near x_c, near peak, events
+    """Least-squares cost of each interval class and event, and the time shares they make."""
     all_counts = np.concatenate([c for _, _, c, _ in rows])
     all_times = np.concatenate([t for _, _, _, t in rows])
+
+    def grouped(counts: np.ndarray) -> np.ndarray:
+        """Fast (either phase), held, slow (near a threshold or for the peak), events."""
+        return np.column_stack([counts[:, 0] + counts[:, 1], counts[:, 2],
+                                counts[:, 3] + counts[:, 4], counts[:, 7]])  # fmt: skip
+
     # Per-run constant (the call, its allocations), then one cost per class and per event.
-    design = np.column_stack([np.ones(all_times.size), all_counts[:, classes]])
+    design = np.column_stack([np.ones(all_times.size), grouped(all_counts)])
     cost, *_ = np.linalg.lstsq(design, all_times, rcond=None)
     fitted = design @ cost
     r2 = 1 - np.sum((all_times - fitted) ** 2) / np.sum((all_times - all_times.mean()) ** 2)
     roof_ns = 1e9 / statistics.median(r[6] for r in throughput)  # the roofline's rate
-    names = ("per run", "fast interval", "stepped/held interval", "near-x_c interval",
-             "near-peak interval", "event")  # fmt: skip
+    names = ("per run", "fast interval", "held interval", "slow interval", "event")
     print(f"Cost per item (least squares over {all_times.size} runs, R² = {r2:.3f}); "
           f"roofline sample: {roof_ns:.2f} ns.\n")  # fmt: skip
     print("| item | cost [ns] | in roofline samples |")
     print("|---|---|---|")
     for item, value in zip(names, cost, strict=True):
         print(f"| {item} | {1e9 * value:,.1f} | {1e9 * value / roof_ns:,.1f} |")
-    print("\n| frame | runs | fast | stepped/held | near x_c | near peak | events per 1,000 "
-          "intervals | time: fast / stepped / near x_c / near peak / events | near x_c, near "
-          "peak passing the sharper test | projected simulator / roofline |")  # fmt: skip
-    print("|---|---|---|---|---|---|---|---|---|---|")
-    for (name, label, counts, _), speeds in zip(rows, throughput, strict=True):
+    print("\n| frame | runs | fast: unstepped / stepped (by the monotone test) | held | slow "
+          "near a threshold | slow for the peak | events per 1,000 intervals | time: fast / held "
+          "/ slow / events | unstepped fast by the envelope test (before) |")  # fmt: skip
+    print("|---|---|---|---|---|---|---|---|---|")
+    for name, label, counts, _ in rows:
         sums = counts.sum(axis=0)
-        total = sums[:4].sum()
-        shares = " | ".join(f"{100 * v / total:.1f} %" for v in sums[:4])
-        parts = sums[classes] * cost[1:]
+        total = sums[:5].sum()
+        pct = 100 * sums / total
+        parts = grouped(sums[None, :])[0] * cost[1:]
         split = " / ".join(f"{100 * v / parts.sum():.0f} %" for v in parts)
-        passing = (
-            f"{100 * sums[4] / max(sums[2], 1):.0f} %, {100 * sums[5] / max(sums[3], 1):.0f} %"
-        )
-        # Intervals the sharper test passes move to the fast class; the rest keep their cost.
-        moved = sums[[0, 1, 2, 3, 6]] - np.array([-(sums[4] + sums[5]), 0, sums[4], sums[5], 0])
-        projected = float(moved @ cost[1:]) / float(parts.sum()) * speeds[-1]
-        events = 1000 * sums[6] / total
-        print(f"| {name} | {label} | {shares} | {events:.1f} | {split} | {passing} | "
-              f"{projected:.1f} |")  # fmt: skip
+        print(f"| {name} | {label} | {pct[0]:.1f} % / {pct[1]:.1f} % ({pct[5]:.1f} %) | "
+              f"{pct[2]:.1f} % | {pct[3]:.2f} % | {pct[4]:.2f} % | {1000 * sums[7] / total:.1f} | "
+              f"{split} | {pct[6]:.1f} % |")  # fmt: skip
     print(f"\n(measured total of these runs: {1e3 * all_times.sum():.1f} ms; model "
           f"{1e3 * fitted.sum():.1f} ms)\n")  # fmt: skip
 
