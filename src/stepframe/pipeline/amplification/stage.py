@@ -265,8 +265,9 @@ AMPLIFICATION_STAGE = Stage(
 
 
 # 2: one set of analysis options with the command; 3: maxima past the grid's edges, the band
-# from the parameters' standard errors, the frame's stepping and δ* against x_c and x*
-AMPLIFICATION_REPORT_VERSION = 3
+# from the parameters' standard errors, the frame's stepping and δ* against x_c and x*; 4: the
+# frame's simulations by the integrator's chord-bound fast path (the same to rounding)
+AMPLIFICATION_REPORT_VERSION = 4
 AMPLIFICATION_REPORT_HTML = "amplification_report.html"
 
 #: The ``[amplification_report]`` table: the report's own choices (its curve follows

@@ -25,7 +25,9 @@ from stepframe.pipeline.dynamics.studies import IdaOptions
 from stepframe.pipeline.engine.stage import Context, Param, Stage, params_from_options
 from stepframe.pipeline.engine.store import make_key, write_output_table
 
-IDA_VERSION = 2  # 2: the command's settings and probes (one declaration with structure ida)
+# 2: the command's settings and probes (one declaration with structure ida); 3: the exact
+# integrator's chord-bound fast path (the same runs to rounding, recomputed rather than mixed)
+IDA_VERSION = 3
 IDA_TABLE = "ida.csv"
 IDA_SUMMARY = "ida_summary.json"
 
