@@ -56,6 +56,33 @@ def test_no_op_rerun_computes_nothing_and_gives_the_same_bytes(scene: Path) -> N
     assert first.outputs == second.outputs
 
 
+def test_no_op_rerun_leaves_the_output_tables_unwritten_unless_touched(scene: Path) -> None:
+    """An unchanged table is not written again (its three files keep their times); an output
+    file edited or deleted since is written again, as is a table whose rows changed."""
+    outputs = scene / "stepframe-work" / "outputs"
+    names = ("features.parquet", "features.csv", "features.columns.csv")
+
+    def stamps() -> dict[str, int]:
+        return {name: (outputs / name).stat().st_mtime_ns for name in names}
+
+    _run(scene / "wf.toml")
+    before = stamps()
+    _run(scene / "wf.toml")
+    assert stamps() == before
+    csv = outputs / "features.csv"
+    original = csv.read_bytes()
+    csv.write_bytes(b"edited\n")
+    _run(scene / "wf.toml")
+    assert csv.read_bytes() == original  # restored from the store's table
+    (outputs / "features.columns.csv").unlink()
+    _run(scene / "wf.toml")
+    assert (outputs / "features.columns.csv").is_file()
+    files = sorted((scene / "records").iterdir())
+    shutil.copy(files[0], scene / "records" / "copy-of-first.AT2")
+    _run(scene / "wf.toml")
+    assert "copy-of-first.AT2" in pd.read_csv(csv)["duplicates"].iloc[0]
+
+
 def test_two_new_files_compute_exactly_two_items_per_stage(scene: Path) -> None:
     _run(scene / "wf.toml")
     write_example_files(scene / "records", count=SMALL + 2)

@@ -21,6 +21,7 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from stepframe.core.io import atomic_write
+from stepframe.core.paths import absolute_name
 from stepframe.pipeline.engine.store import file_sha256
 
 #: The workspace file that remembers the hashes.
@@ -73,7 +74,7 @@ def file_hashes(
         One hash per path, in order.
     """
     known = _read_cache(cache) if cache is not None else {}
-    names = [str(path.absolute()) for path in paths]
+    names = [absolute_name(path) for path in paths]
     identities = [_identity(os.stat(path)) for path in paths]
     hashes: list[str | None] = []
     for name, identity in zip(names, identities, strict=True):

@@ -15,9 +15,11 @@ worker keeps the last files it read, keyed by their content hash), so a run read
 from __future__ import annotations
 
 import math
+import os
 from pathlib import Path
 from typing import Any
 
+from stepframe.core.paths import absolute_name, relative_name
 from stepframe.errors import InputError
 from stepframe.pipeline.catalogue.fit_options import ESTIMATION_FIELDS, FitOptions
 from stepframe.pipeline.engine.same_content import NAME_SEPARATOR
@@ -69,6 +71,10 @@ def record_folder(context: Context) -> Path:
     return workflow.records.folder
 
 
+#: Key of the records' (path, sha256) list the inventory's prepare step keeps for its tasks.
+_CONTENTS = "inventory.record_contents"
+
+
 def _prepare_inventory(context: Context) -> None:
     """Before a real run lists its tasks: the embedded example's files written into the
     workspace, or the records' hashes brought up to date in the workspace's cache."""
@@ -78,8 +84,9 @@ def _prepare_inventory(context: Context) -> None:
 
         write_example_files(record_folder(context))
     elif records is not None:
-        # the folder's warnings (links skipped) come once, from the task listing that follows
-        _record_contents(context, update=True, quiet=True)
+        # the folder's warnings (links skipped) come once, from the task listing that follows;
+        # the contents are kept for it (one listing and one hash check per run)
+        context.memo[_CONTENTS] = _record_contents(context, update=True, quiet=True)
 
 
 def _record_contents(
@@ -111,18 +118,23 @@ def _inventory_tasks(context: Context) -> list[Task]:
     folder = record_folder(context)
     options = _record_options(context)
     names: dict[str, list[Path]] = {}
-    for path, sha in _record_contents(context):
+    contents = context.memo.pop(_CONTENTS, None)
+    if contents is None:  # a dry run (no prepare), or the embedded example
+        contents = _record_contents(context)
+    else:  # the listing's warnings, kept by the prepare step's quiet listing
+        context.workflow.record_files()
+    for path, sha in contents:
         names.setdefault(sha, []).append(path)
     tasks = []
     for sha, paths in names.items():
         key = make_key("inventory", INVENTORY_VERSION, options, sha)
-        first, *others = [path.relative_to(folder).as_posix() for path in paths]
+        first, *others = [relative_name(path, folder) for path in paths]
         tasks.append(
             Task(
                 key=key,
                 name=first,
                 # absolute: a Dask worker's current folder is not this process's
-                payload=(str(paths[0].absolute()), options, first, sha),
+                payload=(absolute_name(paths[0]), options, first, sha),
                 context={
                     "file": first,
                     "duplicates": NAME_SEPARATOR.join(others),
@@ -262,7 +274,7 @@ def _feature_task(
     return Task(
         key=make_key("features", FEATURES_VERSION, params, inventory_key, str(index), str(low)),
         name=f"{file} [{row['component']}]",
-        payload=(str(Path(folder) / file), options, index, params, low, file, sha),
+        payload=(os.path.join(folder, file), options, index, params, low, file, sha),
         context={
             "file": file,
             "duplicates": duplicates,

@@ -57,7 +57,7 @@ from stepframe.pipeline.engine.same_content import alias_lines, merge_same_key, 
 from stepframe.pipeline.engine.scheduler import Execution, check_scheduler, open_execution
 from stepframe.pipeline.engine.shipped import is_shipped, resolve_workflow
 from stepframe.pipeline.engine.stage import Context, Stage, StageTable, Task
-from stepframe.pipeline.engine.store import KEY_COLUMN, Store, write_output_table
+from stepframe.pipeline.engine.store import KEY_COLUMN, Store, publish_output_table
 from stepframe.pipeline.engine.workflow import DEFAULT_WORKSPACE, Workflow, load_workflow
 
 if TYPE_CHECKING:
@@ -597,7 +597,7 @@ def _publish_outputs(
         folder.mkdir(parents=True, exist_ok=True)
         if stage.kind == "item":
             made = item_outputs(name, workflow, stages, context, store, now=now, prune=prune)
-            paths = write_output_table(made.table, folder / f"{name}.parquet")
+            paths = publish_output_table(made.table, folder / f"{name}.parquet", store, name)
             failures_file = failures_path(folder / f"{name}.csv")
             _write_csv(made.failures, failures_file)
             paths.append(failures_file)

@@ -122,6 +122,9 @@ class Context:
     #: The run's start (UTC, ISO 8601, :func:`~stepframe.pipeline.engine.run_log.utc_now`): the
     #: seen time of the history and the stamp of the rows a stage dates by their run.
     started_utc: str = ""
+    #: Values a stage's ``prepare`` computed for its ``tasks`` in this run (by a key of the
+    #: stage's own), so that the two do not do the same work twice.
+    memo: dict[str, Any] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)

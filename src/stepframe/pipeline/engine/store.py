@@ -621,3 +621,52 @@ def write_output_table(table: pd.DataFrame, path: Path) -> list[Path]:
 
     _write_parquet(table, path)
     return [path, *write_table(table, path.with_suffix(".csv"))]
+
+
+#: The stage's store file that remembers what :func:`publish_output_table` last wrote.
+OUTPUT_STAMP = "output-stamp.json"
+
+
+def _file_stats(paths: list[Path]) -> list[list[Any] | None]:
+    """Each file's path, size and modification time [ns] (None when missing)."""
+    stats: list[list[Any] | None] = []
+    for path in paths:
+        try:
+            stat = path.stat()
+        except OSError:
+            stats.append(None)
+            continue
+        stats.append([str(path.absolute()), stat.st_size, stat.st_mtime_ns])
+    return stats
+
+
+def publish_output_table(table: pd.DataFrame, path: Path, store: Store, stage: str) -> list[Path]:
+    """:func:`write_output_table`, skipped when ``table`` is the one the last publication of
+    ``stage`` wrote and its three files are as that run left them.
+
+    The stamp (in the stage's store, :data:`OUTPUT_STAMP`) holds the digest of the table's
+    Parquet bytes and column dictionary, and each file's path, size and modification time in
+    nanoseconds: a file edited, replaced, moved or deleted since, or an outputs folder moved, is
+    written again. A no-op re-run of 43,000 components spent about 3 s writing the same 17 MB
+    CSV again (docs/scaling.md).
+
+    Returns the paths (Parquet first), written or not.
+    """
+    from stepframe.core.tables import column_dictionary, columns_path, write_table
+
+    data = _parquet_bytes(table)
+    dictionary = column_dictionary(table).to_csv(index=False).encode()
+    digest = sha256_hex(data + b"\0" + dictionary)
+    csv_path = path.with_suffix(".csv")
+    files = [path, csv_path, columns_path(csv_path)]
+    stamp = store.read_file(stage, OUTPUT_STAMP)
+    if stamp is not None:
+        last = json.loads(stamp)
+        if last.get("digest") == digest and last.get("files") == _file_stats(files):
+            return files
+    with atomic_write(path, "wb") as out:
+        out.write(data)
+    written = [path, *write_table(table, csv_path)]
+    record = {"digest": digest, "files": _file_stats(written)}
+    store.write_file(stage, OUTPUT_STAMP, json.dumps(record).encode())
+    return written
