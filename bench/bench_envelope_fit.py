@@ -4,8 +4,9 @@ The features stage fits a gamma envelope to each component's I_g(t) to locate it
 (``stochastic.features.peak_time_by_envelope``): a bounded 4-parameter ``least_squares(trf)``.
 It ran with a 2-point finite-difference Jacobian (five residual passes per iteration), about
 ten of the features' twenty milliseconds per component on NGA-length records (issue 29: the
-per-component cost of a 43,000-component catalogue). The peer, reproduced here, is that
-former call on the same residuals, start, bounds and tolerances; the current call supplies the
+per-component cost of a 43,000-component catalogue). The peer is that former call: the
+same function with ``least_squares``'s ``jac`` dropped while it runs (its default 2-point finite
+differences on the same residuals, start, bounds and tolerances); the current call supplies the
 analytic Jacobian (``features._GammaEnvelope``).
 
 Inputs: the (time, I_g) of every component as ``record_features`` passes them, for the 100
@@ -19,47 +20,31 @@ inputs, median of ``--repeat``; then how the two solutions compare.
 from __future__ import annotations
 
 import argparse
-import math
 import time
 from typing import Any
+from unittest import mock
 
 import numpy as np
-from scipy.optimize import least_squares
+from scipy.optimize import least_squares as _least_squares
 
 import nga_catalogue
 from stepframe.records import read
 from stepframe.records.examples import fema_p695
 from stepframe.stochastic import features
-from stepframe.stochastic.standard_errors import least_squares_covariance
+
+
+def _finite_differences(*args: Any, **kwargs: Any) -> Any:
+    """``scipy.optimize.least_squares`` without the analytic Jacobian (its default 2-point
+    finite differences): the former call."""
+    kwargs.pop("jac", None)
+    return _least_squares(*args, **kwargs)
 
 
 def former(time_s: Any, intensity: Any, window_s: float) -> tuple[float, float] | None:
-    """``peak_time_by_envelope`` as it was: trf with a 2-point finite-difference Jacobian."""
-    i_peak = int(np.argmax(intensity))
-    peak = float(intensity[i_peak])
-    t_peak = float(time_s[i_peak])
-    rising = np.flatnonzero(intensity[: i_peak + 1] < 0.05 * peak)
-    onset0 = float(time_s[rising[-1]]) if rising.size else float(time_s[0]) - 1.0
-    onset0 = min(onset0, t_peak - 0.5)
-    stride = max(1, time_s.size // 200)
-    time_s, intensity = time_s[::stride], intensity[::stride]
-    envelope = features._GammaEnvelope(time_s, intensity)
-    lower = [float(time_s[0]) - 60.0, 1e-3, 0.0, 0.05]
-    upper = [t_peak, float(time_s[-1] - time_s[0]) + 60.0, 10 * peak, 50.0]
-    try:
-        result = least_squares(
-            envelope.residual, [onset0, t_peak - onset0, peak, 2.0], bounds=(lower, upper),
-            method="trf", ftol=1e-6, xtol=1e-6,
-        )  # fmt: skip
-    except ValueError:
-        return None
-    if not result.success:
-        return None
-    spacing = float(time_s[1] - time_s[0]) if time_s.size > 1 else window_s
-    cov = least_squares_covariance(result.jac, result.fun, max(1.0, window_s / spacing))
-    grad = np.array([1.0, 1.0, 0.0, 0.0])
-    se = math.sqrt(max(float(grad @ cov @ grad), 0.0))
-    return float(result.x[0] + result.x[1]), features.T_MAX_SE_CALIBRATION * se
+    """``peak_time_by_envelope`` as it was: the same function with the trust-region fit
+    differentiating by finite differences (``least_squares`` patched while it runs)."""
+    with mock.patch("scipy.optimize.least_squares", _finite_differences):
+        return features.peak_time_by_envelope(time_s, intensity, window_s)
 
 
 def envelope_inputs(n_nga: int) -> tuple[list[tuple[Any, Any, float]], dict[str, int]]:
