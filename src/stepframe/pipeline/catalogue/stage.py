@@ -84,16 +84,13 @@ def _prepare_inventory(context: Context) -> None:
 
         write_example_files(record_folder(context))
     elif records is not None:
-        # the folder's warnings (links skipped) come once, from the task listing that follows;
-        # the contents are kept for it (one listing and one hash check per run)
-        context.memo[_CONTENTS] = _record_contents(context, update=True, quiet=True)
+        # kept for the task listing that follows: one listing and one hash check per run
+        context.memo[_CONTENTS] = _record_contents(context, update=True)
 
 
-def _record_contents(
-    context: Context, *, update: bool = False, quiet: bool = False
-) -> list[tuple[Path, str]]:
-    """Each record file with the sha256 of its bytes (the example's hashed in memory);
-    ``quiet`` keeps the folder listing's warnings for a later call."""
+def _record_contents(context: Context, *, update: bool = False) -> list[tuple[Path, str]]:
+    """Each record file with the sha256 of its bytes (the example's hashed in memory); the
+    folder listing's warnings are given by the first such call of a run."""
     workflow = context.workflow
     assert workflow.records is not None
     if workflow.records.example is not None:
@@ -106,7 +103,7 @@ def _record_contents(
     from stepframe.core.execution import default_jobs
     from stepframe.pipeline.catalogue.file_hashes import CACHE_NAME, file_hashes
 
-    paths = workflow.record_files(quiet=quiet)
+    paths = workflow.record_files()
     threads = context.jobs or default_jobs()
     hashes = file_hashes(paths, workflow.workspace / CACHE_NAME, update=update, threads=threads)
     return list(zip(paths, hashes, strict=True))
@@ -121,8 +118,6 @@ def _inventory_tasks(context: Context) -> list[Task]:
     contents = context.memo.pop(_CONTENTS, None)
     if contents is None:  # a dry run (no prepare), or the embedded example
         contents = _record_contents(context)
-    else:  # the listing's warnings, kept by the prepare step's quiet listing
-        context.workflow.record_files()
     for path, sha in contents:
         names.setdefault(sha, []).append(path)
     tasks = []
