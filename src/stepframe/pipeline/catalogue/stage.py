@@ -24,7 +24,7 @@ from stepframe.errors import InputError
 from stepframe.pipeline.catalogue.fit_options import ESTIMATION_FIELDS, FitOptions
 from stepframe.pipeline.engine.same_content import NAME_SEPARATOR
 from stepframe.pipeline.engine.stage import Context, Param, Stage, Task, params_from_options
-from stepframe.pipeline.engine.store import make_key
+from stepframe.pipeline.engine.store import KeyPrefix
 
 INVENTORY_VERSION = 1
 # 2: the fit's α_g reading and the example's lowest usable frequency enter the features;
@@ -121,8 +121,9 @@ def _inventory_tasks(context: Context) -> list[Task]:
     for path, sha in contents:
         names.setdefault(sha, []).append(path)
     tasks = []
+    prefix = KeyPrefix("inventory", INVENTORY_VERSION, options)
     for sha, paths in names.items():
-        key = make_key("inventory", INVENTORY_VERSION, options, sha)
+        key = prefix.key(sha)
         first, *others = [relative_name(path, folder) for path in paths]
         tasks.append(
             Task(
@@ -242,8 +243,9 @@ def _lowest_usable_hz(context: Context) -> dict[str, float]:
 
 
 #: What a features task is made of besides its inventory row: the stage's parameters, the record
-#: options, the records folder and each file's lowest usable frequency [Hz] where stated.
-FeaturesArgs = tuple[dict[str, Any], dict[str, Any], str, dict[str, float]]
+#: options, the records folder, each file's lowest usable frequency [Hz] where stated, and the
+#: prefix of the stage's keys.
+FeaturesArgs = tuple[dict[str, Any], dict[str, Any], str, dict[str, float], KeyPrefix]
 
 
 def _features_args(context: Context) -> FeaturesArgs:
@@ -251,7 +253,8 @@ def _features_args(context: Context) -> FeaturesArgs:
     differs)."""
     params = FEATURES_STAGE.parameters(context.workflow)
     folder = str(record_folder(context).absolute())
-    return params, _record_options(context), folder, _lowest_usable_hz(context)
+    prefix = KeyPrefix("features", FEATURES_VERSION, params)
+    return params, _record_options(context), folder, _lowest_usable_hz(context), prefix
 
 
 def _feature_task(
@@ -263,11 +266,11 @@ def _feature_task(
     row: dict[str, Any],
 ) -> Task:
     """The features task of one component (an inventory row of ``file``)."""
-    params, options, folder, lowest = args
+    params, options, folder, lowest, prefix = args
     index = int(row["channel_index"])
     low = lowest.get(file)
     return Task(
-        key=make_key("features", FEATURES_VERSION, params, inventory_key, str(index), str(low)),
+        key=prefix.key(inventory_key, str(index), str(low)),
         name=f"{file} [{row['component']}]",
         payload=(os.path.join(folder, file), options, index, params, low, file, sha),
         context={
@@ -281,7 +284,12 @@ def _feature_task(
 
 def _features_tasks(context: Context) -> list[Task]:
     args = _features_args(context)
-    rows: list[dict[str, Any]] = context.tables["inventory"].to_dict(orient="records")  # type: ignore[assignment]
+    inventory = context.tables["inventory"]
+    # the rows as to_dict(orient="records") gives them, from whole columns: 0.05 s instead of
+    # 0.7 s at 43,000 components
+    columns = [str(column) for column in inventory.columns]
+    values = zip(*(inventory[column].tolist() for column in columns), strict=True)
+    rows = [dict(zip(columns, row, strict=True)) for row in values]
     return [
         _feature_task(
             args,

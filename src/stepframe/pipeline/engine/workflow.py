@@ -177,13 +177,13 @@ class Workflow:
                 "folder",
             )
         if "files" not in self._listing:
-            from stepframe.core.paths import relative_name
-
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
                 listed = self._listed(folder, records)
-            # sorted once by the path inside the folder (each call sorted 43,000 paths again)
-            self._listing["files"] = sorted(listed, key=lambda p: relative_name(p, folder))
+            # sorted once by the path inside the folder (each call sorted 43,000 paths again),
+            # the one the listing gives (not made again from each path)
+            listed.sort(key=lambda found: found[0])
+            self._listing["files"] = [path for _, path in listed]
             self._listing["warnings"] = list(caught)
         if not quiet:
             for found in self._listing.pop("warnings", []):
@@ -198,8 +198,9 @@ class Workflow:
             )
         return files
 
-    def _listed(self, folder: Path, records: Records) -> list[Path]:
-        """The files of ``folder`` matching the glob, by the records-folder rule of
+    def _listed(self, folder: Path, records: Records) -> list[tuple[str, Path]]:
+        """The files of ``folder`` matching the glob (each with its path inside the folder in
+        POSIX form, :func:`~stepframe.core.paths.walk_files`), by the records-folder rule of
         :mod:`stepframe.core.paths` (regular files, links inside the folder, no pseudo-file
         system), the workspace left out (it may sit inside the records folder)."""
         from stepframe.core.paths import walk_files
@@ -208,7 +209,7 @@ class Workflow:
             listed = walk_files(
                 folder, records.glob, recursive=records.recursive, exclude=self.workspace
             )
-            return [file for _, file in listed]
+            return list(listed)
         except InputError as error:
             what = f"[records] folder: {error.one_line()}"
             raise self.lines.error(what, "records", "folder") from None

@@ -22,7 +22,7 @@ from stepframe.core.io import copy_files
 from stepframe.errors import InputError
 from stepframe.pipeline.catalogue.stage import record_folder
 from stepframe.pipeline.engine.stage import Context, Stage, Task
-from stepframe.pipeline.engine.store import make_key
+from stepframe.pipeline.engine.store import KeyPrefix, make_key
 from stepframe.pipeline.reports.provenance import workflow_provenance
 
 # 2: default rank_by substitute_demand_ratio; 3: records grouped, verticals left out, the
@@ -140,28 +140,34 @@ def _selection_publish(folder: Path, outputs: Path) -> list[Path]:
     return copy_files(folder, outputs / "selection")
 
 
-def _responses_args(context: Context) -> tuple[Any, str, dict[str, Any], str]:
-    """The pass the workflow's selection needs (None: none), its digest, the record options and
-    the records folder (absolute)."""
+#: What a responses task is made of besides its component: the pass the workflow's selection
+#: needs (None: none), its digest, the record options, the records folder (absolute) and the
+#: prefix of the stage's keys.
+ResponsesArgs = tuple[Any, str, dict[str, Any], str, KeyPrefix]
+
+
+def _responses_args(context: Context) -> ResponsesArgs:
+    """The :data:`ResponsesArgs` of a run."""
     from stepframe.pipeline.selection import record_pass
 
     workflow = context.workflow
     records = dict(workflow.records.options) if workflow.records is not None else {}
     spec = record_pass.selection_inputs(workflow.frame, _selection_options(workflow), records)[3]
     digest = record_pass.spec_digest(spec) if spec is not None else ""
-    return spec, digest, records, str(record_folder(context).absolute())
+    prefix = KeyPrefix("responses", RESPONSES_VERSION, {"spec": digest})
+    return spec, digest, records, str(record_folder(context).absolute()), prefix
 
 
 def _response_task(
-    args: tuple[Any, str, dict[str, Any], str],
+    args: ResponsesArgs,
     features_key: str,
     file: str,
     component: str,
     sha: str,
 ) -> Task:
-    spec, digest, options, folder = args
+    spec, digest, options, folder, prefix = args
     return Task(
-        key=make_key("responses", RESPONSES_VERSION, {"spec": digest}, features_key),
+        key=prefix.key(features_key),
         name=f"{file} [{component}]",
         payload=(f"{folder}{os.sep}{file}", options, component, sha, spec, digest),
         context={"file": file, "component": component},
@@ -174,18 +180,20 @@ def _responses_tasks(context: Context) -> list[Task]:
         return []
     features = context.tables["features"]
     inventory = context.tables["inventory"]
-    sha = dict(zip(inventory["file"], inventory["content_sha256"], strict=True))
+    # whole columns as lists: iterating a Series of Arrow strings costs a call per value
+    sha = dict(zip(inventory["file"].tolist(), inventory["content_sha256"].tolist(), strict=True))
     return [
         _response_task(args, str(key), str(file), str(component), str(sha[file]))
         for key, file, component in zip(
-            features["_key"], features["file"], features["component"], strict=True
+            features["_key"].tolist(),
+            features["file"].tolist(),
+            features["component"].tolist(),
+            strict=True,
         )
     ]
 
 
-def expand_responses(
-    args: tuple[Any, str, dict[str, Any], str], features: Task, rows: list[dict[str, Any]]
-) -> list[Task]:
+def expand_responses(args: ResponsesArgs, features: Task, rows: list[dict[str, Any]]) -> list[Task]:
     """The responses task of one component, from its features task (worker side)."""
     if args[0] is None or not rows:
         return []
