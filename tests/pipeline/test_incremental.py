@@ -83,6 +83,36 @@ def test_no_op_rerun_leaves_the_output_tables_unwritten_unless_touched(scene: Pa
     assert "copy-of-first.AT2" in pd.read_csv(csv)["duplicates"].iloc[0]
 
 
+def test_no_op_rerun_leaves_a_published_set_unwritten_unless_touched(scene: Path) -> None:
+    """A whole-set result published by the last run and untouched since is not copied again
+    (its files keep their times); an edited or deleted copy, or another result, is published
+    again, and an edited copy is the stored bytes again."""
+    site = '[site]\nfrom = "records"\nplausible_only = false\n\n[outputs]\nsite = true'
+    write_workflow(scene, FEATURES_WORKFLOW.replace("[outputs]", site))
+    outputs = scene / "stepframe-work" / "outputs"
+
+    def stamps() -> dict[str, int]:
+        return {p.name: p.stat().st_mtime_ns for p in outputs.glob("site_model*")}
+
+    first = _run(scene / "wf.toml")
+    before = stamps()
+    assert set(before) == {Path(p).name for p in first.outputs["site"]}  # json, parquet, csvs
+    second = _run(scene / "wf.toml")
+    assert stamps() == before and second.outputs["site"] == first.outputs["site"]
+    copy = outputs / "site_model.json"
+    original = copy.read_bytes()
+    copy.write_bytes(b"{}")
+    _run(scene / "wf.toml")
+    assert copy.read_bytes() == original
+    (outputs / "site_model.csv").unlink()
+    _run(scene / "wf.toml")
+    assert (outputs / "site_model.csv").is_file()
+    # another result (one record fewer): its model published, not the last one's
+    sorted((scene / "records").iterdir())[0].unlink()
+    _run(scene / "wf.toml")
+    assert pd.read_parquet(outputs / "site_model.parquet")["n_components"].iloc[0] == SMALL - 1
+
+
 def test_two_new_files_compute_exactly_two_items_per_stage(scene: Path) -> None:
     _run(scene / "wf.toml")
     write_example_files(scene / "records", count=SMALL + 2)

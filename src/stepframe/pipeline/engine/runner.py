@@ -57,7 +57,12 @@ from stepframe.pipeline.engine.same_content import alias_lines, merge_same_key, 
 from stepframe.pipeline.engine.scheduler import Execution, check_scheduler, open_execution
 from stepframe.pipeline.engine.shipped import is_shipped, resolve_workflow
 from stepframe.pipeline.engine.stage import Context, Stage, StageTable, Task
-from stepframe.pipeline.engine.store import KEY_COLUMN, Store, publish_output_table
+from stepframe.pipeline.engine.store import (
+    KEY_COLUMN,
+    Store,
+    publish_output_table,
+    publish_set,
+)
 from stepframe.pipeline.engine.workflow import DEFAULT_WORKSPACE, Workflow, load_workflow
 
 if TYPE_CHECKING:
@@ -605,8 +610,7 @@ def _publish_outputs(
                 report.new_failures = (report.new_failures or 0) + made.new_failures
         else:
             assert stage.publish is not None
-            paths = stage.publish(context.set_dirs[name], folder)
-            problem = store.check_published(name, context.set_keys[name], paths)
+            paths, problem = publish_set(stage.publish, folder, store, name, context.set_keys[name])
             if problem:  # never a damaged copy published as complete
                 report.missing[name] = problem
                 continue
