@@ -5,8 +5,13 @@ Runs ``python -m stepframe.cli run WORKFLOW --json`` in the workflow's folder wi
 interpreter in turn (before, after, before, after, ...), each a fresh process, and prints per run
 its wall time, the CPU time of the process and its children (user + system, from ``wait4``), the
 stages' items computed (all 0 in a no-op), and the 1-minute load average before it; then the
-medians per interpreter and their ratio. The first run of each interpreter is a warm-up, not
-counted: a changed code may legitimately write its stamps and outputs again once.
+medians per interpreter and their ratio. The first round is a warm-up, not counted: a changed
+code may legitimately write its stamps and outputs again once. With ``--settle`` each counted
+run follows an uncounted one of the same interpreter: a code that leaves published files alone
+when untouched publishes them again after a run of a code that copies them each time, once.
+With ``--pycache DIR`` the runs may cache their bytecode in DIR (``PYTHONPYCACHEPREFIX``) where
+the environment forbids writing it (``PYTHONDONTWRITEBYTECODE``): without it every run compiles
+the package's sources again, which an ordinary installation does not.
 
 Usage (the workspace of ``bench/bench_nga_scale.py --name nga43k``)::
 
@@ -37,7 +42,7 @@ class Run:
     computed: list[int]
 
 
-def _one_run(python: str, workflow: Path) -> Run:
+def _one_run(python: str, workflow: Path, env: dict[str, str]) -> Run:
     """Wall and CPU time [s] of one run, its stages' computed items, the load before it."""
     load = os.getloadavg()[0]
     start = time.perf_counter()
@@ -46,6 +51,7 @@ def _one_run(python: str, workflow: Path) -> Run:
         cwd=workflow.parent,
         stdout=subprocess.PIPE,
         stderr=subprocess.DEVNULL,
+        env=env,
     )
     assert process.stdout is not None
     out = process.stdout.read()
@@ -65,12 +71,20 @@ def main() -> None:
         "--python", action="append", required=True, help="NAME=interpreter, in run order"
     )
     parser.add_argument("--rounds", type=int, default=4, help="counted runs per interpreter")
+    parser.add_argument("--settle", action="store_true", help="an uncounted run before each")
+    parser.add_argument("--pycache", type=Path, help="a folder for the runs' bytecode")
     args = parser.parse_args()
+    env = dict(os.environ)
+    if args.pycache is not None:
+        env.pop("PYTHONDONTWRITEBYTECODE", None)
+        env["PYTHONPYCACHEPREFIX"] = str(args.pycache.absolute())
     pythons = dict(item.split("=", 1) for item in args.python)
     results: dict[str, list[Run]] = {name: [] for name in pythons}
     for round_ in range(args.rounds + 1):
         for name, python in pythons.items():
-            run = _one_run(python, args.workflow.absolute())
+            if args.settle and round_ > 0:
+                _one_run(python, args.workflow.absolute(), env)
+            run = _one_run(python, args.workflow.absolute(), env)
             counted = round_ > 0
             print(
                 f"{name:>8} {'run' if counted else 'warm-up'}: wall {run.wall_s:.2f} s, "
