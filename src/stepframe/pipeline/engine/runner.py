@@ -16,7 +16,10 @@ it was computing:
 5. whole-set stages: compute the result unless its key is stored and sound;
 6. publish the requested outputs (Parquet, CSV copies, failure tables, NetCDF) atomically,
    with what earlier runs saw when the workflow keeps a history
-   (:mod:`stepframe.pipeline.engine.history`), each copy of a stored file checked against it;
+   (:mod:`stepframe.pipeline.engine.history`), each copy of a stored file checked against it
+   (an output the last run published and left untouched is not written again:
+   :func:`~stepframe.pipeline.engine.store.publish_output_table`,
+   :func:`~stepframe.pipeline.engine.store.publish_set`);
 7. merge a stage's small segments; append the run's line to the run log
    (:mod:`stepframe.pipeline.engine.run_log`).
 
