@@ -486,18 +486,24 @@ def _store_batch(
                 for task in group[1]
             ]
     rows: dict[str, list[dict[str, Any]]] = {name: []}
+    row_keys: dict[str, list[str]] = {name: []}
     failed: dict[str, list[tuple[str, Failure]]] = {name: []}
     for stage, key, value in computed:
         rows.setdefault(stage, [])
+        row_keys.setdefault(stage, [])
         failed.setdefault(stage, [])
         if isinstance(value, Failure):
             failed[stage].append((key, value))
         else:
-            rows[stage] += [{KEY_COLUMN: key, **row} for row in value]
+            rows[stage] += value  # the workers' row dicts, not copied: the key is a column
+            row_keys[stage] += [key] * len(value)
         if stage != name:
             context.chained.setdefault(stage, set()).add(key)
     for stage in rows:
-        store.add_rows(stage, pd.DataFrame(rows[stage]), failed[stage])
+        table = pd.DataFrame(rows[stage])
+        if len(table):
+            table.insert(0, KEY_COLUMN, row_keys[stage])
+        store.add_rows(stage, table, failed[stage])
 
 
 def _stored_table(stage: Stage, tasks: list[Task], store: Store) -> pd.DataFrame:
