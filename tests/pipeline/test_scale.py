@@ -9,6 +9,7 @@ import os
 import re
 import shutil
 from collections import Counter
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import Any
 
@@ -216,3 +217,34 @@ def test_record_hashes_are_remembered_while_a_file_is_unchanged(
     hashed.clear()
     assert file_hashes.file_hashes(files, cache) == [sha(p) for p in files]
     assert len(hashed) == 3
+
+
+def test_record_hashes_computed_on_the_workers_are_the_files_sha256(tmp_path: Path) -> None:
+    # A first run hashes the files on the run's workers (pool or cluster), not in its own
+    # process; the hashes are hashlib's, in the files' order, and a file that cannot be read
+    # fails as it does in this process: the same OSError, naming the file.
+    import hashlib
+
+    files = write_example_files(tmp_path / "records", count=7)
+    expected = [hashlib.sha256(p.read_bytes()).hexdigest() for p in files]
+    folder = tmp_path / "records"
+    with execution.WorkerPool(2) as pool:
+        assert pool.submit(os.getpid).result() != os.getpid()  # started: every file goes there
+        assert file_hashes.file_hashes(files, executor=pool) == expected
+        with pytest.raises(IsADirectoryError) as on_workers:
+            file_hashes.file_hashes([*files, folder], executor=pool)
+    with pytest.raises(IsADirectoryError) as here:
+        file_hashes.file_hashes([*files, folder], threads=2)
+    assert on_workers.value.filename == here.value.filename == str(folder)
+    assert on_workers.value.errno == here.value.errno
+
+    class Counting(ThreadPoolExecutor):  # an executor whose workers run: no probe here
+        submitted = 0
+
+        def submit(self, *args: Any, **kwargs: Any) -> Any:
+            Counting.submitted += 1
+            return super().submit(*args, **kwargs)
+
+    with Counting(2) as counting:
+        assert file_hashes.file_hashes(files, executor=counting) == expected
+    assert Counting.submitted >= 2  # in chunks, on its workers

@@ -314,6 +314,51 @@ def map_items(
         ``jobs`` or ``chunk_size`` below 1.
     """
     start = time.perf_counter()
+    collected = sorted(
+        iter_items(
+            function,
+            items,
+            jobs=jobs,
+            executor=executor,
+            chunk_size=chunk_size,
+            stage=stage,
+            name_of=name_of,
+            progress=progress,
+            worth_s=worth_s,
+            units_of=units_of,
+            failures_in=failures_in,
+        ),
+        key=lambda entry: entry[0],
+    )
+    results = [value for _, ok, value in collected if ok]
+    indices = [index for index, ok, _ in collected if ok]
+    failures = [value for _, ok, value in collected if not ok]
+    return MapOutcome(results, failures, indices, time.perf_counter() - start)
+
+
+def iter_items(
+    function: Callable[[Item], Result],
+    items: Sequence[Item],
+    *,
+    jobs: int | None = None,
+    executor: Executor | None = None,
+    chunk_size: int | None = None,
+    stage: str = "",
+    name_of: Callable[[Item], str] = str,
+    progress: bool | str = False,
+    worth_s: float | None = None,
+    units_of: Callable[[Item], int] | None = None,
+    failures_in: Callable[[Result], int] | None = None,
+) -> Iterator[tuple[int, bool, Any]]:
+    """:func:`map_items` as its items finish: ``(index, True, result)`` or ``(index, False,
+    Failure)`` in the order they complete, not the input order.
+
+    For a caller that keeps what finished as it goes (a run stores a segment every
+    ``batch_items`` items) while the workers carry on with the rest: every chunk is handed to
+    the executor at once, so no worker waits for the slowest chunk of a batch or for this
+    process to store it. The same parameters, probe and rules as :func:`map_items`; closing the
+    iterator early cancels the chunks not started.
+    """
     workers = default_jobs() if jobs is None else jobs
     if workers < 1:
         raise InputError(f"jobs = {jobs}, expected ≥ 1")
@@ -323,10 +368,8 @@ def map_items(
     label = progress if isinstance(progress, str) else (stage or "items")
     units = [1 if units_of is None else units_of(item) for item in items]
     bar = _Progress(sum(units), label, bool(progress))
-    collected: list[tuple[int, bool, Any]] = []
 
-    def take(part: list[tuple[int, bool, Any]]) -> None:
-        collected.extend(part)
+    def counted(part: list[tuple[int, bool, Any]]) -> list[tuple[int, bool, Any]]:
         failed = 0
         for index, ok, value in part:
             if not ok:
@@ -334,6 +377,7 @@ def map_items(
             elif failures_in is not None:
                 failed += failures_in(value)
         bar.update(sum(units[index] for index, _, _ in part), failed)
+        return part
 
     try:
         rest = indexed
@@ -342,7 +386,7 @@ def map_items(
         if parallel and threshold_s > 0:
             # The probe: one item here, timed; the rest go to workers only if that pays.
             probe_start = time.perf_counter()
-            take(_run_chunk(function, indexed[:1], stage, name_of))
+            yield from counted(_run_chunk(function, indexed[:1], stage, name_of))
             per_item_s = time.perf_counter() - probe_start
             rest = indexed[1:]
             parallel = per_item_s * len(rest) >= threshold_s
@@ -350,19 +394,16 @@ def map_items(
         chunks = [rest[i : i + size] for i in range(0, len(rest), size)]
         if not parallel or (executor is None and len(chunks) <= 1):
             for chunk in chunks:
-                take(_run_chunk(function, chunk, stage, name_of))
+                yield from counted(_run_chunk(function, chunk, stage, name_of))
         elif executor is not None:
-            _gather(executor, function, chunks, stage, name_of, take)
+            for part in _completed(executor, function, chunks, stage, name_of):
+                yield from counted(part)
         else:
             with WorkerPool(min(workers, len(chunks))) as pool:
-                _gather(pool, function, chunks, stage, name_of, take)
+                for part in _completed(pool, function, chunks, stage, name_of):
+                    yield from counted(part)
     finally:
         bar.close()
-    collected.sort(key=lambda entry: entry[0])
-    results = [value for _, ok, value in collected if ok]
-    indices = [index for index, ok, _ in collected if ok]
-    failures = [value for _, ok, value in collected if not ok]
-    return MapOutcome(results, failures, indices, time.perf_counter() - start)
 
 
 def _call(call: Callable[[], Result]) -> Result:
@@ -427,14 +468,15 @@ def _worth_s(executor: Executor | None) -> float:
     return 0.0
 
 
-def _gather(
+def _completed(
     executor: Executor,
     function: Callable[[Any], Any],
     chunks: list[list[tuple[int, Any]]],
     stage: str,
     name_of: Callable[[Any], str],
-    take: Callable[[list[tuple[int, bool, Any]]], None],
-) -> None:
+) -> Iterator[list[tuple[int, bool, Any]]]:
+    """Each chunk's outcomes as it completes; every chunk submitted at once (the executor
+    queues them), the ones not started cancelled when the caller stops early or fails."""
     from concurrent.futures import as_completed
 
     futures: list[Future[list[tuple[int, bool, Any]]]] = [
@@ -442,8 +484,7 @@ def _gather(
     ]
     try:
         for future in as_completed(futures):
-            take(future.result())
-    except BaseException:
+            yield future.result()
+    finally:
         for future in futures:
             future.cancel()
-        raise

@@ -10,6 +10,11 @@ time, which no user call can set back. A file changed within :data:`RACY_S` of b
 not remembered (the clock's granularity could hide a second change), so it is hashed again next
 time. The remembered hashes are one Parquet table in the workspace (:data:`CACHE_NAME`), written
 atomically; a missing or unreadable one costs a re-hash, never a wrong key.
+
+The files not remembered are hashed by the run's workers when it has them (a process pool, a Dask
+cluster): on a first run of a large catalogue the hashing is a job per file, and in the main
+process it was a third of the run's serial part (4.7 GB at about 200 MB/s of one core is 23 s
+of CPU at 43,000 components), which no number of workers would shorten.
 """
 
 from __future__ import annotations
@@ -17,7 +22,7 @@ from __future__ import annotations
 import os
 import time
 from collections.abc import Sequence
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import Executor, ThreadPoolExecutor
 from pathlib import Path
 
 from stepframe.core.io import atomic_write
@@ -52,7 +57,12 @@ def _read_cache(path: Path) -> dict[str, tuple[Identity, str]]:
 
 
 def file_hashes(
-    paths: Sequence[Path], cache: Path | None = None, *, update: bool = False, threads: int = 1
+    paths: Sequence[Path],
+    cache: Path | None = None,
+    *,
+    update: bool = False,
+    threads: int = 1,
+    executor: Executor | None = None,
 ) -> list[str]:
     """The sha256 (hex) of each file, from ``cache`` where the file is unchanged.
 
@@ -66,7 +76,12 @@ def file_hashes(
         Write the cache for ``paths`` (only the files given are kept; nothing is written when
         nothing changed). A dry run reads it and writes nothing.
     threads
-        Threads hashing the files not in the cache (sha256 releases the GIL on large blocks).
+        Threads hashing the files not in the cache (sha256 releases the GIL on large blocks),
+        when no ``executor`` is given.
+    executor
+        The run's executor (a :class:`~stepframe.core.execution.WorkerPool`, a Dask client's):
+        the files not in the cache are hashed on its workers, a chunk of files per task
+        (:func:`~stepframe.core.execution.map_items`: kept in this process when too few to pay).
 
     Returns
     -------
@@ -82,13 +97,48 @@ def file_hashes(
         hashes.append(entry[1] if entry is not None and entry[0] == identity else None)
     missing = [i for i, sha in enumerate(hashes) if sha is None]
     started_ns = time.time_ns()
-    with ThreadPoolExecutor(max_workers=max(1, threads)) as pool:
-        for i, sha in zip(missing, pool.map(file_sha256, [paths[i] for i in missing]), strict=True):
-            hashes[i] = sha
+    for i, sha in zip(
+        missing, _hashed([paths[i] for i in missing], threads, executor), strict=True
+    ):
+        hashes[i] = sha
     result = [str(sha) for sha in hashes]
     if update and cache is not None and (missing or len(known) != len(names)):
         _write_cache(cache, names, identities, result, started_ns - int(RACY_S * 1e9))
     return result
+
+
+def _hashed(paths: list[Path], threads: int, executor: Executor | None) -> list[str]:
+    """The sha256 of each file, on the executor's workers or in threads of this process.
+
+    Raises
+    ------
+    OSError
+        A file could not be read (the same error wherever it was hashed).
+    """
+    if executor is None:
+        with ThreadPoolExecutor(max_workers=max(1, threads)) as pool:
+            return list(pool.map(file_sha256, paths))
+    from stepframe.core.execution import map_items
+
+    outcome = map_items(_sha256_or_error, paths, executor=executor, stage="inventory")
+    if outcome.failures:  # not an OSError (those come back as values): a worker failed
+        first = outcome.failures[0]
+        raise RuntimeError(f"hashing {first.item}: {first.error_type}: {first.message}")
+    hashes = []
+    for path, sha in zip(paths, outcome.results, strict=True):
+        if isinstance(sha, tuple):
+            raise OSError(sha[0], sha[1], str(path))
+        hashes.append(sha)
+    return hashes
+
+
+def _sha256_or_error(path: Path) -> str | tuple[int, str]:
+    """Worker's job: the file's sha256, or its read error's (errno, message), raised again as
+    an OSError in the run's process (a remote worker's exception would arrive re-typed)."""
+    try:
+        return file_sha256(path)
+    except OSError as error:
+        return (error.errno or 0, error.strerror or str(error))
 
 
 def _write_cache(

@@ -105,7 +105,13 @@ def _record_contents(context: Context, *, update: bool = False) -> list[tuple[Pa
 
     paths = workflow.record_files()
     threads = context.jobs or default_jobs()
-    hashes = file_hashes(paths, workflow.workspace / CACHE_NAME, update=update, threads=threads)
+    hashes = file_hashes(
+        paths,
+        workflow.workspace / CACHE_NAME,
+        update=update,
+        threads=threads,
+        executor=context.executor,
+    )
     return list(zip(paths, hashes, strict=True))
 
 

@@ -109,11 +109,16 @@ def followers_of(
 
 
 def groups(
-    stage: Stage, tasks: Sequence[Task], followers: tuple[Follower, ...], workers: int
+    stage: Stage,
+    tasks: Sequence[Task],
+    followers: tuple[Follower, ...],
+    workers: int,
+    most: int = MAX_GROUP,
 ) -> list[Group]:
     """``tasks`` in groups of about a quarter of an equal share per worker (at most
-    :data:`MAX_GROUP`), in order."""
-    size = max(1, min(MAX_GROUP, math.ceil(len(tasks) / (4 * max(1, workers)))))
+    :data:`MAX_GROUP`, and at most ``most``: a run's batch, which a group must not outgrow), in
+    order."""
+    size = max(1, min(MAX_GROUP, most, math.ceil(len(tasks) / (4 * max(1, workers)))))
     work = Work.of(stage)
     return [(work, tuple(tasks[i : i + size]), followers) for i in range(0, len(tasks), size)]
 

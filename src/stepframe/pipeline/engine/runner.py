@@ -1,7 +1,7 @@
 """Run a workflow: check everything, take the lock, run the planned stages, publish the outputs.
 
-Order of a run, so that a user error writes nothing and a killed run loses nothing but the batch
-it was computing:
+Order of a run, so that a user error writes nothing and a killed run loses nothing but the items
+it had not stored yet (fewer than a batch, and the groups under way):
 
 1. read and check the workflow, its frame, the stage tables and the records folder (exit 2);
 2. take the workspace lock (exit 3 if another run holds it, or wait with ``wait=True``);
@@ -9,8 +9,9 @@ it was computing:
    (:mod:`stepframe.pipeline.engine.store`: a damaged one is quarantined and recomputed);
 4. per-item stages: one task per distinct key (inputs with the same bytes are one item,
    :mod:`stepframe.pipeline.engine.same_content`); compute the items whose key is not stored
-   (or failed, with ``retry_failed``; or all, for a ``force``\\ d stage) in batches through
-   :func:`stepframe.core.execution.map_items`, storing each batch as one segment; then read
+   (or failed, with ``retry_failed``; or all, for a ``force``\\ d stage) in groups through
+   :func:`stepframe.core.execution.iter_items`, storing a segment each time a batch of items
+   has finished while the workers go on; then read
    every item's rows back from the store in input order (so a table is the same bytes whether
    its rows were computed now or earlier);
 5. whole-set stages: compute the result unless its key is stored and sound;
@@ -38,7 +39,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from stepframe.core.execution import MapOutcome, map_items
+from stepframe.core.execution import iter_items
 from stepframe.core.io import TEMPORARY_SUFFIX
 from stepframe.core.results import Failure, failures_path, set_column_dictionary
 from stepframe.errors import InputError
@@ -433,27 +434,35 @@ def _run_items(
     summary.items = len(tasks)
     summary.computed = len(todo) + sum(1 for task in tasks if task.key in chained)
     summary.cached = len(tasks) - summary.computed
-    for start in range(0, len(todo), batch_items):
-        batch = todo[start : start + batch_items]
-        label = "+".join([stage.name, *(f.work.name for f in followers)])
-        if len(todo) > batch_items:
-            label = f"{label} {start + 1}-{start + len(batch)}/{len(todo)}"
-        # map_items keeps a batch in this process when that costs less than the workers would
-        work = groups(stage, batch, followers, execution.jobs)
-        outcome = map_items(
-            compute_group,
-            work,
-            jobs=execution.jobs,
-            executor=execution.executor,
-            chunk_size=1,
-            stage=stage.name,
-            name_of=group_name,
-            progress=label if context.progress else False,
-            # Count the stage's items, not the groups that carry them, and the failures inside.
-            units_of=lambda group: len(group[1]),
-            failures_in=lambda computed: sum(isinstance(v, Failure) for _, _, v in computed),
-        )
-        _store_batch(stage.name, work, outcome, store, context)
+    # Every group goes to the workers at once and a segment is stored each time batch_items
+    # items have finished, while the workers go on: no worker waits at a batch's end for the
+    # slowest group or for this process to store (a killed run loses at most the finished
+    # items not yet stored, fewer than batch_items, and the groups under way).
+    work = groups(stage, todo, followers, execution.jobs, batch_items)
+    finished: list[tuple[Group, bool, Any]] = []
+    finished_items = 0
+    for position, ok, value in iter_items(
+        compute_group,
+        work,
+        jobs=execution.jobs,
+        executor=execution.executor,
+        chunk_size=1,
+        stage=stage.name,
+        name_of=group_name,
+        progress="+".join([stage.name, *(f.work.name for f in followers)])
+        if context.progress
+        else False,
+        # Count the stage's items, not the groups that carry them, and the failures inside.
+        units_of=lambda group: len(group[1]),
+        failures_in=lambda computed: sum(isinstance(v, Failure) for _, _, v in computed),
+    ):
+        finished.append((work[position], ok, value))
+        finished_items += len(work[position][1])
+        if finished_items >= batch_items:
+            _store_batch(stage.name, finished, store, context)
+            finished, finished_items = [], 0
+    if finished:
+        _store_batch(stage.name, finished, store, context)
     keys = [task.key for task in tasks]
     table = _stored_table(stage, tasks, store)
     context.tables[stage.name] = table
@@ -468,38 +477,41 @@ def _run_items(
 
 
 def _store_batch(
-    name: str,
-    work: list[Group],
-    outcome: MapOutcome[Computed],
-    store: Store,
-    context: Context,
+    name: str, finished: list[tuple[Group, bool, Any]], store: Store, context: Context
 ) -> None:
-    """Store a computed batch as one segment per stage: its rows and failures, and those of the
-    followers' items computed with it (remembered in ``context.chained``). A group whose worker
-    failed as a whole (it died, say) fails each of its items."""
+    """Store finished groups as one segment per stage: their rows and failures, and those of
+    the followers' items computed with them (remembered in ``context.chained``). A group whose
+    worker failed as a whole (it died, say) fails each of its items."""
     import pandas as pd
 
-    computed: Computed = [entry for entries in outcome.results for entry in entries]
-    done = set(outcome.indices)
-    lost = [group for i, group in enumerate(work) if i not in done]
-    for group, failure in zip(lost, outcome.failures, strict=True):
-        computed += [
-            (name, task.key, Failure(task.name, name, failure.error_type, failure.message))
-            for task in group[1]
-        ]
+    computed: Computed = []
+    for group, ok, value in finished:
+        if ok:
+            computed += value
+        else:
+            computed += [
+                (name, task.key, Failure(task.name, name, value.error_type, value.message))
+                for task in group[1]
+            ]
     rows: dict[str, list[dict[str, Any]]] = {name: []}
+    row_keys: dict[str, list[str]] = {name: []}
     failed: dict[str, list[tuple[str, Failure]]] = {name: []}
     for stage, key, value in computed:
         rows.setdefault(stage, [])
+        row_keys.setdefault(stage, [])
         failed.setdefault(stage, [])
         if isinstance(value, Failure):
             failed[stage].append((key, value))
         else:
-            rows[stage] += [{KEY_COLUMN: key, **row} for row in value]
+            rows[stage] += value  # the workers' row dicts, not copied: the key is a column
+            row_keys[stage] += [key] * len(value)
         if stage != name:
             context.chained.setdefault(stage, set()).add(key)
     for stage in rows:
-        store.add_rows(stage, pd.DataFrame(rows[stage]), failed[stage])
+        table = pd.DataFrame(rows[stage])
+        if len(table):
+            table.insert(0, KEY_COLUMN, row_keys[stage])
+        store.add_rows(stage, table, failed[stage])
 
 
 def _stored_table(stage: Stage, tasks: list[Task], store: Store) -> pd.DataFrame:
