@@ -346,14 +346,14 @@ def test_blank_separated_numbers_parse_as_python_floats(
         ),
         max_size=40,
     ),
-    st.sampled_from([4, 64, 1 << 18]),
+    st.sampled_from([4, 64, 1 << 16]),
 )
 @settings(max_examples=150, deadline=None)
-def test_numbers_to_the_end_equal_word_by_word(rows: list[list[str]], block_chars: int) -> None:
-    """Without a count, `numbers` reads the words of every line to the end in blocks of joined
-    lines: the values of float() word by word over the lines (a Fortran D exponent read as E),
-    the line count, and for a word that is no finite number below MAX_VALUE the line-by-line
-    path's error on that word's line, whatever the block size."""
+def test_numbers_to_the_end_equal_word_by_word(rows: list[list[str]], block_values: int) -> None:
+    """Without a count, `numbers` reads the words of every line to the end, converted a block
+    at a time: the values of float() word by word over the lines (a Fortran D exponent read as
+    E), the line count, and for a word that is no finite number below MAX_VALUE the
+    line-by-line path's error on that word's line, whatever the block size."""
     from stepframe.records.formats import _text
 
     lines = ["header", *(" ".join(row) for row in rows)]
@@ -370,7 +370,7 @@ def test_numbers_to_the_end_equal_word_by_word(rows: list[list[str]], block_char
             break
         expected += row
     with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(_text, "_BLOCK_CHARS", block_chars)
+        patch.setattr(_text, "_BLOCK_VALUES", block_values)
         if error is None:
             values, next_line = _text.numbers(lines, 1, Path("f.txt"))
             assert values.dtype == np.float64 and values.tobytes() == np.array(expected).tobytes()

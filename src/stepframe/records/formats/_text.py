@@ -150,14 +150,9 @@ def numbers(
     return np.asarray(values, dtype=np.float64), index
 
 
-#: Values converted at once by the vectorised path when a count stops the block: the words of a
-#: block are Python strings (about 60 bytes each), so a block holds a few MB whatever the
-#: record's length.
+#: Values converted at once by the vectorised path: the words of a block are Python strings
+#: (about 60 bytes each), so a block holds a few MB whatever the record's length.
 _BLOCK_VALUES = 1 << 16
-#: Characters of text split and converted at once when the block runs to the end of the file
-#: (:func:`_to_the_end`): at least 2 per word, so at most 2¹⁷ words of a few MB (a single longer
-#: line is split whole, as on the line-by-line path).
-_BLOCK_CHARS = 1 << 18
 
 
 def _blank_separated(
@@ -168,14 +163,12 @@ def _blank_separated(
     record would take eight times its values), or None when any value needs the line-by-line
     path (not a plain number, not finite and below ``MAX_VALUE``, or more values than
     ``count`` on the last line). A record's few thousand lines parse about three times faster
-    this way; without ``count``, :func:`_to_the_end` takes the blocks."""
-    if count is None:
-        return _to_the_end(lines, first)
+    this way."""
     blocks: list[np.ndarray] = []
     converted = 0
     words: list[str] = []
     index = first
-    while index < len(lines) and converted + len(words) < count:
+    while index < len(lines) and (count is None or converted + len(words) < count):
         words += lines[index].split()
         index += 1
         if len(words) >= _BLOCK_VALUES or index == len(lines):
@@ -191,35 +184,11 @@ def _blank_separated(
             return None
         blocks.append(block)
         converted += block.size
-    if converted > count:
+    if count is not None and converted > count:
         return None
     if len(blocks) == 1:
         return blocks[0], index
     return (np.concatenate(blocks) if blocks else np.empty(0, dtype=np.float64)), index
-
-
-def _to_the_end(lines: list[str], first: int) -> tuple[np.ndarray, int] | None:
-    """:func:`_blank_separated` of ``lines[first:]`` (no count): blocks of whole lines of about
-    :data:`_BLOCK_CHARS` characters, each joined by a blank and split once.
-
-    The same words as splitting line by line (a blank is whitespace, so no word spans a
-    join), hence the same values, without a Python step per line (about a tenth of an AT2
-    file's parse: ``bench/bench_features.py --before-after``, docs/benchmarks.md, issue 29).
-    """
-    if first >= len(lines):
-        return np.empty(0, dtype=np.float64), first
-    tail = len(lines) - first
-    ends = np.cumsum(np.fromiter(map(len, lines[first:]), dtype=np.int64, count=tail))
-    # The line ending each block: the first whose cumulative length reaches a multiple.
-    cuts = np.searchsorted(ends, np.arange(_BLOCK_CHARS, int(ends[-1]), _BLOCK_CHARS)) + 1
-    bounds = np.unique(np.concatenate([[0], cuts, [tail]])) + first
-    blocks: list[np.ndarray] = []
-    for start, stop in zip(bounds[:-1].tolist(), bounds[1:].tolist(), strict=True):
-        block = _converted(" ".join(lines[start:stop]).split())
-        if block is None:
-            return None
-        blocks.append(block)
-    return (blocks[0] if len(blocks) == 1 else np.concatenate(blocks)), len(lines)
 
 
 def _converted(words: list[str]) -> np.ndarray | None:
