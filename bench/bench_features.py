@@ -98,8 +98,8 @@ def _largest_difference(a: object, b: object) -> float:
 
 
 def before_after(records: int, repeat: int) -> None:
-    """CPU per component of reading, features and fit, now and at :data:`FORMER` (module
-    docstring); outputs checked equal bit for bit."""
+    """CPU per component of reading, features and fit, now and at :data:`FORMER`, and of the
+    two steps of the features that changed (module docstring)."""
     import nga_catalogue
     from stepframe.records import read
 
@@ -152,6 +152,44 @@ def before_after(records: int, repeat: int) -> None:
               f"{ms['current'] / ms['former']:.2f} |")  # fmt: skip
     print(f"| sum | {total['former']:.2f} | {total['current']:.2f} | "
           f"{total['current'] / total['former']:.2f} |")  # fmt: skip
+    _changed_steps(out["current"]["records"], former_features, repeat)  # type: ignore[arg-type]
+
+
+def _changed_steps(
+    records: list[tuple[np.ndarray, float]], former: types.ModuleType, repeat: int
+) -> None:
+    """CPU per component of ``crossing_density`` and ``spectral_moments`` (all blocks of a
+    record's STFT) at :data:`FORMER` and now, interleaved, and the largest relative difference."""
+    from stepframe.stochastic import features as current
+    from stepframe.stochastic.transforms import DEFAULT_WINDOW_S, stft_grid, stft_power_blocks
+
+    grids = [stft_grid(x.size, dt, window_s=DEFAULT_WINDOW_S, hop_s=current.DEFAULT_HOP_S)
+             for x, dt in records]  # fmt: skip
+    blocks = [[b for _, b in stft_power_blocks(x, dt, g)] for (x, dt), g in zip(records, grids,
+              strict=True)]  # fmt: skip
+
+    def crossings(module: types.ModuleType) -> list[np.ndarray]:
+        return [module.crossing_density(x, dt, g.time_s, DEFAULT_WINDOW_S)
+                for (x, dt), g in zip(records, grids, strict=True)]  # fmt: skip
+
+    def moments(module: types.ModuleType) -> list[tuple[np.ndarray, ...]]:
+        return [module.spectral_moments(g.omega_rad_s, b) for g, bs in zip(grids, blocks,
+                strict=True) for b in bs]  # fmt: skip
+
+    print("\n| step | at {FORMER} | now | now / before | largest relative difference |\n"
+          "|---|---:|---:|---:|---:|".replace("{FORMER}", FORMER))  # fmt: skip
+    for name, step in (("crossing_density", crossings), ("spectral_moments", moments)):
+        seconds: dict[str, list[float]] = {"former": [], "now": []}
+        values: dict[str, object] = {}
+        for _ in range(repeat):
+            for version, module in (("former", former), ("now", current)):
+                start = time.process_time()
+                values[version] = step(module)
+                seconds[version].append(time.process_time() - start)
+        ms = {k: 1e3 * float(np.median(v)) / len(records) for k, v in seconds.items()}
+        difference = _largest_difference(values["former"], values["now"])
+        print(f"| `{name}` | {ms['former']:.2f} | {ms['now']:.2f} | "
+              f"{ms['now'] / ms['former']:.2f} | {difference:.1e} |")  # fmt: skip
 
 
 def estimator_table(records: list[tuple[np.ndarray, float]], repeat: int) -> None:

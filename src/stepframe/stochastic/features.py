@@ -290,7 +290,7 @@ def smooth_at(
     The samples around each index are rows of a window view of the series padded with a
     kernel's half of zeros at each end (and the mask of samples inside, of the ones padded
     alike): the same rows as gathering each index's offsets, clipping them and zeroing those
-    outside, at a fraction of the cost (:func:`crossing_density` 1.6 → 0.7 ms per component of
+    outside, at a fraction of the cost (:func:`crossing_density` 2.4 → 0.9 ms per component of
     the benchmark catalogue, the same values; docs/benchmarks.md, issue 29).
     """
     half = kernel.size // 2

@@ -150,7 +150,8 @@ def _low_pass(cutoff_hz: float, sampling_hz: float) -> tuple[Floats, Floats]:
     ``sampling_hz`` [Hz]: its coefficients ``(b, a)``, read-only.
 
     Remembered: a catalogue's records share a few sampling intervals and the selection asks
-    one period of each, and designing the filter (0.45 ms) was 40 % of FIV3's time.
+    one period of each, and designing the filter was about a sixth of a record's spectra and
+    peers (2.38 → 2.01 ms per component without it; docs/benchmarks.md, issue 29).
     """
     from scipy.signal import butter
 
