@@ -15,6 +15,9 @@ frame, ranking at equal PSA(T_1) at the onset of stepping, confirmation).
    (:func:`stepframe.pipeline.selection.confirm.overturn_factors`, stopping each record at its
    first overturning level), checked equal. Beside them, in the same process, the standalone
    ranking of ``bench/bench_ranking.py`` (its 200 records of 6,000 samples, onset ratio 1).
+   Then the same parts with the code as it was at :data:`bench_features.FORMER` (its modules
+   read from git) and as it is, interleaved (median of three each), the results checked equal
+   bit for bit: the spectra and peers, the ranking and the scan in rounds (issue 29).
 2. The stage in the command: ``stepframe run WORKFLOW --force responses`` with ``--jobs 1`` and
    ``--jobs 2`` over the same components: the stage's wall time, the command's CPU time
    (its worker processes included) and the mean of the stored ``ranking_s`` column (each
@@ -41,6 +44,7 @@ from typing import Any
 
 import numpy as np
 
+import bench_features
 import bench_ranking
 import nga_catalogue
 
@@ -91,6 +95,7 @@ def one_core(files: list[Path], workflow: Path) -> dict[str, float]:
 
     records, read_s = _cpu(read_all)
     groups = [range(i, min(i + GROUP, len(records))) for i in range(0, len(records), GROUP)]
+    spectra_and_peers((*records[0], spec.groups, spec.peer_periods))  # kernels loaded
     passes, spectra_s = _cpu(
         lambda: [spectra_and_peers((a, dt, spec.groups, spec.peer_periods)) for a, dt in records]
     )
@@ -122,6 +127,7 @@ def one_core(files: list[Path], workflow: Path) -> dict[str, float]:
         return np.concatenate(out)
 
     exact.simulated_response(frame, records[:2], base[:2], spec.ladder)  # kernels loaded
+    former = before_after(frame, spec, records, groups, sd_t1, base)
     _, ranking_s = _cpu(ranking)
     _, equal_s = _cpu(equal)
     before, scan_before_s = _cpu(lambda: scan(False))
@@ -141,6 +147,66 @@ def one_core(files: list[Path], workflow: Path) -> dict[str, float]:
         "scan_in_rounds_ms": scan_after_s / n * 1e3,
         "standalone_ranking_ms": standalone_s / len(motions) * 1e3,
         "load": os.getloadavg()[0],
+        **former,
+    }
+
+
+def before_after(
+    frame: Any,
+    spec: Any,
+    records: list[tuple[np.ndarray, float]],
+    groups: list[range],
+    sd_t1: np.ndarray,
+    base: np.ndarray,
+    repeat: int = 3,
+) -> dict[str, float]:
+    """CPU ms per component of the spectra and peers, the ranking and the scan in rounds, at
+    :data:`bench_features.FORMER` and now, interleaved; their results checked equal bit for
+    bit (module docstring, part 1)."""
+    from stepframe.pipeline.selection import confirm, exact, peers
+
+    former_exact = bench_features.former_module("former_exact", "pipeline/selection/exact.py")
+    former_peers = bench_features.former_module("former_peers", "pipeline/selection/peers.py")
+    modules = {"former": (former_exact, former_peers), "now": (exact, peers)}
+    current = exact.ladder_runs, exact.first_overturn
+
+    def parts(version: str) -> dict[str, Any]:
+        ranking_module, peers_module = modules[version]
+        return {
+            "spectra": lambda: [peers_module.spectra_and_peers(
+                (a, dt, spec.groups, spec.peer_periods)) for a, dt in records],
+            "ranking": lambda: [ranking_module.simulated_response(
+                frame, [records[i] for i in g], base[g], spec.ladder) for g in groups],
+            "scan": lambda: [confirm.overturn_factors(
+                frame, [records[i] for i in g],
+                confirm.equal_intensity_scales(sd_t1[g], frame, 1.0), confirm.SCAN_LEVELS)
+                for g in groups],
+        }  # fmt: skip
+
+    cpu: dict[str, dict[str, list[float]]] = {v: {} for v in modules}
+    results: dict[str, dict[str, Any]] = {v: {} for v in modules}
+    for _ in range(repeat):
+        for version in modules:
+            for part, function in parts(version).items():
+                ranking_module = modules[version][0]
+                # the scan imports these from the exact module when it runs
+                exact.ladder_runs, exact.first_overturn = (
+                    ranking_module.ladder_runs, ranking_module.first_overturn
+                )  # fmt: skip
+                try:
+                    results[version][part], seconds = _cpu(function)
+                finally:
+                    exact.ladder_runs, exact.first_overturn = current
+                cpu[version].setdefault(part, []).append(seconds)
+    for part in results["now"]:
+        difference = bench_features._largest_difference(
+            results["former"][part], results["now"][part]
+        )
+        assert difference == 0.0, f"{part} differs from {bench_features.FORMER}"
+    return {
+        f"{part}_{version}_ms": float(np.median(cpu[version][part])) / len(records) * 1e3
+        for version in modules
+        for part in cpu[version]
     }
 
 
@@ -204,6 +270,13 @@ def main() -> None:
         ("standalone_ranking_ms", "standalone `bench_ranking.rank`, 200 × 6,000 samples"),
     ):
         print(f"| {label} | {part1[key]:.2f} |")
+    print(f"\nAt {bench_features.FORMER} and now, interleaved (median of 3), results equal bit "
+          "for bit:\n\n| part | before [ms per component] | now | now / before |\n"
+          "|---|---:|---:|---:|")  # fmt: skip
+    for part, label in (("spectra", "spectra and peers"), ("ranking", "ranking"),
+                        ("scan", "confirmation: overturning scan in rounds")):  # fmt: skip
+        before, now = part1[f"{part}_former_ms"], part1[f"{part}_now_ms"]
+        print(f"| {label} | {before:.2f} | {now:.2f} | {now / before:.2f} |")
     if runs:
         print("\n| command | stage wall [s] | command CPU [s] | mean ranking_s [ms] | load |")
         print("|---|---:|---:|---:|---|")

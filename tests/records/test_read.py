@@ -7,6 +7,7 @@ file, the line and the problem, or read cleanly with a warning where the data ar
 from __future__ import annotations
 
 import gzip
+import re
 import warnings
 from collections.abc import Callable
 from pathlib import Path
@@ -332,3 +333,65 @@ def test_blank_separated_numbers_parse_as_python_floats(
     lines[-2] += " 1.0D-03"  # a Fortran exponent: line by line, and one value too many
     with pytest.raises(FormatError, match="beyond the"):
         numbers(lines, 1, Path("f.txt"), count=len(expected))
+
+
+@given(
+    st.lists(
+        st.lists(
+            st.one_of(
+                st.floats(-1e6, 1e6, allow_nan=False).map(repr),
+                st.sampled_from(["1.0D-03", "nan", "1e999", "-inf", "abc", "1_000", "", "  "]),
+            ),
+            max_size=8,
+        ),
+        max_size=40,
+    ),
+    st.sampled_from([4, 64, 1 << 16]),
+)
+@settings(max_examples=150, deadline=None)
+def test_numbers_to_the_end_equal_word_by_word(rows: list[list[str]], block_values: int) -> None:
+    """Without a count, `numbers` reads the words of every line to the end, converted a block
+    at a time: the values of float() word by word over the lines (a Fortran D exponent read as
+    E), the line count, and for a word that is no finite number below MAX_VALUE the
+    line-by-line path's error on that word's line, whatever the block size."""
+    from stepframe.records.formats import _text
+
+    lines = ["header", *(" ".join(row) for row in rows)]
+    expected: list[float] = []
+    error: tuple[str, int] | None = None
+    for number, line in enumerate(lines[1:], start=2):
+        words = line.split()
+        # A line's first word that is no number is named, else its first one out of range.
+        bad = [w for w in words if _as_float(w) is None]
+        row = [] if bad else [float(w.replace("D", "E")) for w in words]
+        bad += [w for w, v in zip(words, row, strict=False) if not abs(v) <= _text.MAX_VALUE]
+        if bad:
+            error = (repr(bad[0]), number)
+            break
+        expected += row
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(_text, "_BLOCK_VALUES", block_values)
+        if error is None:
+            values, next_line = _text.numbers(lines, 1, Path("f.txt"))
+            assert values.dtype == np.float64 and values.tobytes() == np.array(expected).tobytes()
+            assert next_line == len(lines)
+        else:
+            with pytest.raises(FormatError, match=f"f.txt:{error[1]}: .*{re.escape(error[0])}"):
+                _text.numbers(lines, 1, Path("f.txt"))
+
+
+def _as_float(word: str) -> float | None:
+    try:
+        return float(word.replace("D", "E"))
+    except ValueError:
+        return None
+
+
+def test_numbers_to_the_end_of_no_lines() -> None:
+    """No line after the first: no values, and the next line is the first."""
+    from stepframe.records.formats._text import numbers
+
+    values, next_line = numbers(["header"], 1, Path("f.txt"))
+    assert values.size == 0 and values.dtype == np.float64 and next_line == 1
+    values, next_line = numbers(["header", "", "  "], 1, Path("f.txt"))
+    assert values.size == 0 and next_line == 3

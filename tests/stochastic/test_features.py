@@ -203,3 +203,44 @@ def test_envelope_peak_time_recovers_a_known_gamma_envelope_and_the_finite_diffe
         xtol=1e-6,
     )
     assert abs(former.x[0] + former.x[1] - t_max) < 1e-3
+
+
+def test_smooth_at_is_the_kernel_average_inside_the_series() -> None:
+    """smooth_at at chosen indices (the ends included) is the gather of each index's
+    neighbours, zero outside the series, times the kernel over the kernel's mass inside, bit
+    for bit, and smooth's full convolution to rounding."""
+    from stepframe.stochastic.features import kernel_mass, smooth, smooth_at
+    from stepframe.stochastic.transforms import hann_kernel
+
+    rng = np.random.default_rng(3)
+    values = rng.normal(size=500)
+    kernel = hann_kernel(0.6, 0.01)  # 61 samples, wider than the first and last indices' room
+    at = np.array([0, 1, 29, 30, 31, 250, 469, 470, 498, 499])
+    half = kernel.size // 2
+    where = at[:, None] + np.arange(-half, half + 1)[None, :]
+    inside = (where >= 0) & (where < values.size)
+    gathered = np.where(inside, values[np.clip(where, 0, values.size - 1)], 0.0)
+    expected = (gathered @ kernel) / (inside.astype(np.float64) @ kernel)
+    found = smooth_at(values, kernel, at)
+    assert found.tobytes() == expected.tobytes()
+    np.testing.assert_allclose(found, smooth(values, kernel)[at], rtol=1e-12, atol=1e-15)
+    # smooth with the kernel's mass kept by the caller (the fit's way) is smooth, bit for bit
+    kept = smooth(values, kernel, kernel_mass(values.size, kernel))
+    assert kept.tobytes() == smooth(values, kernel).tobytes()
+    assert kernel_mass(values.size, kernel)[250] == pytest.approx(1.0, rel=1e-14)  # unit sum
+
+
+def test_spectral_moments_are_the_trapezoid_rule() -> None:
+    """λ0, λ1, λ2 by one product are np.trapezoid of S·ω^k to rounding, and exact where the
+    trapezoid is: a flat S = 1 on ω from 2 to 10 has λ0 = 8 and λ1 = (10² - 2²)/2 = 48."""
+    from stepframe.stochastic.features import spectral_moments
+
+    omega = np.linspace(2.0, 10.0, 33)
+    rng = np.random.default_rng(5)
+    psd = rng.random((7, omega.size))
+    lam = spectral_moments(omega, psd)
+    for k in range(3):
+        np.testing.assert_allclose(lam[k], np.trapezoid(psd * omega**k, omega), rtol=1e-13)
+    flat = spectral_moments(omega, np.ones((1, omega.size)))
+    assert flat[0][0] == pytest.approx(8.0, rel=1e-15)
+    assert flat[1][0] == pytest.approx(48.0, rel=1e-15)

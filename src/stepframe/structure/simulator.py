@@ -806,8 +806,100 @@ def simulate_batch(
         One row per pair: record, scale, the :class:`SimulationSummary` fields. A block whose
         worker failed gives its rows status "failed", NaN values and the error as ``message``.
     """
-    import pandas as pd
+    return batch_summaries(
+        frame, records, scales, pairs=pairs, tail_s=tail_s, x0_m=x0_m, v0_m_s=v0_m_s,
+        height_m=height_m, jobs=jobs, executor=executor, progress=progress,
+    ).table()  # fmt: skip
 
+
+@dataclass(frozen=True)
+class BatchSummaries:
+    """The runs of :func:`batch_summaries`, one per (record, scale) pair, as arrays.
+
+    Attributes
+    ----------
+    record, scale
+        Each pair's record index and scale factor [-].
+    values
+        The kernel's summary of each pair, shape (pairs, 10): status code, stepping episodes,
+        impacts, peak |x| [m], its time [s], overturned (> 0), overturning time [s], x [m]
+        and v [m/s] at the end, the phase at the end (NaN rows: a failed block).
+    codes
+        Each pair's status code (None: its block failed).
+    messages
+        Each pair's status message, or its block's error ("" when none).
+    height_m
+        The height that turns peak |x| into a drift ratio [m] (None: no drift ratio).
+    """
+
+    record: np.ndarray
+    scale: np.ndarray
+    values: np.ndarray
+    codes: list[int | None]
+    messages: list[str]
+    height_m: float | None
+
+    @property
+    def overturned(self) -> np.ndarray:
+        """Whether each run overturned the frame."""
+        return np.asarray(self.values[:, 5] > 0)
+
+    @property
+    def peak_abs_x_m(self) -> np.ndarray:
+        """Peak |x| of each run [m]."""
+        return np.asarray(self.values[:, 3])
+
+    @property
+    def status(self) -> list[str]:
+        """Each run's status name (``"ok"``, ...; ``"failed"`` for a failed block)."""
+        return ["failed" if c is None else STATUS_NAMES.get(c, "failed") for c in self.codes]
+
+    def table(self) -> pd.DataFrame:
+        """One row per pair: record, scale, the :class:`SimulationSummary` fields (the table
+        of :func:`simulate_batch`)."""
+        import pandas as pd
+
+        out, height, overturned = self.values, self.height_m, self.overturned
+        return pd.DataFrame(
+            {
+                "record": self.record,
+                "scale": self.scale,
+                "peak_abs_x_m": out[:, 3],
+                "peak_time_s": out[:, 4],
+                "peak_drift_ratio": out[:, 3] / height if height is not None else np.nan,
+                "overturned": overturned,
+                "overturn_time_s": np.where(overturned, out[:, 6], np.nan),
+                "n_stepping_episodes": np.nan_to_num(out[:, 1], nan=-1).astype(np.int64),
+                "n_impacts": np.nan_to_num(out[:, 2], nan=-1).astype(np.int64),
+                "residual_x_m": out[:, 7],
+                "residual_v_m_s": out[:, 8],
+                "status": self.status,
+                "message": self.messages,
+            }
+        )
+
+
+def batch_summaries(
+    frame: FrameLike,
+    records: Sequence[BatchRecord | tuple[ArrayLike, float]],
+    scales: Sequence[float] | np.ndarray,
+    *,
+    pairs: Literal["product", "zip"] = "product",
+    tail_s: float = DEFAULT_TAIL_S,
+    x0_m: float = 0.0,
+    v0_m_s: float = 0.0,
+    height_m: float | None = None,
+    jobs: int = 1,
+    executor: Executor | None = None,
+    progress: bool | str = False,
+) -> BatchSummaries:
+    """:func:`simulate_batch`'s runs as arrays (:class:`BatchSummaries`), without its table:
+    what a caller that reads a few columns of many small batches needs (the selection's
+    ranking calls it some ten times per group of records, and building the table took about
+    as long as the runs of a group's bisection steps; docs/benchmarks.md, issue 29).
+
+    Parameters and raises as :func:`simulate_batch`.
+    """
     from stepframe.core.execution import map_items
 
     model = model_of(frame)
@@ -876,21 +968,4 @@ def simulate_batch(
         block = next(b for b in blocks if str(b) == failure.item)
         for j in range(block.first, block.first + block.scales.size):
             messages[j] = f"{failure.error_type}: {failure.message}"
-    overturned = out[:, 5] > 0
-    return pd.DataFrame(
-        {
-            "record": rec_index,
-            "scale": pair_scales,
-            "peak_abs_x_m": out[:, 3],
-            "peak_time_s": out[:, 4],
-            "peak_drift_ratio": out[:, 3] / height if height is not None else np.nan,
-            "overturned": overturned,
-            "overturn_time_s": np.where(overturned, out[:, 6], np.nan),
-            "n_stepping_episodes": np.nan_to_num(out[:, 1], nan=-1).astype(np.int64),
-            "n_impacts": np.nan_to_num(out[:, 2], nan=-1).astype(np.int64),
-            "residual_x_m": out[:, 7],
-            "residual_v_m_s": out[:, 8],
-            "status": ["failed" if c is None else STATUS_NAMES.get(c, "failed") for c in codes],
-            "message": messages,
-        }
-    )
+    return BatchSummaries(rec_index, pair_scales, out, codes, messages, height)

@@ -50,6 +50,27 @@ def test_fiv3_of_a_sinusoid_is_its_closed_form() -> None:
     assert math.isnan(fiv3_m_s(np.ones(10), 0.01, 1.0))  # shorter than the window
 
 
+def test_fiv3_filter_remembered_is_the_one_designed() -> None:
+    """The low-pass remembered across records (same cut-off, same sampling) filters as the
+    Butterworth filter designed afresh: FIV3 of a second record at the same dt, computed after
+    the first, equals a direct computation with scipy's butter/lfilter, bit for bit."""
+    from scipy.signal import butter, find_peaks, lfilter
+
+    dt, period_s = 0.01, 0.8
+    rng = np.random.default_rng(4)
+    fiv3_m_s(rng.normal(size=3000), dt, period_s)  # designs and remembers the filter
+    acc = rng.normal(size=2500)
+    b, a = butter(2, 0.85 / period_s, fs=1.0 / dt)
+    filtered = lfilter(b, a, acc)
+    velocity = np.concatenate([[0.0], np.cumsum(0.5 * dt * (filtered[1:] + filtered[:-1]))])
+    time_s = np.arange(acc.size) * dt
+    starts = time_s[time_s + FIV_ALPHA * period_s <= time_s[-1]]
+    fiv = np.interp(starts + FIV_ALPHA * period_s, time_s, velocity) - velocity[: starts.size]
+    peaks = np.sort(fiv[find_peaks(fiv)[0]])[::-1][:3]
+    troughs = np.sort(fiv[find_peaks(-fiv)[0]])[:3]
+    assert fiv3_m_s(acc, dt, period_s) == max(np.sum(peaks), abs(np.sum(troughs)))
+
+
 def test_peers_against_independent_spectra(example_inputs: Any) -> None:
     """Sa_avg, SaRatio, N_p and the PGV ratios re-computed from response_spectrum and
     intensity_measures, one period at a time."""

@@ -30,8 +30,10 @@ INVENTORY_VERSION = 1
 # 2: the fit's α_g reading and the example's lowest usable frequency enter the features;
 # 3: each estimator's own resolution floor (column omega_floor_rad_s, the plausibility check);
 # 4: t_max's envelope fit with the analytic Jacobian (the same minimum to within a millisecond:
-# recomputed rather than mixed with the finite-difference fit's values in one table)
-FEATURES_VERSION = 4
+# recomputed rather than mixed with the finite-difference fit's values in one table);
+# 5: the STFT's spectral moments as one product with the trapezoid weights (equal to rounding:
+# fitted parameters within a relative 2e-11 on 400 components, docs/benchmarks.md, issue 29)
+FEATURES_VERSION = 5
 
 #: Column dictionary of the inventory table: name → (unit, meaning).
 INVENTORY_COLUMNS: dict[str, tuple[str, str]] = {

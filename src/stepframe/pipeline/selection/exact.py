@@ -91,7 +91,7 @@ def ladder_runs(
     factors
         The ladder: factors on the base scale.
     """
-    from stepframe.structure.simulator import simulate_batch
+    from stepframe.structure.simulator import batch_summaries
 
     n, levels = len(records), len(factors)
     ladder = np.asarray(factors, dtype=np.float64)
@@ -102,18 +102,19 @@ def ladder_runs(
     for first in range(0, n, CHUNK):
         rows = range(first, min(first + CHUNK, n))
         scaled = [(records[i][0] * base_scales[i], records[i][1]) for i in rows]
-        table = simulate_batch(frame, scaled, ladder, pairs="product")
+        # The runs' arrays, not simulate_batch's table: a group's ranking makes some ten small
+        # batches, and their tables cost about as much as the bisection's runs.
+        runs = batch_summaries(frame, scaled, ladder, pairs="product")
         shape = (len(rows), levels)
-        over = table["overturned"].to_numpy(dtype=bool).reshape(shape)
-        peak = table["peak_abs_x_m"].to_numpy(dtype=np.float64).reshape(shape)
-        status = table["status"].to_numpy().reshape(shape)
-        message = table["message"].to_numpy().reshape(shape)
+        over = runs.overturned.reshape(shape)
+        peak = runs.peak_abs_x_m.reshape(shape)
         peaks[rows.start : rows.stop] = np.where(over, cap, np.minimum(peak, cap))
         overturned[rows.start : rows.stop] = over
-        for k, i in enumerate(rows):
-            bad = np.flatnonzero(status[k] != "ok")
-            if bad.size:
-                failed[i] = f"{status[k][bad[0]]}: {message[k][bad[0]]}"
+        # Each candidate's first failed run, in ladder order (pairs are record-major).
+        for pair, status in enumerate(runs.status):
+            i = first + pair // levels
+            if status != "ok" and not failed[i]:
+                failed[i] = f"{status}: {runs.messages[pair]}"
     return LadderRuns(peaks, overturned, failed)
 
 

@@ -35,6 +35,7 @@ and FIV3, 0 for the ratios), so the value at any intensity follows from the unsc
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -123,12 +124,12 @@ def fiv3_m_s(acc_m_s2: Floats, dt_s: float, period_s: float) -> float:
     samples (a cumulative trapezoid, read at t + αT by linear interpolation); a record shorter
     than the window has no FIV3 (NaN).
     """
-    from scipy.signal import butter, find_peaks, lfilter
+    from scipy.signal import find_peaks, lfilter
 
     acc = np.asarray(acc_m_s2, dtype=np.float64)
     nyquist_hz = 0.5 / dt_s
     cutoff_hz = min(FIV_BETA / period_s, 0.99 * nyquist_hz)
-    b, a = butter(2, cutoff_hz, fs=1.0 / dt_s)
+    b, a = _low_pass(cutoff_hz, 1.0 / dt_s)
     filtered = lfilter(b, a, acc)
     time_s = np.arange(acc.size) * dt_s
     velocity = np.zeros(acc.size)
@@ -141,6 +142,23 @@ def fiv3_m_s(acc_m_s2: Floats, dt_s: float, period_s: float) -> float:
     peaks = np.sort(fiv[find_peaks(fiv)[0]])[::-1][:3]
     troughs = np.sort(fiv[find_peaks(-fiv)[0]])[:3]
     return float(max(np.sum(peaks), abs(np.sum(troughs))))
+
+
+@functools.lru_cache(maxsize=64)
+def _low_pass(cutoff_hz: float, sampling_hz: float) -> tuple[Floats, Floats]:
+    """FIV3's second-order Butterworth low-pass at ``cutoff_hz`` [Hz] for samples at
+    ``sampling_hz`` [Hz]: its coefficients ``(b, a)``, read-only.
+
+    Remembered: a catalogue's records share a few sampling intervals and the selection asks
+    one period of each, and designing the filter was about a sixth of a record's spectra and
+    peers (2.38 → 2.01 ms per component without it; docs/benchmarks.md, issue 29).
+    """
+    from scipy.signal import butter
+
+    b, a = butter(2, cutoff_hz, fs=sampling_hz)
+    for coefficients in (b, a):
+        coefficients.flags.writeable = False  # shared by every later call
+    return b, a
 
 
 def peer_values(sa_m_s2: Floats, pga_m_s2: float, pgv_m_s: float, fiv3: float) -> dict[str, float]:
