@@ -244,17 +244,38 @@ def _units(
     counts = np.bincount(codes, weights=finite.astype(float), minlength=n_units)
     with np.errstate(invalid="ignore", divide="ignore"):
         unit_z = np.where(counts > 0, sums / counts, -np.inf)
-    unit_psa = None if log_psa is None else np.array([log_psa[m].mean(axis=0) for m in members])
     return (
         Units(
             unit_z,
             members,
             np.asarray(events, dtype=object),
             np.asarray(stations, dtype=object),
-            unit_psa,
+            None if log_psa is None else _unit_means(log_psa, rows, codes),
         ),
         members,
     )
+
+
+def _unit_means(log_psa: Floats, rows: NDArray[np.int64], codes: NDArray[np.int64]) -> Floats:
+    """Each unit's mean of its members' rows of ``log_psa`` (unit ``codes[k]`` holds
+    ``rows[k]``, codes 0, 1, ... each used), equal to the bit to a mean per unit: the members
+    added in the same order (first, then second, ...: a unit has one or two, and a few more
+    only in a hand-made table), a vector step per member rank instead of a Python loop over
+    units (21,500 means were a second of the main process at NGA-West2 size)."""
+    n_units = int(codes.max()) + 1 if rows.size else 0
+    order = np.argsort(codes, kind="stable")
+    starts = np.searchsorted(codes[order], np.arange(n_units))
+    sizes = np.bincount(codes, minlength=n_units)
+    members = rows[order]
+    sums = np.zeros((n_units, *log_psa.shape[1:]))
+    for rank in range(int(sizes.max()) if n_units else 0):
+        units = np.flatnonzero(sizes > rank)
+        if rank == 0:
+            sums[units] = log_psa[members[starts[units]]]
+        else:
+            sums[units] += log_psa[members[starts[units] + rank]]
+    out: Floats = sums / sizes.reshape((-1,) + (1,) * (log_psa.ndim - 1))
+    return out
 
 
 def _drop_single_components(
