@@ -97,9 +97,9 @@ def file_hashes(
         hashes.append(entry[1] if entry is not None and entry[0] == identity else None)
     missing = [i for i, sha in enumerate(hashes) if sha is None]
     started_ns = time.time_ns()
-    for i, sha in zip(
-        missing, _hashed([paths[i] for i in missing], threads, executor), strict=True
-    ):
+    # by absolute name: a cluster's workers do not run in this process's folder
+    fresh = _hashed([Path(names[i]) for i in missing], threads, executor)
+    for i, sha in zip(missing, fresh, strict=True):
         hashes[i] = sha
     result = [str(sha) for sha in hashes]
     if update and cache is not None and (missing or len(known) != len(names)):
