@@ -18,7 +18,8 @@ confirmation, the HTML report) with its records folder replaced by the synthetic
    processes of one thread each, started here): outputs compared byte for byte with part 1, CPU
    of the main process against the workers' (the serial fraction), and the overhead.
 
-Results are written after each part.
+Results are written after each part. ``--dask-only`` runs part 4 alone against the results of
+an earlier run of the same ``--name`` (its part 1's output hashes).
 
 The 1-minute load average is recorded beside every number (the 2 cores are shared). Results go
 to ``bench/out/nga/<name>-results.json``; Markdown tables for docs/benchmarks.md and

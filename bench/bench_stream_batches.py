@@ -2,7 +2,8 @@
 the workers against in the run's process (issue 29: the 2-core wall time and the serial part).
 
 Run: ``python bench/bench_stream_batches.py --before /path/to/python-of-the-former-code``
-(default ``/work/venv/bin/python``: a venv with main before the change installed), after
+(the python of a venv with the former code installed: ``python -m venv old && old/bin/pip
+install 'git+file://$PWD@<commit>'`` or a worktree's ``pip install .``), after
 ``bench/nga_catalogue.py`` has written its catalogue.
 
 Each run is the first run of a fresh workspace (``nice stepframe run WF --json --jobs 2``) of
@@ -98,7 +99,7 @@ def first_run(python: str, workflow: Path, *extra: str) -> dict[str, Any]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--before", default="/work/venv/bin/python")
+    parser.add_argument("--before", required=True, help="the python of the former code's venv")
     parser.add_argument("--components", type=int, default=2048)
     parser.add_argument("--repeat", type=int, default=2)
     parser.add_argument("--batch-items", type=int, default=None)
