@@ -40,7 +40,7 @@ class RunOptions:
     batch_items: int | None = option(
         None,
         "items stored per batch (default 1024, or 32 per worker if more): a killed run loses "
-        "at most one batch",
+        "at most one batch of finished items and the groups under way",
         kind="int",
         metavar="N",
         valid=Range(1, 10_000_000),

@@ -72,8 +72,9 @@ from stepframe.pipeline.engine.workflow import DEFAULT_WORKSPACE, Workflow, load
 if TYPE_CHECKING:
     import pandas as pd
 
-#: Items computed per stored segment by default: a killed run loses at most one batch, and
-#: each batch waits for its slowest chunk, so batches are not small.
+#: Items stored per segment by default: a killed run loses at most one batch of finished items
+#: (and the groups under way), and each segment is a file the store reads, so batches are not
+#: small.
 DEFAULT_BATCH_ITEMS = 1024
 #: With many workers, at least this many items per worker in a batch.
 BATCH_ITEMS_PER_WORKER = 32
