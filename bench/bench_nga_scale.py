@@ -101,9 +101,12 @@ class TreeMonitor(threading.Thread):
         self.join()
 
 
-def _run(workflow: Path, *extra: str, watch: list[int] | None = None) -> dict[str, Any]:
-    """One ``nice stepframe run WORKFLOW --json`` with its wall time, memory and CPU."""
-    command = ["nice", sys.executable, "-m", "stepframe.cli", "run", str(workflow), "--json"]
+def _run(
+    workflow: Path, *extra: str, watch: list[int] | None = None, python: str = sys.executable
+) -> dict[str, Any]:
+    """One ``nice stepframe run WORKFLOW --json`` (by ``python``: another installation's, to
+    compare) with its wall time, memory and CPU."""
+    command = ["nice", python, "-m", "stepframe.cli", "run", str(workflow), "--json"]
     load_before = os.getloadavg()[0]
     start = time.perf_counter()
     process = subprocess.Popen(

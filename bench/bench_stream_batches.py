@@ -19,16 +19,14 @@ its processes, and the workers' use of the two cores while the items ran ((all C
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import shutil
-import subprocess
-import time
 from pathlib import Path
 from typing import Any
 
+import bench_nga_scale
 import nga_catalogue
-from bench_nga_scale import SHIPPED, TreeMonitor
+from bench_nga_scale import SHIPPED
 
 WORKFLOW = """workspace = "work"
 
@@ -67,29 +65,16 @@ def scene(root: Path, catalogue: Path, components: int) -> Path:
 def first_run(python: str, workflow: Path, *extra: str) -> dict[str, Any]:
     """One first run (workspace removed before) of ``workflow`` by ``python``."""
     shutil.rmtree(workflow.parent / "work", ignore_errors=True)
-    command = ["nice", python, "-m", "stepframe.cli", "run", str(workflow), "--json", *extra]
-    load = os.getloadavg()[0]
-    start = time.perf_counter()
-    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    monitor = TreeMonitor([process.pid])
-    monitor.start()
-    stdout, stderr = process.communicate()
-    wall = time.perf_counter() - start
-    monitor.stop()
-    if process.returncode != 0:
-        raise SystemExit(f"run failed: {stderr[-2000:]}")
-    stages = {s["name"]: s for s in json.loads(stdout)["stages"]}
-    main_cpu = monitor.cpu.get(process.pid, ("", 0.0))[1]
-    tree_cpu = sum(cpu for _, cpu in monitor.cpu.values())
-    items_s = stages["inventory"]["seconds"]
+    run = bench_nga_scale._run(workflow, *extra, python=python)
+    items_s = run["stages"]["inventory"]["seconds"]
     return {
-        "wall_s": wall,
+        "wall_s": run["wall_s"],
         "items_s": items_s,
-        "selection_s": stages["selection"]["seconds"],
-        "main_cpu_s": main_cpu,
-        "tree_cpu_s": tree_cpu,
-        "workers_use": (tree_cpu - main_cpu) / (2 * items_s),
-        "load": [load, os.getloadavg()[0]],
+        "selection_s": run["stages"]["selection"]["seconds"],
+        "main_cpu_s": run["main_cpu_s"],
+        "tree_cpu_s": run["tree_cpu_s"],
+        "workers_use": (run["tree_cpu_s"] - run["main_cpu_s"]) / (2 * items_s),
+        "load": run["load"],
         "outputs": {
             name: (workflow.parent / "work" / "outputs" / name).read_bytes()
             for name in ("features.parquet", "selection/candidates.csv")
