@@ -21,6 +21,15 @@ beside the wall-time one: ``--jobs 1``'s CPU over that.
 
     python bench/bench_parallel_pays.py [--repeat 3] [--only 1,2,3,4,5]
 
+The host's speed drifts by a quarter within minutes, more than the change a comparison looks
+for, so ``--before PYTHON`` (case 5 only) compares two installations on the same drift: each
+repeat runs ``--jobs 1`` then ``--jobs 2`` with PYTHON (another venv's interpreter, the former
+code installed in it), then with this interpreter, and prints each pair's speed-up of the item
+stages (the inventory stage, with the features and the responses stage's exact ranking chained
+to it) and their median:
+
+    python bench/bench_parallel_pays.py --before /path/to/venv/bin/python --repeat 5
+
 Files go to bench/out/parallel/ (ignored by git).
 """
 
@@ -53,13 +62,15 @@ features = true
 """
 
 
-def _command(args: list[str], cwd: Path) -> tuple[float, float, float, float, Any]:
-    """One command: wall time, CPU time of it and its children, of its main process, of its
-    busiest worker [s], and its JSON output (None unless ``--json`` was given)."""
+def _command(
+    args: list[str], cwd: Path, python: str = sys.executable
+) -> tuple[float, float, float, float, Any]:
+    """One command run by ``python``: wall time, CPU time of it and its children, of its main
+    process, of its busiest worker [s], and its JSON output (None unless ``--json`` was given)."""
     before = os.times()
     start = time.perf_counter()
     process = subprocess.Popen(
-        [sys.executable, "-m", "stepframe.cli", *args],
+        [python, "-m", "stepframe.cli", *args],
         cwd=cwd,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
@@ -142,13 +153,74 @@ def _case(name: str, runs: dict[int, list[str]], cwd: Path, repeat: int, fresh: 
     return row
 
 
+def _item_stages_s(report: Any) -> float:
+    """The item stages' seconds of a run's ``--json`` report: the inventory stage, with the
+    stages chained to it, and any item stage run apart."""
+    return float(
+        sum(
+            s["seconds"]
+            for s in report["stages"]
+            if s["name"] in ("inventory", "features", "responses")
+        )
+    )
+
+
+def _before_after(scene: Path, before: str, repeat: int) -> None:
+    """Case 5 with two installations alternated (module docstring, ``--before``)."""
+    pythons = {"before": before, "after": sys.executable}
+    ratios: dict[str, list[float]] = {name: [] for name in pythons}
+    for _ in range(repeat):
+        for name, python in pythons.items():
+            seconds = {}
+            for jobs in (1, 2):
+                shutil.rmtree(scene / "work", ignore_errors=True)
+                load = os.getloadavg()[0]
+                args = ["run", str(scene / "selection.toml"), "--json", "--jobs", str(jobs)]
+                wall, cpu, main_cpu, busiest, report = _command(args, OUT, python)
+                seconds[jobs] = _item_stages_s(report)
+                row = {"code": name, "jobs": jobs, "item_stages_s": seconds[jobs], "wall_s": wall}
+                row |= {"cpu_s": cpu, "main_cpu_s": main_cpu, "busiest_worker_cpu_s": busiest}
+                print(json.dumps(row | {"load": load}), flush=True)
+            ratios[name].append(seconds[1] / seconds[2])
+    print("\n| code | item stages --jobs 1 / --jobs 2, each pair | median |")
+    print("|---|---|---:|")
+    for name, values in ratios.items():
+        cells = ", ".join(f"{value:.2f}×" for value in values)
+        print(f"| {name} | {cells} | {statistics.median(values):.2f}× |")
+
+
+def _nga1000() -> Path:
+    """Case 5's scene: 1,000 components of :mod:`nga_catalogue` and the shipped workflow."""
+    sys.path.insert(0, str(Path(__file__).parent))
+    import nga_catalogue
+
+    folder = nga_catalogue.build(nga_catalogue.OUT / "records-500", range(500))
+    scene = OUT / "nga1000"
+    if not (scene / "records").is_dir():
+        (scene / "records").mkdir(parents=True)
+        for file in sorted(folder.glob("*.AT2")):
+            os.link(file, scene / "records" / file.name)
+        shipped = Path(__file__).parents[1] / "src" / "stepframe" / "workflows"
+        shutil.copytree(shipped / "frames", scene / "frames")
+        text = (shipped / "selection.toml").read_text(encoding="utf-8")
+        text = text.replace('example = "fema-p695"', 'folder = "records"')
+        (scene / "selection.toml").write_text('workspace = "work"\n' + text, encoding="utf-8")
+    return scene
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--only", default="1,2,3,4,5")
+    parser.add_argument(
+        "--before", metavar="PYTHON", help="alternate case 5 with this interpreter's stepframe"
+    )
     args = parser.parse_args()
     only = {int(k) for k in args.only.split(",")}
     OUT.mkdir(parents=True, exist_ok=True)
+    if args.before:
+        _before_after(_nga1000(), args.before, args.repeat)
+        return
     rows = []
     if 1 in only:
         select = ["select", "--example", "fema-p695", "--frame", str(FRAME), "-n", "10"]
@@ -181,20 +253,7 @@ def main() -> None:
             _case(f"features, {count} components", runs, OUT, args.repeat, OUT / f"work{count}")
         )
     if 5 in only:
-        sys.path.insert(0, str(Path(__file__).parent))
-        import nga_catalogue
-
-        folder = nga_catalogue.build(nga_catalogue.OUT / "records-500", range(500))
-        scene = OUT / "nga1000"
-        if not (scene / "records").is_dir():
-            (scene / "records").mkdir(parents=True)
-            for file in sorted(folder.glob("*.AT2")):
-                os.link(file, scene / "records" / file.name)
-            shipped = Path(__file__).parents[1] / "src" / "stepframe" / "workflows"
-            shutil.copytree(shipped / "frames", scene / "frames")
-            text = (shipped / "selection.toml").read_text(encoding="utf-8")
-            text = text.replace('example = "fema-p695"', 'folder = "records"')
-            (scene / "selection.toml").write_text('workspace = "work"\n' + text, encoding="utf-8")
+        scene = _nga1000()
         runs = {
             j: ["run", str(scene / "selection.toml"), "--json", "--jobs", str(j)] for j in (1, 2)
         }

@@ -91,16 +91,68 @@ def process_id(seconds: float) -> int:
 
 
 def test_a_small_batch_stays_in_this_process_and_a_large_one_goes_to_the_workers() -> None:
-    """The first item is run here and timed: 40 items of nothing stay here (starting workers
+    """The first items are run here and timed: 40 items of nothing stay here (starting workers
     would cost more); 40 items of 50 ms each (about 2 s, over POOL_WORTH_S = 1 s) go to the
-    workers after the probe item."""
+    workers after the two probe items."""
     import os
 
     small = map_items(process_id, [0.0] * 40, jobs=2)
     assert set(small.results) == {os.getpid()}
     large = map_items(process_id, [0.05] * 40, jobs=2)
-    assert large.results[0] == os.getpid()
-    assert os.getpid() not in large.results[1:]
+    assert large.results[:2] == [os.getpid()] * 2
+    assert os.getpid() not in large.results[2:]
+
+
+def test_a_slow_first_item_does_not_start_the_workers_for_quick_ones() -> None:
+    """The first item pays a process's first calls (imports, kernels loaded): 1.2 s, then ten
+    items of nothing. Timed alone it would have sent the ten to workers (10 × 1.2 s); the second
+    item, timed warm, keeps them here. With one item left after the first, nothing is started."""
+    import os
+
+    warm_up = map_items(process_id, [1.2] + [0.0] * 10, jobs=2)
+    assert set(warm_up.results) == {os.getpid()}
+    two = map_items(process_id, [1.2, 0.0], jobs=2)
+    assert two.results == [os.getpid()] * 2
+
+
+def sleep_group(group: list[float]) -> int:
+    """Sleep each of the group's seconds; the process that ran it."""
+    import os
+    import time
+
+    time.sleep(sum(group))
+    return os.getpid()
+
+
+def test_the_probe_is_timed_per_unit_of_grouped_items() -> None:
+    """Groups carrying several items (a run's groups of tasks): a one-item probe group of 20 ms
+    is set against the units still to come, not the groups. Two more groups of 30 items of
+    20 ms (1.2 s, over POOL_WORTH_S) go to the workers; timed per group (2 × 20 ms) they would
+    have stayed here."""
+    import os
+
+    work = [[0.02], [0.02], [0.02] * 30, [0.02] * 30]
+    outcome = map_items(sleep_group, work, jobs=2, chunk_size=1, units_of=len)
+    assert outcome.results[:2] == [os.getpid()] * 2
+    assert os.getpid() not in outcome.results[2:]
+
+
+def test_probe_items_only_while_workers_are_to_start() -> None:
+    """What a caller that groups its work keeps small: the probe's items, none in this process's
+    own run (jobs 1) or with workers already running."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from stepframe.core.execution import PROBE_ITEMS, WorkerPool, probe_items
+
+    assert PROBE_ITEMS == 2
+    assert probe_items(None, 1) == 0
+    assert probe_items(None, 2) == 2
+    with WorkerPool(2) as pool:
+        assert probe_items(pool, 2) == 2
+        pool.submit(int).result()
+        assert probe_items(pool, 2) == 0
+    with ThreadPoolExecutor(2) as threads:  # an executor whose workers run
+        assert probe_items(threads, 2) == 0
 
 
 def test_a_shared_worker_pool_starts_on_first_use_and_serves_many_batches() -> None:

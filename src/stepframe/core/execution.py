@@ -12,8 +12,11 @@ pool, a :class:`WorkerPool` shared by the batches of a run), which is used and l
 
 Parallel work pays only when there is enough of it: before workers are started, :func:`map_items`
 runs the first item in this process and times it, and runs the rest here too when they would take
-less than starting the workers costs (:data:`POOL_WORTH_S`). So ``jobs=2`` is never much slower
-than ``jobs=1`` on a small batch, and the probe item is work that needed doing. An executor whose
+less than starting the workers costs (:data:`POOL_WORTH_S`). The first item also pays this
+process's first calls (imports, compiled kernels loaded from the cache), so when it says the
+workers pay, a second item, timed on the warm process, decides (:data:`PROBE_ITEMS`); workers
+forked after the probe inherit what it loaded. So ``jobs=2`` is never much slower than
+``jobs=1`` on a small batch, and the probe items are work that needed doing. An executor whose
 workers run (a started :class:`WorkerPool`, a Dask cluster) gets every batch, with no probe: the
 main process stays free (its time is the serial part of a run).
 """
@@ -45,6 +48,10 @@ Params = ParamSpec("Params")
 #: while the workers are not started: starting them costs about this much (fork, then what a
 #: worker imports on its first item).
 POOL_WORTH_S = 1.0
+
+#: Items the probe runs in this process at most: the first pays the process's first calls, so a
+#: second, timed warm, decides when the first alone would start the workers.
+PROBE_ITEMS = 2
 
 
 @dataclass(frozen=True)
@@ -267,9 +274,9 @@ def map_items(
 ) -> MapOutcome[Result]:
     """Apply ``function`` to every item, in parallel, recording failures instead of stopping.
 
-    With workers to start, the first item runs in this process and is timed; the others run here
-    too when they would take less than ``worth_s``, else on the workers (see the module
-    docstring).
+    With workers to start, the first one or two items run in this process and are timed (per
+    unit, ``units_of``); the others run here too when they would take less than ``worth_s``,
+    else on the workers (see the module docstring).
 
     Parameters
     ----------
@@ -384,12 +391,18 @@ def iter_items(
         parallel = (executor is not None or workers > 1) and len(indexed) > 1
         threshold_s = _worth_s(executor) if worth_s is None else worth_s
         if parallel and threshold_s > 0:
-            # The probe: one item here, timed; the rest go to workers only if that pays.
-            probe_start = time.perf_counter()
-            yield from counted(_run_chunk(function, indexed[:1], stage, name_of))
-            per_item_s = time.perf_counter() - probe_start
-            rest = indexed[1:]
-            parallel = per_item_s * len(rest) >= threshold_s
+            # The probe: items here, timed per unit; the rest go to workers only if that pays.
+            # The first item also pays this process's first calls (imports, compiled kernels
+            # loaded), which workers forked after it inherit: when even that estimate says the
+            # workers pay, a second item, on the warm process, decides.
+            for _ in range(PROBE_ITEMS):
+                probe_start = time.perf_counter()
+                yield from counted(_run_chunk(function, rest[:1], stage, name_of))
+                per_unit_s = (time.perf_counter() - probe_start) / max(1, units[rest[0][0]])
+                rest = rest[1:]
+                parallel = per_unit_s * sum(units[index] for index, _ in rest) >= threshold_s
+                if not parallel or len(rest) <= 1:
+                    break
         size = chunk_size or default_chunk_size(len(rest), workers)
         chunks = [rest[i : i + size] for i in range(0, len(rest), size)]
         if not parallel or (executor is None and len(chunks) <= 1):
@@ -458,6 +471,16 @@ def call_each(
 
 def _call_name(call: Callable[[], Any]) -> str:
     return getattr(getattr(call, "func", call), "__name__", type(call).__name__)
+
+
+def probe_items(executor: Executor | None, jobs: int | None) -> int:
+    """How many leading items :func:`map_items` may run in this process as its probe with this
+    ``executor`` and ``jobs`` (:data:`PROBE_ITEMS` while workers are yet to start, else 0): a
+    caller that groups its work keeps them small, since the workers wait for them."""
+    workers = default_jobs() if jobs is None else jobs
+    if executor is None and workers <= 1:
+        return 0
+    return PROBE_ITEMS if _worth_s(executor) > 0 else 0
 
 
 def _worth_s(executor: Executor | None) -> float:

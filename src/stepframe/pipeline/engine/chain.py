@@ -114,13 +114,18 @@ def groups(
     followers: tuple[Follower, ...],
     workers: int,
     most: int = MAX_GROUP,
+    single: int = 0,
 ) -> list[Group]:
     """``tasks`` in groups of about a quarter of an equal share per worker (at most
     :data:`MAX_GROUP`, and at most ``most``: a run's batch, which a group must not outgrow), in
-    order."""
+    order; the first ``single`` tasks each a group of its own (the executor's probe, run in this
+    process while the workers are not started: :func:`~stepframe.core.execution.probe_items`).
+    """
     size = max(1, min(MAX_GROUP, most, math.ceil(len(tasks) / (4 * max(1, workers)))))
     work = Work.of(stage)
-    return [(work, tuple(tasks[i : i + size]), followers) for i in range(0, len(tasks), size)]
+    alone = [(work, (task,), followers) for task in tasks[:single]]
+    rest = tasks[single:]
+    return alone + [(work, tuple(rest[i : i + size]), followers) for i in range(0, len(rest), size)]
 
 
 def group_name(group: Group) -> str:

@@ -39,7 +39,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from stepframe.core.execution import iter_items
+from stepframe.core.execution import iter_items, probe_items
 from stepframe.core.io import TEMPORARY_SUFFIX
 from stepframe.core.results import Failure, failures_path, set_column_dictionary
 from stepframe.errors import InputError
@@ -439,7 +439,8 @@ def _run_items(
     # items have finished, while the workers go on: no worker waits at a batch's end for the
     # slowest group or for this process to store (a killed run loses at most the finished
     # items not yet stored, fewer than batch_items, and the groups under way).
-    work = groups(stage, todo, followers, execution.jobs, batch_items)
+    single = probe_items(execution.executor, execution.jobs)
+    work = groups(stage, todo, followers, execution.jobs, batch_items, single)
     finished: list[tuple[Group, bool, Any]] = []
     finished_items = 0
     for position, ok, value in iter_items(
