@@ -69,16 +69,19 @@ def compile_notice_setting(_: int) -> str:
     return os.environ.get("STEPFRAME_COMPILE_NOTICE", "unset")
 
 
-def test_pool_workers_leave_the_compile_notice_to_the_parent(
-    monkeypatch: pytest.MonkeyPatch,
+@pytest.mark.parametrize(("parent", "workers"), [("1", "worker"), ("0", "0")])
+def test_pool_workers_announce_only_once_for_the_pool(
+    monkeypatch: pytest.MonkeyPatch, parent: str, workers: str
 ) -> None:
-    """Workers compiling at once printed notices that interleaved on one line."""
-    monkeypatch.setenv("STEPFRAME_COMPILE_NOTICE", "1")
+    """Workers compiling at once printed notices that interleaved on one line: in a pool they
+    speak in one complete line for all (tests/core/test_jit.py), and are silent when the
+    parent is."""
+    monkeypatch.setenv("STEPFRAME_COMPILE_NOTICE", parent)
     results, failures = map_items(
         compile_notice_setting, range(8), jobs=2, chunk_size=1, worth_s=0.0
     )
-    assert results == ["0"] * 8 and failures == []
-    assert compile_notice_setting(0) == "1"  # the parent still announces
+    assert results == [workers] * 8 and failures == []
+    assert compile_notice_setting(0) == parent  # the parent still announces as before
 
 
 def process_id(seconds: float) -> int:

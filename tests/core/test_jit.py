@@ -86,3 +86,43 @@ def test_user_cache_root_follows_xdg(monkeypatch: pytest.MonkeyPatch, tmp_path: 
     monkeypatch.delenv("XDG_CACHE_HOME")
     monkeypatch.setenv("HOME", str(tmp_path))
     assert jit.user_cache_root() == tmp_path / ".cache" / "stepframe" / "numba"
+
+
+WORKERS_COMPILE = """
+import os, sys, time
+from stepframe.core.execution import map_items
+
+def item(seconds):
+    time.sleep(seconds)  # both workers busy before either compiles
+    from stepframe.structure import _exact
+    had = bool(_exact._ecs.signatures)
+    _exact._ecs(0.1, -1.0, 0.5)
+    return os.getpid(), had
+
+results, failures = map_items(item, [0.5, 0.5, 0.0, 0.0], jobs=2, chunk_size=1, worth_s=0.0)
+assert not failures, failures
+print(len({pid for pid, had in results if not had}))
+"""
+
+
+@pytest.mark.parametrize("setting", ["1", "0"])
+def test_workers_that_compile_announce_it_once_for_the_pool(tmp_path: Path, setting: str) -> None:
+    """Workers forked before the kernels were loaded (a pool started by the records' hashing)
+    compile them on a first run: one complete line for the pool, not one under way per worker
+    (which interleaved), and none when the user silenced the notice."""
+    env = {k: v for k, v in os.environ.items() if not k.startswith("NUMBA_")}
+    env.update(NUMBA_CACHE_DIR=str(tmp_path / "cache"), STEPFRAME_COMPILE_NOTICE=setting)
+    run = subprocess.run(
+        [sys.executable, "-c", WORKERS_COMPILE], capture_output=True, text=True, env=env,
+        timeout=300,
+    )  # fmt: skip
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.strip() == "2"  # each worker compiled the kernel itself
+    notices = [line for line in run.stderr.splitlines() if "compiling" in line]
+    if setting == "0":
+        assert notices == []
+    else:
+        assert notices == [
+            "stepframe: the worker processes are compiling numba kernels once "
+            "(cached for later runs)"
+        ]

@@ -93,16 +93,27 @@ def default_chunk_size(n_items: int, workers: int) -> int:
     return max(1, min(64, math.ceil(n_items / max(1, 4 * workers))))
 
 
-def _die_with_parent(parent_pid: int) -> None:
+#: In a worker of a :class:`WorkerPool`: the pool's shared flag, set by the first worker that
+#: announces a compilation (:func:`claim_compile_notice`).
+_compile_announced: Any = None
+
+
+def _die_with_parent(parent_pid: int, announced: Any = None) -> None:
     """Process-pool initializer: end this worker when the process that started the batch dies,
-    and leave the compile notice (:mod:`stepframe.core.jit`) to that process.
+    and let one worker of the pool announce a compilation (:mod:`stepframe.core.jit`).
 
     With a plain fork, Linux's parent-death signal (prctl PR_SET_PDEATHSIG) does it. A worker
     started from a fork server has the server as its parent, which outlives a SIGKILLed batch, so
     a daemon thread also polls the batch's process and ends the worker once it is gone.
+    ``announced`` is the pool's shared flag (a ``multiprocessing.Value``).
     """
-    # The process the user started announces compilations; a worker's notice would interleave.
-    os.environ["STEPFRAME_COMPILE_NOTICE"] = "0"
+    # A worker forked before the kernels were loaded (a pool started by the records' hashing)
+    # compiles them itself on a first run: one line for the whole pool, complete at once (notices
+    # under way in several workers would interleave on one line); silenced as the parent is.
+    global _compile_announced
+    if os.environ.get("STEPFRAME_COMPILE_NOTICE", "1") != "0":
+        os.environ["STEPFRAME_COMPILE_NOTICE"] = "worker"
+    _compile_announced = announced
     if sys.platform.startswith("linux"):
         import ctypes
         import signal
@@ -113,6 +124,18 @@ def _die_with_parent(parent_pid: int) -> None:
     if not _running(parent_pid):  # died between the fork and now
         os._exit(1)
     threading.Thread(target=_watch, args=(parent_pid,), daemon=True).start()
+
+
+def claim_compile_notice() -> bool:
+    """In a worker of a :class:`WorkerPool`: True for the first worker of the pool to ask (it
+    announces the workers' compilation), False for the others and outside a pool."""
+    flag = _compile_announced
+    if flag is None:
+        return False
+    with flag.get_lock():
+        first = not flag.value
+        flag.value = 1
+    return bool(first)
 
 
 def _running(pid: int) -> bool:
@@ -184,11 +207,12 @@ class WorkerPool(Executor):
     ) -> Future[Value]:
         """Submit to the pool, starting it first if needed."""
         if self._pool is None:
+            context = _pool_context()
             self._pool = ProcessPoolExecutor(
                 max_workers=self.workers,
-                mp_context=_pool_context(),
+                mp_context=context,
                 initializer=_die_with_parent,
-                initargs=(os.getpid(),),
+                initargs=(os.getpid(), context.Value("b", 0)),
             )
         return self._pool.submit(fn, *args, **kwargs)
 

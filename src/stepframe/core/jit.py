@@ -15,11 +15,14 @@ available``. :func:`njit` is the drop-in that decides before decorating:
 Compiling the kernels takes seconds to tens of seconds, once. While a stepframe kernel compiles
 (a cache miss, not a cache load) one line goes to stderr, finished with the time it took:
 ``stepframe: compiling numba kernels once (cached in DIR for later runs)... 14.2 s``; a later
-compilation in the same run says ``stepframe: compiling more numba kernels... 2.7 s``. Only the
-process the user started speaks: the workers of :func:`stepframe.core.execution.map_items` set
-``STEPFRAME_COMPILE_NOTICE=0`` (their compiles would otherwise interleave on one line). Set
-:data:`ANNOUNCE` to False, or the environment variable ``STEPFRAME_COMPILE_NOTICE=0``, to
-silence it.
+compilation in the same run says ``stepframe: compiling more numba kernels... 2.7 s``. The
+workers of a :class:`stepframe.core.execution.WorkerPool` inherit the kernels the process that
+forked them had loaded; those started before (a run's pool started by hashing the records)
+compile them themselves on a first run, and then the first of the pool says so once, in one
+complete line (``stepframe: the worker processes are compiling numba kernels once ...``): lines
+under way in several workers would interleave (``STEPFRAME_COMPILE_NOTICE=worker``, set by the
+pool). Set :data:`ANNOUNCE` to False, or the environment variable
+``STEPFRAME_COMPILE_NOTICE=0``, to silence it.
 """
 
 from __future__ import annotations
@@ -111,26 +114,25 @@ class _CompileNotice(event.Listener):
     def on_start(self, ev: Any) -> None:
         self.depth += 1
         # Read at each compile, not at import: a forked worker inherits this module imported.
-        silenced = os.environ.get("STEPFRAME_COMPILE_NOTICE", "1") == "0"
-        if self.depth != 1 or not ANNOUNCE or silenced:
+        mode = os.environ.get("STEPFRAME_COMPILE_NOTICE", "1")
+        if self.depth != 1 or not ANNOUNCE or mode == "0":
             return
         function = getattr((ev.data or {}).get("dispatcher"), "py_func", None)
         module = getattr(function, "__module__", "") or ""
         if function is None or not module.startswith("stepframe."):
             return
-        self.started = time.perf_counter()
-        self.printed = True
         self.episodes += 1
         where = cache_folder(function.__code__.co_filename)
-        if self.episodes > 1:
-            what = "compiling more numba kernels"
-        elif where is None:
-            what = "compiling numba kernels in memory (no writable cache folder: again next run)"
-        elif where == "numba":
-            what = "compiling numba kernels once (cached for later runs)"
-        else:
-            what = f"compiling numba kernels once (cached in {where} for later runs)"
-        print(f"stepframe: {what}...", end="", file=sys.stderr)
+        if mode == "worker":
+            from stepframe.core.execution import claim_compile_notice
+
+            if claim_compile_notice():
+                what = _what(where, first=True)
+                print(f"stepframe: the worker processes are {what}", file=sys.stderr, flush=True)
+            return
+        self.started = time.perf_counter()
+        self.printed = True
+        print(f"stepframe: {_what(where, self.episodes == 1)}...", end="", file=sys.stderr)
         sys.stderr.flush()
 
     def on_end(self, ev: Any) -> None:
@@ -138,6 +140,17 @@ class _CompileNotice(event.Listener):
         if self.depth == 0 and self.printed:
             self.printed = False
             print(f" {time.perf_counter() - self.started:.1f} s", file=sys.stderr, flush=True)
+
+
+def _what(where: str | None, first: bool) -> str:
+    """The notice's words for a compilation cached in ``where`` (:func:`cache_folder`)."""
+    if not first:
+        return "compiling more numba kernels"
+    if where is None:
+        return "compiling numba kernels in memory (no writable cache folder: again next run)"
+    if where == "numba":
+        return "compiling numba kernels once (cached for later runs)"
+    return f"compiling numba kernels once (cached in {where} for later runs)"
 
 
 _listener: _CompileNotice | None = None
