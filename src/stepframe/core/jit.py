@@ -17,8 +17,9 @@ Compiling the kernels takes seconds to tens of seconds, once. While a stepframe 
 ``stepframe: compiling numba kernels once (cached in DIR for later runs)... 14.2 s``; a later
 compilation in the same run says ``stepframe: compiling more numba kernels... 2.7 s``. The
 workers of a :class:`stepframe.core.execution.WorkerPool` inherit the kernels the process that
-forked them had loaded; those started before (a run's pool started by hashing the records)
-compile them themselves on a first run, and then the first of the pool says so once, in one
+forked them had loaded; a kernel it had not (a pool started by hashing the records, or a
+kernel only the workers run, as the confirmation's bootstrap) they compile themselves on a
+first run, and then the first of the pool says so once, in one
 complete line (``stepframe: the worker processes are compiling numba kernels once ...``): lines
 under way in several workers would interleave (``STEPFRAME_COMPILE_NOTICE=worker``, set by the
 pool). Set :data:`ANNOUNCE` to False, or the environment variable
