@@ -1,0 +1,45 @@
+"""The package's build: setuptools as configured in pyproject.toml, plus the compiled kernels.
+
+``build_py`` copies the sources into the build tree as usual, then runs
+``python -m stepframe.core.kernel_cache`` on that tree, so numba's cache of every kernel
+(``__pycache__/*.nbi``, ``*.nbc`` beside each source) goes into the wheel and no command compiles
+on its first run (the reasons and the limits are in that module's docstring). Set
+``STEPFRAME_PRECOMPILE=0`` to build without it (the kernels then compile on first use); an editable
+install never runs it (run the module by hand there if wanted).
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+
+from setuptools import setup
+from setuptools.command.build_py import build_py
+
+
+class BuildWithKernels(build_py):
+    """``build_py``, then the kernels compiled into the build tree's numba cache."""
+
+    def run(self) -> None:
+        super().run()
+        if getattr(self, "editable_mode", False) or os.environ.get("STEPFRAME_PRECOMPILE") == "0":
+            return
+        env = dict(os.environ, PYTHONPATH=os.path.abspath(self.build_lib))
+        # numba's own cache folder would take the cache away from the sources it ships with.
+        env.pop("NUMBA_CACHE_DIR", None)
+        print(
+            "stepframe: compiling the numba kernels into the package (STEPFRAME_PRECOMPILE=0 "
+            "skips this)",
+            file=sys.stderr,
+            flush=True,
+        )
+        subprocess.run(
+            [sys.executable, "-m", "stepframe.core.kernel_cache"],
+            env=env,
+            cwd=self.build_lib,
+            check=True,
+        )
+
+
+setup(cmdclass={"build_py": BuildWithKernels})
