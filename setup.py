@@ -23,7 +23,10 @@ class BuildWithKernels(build_py):
 
     def run(self) -> None:
         super().run()
-        if getattr(self, "editable_mode", False) or os.environ.get("STEPFRAME_PRECOMPILE") == "0":
+        precompile = os.environ.get("STEPFRAME_PRECOMPILE", "1")
+        if precompile not in ("0", "1"):
+            raise SystemExit(f"STEPFRAME_PRECOMPILE={precompile!r}: expected 0 (skip) or 1")
+        if getattr(self, "editable_mode", False) or precompile == "0":
             return
         env = dict(os.environ, PYTHONPATH=os.path.abspath(self.build_lib))
         # numba's own cache folder would take the cache away from the sources it ships with.

@@ -4,8 +4,13 @@ Builds a fresh venv, installs this checkout into it non-editably (``pip install 
 build in isolation; the dependencies are those of the interpreter running this script: its
 site-packages are put on the venv's path), then runs each command two ways per setting:
 
-- ``fresh`` (default): the install as ``pip install`` leaves it, and ``NUMBA_CACHE_DIR`` a new,
-  empty folder for each command: run 1 compiles every kernel the command needs, run 2 loads them;
+- ``installed`` (default): the install as ``pip install`` leaves it, no ``NUMBA_CACHE_DIR``: the
+  kernels the build compiled into the package (:mod:`stepframe.core.kernel_cache`) are what a
+  new user's first run finds; the package's cache files are counted before and after each
+  command (a kernel compiled on the way adds files);
+- ``fresh``: ``NUMBA_CACHE_DIR`` a new, empty folder for each command, which numba prefers to the
+  package's own cache: run 1 compiles every kernel the command needs, run 2 loads them (what
+  every first run paid before the build compiled them);
 - ``user cache`` and ``nothing writable`` (need root: ``unshare -m`` and ``mount``): the package
   folder and HOME bind-mounted read-only in a private mount namespace (a system install);
   ``XDG_CACHE_HOME`` a fresh writable folder (run 1 compiles and caches there, run 2 loads), or
@@ -22,7 +27,7 @@ and the CPU time of run 1 minus run 2 (the compilation's cost, cache writing inc
 included). ``--peer REV`` also installs the commit REV (``git archive``) into a second venv and
 runs it interleaved with this checkout, so both see the same load.
 
-    python bench/first_run.py [--peer main] [--setting fresh] [--only "structure simulate"]
+    python bench/first_run.py [--peer main] [--setting installed] [--only "structure simulate"]
 """
 
 from __future__ import annotations
@@ -41,13 +46,14 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 RECORD = ROOT / "tests" / "data" / "peer_nga_west2" / "RSN8883_14383980_13849360.AT2"
-SETTINGS = ("fresh", "user cache", "nothing writable")
+SETTINGS = ("installed", "fresh", "user cache", "nothing writable")
 
 
 def install(venv: Path, source: Path = ROOT) -> Path:
     """A fresh venv with ``source`` (default: this checkout) installed non-editably; returns the
-    package folder. The dependencies come from this interpreter's site-packages (a path line in
-    the venv, after its own site-packages: the fresh stepframe is found first)."""
+    package folder, and prints the install's wall time (the build compiles the kernels). The
+    dependencies come from this interpreter's site-packages (a path line in the venv, after its
+    own site-packages: the fresh stepframe is found first)."""
     subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True)
     python = venv / "bin" / "python"
     purelib = subprocess.run(
@@ -58,7 +64,9 @@ def install(venv: Path, source: Path = ROOT) -> Path:
         sysconfig.get_paths()["purelib"] + "\n", encoding="utf-8"
     )
     pip = [str(python), "-m", "pip", "install", "-q"]
+    start = time.perf_counter()
     subprocess.run([*pip, "--no-deps", str(source)], check=True)
+    print(f"pip install --no-deps {source}: {time.perf_counter() - start:.1f} s wall")
     code = "import stepframe, os; print(os.path.dirname(stepframe.__file__))"
     found = subprocess.run([str(python), "-c", code], check=True, capture_output=True, text=True)
     return Path(found.stdout.strip())
@@ -96,7 +104,7 @@ def main() -> None:
     parser.add_argument("--setting", choices=SETTINGS, action="append")
     parser.add_argument("--only", action="append", help="run only this command (repeatable)")
     args = parser.parse_args()
-    settings = args.setting or ["fresh"]
+    settings = args.setting or ["installed"]
     with tempfile.TemporaryDirectory(prefix="stepframe-first-run-") as tmp:
         base = Path(tmp)
         builds = {"this checkout": (base / "venv", install(base / "venv"))}
@@ -145,11 +153,12 @@ def main() -> None:
                         work.mkdir(parents=True)
                         env = {**clean, "HOME": str(home)}
                         read_only = None
+                        shipped = sum(1 for _ in package.rglob("*.nb[ic]"))
                         if setting == "fresh":
                             cache = base / f"numba-{tag}"
                             cache.mkdir(exist_ok=True)
                             env["NUMBA_CACHE_DIR"] = str(cache)
-                        else:
+                        elif setting != "installed":
                             read_only = (package, home)
                             if setting == "user cache":
                                 env["XDG_CACHE_HOME"] = str(base / f"xdg-{tag}")
@@ -157,6 +166,9 @@ def main() -> None:
                         command = [str(work / "out") if c == "OUT" else c for c in command]
                         wall, cpu, compiled, outcome = run(command, env, work, read_only)
                         load.append(os.getloadavg()[0])
+                        added = sum(1 for _ in package.rglob("*.nb[ic]")) - shipped
+                        if setting == "installed" and added:
+                            outcome += f"; {added} cache files added to the package"
                         if number == 1:
                             cpu_first[build] = cpu
                         delta = f"{cpu_first[build] - cpu:.1f}" if number == 2 else ""

@@ -12,6 +12,10 @@ available``. :func:`njit` is the drop-in that decides before decorating:
    compile once per user, not on every call;
 4. else no disk cache: the kernels compile in memory on every run, without a traceback.
 
+The package's build compiles every kernel into the package's own cache
+(:mod:`stepframe.core.kernel_cache`), so an installed stepframe normally loads them all (case 2);
+the rest of this applies where that cache cannot (the cases listed there).
+
 Compiling the kernels takes seconds to tens of seconds, once. While a stepframe kernel compiles
 (a cache miss, not a cache load) one line goes to stderr, finished with the time it took:
 ``stepframe: compiling numba kernels once (cached in DIR for later runs)... 14.2 s``; a later
