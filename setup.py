@@ -10,6 +10,7 @@ install never runs it (run the module by hand there if wanted).
 
 from __future__ import annotations
 
+import importlib.util
 import os
 import subprocess
 import sys
@@ -28,6 +29,12 @@ class BuildWithKernels(build_py):
             raise SystemExit(f"STEPFRAME_PRECOMPILE={precompile!r}: expected 0 (skip) or 1")
         if getattr(self, "editable_mode", False) or precompile == "0":
             return
+        if importlib.util.find_spec("numba") is None:
+            raise SystemExit(
+                "stepframe's build compiles its numba kernels and needs numba in the build "
+                "environment (pip puts it there; with --no-build-isolation install numba first), "
+                "or STEPFRAME_PRECOMPILE=0 to build without them"
+            )
         env = dict(os.environ, PYTHONPATH=os.path.abspath(self.build_lib))
         # numba's own cache folder would take the cache away from the sources it ships with.
         env.pop("NUMBA_CACHE_DIR", None)
