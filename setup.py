@@ -35,7 +35,10 @@ class BuildWithKernels(build_py):
                 "environment (pip puts it there; with --no-build-isolation install numba first), "
                 "or STEPFRAME_PRECOMPILE=0 to build without them"
             )
-        env = dict(os.environ, PYTHONPATH=os.path.abspath(self.build_lib))
+        # The child sees what this process sees: the built tree first, then this interpreter's
+        # path (pip's isolated build environment, where numba is, is on it, not in the venv).
+        path = [os.path.abspath(self.build_lib), *(p for p in sys.path if p)]
+        env = dict(os.environ, PYTHONPATH=os.pathsep.join(path))
         # numba's own cache folder would take the cache away from the sources it ships with.
         env.pop("NUMBA_CACHE_DIR", None)
         print(
