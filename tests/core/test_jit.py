@@ -23,15 +23,20 @@ RECORD = Path(__file__).parents[1] / "data" / "peer_nga_west2" / "RSN8883_143839
 PACKAGE = Path(stepframe.__file__).resolve().parent
 
 
-def _spectrum_read_only(home: Path, env: dict[str, str]) -> subprocess.CompletedProcess[str]:
-    """``records spectrum`` with the package folder and ``home`` mounted read-only."""
+def _spectrum_read_only(
+    home: Path, env: dict[str, str], hide_shipped: Path | None = None
+) -> subprocess.CompletedProcess[str]:
+    """``records spectrum`` with the package folder and ``home`` mounted read-only; with
+    ``hide_shipped`` (an empty folder), the package's cache of its spectra kernels hidden by it
+    (a package whose build compiled nothing)."""
     command = (
         f"{sys.executable} -c 'from stepframe.cli import main; main()' records spectrum "
         f"{RECORD} --periods-s 0.1,1.0 --json"
     )
-    script = (
-        f"mount --bind -o ro {PACKAGE} {PACKAGE} && mount --bind -o ro {home} {home} && {command}"
-    )
+    script = f"mount --bind -o ro {PACKAGE} {PACKAGE} && mount --bind -o ro {home} {home} && "
+    if hide_shipped is not None:
+        script += f"mount --bind -o ro {hide_shipped} {PACKAGE / 'records' / '__pycache__'} && "
+    script += command
     full = {k: v for k, v in os.environ.items() if not k.startswith(("NUMBA_", "XDG_"))}
     # The suite silences the notice for its other tests (tests/conftest.py); these check it.
     full.update(HOME=str(home), STEPFRAME_COMPILE_NOTICE="1", **env)
@@ -52,17 +57,51 @@ def test_nothing_writable_compiles_in_memory(tmp_path: Path, read_only_bind: Non
     assert list(home.iterdir()) == []
 
 
+def _package_cache_of_spectra() -> None:
+    """The package's own cache of its spectra kernels, as the build leaves it (compiled here,
+    into the writable package folder, when a development checkout has none yet)."""
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("NUMBA_", "XDG_"))}
+    code = "from stepframe.core.kernel_cache import _compile_group, ENTRY_POINTS; " + (
+        "_compile_group([e for e in ENTRY_POINTS if 'spectra' in e.module])"
+    )
+    subprocess.run([sys.executable, "-c", code], check=True, env=env, timeout=300)
+
+
 def test_user_cache_folder_is_used_and_reused(tmp_path: Path, read_only_bind: None) -> None:
+    """A read-only package that shipped no cache: the kernels compile once into the user's
+    folder, and the next run loads them."""
     home = tmp_path / "home"
     home.mkdir()
     cache = tmp_path / "cache"
-    first = _spectrum_read_only(home, {"XDG_CACHE_HOME": str(cache)})
+    empty = tmp_path / "no-shipped-cache"
+    empty.mkdir()
+    (PACKAGE / "records" / "__pycache__").mkdir(exist_ok=True)
+    first = _spectrum_read_only(home, {"XDG_CACHE_HOME": str(cache)}, hide_shipped=empty)
     assert first.returncode == 0, first.stderr
     assert f"cached in {cache / 'stepframe' / 'numba'}" in first.stderr
     assert list((cache / "stepframe" / "numba").rglob("*.nbi"))
-    second = _spectrum_read_only(home, {"XDG_CACHE_HOME": str(cache)})
+    second = _spectrum_read_only(home, {"XDG_CACHE_HOME": str(cache)}, hide_shipped=empty)
     assert second.returncode == 0, second.stderr
     assert "compiling" not in second.stderr  # loaded from the user cache, not compiled again
+
+
+def test_read_only_package_lends_its_cache_to_the_user_folder(
+    tmp_path: Path, read_only_bind: None
+) -> None:
+    """A read-only package with the cache its build compiled: copied into the user's folder, so
+    the first run compiles nothing, and gives the numbers a compiling run gives."""
+    _package_cache_of_spectra()
+    home = tmp_path / "home"
+    home.mkdir()
+    cache = tmp_path / "cache"
+    run = _spectrum_read_only(home, {"XDG_CACHE_HOME": str(cache)})
+    assert run.returncode == 0, run.stderr
+    assert "compiling" not in run.stderr
+    shipped = {p.name for p in (PACKAGE / "records" / "__pycache__").glob("_spectra_kernels*.nb?")}
+    copied = {p.name for p in (cache / "stepframe" / "numba").rglob("_spectra_kernels*.nb?")}
+    assert shipped and shipped <= copied
+    psa = json.loads(run.stdout)["components"][0]["psa_g"]
+    assert psa == pytest.approx([0.3377, 0.1303], rel=2e-3)  # as from a writable install
 
 
 def test_cache_false_and_in_process_kernel_agree() -> None:

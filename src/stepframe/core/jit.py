@@ -8,8 +8,10 @@ available``. :func:`njit` is the drop-in that decides before decorating:
 1. ``NUMBA_CACHE_DIR`` set by the user: numba's own choice, untouched;
 2. the package folder writable: the cache goes beside the source, as numba does;
 3. else ``$XDG_CACHE_HOME/stepframe/numba`` (default ``~/.cache/stepframe/numba``) if it can be
-   created and written: numba is pointed there (``numba.config.CACHE_DIR``), so the kernels
-   compile once per user, not on every call;
+   created and written: numba is pointed there (``numba.config.CACHE_DIR``), after the cache the
+   package's build compiled into its read-only folder is copied there (a system or container
+   install loads the kernels as a writable one does), so a kernel missing from it compiles once
+   per user, not on every call;
 4. else no disk cache: the kernels compile in memory on every run, without a traceback.
 
 The package's build compiles every kernel into the package's own cache
@@ -33,6 +35,7 @@ pool). Set :data:`ANNOUNCE` to False, or the environment variable
 from __future__ import annotations
 
 import os
+import shutil
 import sys
 import tempfile
 import threading
@@ -86,10 +89,40 @@ def cache_folder(source_file: str) -> str | None:
         elif _writable(user_cache_root()):
             choice = str(user_cache_root())
             numba.config.CACHE_DIR = choice  # type: ignore[attr-defined]
+            _seed_from_package(Path(package), source_file, Path(choice))
         else:
             choice = None
         _decided[package] = choice
         return choice
+
+
+def _seed_from_package(package: Path, source_file: str, cache_dir: Path) -> None:
+    """Copy the cache the package's build compiled (:mod:`stepframe.core.kernel_cache`) from
+    the read-only ``package/__pycache__`` into numba's folder for it under ``cache_dir``, each
+    function's files where that folder has none of its own yet: numba then loads them as if it
+    had compiled them there (its cache is stamped with the source's content, not its path).
+
+    Each file is written under a temporary name and renamed, the index after its data, so
+    another process never reads half of one. A failure (a full disk) only leaves the kernels to
+    compile, as without the copy.
+    """
+    from numba.core.caching import UserProvidedCacheLocator
+
+    shipped = package / "__pycache__"
+    # numba's own folder for the source under CACHE_DIR (its locator's naming, not ours).
+    subpath = UserProvidedCacheLocator.get_suitable_cache_subpath(source_file)  # type: ignore[no-untyped-call]
+    target = cache_dir / subpath
+    try:
+        for index in shipped.glob("*.nbi"):
+            if (target / index.name).exists():
+                continue
+            target.mkdir(parents=True, exist_ok=True)
+            for source in [*shipped.glob(f"{index.stem}.*.nbc"), index]:
+                partial = target / f".{source.name}.{os.getpid()}.partial"
+                shutil.copyfile(source, partial)
+                os.replace(partial, target / source.name)
+    except OSError:
+        return
 
 
 def njit(**options: Any) -> Callable[[_F], _F]:
