@@ -12,9 +12,10 @@ Why the shipped cache is valid where it is installed: numba (0.68 and later) sta
 index with the sha256 of the source file, not its time, and keys each entry by the signature,
 the CPU name and its features and numba's version. ``pip install .`` builds on the machine it
 installs on, with the numba it resolves for both the build and the install, so the entries
-match. Anywhere they do not (a wheel built on another CPU, another numba, ``NUMBA_CACHE_DIR``
-set, a read-only ``site-packages``: :mod:`stepframe.core.jit`), numba compiles on first use as
-before and says so; nothing is wrong, only slower once.
+match. A read-only install copies them into the user's cache folder (:mod:`stepframe.core.jit`).
+Anywhere they do not apply (a wheel built on another CPU, another numba, ``NUMBA_CACHE_DIR`` set,
+no writable folder at all), numba compiles on first use as before and says so; nothing is
+wrong, only slower once.
 
 The list below is checked against the commands, not trusted: ``tests/core/test_kernel_cache.py``
 compiles it into an empty cache, runs a command of each kernel family on it, and fails if any
