@@ -39,8 +39,11 @@ class BuildWithKernels(build_py):
         # path (pip's isolated build environment, where numba is, is on it, not in the venv).
         path = [os.path.abspath(self.build_lib), *(p for p in sys.path if p)]
         env = dict(os.environ, PYTHONPATH=os.pathsep.join(path))
-        # numba's own cache folder would take the cache away from the sources it ships with.
+        # numba's own cache folder would take the cache away from the sources it ships with, and
+        # with the JIT off there is nothing to compile (other NUMBA_ settings, as a CPU name for
+        # a portable wheel, are the builder's to choose).
         env.pop("NUMBA_CACHE_DIR", None)
+        env.pop("NUMBA_DISABLE_JIT", None)
         print(
             "stepframe: compiling the numba kernels into the package (STEPFRAME_PRECOMPILE=0 "
             "skips this)",

@@ -200,8 +200,8 @@ def compile_entry_points(jobs: int = 1) -> list[tuple[str, float]]:
     """Compile every kernel of :data:`ENTRY_POINTS` into numba's cache, ``jobs`` source files
     at a time; returns (kernel, seconds) in the order of the list.
 
-    The cache is wherever :mod:`stepframe.core.jit` puts it (beside the sources when their
-    folder is writable, else ``NUMBA_CACHE_DIR`` or the user's cache).
+    The cache is wherever :mod:`stepframe.core.jit` puts it (``NUMBA_CACHE_DIR`` when set, else
+    beside the sources when their folder is writable, else the user's cache).
     """
     groups: dict[str, list[EntryPoint]] = {}
     for entry in ENTRY_POINTS:
