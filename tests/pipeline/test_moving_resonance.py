@@ -142,6 +142,93 @@ def test_closeness_kernel_reproduces_the_definition_on_a_random_spectrum() -> No
     assert np.allclose(near, expected, rtol=1e-12, atol=1e-14)
 
 
+def index_from_the_definition(
+    result: object, spectrum: object, band: tuple[float, float]
+) -> dict[str, float]:
+    """The measures straight from docs/selection.md steps 3-6 with numpy, independently of the
+    index's kernel: ω_f, the interval work and the zero crossings from the simulation's history
+    (tested on their own in tests/structure/test_frame_frequency.py), c from
+    :func:`closeness_from_the_definition`, the half-cycles' sums with ``np.add.reduceat``."""
+    from stepframe.structure.frame_frequency import (
+        felt_ground_acc,
+        interval_work,
+        motion_frequency,
+        zero_crossings,
+    )
+
+    omega_f = motion_frequency(result)[0]  # type: ignore[arg-type]
+    n = omega_f.size
+    raw, model, dt = result.raw, result.model, result.dt_s  # type: ignore[attr-defined]
+    x, v, phase = raw.hist_x[:n], raw.hist_v[:n], raw.hist_p[:n]
+    work = interval_work(x, v, phase, felt_ground_acc(result)[:n], dt, model.p_1, model.p_2)  # type: ignore[arg-type]
+    psd, frames, omega = spectrum.psd, spectrum.time_s, spectrum.omega_rad_s  # type: ignore[attr-defined]
+    # c at each sample: the definition's table once, read at the samples the same way.
+    log_w = np.log(omega)
+    reach = round(NEAR_LN / (log_w[1] - log_w[0]))
+    windowed = np.array(
+        [[row[max(0, j - reach) : j + reach + 1].max() / row.max() for j in range(omega.size)]
+         for row in psd]
+    )  # fmt: skip
+    times = np.arange(n) * dt
+    at_band = np.log(np.clip(omega_f, omega[0], omega[-1]))
+    columns = np.array([np.interp(times, frames, windowed[:, j]) for j in range(omega.size)])
+    near = np.array([np.interp(at_band[i], log_w, columns[:, i]) for i in range(n)])
+    nearest = np.rint(np.clip(np.arange(n) * dt / (frames[1] - frames[0]), 0, frames.size - 1))
+    ridge = omega[np.argmax(psd, axis=1)][nearest.astype(int)]
+    low, high = band
+    depth = np.clip(
+        (np.log(high / np.maximum(omega_f, 1e-300)) - NEAR_LN) / (math.log(high / low) - NEAR_LN),
+        0.0, 1.0,
+    )  # fmt: skip
+    offset_sq = np.log(ridge / np.clip(omega_f, low, high)) ** 2
+    starts = np.concatenate(([0], zero_crossings(x, v, dt)[0] + 1))
+    starts = starts[starts < n - 1]
+    counts = np.diff(np.append(starts, n - 1))
+
+    def mean(values: np.ndarray) -> np.ndarray:
+        return np.add.reduceat(0.5 * (values[:-1] + values[1:]), starts) / counts
+
+    pumped = np.maximum(np.add.reduceat(work, starts), 0.0)
+    moved = mean(depth) * pumped
+    return {
+        "moving_resonance_index": float(moved @ mean(near) / moved.sum()),
+        "work_depth": float(moved.sum() / pumped.sum()),
+        "resonant_work_share": float(pumped @ mean(near) / pumped.sum()),
+        "ridge_log_offset": math.sqrt(float(moved @ mean(offset_sq) / moved.sum())),
+        "n_half_cycles": starts.size,
+        "n_stepping_half_cycles": int(
+            (np.add.reduceat((phase[:-1] != 0) | (phase[1:] != 0), starts) > 0).sum()
+        ),
+        "input_energy_m2_s2": float(work.sum()),
+        "lowest_omega_f_rad_s": float(omega_f.min()),
+    }
+
+
+@pytest.mark.parametrize(("scale", "overturns"), [(16.0, False), (32.0, True)])
+def test_the_index_kernel_reproduces_the_definition(scale: float, overturns: bool) -> None:
+    # A record-like motion (filtered noise under an envelope) that makes the wide frame step
+    # for many half-cycles, and at a larger scale overturn it.
+    rng = np.random.default_rng(11)
+    t = np.arange(0, 30, 0.01)
+    noise = np.convolve(rng.standard_normal(t.size), np.hanning(25), mode="same")
+    acc = noise * np.exp(-(((t - 10) / 6) ** 2))
+    acc *= 1.0 / np.abs(acc).max()
+    frame = wide_frame()
+    band = (frame_band(frame).omega_low_rad_s, frame.omega_1_rad_s)
+    result = simulate(frame, acc, 0.01, scale=scale, tail_s=10.0)
+    assert result.summary.overturned is overturns
+    spectrum = band_power(acc, 0.01, band, n_samples=result.raw.hist_x.size)
+    measures = resonance_index(result, spectrum, band)
+    expected = index_from_the_definition(result, spectrum, band)
+    assert measures.n_stepping_half_cycles >= 6
+    assert measures.work_depth > 0.0
+    for key, value in expected.items():
+        assert getattr(measures, key) == pytest.approx(value, rel=1e-11, abs=1e-14), key
+    assert measures.moving_resonance_share == pytest.approx(
+        expected["moving_resonance_index"] * expected["work_depth"], rel=1e-11
+    )
+
+
 def test_band_power_is_the_band_spectrum_without_labels() -> None:
     acc = np.random.default_rng(3).standard_normal(2300)
     arrays = band_power(acc, 0.01, (0.65, 6.46), n_samples=2400)

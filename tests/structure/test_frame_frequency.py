@@ -169,3 +169,62 @@ def test_the_law_at_the_edges_only_gives_the_same_frequency() -> None:
         assert 0 < given.sum() < n
         assert np.array_equal(full[1][given], edges[1][given])
         assert np.array_equal(full[2][given], edges[2][given])
+
+
+def crossings_by_numpy(x: np.ndarray, v: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray]:
+    """Zero crossings written with numpy, independently of the kernel: the sign changes of
+    x > 0, each at the linear interpolation refined by one Newton step on the Hermite cubic."""
+    positive = x > 0.0
+    i = np.flatnonzero(positive[:-1] != positive[1:])
+    x0, x1, h0, h1 = x[i], x[i + 1], dt * v[i], dt * v[i + 1]
+    s = x0 / (x0 - x1)
+    cubic = ((2 * s**3 - 3 * s**2 + 1) * x0 + (s**3 - 2 * s**2 + s) * h0
+             + (3 * s**2 - 2 * s**3) * x1 + (s**3 - s**2) * h1)  # fmt: skip
+    slope = ((6 * s**2 - 6 * s) * (x0 - x1) + (3 * s**2 - 4 * s + 1) * h0
+             + (3 * s**2 - 2 * s) * h1)  # fmt: skip
+    with np.errstate(divide="ignore", invalid="ignore"):
+        refined = s - cubic / slope
+    s = np.where(np.isfinite(refined) & (refined >= 0.0) & (refined <= 1.0), refined, s)
+    return i, (i + s) * dt
+
+
+def turning_points_by_numpy(
+    x: np.ndarray, v: np.ndarray, dt: float
+) -> tuple[np.ndarray, np.ndarray]:  # fmt: skip
+    """Turning points written with numpy: where ẋ changes sign strictly, the zero of the Hermite
+    cubic's derivative inside the interval, by the quadratic formula."""
+    i = np.flatnonzero(np.sign(v[:-1]) * np.sign(v[1:]) < 0)
+    x0, x1, h0, h1 = x[i], x[i + 1], dt * v[i], dt * v[i + 1]
+    a = 6.0 * (x0 - x1) + 3.0 * (h0 + h1)
+    b = -6.0 * (x0 - x1) - 4.0 * h0 - 2.0 * h1
+    with np.errstate(divide="ignore", invalid="ignore"):
+        disc = np.sqrt(np.maximum(b * b - 4.0 * a * h0, 0.0))
+        roots = np.stack([(-b + disc) / (2 * a), (-b - disc) / (2 * a)])
+    inside = (roots >= 0.0) & (roots <= 1.0)
+    linear = h0 / (h0 - h1)
+    s = np.where(inside[0], roots[0], np.where(inside[1], roots[1], linear))
+    value = ((2 * s**3 - 3 * s**2 + 1) * x0 + (s**3 - 2 * s**2 + s) * h0
+             + (3 * s**2 - 2 * s**3) * x1 + (s**3 - s**2) * h1)  # fmt: skip
+    return (i + s) * dt, np.abs(value)
+
+
+def test_crossings_and_turning_points_match_a_numpy_computation() -> None:
+    from stepframe.structure.frame_frequency import turning_points, zero_crossings
+
+    # A swing with a hold (ẋ = 0 for 30 samples) and samples exactly at zero.
+    t = np.arange(0.0, 20.0, 0.01)
+    x = 0.3 * np.sin(1.7 * t) * np.exp(-0.05 * t) + 0.01 * np.sin(9.1 * t)
+    v = 0.3 * (1.7 * np.cos(1.7 * t) - 0.05 * np.sin(1.7 * t)) * np.exp(-0.05 * t)
+    v += 0.091 * np.cos(9.1 * t)
+    v[700:730] = 0.0
+    x[700:730] = x[700]
+    x[[0, 400, 401]] = 0.0
+    i, z = zero_crossings(x, v, 0.01)
+    i_np, z_np = crossings_by_numpy(x, v, 0.01)
+    assert np.array_equal(i, i_np) and i.size > 10
+    assert np.allclose(z, z_np, rtol=1e-13, atol=1e-15)
+    turns_t, turns_a = turning_points(x, v, 0.01)
+    np_t, np_a = turning_points_by_numpy(x, v, 0.01)
+    assert turns_t.size == np_t.size > 10
+    assert np.allclose(turns_t, np_t, rtol=1e-10, atol=1e-12)
+    assert np.allclose(turns_a, np_a, rtol=1e-10, atol=1e-12)

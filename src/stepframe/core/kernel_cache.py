@@ -56,6 +56,8 @@ class EntryPoint:
 _F12 = ("f8",) * 12
 #: h, nodes, weights of the mean-square quadrature
 _QUADRATURE = ("f8", "f8[:]", "f8[:]")
+#: psd, frame times, band centres, reach, band (low, high), NEAR_LN of the resonance index
+_SPECTRUM = ("f8[:, :]", "f8[:]", "f8[:]", "i8", "f8", "f8", "f8")
 _HIST = ("f8[:]", "f8[:]", "i1[:]", "f8[:]", "i1[:]", "f8[:]", "f8[:]", "f8[:]")
 
 #: The kernels the package calls from Python, grouped by source file: a group compiles in one
@@ -115,6 +117,66 @@ ENTRY_POINTS: tuple[EntryPoint, ...] = (
         "stepframe.stochastic._wavelet_kernel",
         "folded_bands",
         (("c16[:]", "f8[:]", "f8[:]", "f8", "i8", "f8"),),
+    ),
+    EntryPoint(
+        "stepframe.stochastic._wavelet_kernel",
+        "band_powers",
+        (("c16[:, :]", "i8", "i8", "f8[:]"),),
+    ),
+    EntryPoint(
+        "stepframe.structure._frequency_kernel",
+        "zero_crossings",
+        (("f8[:]", "f8[:]", "f8"),),
+    ),
+    EntryPoint(
+        "stepframe.structure._frequency_kernel",
+        "turning_points",
+        (("f8[:]", "f8[:]", "f8"),),
+    ),
+    EntryPoint(
+        "stepframe.structure._frequency_kernel",
+        "fill_half_cycles",
+        (("i1[:]", "i8[:]", "f8[:]", "f8", "f8[:]"),),
+    ),
+    EntryPoint(
+        "stepframe.structure._frequency_kernel",
+        "interval_work",
+        (("f8[:]", "f8[:]", "i1[:]", "f8[:]", "f8", "f8", "f8"),),
+    ),
+    EntryPoint(
+        "stepframe.structure._frequency_kernel",
+        "swing_law",
+        (("f8[:]", "f8[:]", "f8", "i8[:]", "b1", *("f8",) * 4),),
+    ),
+    EntryPoint(
+        "stepframe.structure._frequency_kernel",
+        "quarter_periods",
+        (("f8[:]", *("f8",) * 4),),
+    ),
+    EntryPoint(
+        "stepframe.structure._frequency_kernel",
+        "law_frequencies",
+        (("f8[:]", *("f8",) * 4),),
+    ),
+    EntryPoint(
+        "stepframe.structure._frequency_kernel",
+        "potentials",
+        (("f8[:]", *("f8",) * 4),),
+    ),
+    EntryPoint(
+        "stepframe.structure._frequency_kernel",
+        "energy_amplitudes",
+        (("f8[:]", "f8[:]", *("f8",) * 4),),
+    ),
+    EntryPoint(
+        "stepframe.pipeline.dynamics._resonance_kernel",
+        "closeness_many",
+        (("f8[:, :]", "f8[:]", "f8[:]", "i8", "f8[:]", "f8[:]"),),
+    ),
+    EntryPoint(
+        "stepframe.pipeline.dynamics._resonance_kernel",
+        "index_sums",
+        (("f8[:]", "f8[:]", "i1[:]", "f8[:]", "f8[:]", "i8[:]", *("f8",) * 3, *_SPECTRUM),),
     ),
     EntryPoint(
         "stepframe.pipeline.selection._bootstrap_kernel",

@@ -51,3 +51,26 @@ def folded_bands(
             # Analytic signal: positive frequencies only, hence the factor 2.
             folded[j, k % m] += 2.0 * math.exp(-0.5 * z * z) * spectrum[k]
     return folded
+
+
+@njit(cache=True)
+def band_powers(
+    analytic: NDArray[np.complex128], n_frames: int, hop: int, sigma: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """The power density √π·|u_j(t_l)|²/(2σ_j) of each band's analytic signal at the first
+    ``n_frames`` frames (frames × bands), u = the inverse FFT of the folded spectrum over
+    ``hop`` (the m-point transform of every hop-th sample).
+
+    One pass instead of numpy's slice, scaling, squares, division and transposition, each a
+    temporary the size of the table (docs/benchmarks.md, issue 26).
+    """
+    n_bands = analytic.shape[0]
+    psd = np.empty((n_frames, n_bands))
+    root_pi = math.sqrt(math.pi)
+    for j in range(n_bands):
+        width = 2.0 * sigma[j]
+        for f in range(n_frames):
+            re = analytic[j, f].real / hop
+            im = analytic[j, f].imag / hop
+            psd[f, j] = root_pi * (re * re + im * im) / width
+    return psd

@@ -258,7 +258,7 @@ def wavelet_power(
     """
     import scipy.fft as sfft
 
-    from stepframe.stochastic._wavelet_kernel import folded_bands
+    from stepframe.stochastic._wavelet_kernel import band_powers, folded_bands
 
     npts = data.size
     nyquist = math.pi / dt_s
@@ -289,10 +289,7 @@ def wavelet_power(
     step = 2 * math.pi / (nfft * dt_s)  # bin spacing [rad/s]
     sigmas = omega / morlet_q
     folded = folded_bands(spectrum, omega, sigmas, step, m, _GAIN_REACH)
-    u = sfft.ifft(folded, axis=-1, overwrite_x=True)[:, :n_frames] / hop
-    psd = np.ascontiguousarray(
-        (math.sqrt(math.pi) * (u.real**2 + u.imag**2) / (2.0 * sigmas[:, None])).T
-    )
+    psd = band_powers(sfft.ifft(folded, axis=-1, overwrite_x=True), n_frames, hop, sigmas)
     frames = np.arange(n_frames) * hop
     return np.asarray(frames * dt_s, dtype=np.float64), omega, psd
 

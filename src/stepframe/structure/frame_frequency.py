@@ -67,7 +67,6 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from stepframe.structure.period_amplitude import period_amplitude
 from stepframe.structure.status import Model
 
 if TYPE_CHECKING:
@@ -114,11 +113,15 @@ def backbone_of(model: Model) -> ModelBackbone:
 
 def potential(y_m: Floats, backbone: ModelBackbone) -> Floats:
     """V(y) of the conservative two-phase model at |x| = y [m²/s²] (module docstring)."""
-    w1, w2, x_c = backbone.omega_1_rad_s, backbone.omega_2_rad_s, backbone.x_c_m
-    stepped = (
-        0.5 * w1**2 * x_c**2 + backbone.gamma_1_m_s2 * (y_m - x_c) - 0.5 * w2**2 * (y_m**2 - x_c**2)
-    )
-    return np.asarray(np.where(y_m <= x_c, 0.5 * w1**2 * y_m**2, stepped))
+    from stepframe.structure._frequency_kernel import potentials
+
+    y = np.asarray(y_m, dtype=np.float64)
+    return np.asarray(potentials(y.ravel(), *_constants(backbone))).reshape(y.shape)
+
+
+def _constants(backbone: ModelBackbone) -> tuple[float, float, float, float]:
+    """ω₁, ω₂, x_c and x* of the backbone, the kernels' arguments."""
+    return (backbone.omega_1_rad_s, backbone.omega_2_rad_s, backbone.x_c_m, backbone.x_star_m)
 
 
 def energy(x_m: Floats, v_m_s: Floats, backbone: ModelBackbone) -> Floats:
@@ -129,16 +132,11 @@ def energy(x_m: Floats, v_m_s: Floats, backbone: ModelBackbone) -> Floats:
 def energy_amplitude_m(x_m: Floats, v_m_s: Floats, backbone: ModelBackbone) -> Floats:
     """Amplitude A of the free conservative orbit through each state [m]; ∞ where there is none
     (|x| ≥ x* or E ≥ V(x*): the free frame would overturn)."""
-    x_c, x_star, w1, w2 = (backbone.x_c_m, backbone.x_star_m, backbone.omega_1_rad_s,
-                           backbone.omega_2_rad_s)  # fmt: skip
-    y = np.abs(x_m)
-    e = energy(x_m, v_m_s, backbone)
-    e_c = 0.5 * w1**2 * x_c**2
-    gap_sq = (x_star - x_c) ** 2 - 2.0 * (e - e_c) / w2**2
-    stepping = x_star - np.sqrt(np.maximum(gap_sq, 0.0))
-    amplitude = np.where(e <= e_c, np.sqrt(2.0 * np.maximum(e, 0.0)) / w1, stepping)
-    inside = (y < x_star) & (gap_sq > 0.0)
-    return np.asarray(np.where(inside, amplitude, np.inf))
+    from stepframe.structure._frequency_kernel import energy_amplitudes
+
+    x, v = np.broadcast_arrays(np.asarray(x_m, dtype=np.float64), np.asarray(v_m_s, np.float64))
+    flat = energy_amplitudes(np.ravel(x), np.ravel(v), *_constants(backbone))
+    return np.asarray(flat).reshape(x.shape)
 
 
 def turning_points(
@@ -148,26 +146,17 @@ def turning_points(
 
     Where ẋ changes sign between samples i and i+1, the turning point is the zero of the
     derivative of the cubic Hermite interpolant through (x, ẋ) at both ends (error O(Δt⁴) for a
-    smooth x); a sample with ẋ = 0 exactly (a hold on the surface) is not a turning point.
+    smooth x); a sample with ẋ = 0 exactly (a hold on the surface) is not a turning point
+    (:func:`stepframe.structure._frequency_kernel.turning_points`).
     """
-    sign = np.sign(v_m_s)
-    i = np.flatnonzero(sign[:-1] * sign[1:] < 0)
-    x0, x1 = x_m[i], x_m[i + 1]
-    h0, h1 = dt_s * v_m_s[i], dt_s * v_m_s[i + 1]
-    # x(s) on s ∈ [0, 1]: x'(s) = a s² + b s + c with these coefficients (c = h0, x'(1) = h1).
-    a = 6.0 * (x0 - x1) + 3.0 * (h0 + h1)
-    b = -6.0 * (x0 - x1) - 4.0 * h0 - 2.0 * h1
-    disc = np.sqrt(np.maximum(b * b - 4.0 * a * h0, 0.0))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        # The root in [0, 1] (x' changes sign there), in the form that stays accurate when a → 0.
-        q = -0.5 * (b + np.copysign(disc, b))
-        roots = np.stack([q / a, h0 / q])
-    inside = (roots >= 0.0) & (roots <= 1.0)
-    linear = h0 / (h0 - h1)  # ẋ linear between the samples: the fallback
-    s = np.where(inside[0], roots[0], np.where(inside[1], roots[1], linear))
-    value = ((2 * s**3 - 3 * s**2 + 1) * x0 + (s**3 - 2 * s**2 + s) * h0
-             + (3 * s**2 - 2 * s**3) * x1 + (s**3 - s**2) * h1)  # fmt: skip
-    return np.asarray((i + s) * dt_s), np.asarray(np.abs(value))
+    from stepframe.structure import _frequency_kernel
+
+    times, amplitudes = _frequency_kernel.turning_points(
+        np.ascontiguousarray(x_m, dtype=np.float64),
+        np.ascontiguousarray(v_m_s, dtype=np.float64),
+        float(dt_s),
+    )
+    return np.asarray(times), np.asarray(amplitudes)
 
 
 def swing_amplitude_m(
@@ -194,30 +183,22 @@ def swing_amplitude_m(
         Sample numbers to evaluate A at (default every sample); the turning points are found on
         the whole history either way.
     """
+    from stepframe.structure._frequency_kernel import swing_law
+
     samples = np.arange(x_m.size) if at is None else np.asarray(at, dtype=np.intp)
-    time_s = samples * dt_s
-    start = energy_amplitude_m(x_m[:1], v_m_s[:1], backbone)
-    t_turn, a_turn = turning_points(x_m, v_m_s, dt_s)
-    later = t_turn > 0.0
-    knots_t = np.concatenate(([0.0], t_turn[later]))
-    knots_a = np.concatenate((np.minimum(start, backbone.x_star_m), a_turn[later]))
-    amplitude = np.interp(time_s, knots_t, knots_a)
-    if overturns:
-        last = time_s > knots_t[-1]
-        chosen = samples[last]
-        amplitude[last] = np.maximum(
-            amplitude[last], energy_amplitude_m(x_m[chosen], v_m_s[chosen], backbone)
-        )
+    amplitude, _ = swing_law(
+        np.ascontiguousarray(x_m, dtype=np.float64), np.ascontiguousarray(v_m_s, dtype=np.float64),
+        float(dt_s), samples.astype(np.int64), bool(overturns), *_constants(backbone),
+    )  # fmt: skip
     return np.asarray(amplitude)
 
 
 def frequency_rad_s(amplitude_m: Floats, backbone: ModelBackbone) -> Floats:
     """ω = 2π/T(A) of the law at each amplitude [rad/s]; 0 where A is ∞ (no periodic orbit)."""
-    finite = np.isfinite(amplitude_m)
-    period = period_amplitude(backbone, np.where(finite, amplitude_m, 0.0), beyond_x_star="inf")
-    with np.errstate(divide="ignore"):
-        omega = 2.0 * math.pi / np.asarray(period, dtype=np.float64)
-    return np.asarray(np.where(finite, omega, 0.0))
+    from stepframe.structure._frequency_kernel import law_frequencies
+
+    a = np.asarray(amplitude_m, dtype=np.float64)
+    return np.asarray(law_frequencies(a.ravel(), *_constants(backbone))).reshape(a.shape)
 
 
 def zero_crossings(
@@ -225,20 +206,16 @@ def zero_crossings(
 ) -> tuple[NDArray[np.intp], Floats]:  # fmt: skip
     """Samples i after which x changes sign (x > 0 against x ≤ 0 at i + 1) and the crossing times
     [s]: the linear interpolation between the two samples, refined by one Newton step on the
-    cubic through x and ẋ at both ends (error O(Δt⁴) for a smooth x)."""
-    positive = x_m > 0.0
-    i = np.flatnonzero(positive[:-1] != positive[1:])
-    x0, x1 = x_m[i], x_m[i + 1]
-    h0, h1 = dt_s * v_m_s[i], dt_s * v_m_s[i + 1]
-    s = x0 / (x0 - x1)
-    cubic = ((2 * s**3 - 3 * s**2 + 1) * x0 + (s**3 - 2 * s**2 + s) * h0
-             + (3 * s**2 - 2 * s**3) * x1 + (s**3 - s**2) * h1)  # fmt: skip
-    slope = ((6 * s**2 - 6 * s) * (x0 - x1) + (3 * s**2 - 4 * s + 1) * h0
-             + (3 * s**2 - 2 * s) * h1)  # fmt: skip
-    with np.errstate(divide="ignore", invalid="ignore"):
-        refined = s - cubic / slope
-    s = np.where(np.isfinite(refined) & (refined >= 0.0) & (refined <= 1.0), refined, s)
-    return i, np.asarray((i + s) * dt_s)
+    cubic through x and ẋ at both ends (error O(Δt⁴) for a smooth x;
+    :func:`stepframe.structure._frequency_kernel.zero_crossings`)."""
+    from stepframe.structure import _frequency_kernel
+
+    samples, times = _frequency_kernel.zero_crossings(
+        np.ascontiguousarray(x_m, dtype=np.float64),
+        np.ascontiguousarray(v_m_s, dtype=np.float64),
+        float(dt_s),
+    )
+    return np.asarray(samples, dtype=np.intp), np.asarray(times)
 
 
 def swing_frequency_rad_s(
@@ -261,23 +238,22 @@ def swing_frequency_rad_s(
         crossing and after the last), NaN between: ω_f is the same, at a third of the cost for
         a history of many half-cycles (the moving-resonance index's path, docs/benchmarks.md).
     """
+    from stepframe.structure._frequency_kernel import fill_half_cycles, swing_law
+
     i, z = zero_crossings(x_m, v_m_s, dt_s)
     samples = np.arange(x_m.size)
     if not law_everywhere and i.size >= 2:
         samples = np.concatenate((samples[: i[0] + 1], samples[i[-1] + 1 :]))
     amplitude = np.full(x_m.size, np.nan)
-    amplitude[samples] = swing_amplitude_m(
-        x_m, v_m_s, dt_s, backbone, overturns=overturns, at=samples
-    )
     omega = np.full(x_m.size, np.nan)
-    omega[samples] = frequency_rad_s(amplitude[samples], backbone)
+    amplitude[samples], omega[samples] = swing_law(
+        np.ascontiguousarray(x_m, dtype=np.float64), np.ascontiguousarray(v_m_s, dtype=np.float64),
+        float(dt_s), samples.astype(np.int64), bool(overturns), *_constants(backbone),
+    )  # fmt: skip
     law = omega.copy()
     if i.size >= 2:
-        # Half-cycle k holds the samples i[k] + 1 ... i[k + 1].
-        stepped = np.add.reduceat(phase[: i[-1] + 1] != 0, i[:-1] + 1) > 0
-        w1 = backbone.omega_1_rad_s
-        measured = np.where(stepped, np.minimum(w1, math.pi / np.diff(z)), w1)
-        omega[i[0] + 1 : i[-1] + 1] = np.repeat(measured, np.diff(i))
+        phases = np.ascontiguousarray(phase, dtype=np.int8)
+        fill_half_cycles(phases, i.astype(np.int64), z, float(backbone.omega_1_rad_s), omega)
     return np.asarray(omega), amplitude, law
 
 
@@ -303,10 +279,17 @@ def interval_work(
     numpy.ndarray
         n - 1 values: the work over [t_i, t_{i+1}].
     """
-    a = ground_acc_m_s2
-    integral = np.diff(x_m) * 0.5 * (a[:-1] + a[1:]) + np.diff(a) * np.diff(v_m_s) * (dt_s / 12.0)
-    factor = np.where(phase == 0, p_1, p_2)
-    return np.asarray(-0.5 * (factor[:-1] + factor[1:]) * integral)
+    from stepframe.structure import _frequency_kernel
+
+    return np.asarray(
+        _frequency_kernel.interval_work(
+            np.ascontiguousarray(x_m, dtype=np.float64),
+            np.ascontiguousarray(v_m_s, dtype=np.float64),
+            np.ascontiguousarray(phase, dtype=np.int8),
+            np.ascontiguousarray(ground_acc_m_s2, dtype=np.float64),
+            float(dt_s), float(p_1), float(p_2),
+        )
+    )  # fmt: skip
 
 
 def half_cycle_starts(x_m: Floats, v_m_s: Floats, dt_s: float) -> NDArray[np.intp]:

@@ -63,26 +63,19 @@ def quarter_periods_s(
     Returns
     -------
     (t_unstepped_s, t_stepped_s)
-        Arrays shaped like ``amplitude_m``.
+        Arrays shaped like ``amplitude_m`` (the closed forms of the module docstring, evaluated
+        by the compiled :func:`stepframe.structure._frequency_kernel.quarter_periods`, which
+        the frame's frequency along a response also reads).
     """
+    from stepframe.structure._frequency_kernel import quarter_periods
+
     a = np.asarray(amplitude_m, dtype=float)
-    w1 = frame.omega_1_rad_s
-    w2 = frame.omega_2_rad_s
-    x_c = frame.x_c_m
-    x_star = frame.x_star_m
-    steps = a > x_c
-    a_step = np.where(steps, a, x_c + 0.5 * (x_star - x_c))  # placeholder inside the domain
-    gap_a = x_star - a_step
-    gap_c = x_star - x_c
-    t_stepped = np.where(steps, np.arccosh(gap_c / gap_a) / w2, 0.0)
-    # (x* - x_c)² - (x* - A)² written as a product to keep accuracy for A just above x_c.
-    v_c = w2 * np.sqrt((a_step - x_c) * (gap_c + gap_a))
-    if x_c > 0:
-        ratio = x_c / np.hypot(x_c, v_c / w1)
-        t_unstepped = np.where(steps, np.arcsin(ratio) / w1, 0.5 * math.pi / w1)
-    else:
-        t_unstepped = np.zeros_like(a)
-    return t_unstepped, t_stepped
+    unstepped, stepped = quarter_periods(
+        np.ascontiguousarray(a.ravel()),
+        float(frame.omega_1_rad_s), float(frame.omega_2_rad_s), float(frame.x_c_m),
+        float(frame.x_star_m),
+    )  # fmt: skip
+    return unstepped.reshape(a.shape), stepped.reshape(a.shape)
 
 
 @overload

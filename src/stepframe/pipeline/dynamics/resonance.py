@@ -19,9 +19,10 @@ The steps of docs/selection.md, "Moving resonance, measured":
 6. the **moving-resonance index** R_m = Σ c_k d_k W_k⁺ / Σ d_k W_k⁺, and the **moving-resonance
    share** M = Σ c_k d_k W_k⁺ / Σ W_k⁺ (:class:`MovingResonance`).
 
-Cost: the band spectrum is one FFT of the record and an inverse FFT of n/hop points per band
+Cost: the band spectrum is one FFT of the record and an inverse FFT of 2n/hop points per band
 (once per record and frame, at any scale; :func:`band_power` gives it without the DataArray);
-the index is some forty vector operations over the history (docs/benchmarks.md, issue 26).
+the index is one compiled pass over the history (:mod:`._resonance_kernel`, with ω_f and the
+work from :mod:`stepframe.structure._frequency_kernel`; docs/benchmarks.md, issue 26).
 """
 
 from __future__ import annotations
@@ -235,11 +236,6 @@ def _failed(band: tuple[float, float], message: str) -> MovingResonance:
     return MovingResonance(nan, nan, nan, nan, nan, 0, 0, nan, nan, band, "failed", message)
 
 
-def _share(weight: Floats, value: Floats) -> float:
-    total = float(weight.sum())
-    return float(np.dot(weight, value) / total) if total > 0 else math.nan
-
-
 def closeness(
     spectrum: BandPower | xr.DataArray, time_s: Floats, omega_f_rad_s: Floats
 ) -> tuple[Floats, Floats]:
@@ -250,36 +246,39 @@ def closeness(
     interpolated linearly in time and in ln ω between frames and bands; ω_f outside the grid is
     read at its nearer edge.
     """
+    from stepframe.pipeline.dynamics._resonance_kernel import closeness_many
+
+    arrays = _checked(spectrum)
+    near, ridge = closeness_many(
+        arrays.psd, arrays.time_s, arrays.omega_rad_s, _reach(arrays.omega_rad_s),
+        np.ascontiguousarray(time_s, dtype=np.float64),
+        np.ascontiguousarray(omega_f_rad_s, dtype=np.float64),
+    )  # fmt: skip
+    return np.asarray(near), np.asarray(ridge)
+
+
+def _checked(spectrum: BandPower | xr.DataArray) -> BandPower:
+    """The spectrum's arrays, contiguous and writable; at least two frames and two bands (the
+    closeness interpolates between them)."""
     arrays = BandPower.of(spectrum)
-    omega, frames, psd = arrays.omega_rad_s, arrays.time_s, arrays.psd
+    frames, omega = arrays.time_s, arrays.omega_rad_s
     if frames.size < 2 or omega.size < 2:
         raise InputError(
             f"band spectrum of {frames.size} frames × {omega.size} bands, expected ≥ 2 of each"
         )
-    peak = psd.max(axis=1)
-    log_omega = np.log(omega)
-    log_step = (log_omega[-1] - log_omega[0]) / (omega.size - 1)
-    reach = round(NEAR_LN / log_step)
-    # The largest S within `reach` bands either side, band rows contiguous (shifting whole
-    # rows is three times faster than shifting columns of the frames × bands array).
-    by_band = np.ascontiguousarray(psd.T)
-    near_t = by_band.copy()
-    for shift in range(1, reach + 1):
-        np.maximum(near_t[shift:], by_band[:-shift], out=near_t[shift:])
-        np.maximum(near_t[:-shift], by_band[shift:], out=near_t[:-shift])
-    ratio = near_t.T / np.where(peak > 0, peak, 1.0)[:, None]
-    # Fractional positions on the frame grid (uniform in time) and the band grid (uniform in ln ω).
-    position = np.clip((time_s - frames[0]) / (frames[1] - frames[0]), 0.0, frames.size - 1.0)
-    row = np.minimum(position.astype(np.intp), frames.size - 2)
-    t_frac = position - row
-    clipped = np.clip(omega_f_rad_s, omega[0], omega[-1])
-    band_pos = (np.log(clipped) - log_omega[0]) / log_step
-    col = np.minimum(band_pos.astype(np.intp), omega.size - 2)
-    w_frac = band_pos - col
-    low = ratio[row, col] * (1 - w_frac) + ratio[row, col + 1] * w_frac
-    high = ratio[row + 1, col] * (1 - w_frac) + ratio[row + 1, col + 1] * w_frac
-    ridge = omega[np.argmax(psd, axis=1)][np.rint(position).astype(np.intp)]
-    return np.asarray(low * (1 - t_frac) + high * t_frac), np.asarray(ridge)
+    # Copies of the two short axes: a DataArray's coordinates are read-only, which the kernels'
+    # compiled signatures (writable arrays) would not match.
+    return BandPower(
+        np.array(frames, dtype=np.float64),
+        np.array(omega, dtype=np.float64),
+        np.ascontiguousarray(arrays.psd, dtype=np.float64),
+    )
+
+
+def _reach(omega_rad_s: Floats) -> int:
+    """Bands either side within :data:`NEAR_LN` of a band, on the grid's ln ω spacing."""
+    log_step = math.log(omega_rad_s[-1] / omega_rad_s[0]) / (omega_rad_s.size - 1)
+    return round(NEAR_LN / log_step)
 
 
 def resonance_index(
@@ -297,11 +296,11 @@ def resonance_index(
     band_rad_s
         The band (low, high) [rad/s] the spectrum covers.
     """
+    from stepframe.pipeline.dynamics._resonance_kernel import index_sums
     from stepframe.structure.frame_frequency import (
         felt_ground_acc,
-        half_cycle_starts,
-        interval_work,
         motion_frequency,
+        zero_crossings,
     )
 
     band = (float(band_rad_s[0]), float(band_rad_s[1]))
@@ -315,40 +314,26 @@ def resonance_index(
     if n < 2:
         return _failed(band, "fewer than two samples of motion before overturning")
     x, v, phase = raw.hist_x[:n], raw.hist_v[:n], raw.hist_p[:n]
-    work = interval_work(x, v, phase, felt_ground_acc(result)[:n], result.dt_s, model.p_1,
-                         model.p_2)  # fmt: skip
-    time_s = np.arange(n, dtype=np.float64) * result.dt_s
-    near, ridge = closeness(spectrum, time_s, omega_f)
-    low, high = band
-    drop = np.log(high / np.clip(omega_f, 1e-300, None))
-    depth = np.clip((drop - NEAR_LN) / (math.log(high / low) - NEAR_LN), 0.0, 1.0)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        offset_sq = np.log(ridge / np.clip(omega_f, low, high)) ** 2
-    starts = half_cycle_starts(x, v, result.dt_s)
-    starts = starts[starts < n - 1]
-    counts = np.diff(np.append(starts, n - 1))
-
-    def per_cycle(values: Floats) -> Floats:
-        # The mean over each half-cycle's intervals, each interval its two ends' mean.
-        return np.asarray(np.add.reduceat(0.5 * (values[:-1] + values[1:]), starts) / counts)
-
-    pumped = np.maximum(np.add.reduceat(work, starts), 0.0)
-    moved = per_cycle(depth) * pumped
-    cycle_near = per_cycle(near)
-    stepped = np.add.reduceat((phase[:-1] != 0) | (phase[1:] != 0), starts) > 0
-    index = _share(moved, cycle_near)
-    total = float(pumped.sum())
-    depth_share = float(moved.sum()) / total if total > 0 else math.nan
+    arrays = _checked(spectrum)
+    crossings, _ = zero_crossings(x, v, result.dt_s)
+    sums = index_sums(
+        x, v, phase, felt_ground_acc(result)[:n], omega_f, crossings.astype(np.int64),
+        result.dt_s, float(model.p_1), float(model.p_2), arrays.psd, arrays.time_s,
+        arrays.omega_rad_s, _reach(arrays.omega_rad_s), band[0], band[1], NEAR_LN,
+    )  # fmt: skip
+    near_moved, moved, pumped, near_pumped, offset_moved = (float(value) for value in sums[:5])
+    index = near_moved / moved if moved > 0 else math.nan
+    depth_share = moved / pumped if pumped > 0 else math.nan
     return MovingResonance(
         moving_resonance_index=index,
-        moving_resonance_share=index * depth_share if moved.sum() > 0 else 0.0,
+        moving_resonance_share=index * depth_share if moved > 0 else 0.0,
         work_depth=depth_share,
-        resonant_work_share=_share(pumped, cycle_near),
-        ridge_log_offset=math.sqrt(_share(moved, per_cycle(offset_sq))),
-        n_half_cycles=int(starts.size),
-        n_stepping_half_cycles=int(stepped.sum()),
-        input_energy_m2_s2=float(work.sum()),
-        lowest_omega_f_rad_s=float(np.min(omega_f)),
+        resonant_work_share=near_pumped / pumped if pumped > 0 else math.nan,
+        ridge_log_offset=math.sqrt(offset_moved / moved) if moved > 0 else math.nan,
+        n_half_cycles=int(sums[5]),
+        n_stepping_half_cycles=int(sums[6]),
+        input_energy_m2_s2=float(sums[7]),
+        lowest_omega_f_rad_s=float(sums[8]),
         band_rad_s=band,
     )
 

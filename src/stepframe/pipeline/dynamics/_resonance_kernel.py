@@ -1,0 +1,183 @@
+"""Compiled kernels of the moving-resonance index (:mod:`stepframe.pipeline.dynamics.resonance`):
+the closeness of the record's band spectrum to the frame's frequency, and the index's half-cycle
+sums, in one pass over the history.
+
+Compiled because the index is a few operations per sample: written with numpy it was some
+sixty calls over the history and the frames × bands table, 1.2-2.3 ms of fixed costs per
+candidate against an exact simulation of 0.2-0.7 ms (docs/benchmarks.md, issue 26). The steps
+and their names are those of the module docstring of
+:mod:`~stepframe.pipeline.dynamics.resonance`; :func:`closeness_many` is the one home of the
+closeness, which the numpy-facing :func:`~stepframe.pipeline.dynamics.resonance.closeness`
+also calls.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+
+from stepframe.core.jit import njit
+from stepframe.structure._frequency_kernel import interval_work
+
+
+@njit(cache=True)
+def frame_peaks(psd: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """The largest S of each frame (row) and its band (the first, on ties)."""
+    n_frames, n_bands = psd.shape
+    peak = np.empty(n_frames)
+    ridge = np.empty(n_frames, dtype=np.int64)
+    for f in range(n_frames):
+        best, where = psd[f, 0], 0
+        for b in range(1, n_bands):
+            if psd[f, b] > best:
+                best, where = psd[f, b], b
+        peak[f], ridge[f] = best, where
+    return peak, ridge
+
+
+@njit(cache=True)
+def closeness_many(
+    psd: NDArray[np.float64],
+    frame_times_s: NDArray[np.float64],
+    omega_rad_s: NDArray[np.float64],
+    reach: int,
+    time_s: NDArray[np.float64],
+    omega_f_rad_s: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """c(t) at each (time, ω_f), and the record's ridge (the band of the largest S at the
+    nearest frame) [rad/s] there.
+
+    The ratio of a cell (frame f, band b) is max S(·, f) over the bands within ``reach`` of b,
+    over the frame's peak (1 for a frame without energy); c is that ratio interpolated linearly
+    in time between frames and in ln ω between bands; ω_f outside the grid is read at its
+    nearer edge, a time outside the frames at the nearer frame. Only the cells the samples
+    fall between are computed (ω_f moves slowly: a few bands of each frame).
+    """
+    n_frames, n_bands = psd.shape
+    peak, ridge_band = frame_peaks(psd)
+    ratio = np.full(psd.shape, -1.0)  # negative: not computed yet
+    log_low = math.log(omega_rad_s[0])
+    log_high = math.log(omega_rad_s[n_bands - 1])
+    log_step = (log_high - log_low) / (n_bands - 1)
+    t0, frame_dt = frame_times_s[0], frame_times_s[1] - frame_times_s[0]
+    near = np.empty(time_s.size)
+    ridge = np.empty(time_s.size)
+    last_omega, band_pos = math.nan, 0.0
+    for i in range(time_s.size):
+        position = min(max((time_s[i] - t0) / frame_dt, 0.0), n_frames - 1.0)
+        row = min(int(position), n_frames - 2)
+        t_frac = position - row
+        omega_f = omega_f_rad_s[i]
+        if omega_f != last_omega:  # ω_f is constant over a measured half-cycle: log it once
+            log_omega = math.log(omega_f) if omega_f > 0.0 else -math.inf
+            band_pos = (min(max(log_omega, log_low), log_high) - log_low) / log_step
+            last_omega = omega_f
+        col = min(int(band_pos), n_bands - 2)
+        w_frac = band_pos - col
+        # The cells are filled here, not in a helper: a compiled function called with arrays
+        # costs some 50 ns of reference counting per call, more than the whole sample's work.
+        for f in range(row, row + 2):
+            for b in range(col, col + 2):
+                if ratio[f, b] < 0.0:
+                    best = psd[f, b]
+                    for c in range(max(0, b - reach), min(n_bands, b + reach + 1)):
+                        best = max(best, psd[f, c])
+                    ratio[f, b] = best / (peak[f] if peak[f] > 0.0 else 1.0)
+        low = ratio[row, col] * (1 - w_frac) + ratio[row, col + 1] * w_frac
+        high = ratio[row + 1, col] * (1 - w_frac) + ratio[row + 1, col + 1] * w_frac
+        near[i] = low * (1 - t_frac) + high * t_frac
+        ridge[i] = omega_rad_s[ridge_band[round(position)]]
+    return near, ridge
+
+
+@njit(cache=True)
+def index_sums(
+    x_m: NDArray[np.float64],
+    v_m_s: NDArray[np.float64],
+    phase: NDArray[np.int8],
+    ground_acc_m_s2: NDArray[np.float64],
+    omega_f_rad_s: NDArray[np.float64],
+    crossings: NDArray[np.int64],
+    dt_s: float,
+    p_1: float,
+    p_2: float,
+    psd: NDArray[np.float64],
+    frame_times_s: NDArray[np.float64],
+    omega_rad_s: NDArray[np.float64],
+    reach: int,
+    band_low_rad_s: float,
+    band_high_rad_s: float,
+    near_ln: float,
+) -> NDArray[np.float64]:
+    """The sums the moving-resonance measures are ratios of, over the n samples of motion.
+
+    Half-cycle k runs over the intervals from its first sample (0, then each zero crossing's
+    next sample, before the last sample) to the next half-cycle's; its work W_k is the sum of
+    its intervals' work, W_k⁺ = max(W_k, 0), and its means of c, d and ln²(ω_ridge/ω_f) the mean
+    over its intervals of each interval's two ends' mean (steps 3-5 of the resonance module).
+
+    Returns
+    -------
+    numpy.ndarray
+        Σ c_k d_k W_k⁺, Σ d_k W_k⁺, Σ W_k⁺, Σ c_k W_k⁺, Σ off_k d_k W_k⁺, the number of
+        half-cycles, of those that stepped, the net work Σ W over all intervals, and min ω_f.
+    """
+    n = omega_f_rad_s.size
+    times = np.arange(n, dtype=np.float64) * dt_s
+    near, ridge = closeness_many(psd, frame_times_s, omega_rad_s, reach, times, omega_f_rad_s)
+    work = interval_work(x_m, v_m_s, phase, ground_acc_m_s2, dt_s, p_1, p_2)
+    depth_span = math.log(band_high_rad_s / band_low_rad_s) - near_ln
+    # d and the ridge's offset at each sample, computed once (each is read by two intervals).
+    depth = np.empty(n)
+    offset_sq = np.empty(n)
+    lowest = math.inf
+    last_omega, last_ridge = math.nan, math.nan
+    for i in range(n):
+        omega_f = omega_f_rad_s[i]
+        lowest = min(lowest, omega_f)
+        if omega_f != last_omega:  # constant over a measured half-cycle: the logs once
+            drop = math.log(band_high_rad_s / max(omega_f, 1e-300))
+            sample_depth = min(max((drop - near_ln) / depth_span, 0.0), 1.0)
+            inside = min(max(omega_f, band_low_rad_s), band_high_rad_s)
+            last_omega, last_ridge = omega_f, math.nan
+        if ridge[i] != last_ridge:  # and the ridge over a frame
+            sample_offset = math.log(ridge[i] / inside) ** 2
+            last_ridge = ridge[i]
+        depth[i] = sample_depth
+        offset_sq[i] = sample_offset
+
+    sums = np.zeros(9)
+    sums[8] = lowest
+    start, next_crossing = 0, 0
+    while start < n - 1:
+        # The half-cycle ends at the next start after this one (crossing + 1), or at n - 1.
+        while next_crossing < crossings.size and crossings[next_crossing] + 1 <= start:
+            next_crossing += 1
+        end = n - 1
+        if next_crossing < crossings.size:
+            end = min(crossings[next_crossing] + 1, n - 1)
+        cycle_work = 0.0
+        near_sum = depth_sum = offset_sum = 0.0
+        stepped = False
+        for j in range(start, end):
+            cycle_work += work[j]
+            near_sum += 0.5 * (near[j] + near[j + 1])
+            depth_sum += 0.5 * (depth[j] + depth[j + 1])
+            offset_sum += 0.5 * (offset_sq[j] + offset_sq[j + 1])
+            stepped = stepped or phase[j] != 0 or phase[j + 1] != 0
+        count = end - start
+        pumped = max(cycle_work, 0.0)
+        moved = depth_sum / count * pumped
+        cycle_near = near_sum / count
+        sums[0] += moved * cycle_near
+        sums[1] += moved
+        sums[2] += pumped
+        sums[3] += pumped * cycle_near
+        sums[4] += moved * (offset_sum / count)
+        sums[5] += 1.0
+        sums[6] += 1.0 if stepped else 0.0
+        sums[7] += cycle_work
+        start = end
+    return sums

@@ -1,0 +1,335 @@
+"""Compiled kernels of the frame's frequency and of the ground's work on it
+(:mod:`stepframe.structure.frame_frequency`): the zero crossings and turning points of a
+history, the measured frequency of its half-cycles, the swing amplitude and the
+period-amplitude law's frequency at it, and the work over each sample interval. The law's
+quarter periods (:func:`quarter_periods`) are the ones
+:func:`stepframe.structure.period_amplitude.quarter_periods_s` evaluates.
+
+Compiled because each is a short computation per sample: written with numpy they cost some
+fifty calls over the history, fixed costs that made the moving-resonance index several times
+dearer than the exact simulation it reads (docs/benchmarks.md, issue 26). The numpy-facing
+functions of :mod:`~stepframe.structure.frame_frequency` call these, and the index's kernel
+(:mod:`stepframe.pipeline.dynamics._resonance_kernel`) calls :func:`zero_crossings` and
+:func:`interval_work`: one home for each formula.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+
+from stepframe.core.jit import njit
+
+
+@njit(cache=True)
+def hermite(s: float, x0: float, h0: float, x1: float, h1: float) -> float:
+    """The cubic Hermite interpolant through x0, x1 with slopes h0, h1 (per unit s), at s."""
+    return (
+        (2 * s**3 - 3 * s**2 + 1) * x0
+        + (s**3 - 2 * s**2 + s) * h0
+        + (3 * s**2 - 2 * s**3) * x1
+        + (s**3 - s**2) * h1
+    )
+
+
+@njit(cache=True)
+def crossing_fraction(x0: float, h0: float, x1: float, h1: float) -> float:
+    """Where in [0, 1] x passes zero between two samples of opposite sign: the linear
+    interpolation, refined by one Newton step on the cubic through x and its slopes h = Δt·ẋ
+    (kept only if it stays finite and inside the interval)."""
+    s = x0 / (x0 - x1)
+    slope = (6 * s**2 - 6 * s) * (x0 - x1) + (3 * s**2 - 4 * s + 1) * h0 + (3 * s**2 - 2 * s) * h1
+    if slope != 0.0:
+        refined = s - hermite(s, x0, h0, x1, h1) / slope
+        if math.isfinite(refined) and 0.0 <= refined <= 1.0:
+            return refined
+    return s
+
+
+@njit(cache=True)
+def zero_crossings(
+    x_m: NDArray[np.float64], v_m_s: NDArray[np.float64], dt_s: float
+) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
+    """Samples i after which x changes sign (x > 0 against x ≤ 0 at i + 1) and the crossing
+    times [s] (:func:`crossing_fraction` between the two samples)."""
+    n = x_m.size
+    count = 0
+    for i in range(n - 1):
+        if (x_m[i] > 0.0) != (x_m[i + 1] > 0.0):
+            count += 1
+    samples = np.empty(count, dtype=np.int64)
+    times = np.empty(count)
+    k = 0
+    for i in range(n - 1):
+        if (x_m[i] > 0.0) != (x_m[i + 1] > 0.0):
+            s = crossing_fraction(x_m[i], dt_s * v_m_s[i], x_m[i + 1], dt_s * v_m_s[i + 1])
+            samples[k] = i
+            times[k] = (i + s) * dt_s
+            k += 1
+    return samples, times
+
+
+@njit(cache=True)
+def turning_fraction(x0: float, h0: float, x1: float, h1: float) -> float:
+    """Where in [0, 1] the cubic through x0, x1 with slopes h0, h1 (of opposite signs) has zero
+    slope: the root of its derivative a s² + b s + h0 inside the interval, in the form that
+    stays accurate when a → 0; the zero of the linear slope between h0 and h1 if neither root
+    is inside (rounding)."""
+    a = 6.0 * (x0 - x1) + 3.0 * (h0 + h1)
+    b = -6.0 * (x0 - x1) - 4.0 * h0 - 2.0 * h1
+    disc = math.sqrt(max(b * b - 4.0 * a * h0, 0.0))
+    q = -0.5 * (b + math.copysign(disc, b))
+    if a != 0.0:
+        root = q / a
+        if 0.0 <= root <= 1.0:
+            return root
+    if q != 0.0:
+        root = h0 / q
+        if 0.0 <= root <= 1.0:
+            return root
+    return h0 / (h0 - h1)
+
+
+@njit(cache=True)
+def turning_points(
+    x_m: NDArray[np.float64], v_m_s: NDArray[np.float64], dt_s: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Times [s] and |x| [m] of the turning points of x: where ẋ changes sign strictly between
+    samples i and i + 1 (a sample with ẋ = 0 exactly, a hold on the surface, is not one), at
+    :func:`turning_fraction` of the interval."""
+    n = x_m.size
+    count = 0
+    for i in range(n - 1):
+        if np.sign(v_m_s[i]) * np.sign(v_m_s[i + 1]) < 0.0:
+            count += 1
+    times = np.empty(count)
+    amplitudes = np.empty(count)
+    k = 0
+    for i in range(n - 1):
+        if np.sign(v_m_s[i]) * np.sign(v_m_s[i + 1]) < 0.0:
+            x0, x1 = x_m[i], x_m[i + 1]
+            h0, h1 = dt_s * v_m_s[i], dt_s * v_m_s[i + 1]
+            s = turning_fraction(x0, h0, x1, h1)
+            times[k] = (i + s) * dt_s
+            amplitudes[k] = abs(hermite(s, x0, h0, x1, h1))
+            k += 1
+    return times, amplitudes
+
+
+@njit(cache=True)
+def fill_half_cycles(
+    phase: NDArray[np.int8],
+    crossings: NDArray[np.int64],
+    crossing_times_s: NDArray[np.float64],
+    omega_1_rad_s: float,
+    omega_rad_s: NDArray[np.float64],
+) -> None:
+    """Write each measured half-cycle's frequency into ``omega_rad_s`` (in place): half-cycle k
+    holds the samples crossings[k] + 1 ... crossings[k + 1]; ω₁ if none of them stepped, else
+    π/τ_k (τ_k between its two crossing times), at most ω₁."""
+    for k in range(crossings.size - 1):
+        first, last = crossings[k] + 1, crossings[k + 1]
+        stepped = False
+        for i in range(first, last + 1):
+            if phase[i] != 0:
+                stepped = True
+                break
+        value = omega_1_rad_s
+        duration = crossing_times_s[k + 1] - crossing_times_s[k]
+        if stepped and duration > 0.0:
+            value = min(omega_1_rad_s, math.pi / duration)
+        for i in range(first, last + 1):
+            omega_rad_s[i] = value
+
+
+@njit(cache=True)
+def interval_work(
+    x_m: NDArray[np.float64],
+    v_m_s: NDArray[np.float64],
+    phase: NDArray[np.int8],
+    ground_acc_m_s2: NDArray[np.float64],
+    dt_s: float,
+    p_1: float,
+    p_2: float,
+) -> NDArray[np.float64]:
+    """Work of the ground on the frame over each interval [t_i, t_{i+1}] [m²/s²] (n - 1
+    values): -P·∫ẍ_g ẋ dt, the integral exact for a cubic x and a linear ẍ_g, P the mean of
+    the two ends' participation factors (:mod:`stepframe.structure.frame_frequency`)."""
+    n = x_m.size
+    work = np.empty(max(n - 1, 0))
+    for i in range(n - 1):
+        a0, a1 = ground_acc_m_s2[i], ground_acc_m_s2[i + 1]
+        integral = (x_m[i + 1] - x_m[i]) * 0.5 * (a0 + a1) + (a1 - a0) * (
+            v_m_s[i + 1] - v_m_s[i]
+        ) * (dt_s / 12.0)
+        factor_0 = p_1 if phase[i] == 0 else p_2
+        factor_1 = p_1 if phase[i + 1] == 0 else p_2
+        work[i] = -0.5 * (factor_0 + factor_1) * integral
+    return work
+
+
+@njit(cache=True)
+def quarter_period_parts(
+    amplitude_m: float, omega_1: float, omega_2: float, x_c_m: float, x_star_m: float
+) -> tuple[float, float]:
+    """Time in the unstepped and in the stepped phase of a quarter period of the free
+    conservative frame released at rest from 0 ≤ A < x* [s] (closed forms of
+    :mod:`stepframe.structure.period_amplitude`)."""
+    if amplitude_m > x_c_m:
+        gap_a = x_star_m - amplitude_m
+        gap_c = x_star_m - x_c_m
+        t_stepped = math.acosh(gap_c / gap_a) / omega_2
+        # (x* - x_c)² - (x* - A)² written as a product to keep accuracy for A just above x_c.
+        v_c = omega_2 * math.sqrt((amplitude_m - x_c_m) * (gap_c + gap_a))
+        if x_c_m > 0.0:
+            return math.asin(x_c_m / math.hypot(x_c_m, v_c / omega_1)) / omega_1, t_stepped
+        return 0.0, t_stepped
+    if x_c_m > 0.0:
+        return 0.5 * math.pi / omega_1, 0.0
+    return 0.0, 0.0
+
+
+@njit(cache=True)
+def quarter_periods(
+    amplitude_m: NDArray[np.float64], omega_1: float, omega_2: float, x_c_m: float,
+    x_star_m: float,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:  # fmt: skip
+    """:func:`quarter_period_parts` of each amplitude (0 ≤ A < x*, not checked) [s]."""
+    unstepped = np.empty(amplitude_m.size)
+    stepped = np.empty(amplitude_m.size)
+    for k in range(amplitude_m.size):
+        unstepped[k], stepped[k] = quarter_period_parts(
+            amplitude_m[k], omega_1, omega_2, x_c_m, x_star_m
+        )
+    return unstepped, stepped
+
+
+@njit(cache=True)
+def law_frequency(
+    amplitude_m: float, omega_1: float, omega_2: float, x_c_m: float, x_star_m: float
+) -> float:
+    """2π/T(A) of the period-amplitude law [rad/s]: 0 where A ≥ x* or A = ∞ (no periodic
+    orbit), ∞ where T = 0 (a rigid block at rest)."""
+    if not amplitude_m < x_star_m:
+        return 0.0
+    unstepped, stepped = quarter_period_parts(amplitude_m, omega_1, omega_2, x_c_m, x_star_m)
+    period = 4.0 * (unstepped + stepped)
+    return 2.0 * math.pi / period if period > 0.0 else math.inf
+
+
+@njit(cache=True)
+def potential_at(
+    y_m: float, omega_1: float, omega_2: float, x_c_m: float, x_star_m: float
+) -> float:
+    """V(y) of the conservative two-phase model at |x| = y [m²/s²]
+    (:mod:`stepframe.structure.frame_frequency`)."""
+    if y_m <= x_c_m:
+        return 0.5 * omega_1**2 * y_m**2
+    gamma_1 = omega_2**2 * x_star_m
+    return (
+        0.5 * omega_1**2 * x_c_m**2
+        + gamma_1 * (y_m - x_c_m)
+        - 0.5 * omega_2**2 * (y_m**2 - x_c_m**2)
+    )
+
+
+@njit(cache=True)
+def energy_amplitude(
+    x_m: float, v_m_s: float, omega_1: float, omega_2: float, x_c_m: float, x_star_m: float
+) -> float:
+    """Amplitude A of the free conservative orbit through the state (x, ẋ) [m]; ∞ where there
+    is none (|x| ≥ x* or E ≥ V(x*): the free frame would overturn)."""
+    y = abs(x_m)
+    energy = 0.5 * v_m_s**2 + potential_at(y, omega_1, omega_2, x_c_m, x_star_m)
+    energy_c = 0.5 * omega_1**2 * x_c_m**2
+    gap_sq = (x_star_m - x_c_m) ** 2 - 2.0 * (energy - energy_c) / omega_2**2
+    if not (y < x_star_m and gap_sq > 0.0):
+        return math.inf
+    if energy <= energy_c:
+        return math.sqrt(2.0 * max(energy, 0.0)) / omega_1
+    return x_star_m - math.sqrt(gap_sq)
+
+
+@njit(cache=True)
+def swing_law(
+    x_m: NDArray[np.float64],
+    v_m_s: NDArray[np.float64],
+    dt_s: float,
+    samples: NDArray[np.int64],
+    overturns: bool,
+    omega_1: float,
+    omega_2: float,
+    x_c_m: float,
+    x_star_m: float,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The swing amplitude A(t) [m] and the law's frequency 2π/T(A(t)) [rad/s] at the given
+    samples (ascending): A is |x| at the turning points after t = 0, interpolated linearly in
+    time, starting from the energy amplitude of the first state (at most x*) and held after
+    the last turning point; on a history that ends by overturning, after the last turning
+    point A is also at least the state's energy amplitude (module
+    :mod:`stepframe.structure.frame_frequency`)."""
+    turn_t, turn_a = turning_points(x_m, v_m_s, dt_s)
+    later = 0
+    for k in range(turn_t.size):
+        if turn_t[k] > 0.0:
+            later += 1
+    knots_t = np.empty(later + 1)
+    knots_a = np.empty(later + 1)
+    knots_t[0] = 0.0
+    knots_a[0] = min(
+        energy_amplitude(x_m[0], v_m_s[0], omega_1, omega_2, x_c_m, x_star_m), x_star_m
+    )
+    k = 1
+    for j in range(turn_t.size):
+        if turn_t[j] > 0.0:
+            knots_t[k], knots_a[k] = turn_t[j], turn_a[j]
+            k += 1
+    times = samples * dt_s
+    amplitude = np.interp(times, knots_t, knots_a)
+    omega = np.empty(samples.size)
+    for k in range(samples.size):
+        if overturns and times[k] > knots_t[later]:
+            i = samples[k]
+            amplitude[k] = max(
+                amplitude[k],
+                energy_amplitude(x_m[i], v_m_s[i], omega_1, omega_2, x_c_m, x_star_m),
+            )
+        omega[k] = law_frequency(amplitude[k], omega_1, omega_2, x_c_m, x_star_m)
+    return amplitude, omega
+
+
+@njit(cache=True)
+def potentials(
+    y_m: NDArray[np.float64], omega_1: float, omega_2: float, x_c_m: float, x_star_m: float
+) -> NDArray[np.float64]:
+    """:func:`potential_at` of each |x| [m²/s²]."""
+    out = np.empty(y_m.size)
+    for k in range(y_m.size):
+        out[k] = potential_at(y_m[k], omega_1, omega_2, x_c_m, x_star_m)
+    return out
+
+
+@njit(cache=True)
+def energy_amplitudes(
+    x_m: NDArray[np.float64], v_m_s: NDArray[np.float64], omega_1: float, omega_2: float,
+    x_c_m: float, x_star_m: float,
+) -> NDArray[np.float64]:  # fmt: skip
+    """:func:`energy_amplitude` of each state [m]."""
+    out = np.empty(x_m.size)
+    for k in range(x_m.size):
+        out[k] = energy_amplitude(x_m[k], v_m_s[k], omega_1, omega_2, x_c_m, x_star_m)
+    return out
+
+
+@njit(cache=True)
+def law_frequencies(
+    amplitude_m: NDArray[np.float64], omega_1: float, omega_2: float, x_c_m: float,
+    x_star_m: float,
+) -> NDArray[np.float64]:  # fmt: skip
+    """:func:`law_frequency` at each amplitude [rad/s]."""
+    out = np.empty(amplitude_m.size)
+    for k in range(amplitude_m.size):
+        out[k] = law_frequency(amplitude_m[k], omega_1, omega_2, x_c_m, x_star_m)
+    return out
