@@ -25,6 +25,7 @@ from stepframe.core import memory
 from stepframe.core.memory import check_memory, refusal, size_text
 from stepframe.core.validation import count
 from stepframe.errors import InputError
+from stepframe.pipeline.dynamics.response import FIGURE_BYTES_PER_SAMPLE, SIMULATE_BYTES_PER_SAMPLE
 
 from .conftest import corpus_module
 from .test_hostile_ii import CHILD_ADDRESS_SPACE, _child, _error
@@ -136,16 +137,20 @@ def frame(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return path
 
 
+# response.py's estimate per sample [bytes], without and with --plot
+SIMULATE_BYTES, FIGURE_BYTES = 175.0, 440.0
+assert (SIMULATE_BYTES, FIGURE_BYTES) == (SIMULATE_BYTES_PER_SAMPLE, FIGURE_BYTES_PER_SAMPLE)
+
 # Each command's refusal: (argv, the line's expected end). 402,000 samples (the record and 10 s
-# at 5 ms) × 280 B = 107 MiB; with --plot × 620 B + 32 MiB = 270 MiB; an IDA of 8 records of
+# at 5 ms) × 175 B = 67.1 MiB; with --plot × 615 B + 32 MiB = 268 MiB; an IDA of 8 records of
 # 400,000: 16 B × 3.2·10⁶ + 48 B × 400,000 = 67.1 MiB; a diagram of 100 × 1,000 × 20 points
 # × 72 B = 137 MiB; the example's 100 candidates, the longest 18,000 samples, 143 MiB.
 REFUSALS = {
     "simulate": (
         ["structure", "simulate", "--frame", "{frame}", "--memory-mb", "64", "{record}"],
-        f"simulating 400000 samples with a 10 s tail needs about {size_text(402_000 * 280.0)} "
-        "of memory, over the budget of 64 MiB (--memory-mb), expected work that fits it: a "
-        "shorter record or tail",
+        "simulating 400000 samples with a 10 s tail needs about "
+        f"{size_text(402_000 * SIMULATE_BYTES)} of memory, over the budget of 64 MiB "
+        "(--memory-mb), expected work that fits it: a shorter record or tail",
     ),
     "simulate-plot": (
         [
@@ -160,8 +165,9 @@ REFUSALS = {
             "{record}",
         ],
         "simulating 400000 samples with a 10 s tail and drawing them needs about "
-        f"{size_text(402_000 * 620.0 + 32 * MIB)} of memory, over the budget of 200 MiB "
-        "(--memory-mb), expected work that fits it: a shorter record or tail, or no --plot",
+        f"{size_text(402_000 * (SIMULATE_BYTES + FIGURE_BYTES) + 32 * MIB)} of memory, over the "
+        "budget of 200 MiB (--memory-mb), expected work that fits it: a shorter record or tail, "
+        "or no --plot",
     ),
     "ida": (
         ["structure", "ida", "--frame", "{frame}", "--memory-mb", "64", *["{record}"] * 8],
