@@ -19,8 +19,9 @@ frequency at the start of the analysis) and ``y`` the unit-variance eq. 6.12 pro
     block by 4-point Gauss-Legendre) and P_∞ the closed-form stationary covariance of the frozen
     system. Exact for constant coefficients whatever h; O(h²) in the time variation of the
     coefficients (6e-7 relative at 4,000 steps over 40 s for the paper's site; see
-    bench/bench_mean_square.py). Cost: a numba kernel, O(n_osc · n_steps), about 0.2-0.4 µs per
-    oscillator-step. Needs ξ_0 ≥ 1e-6 (P_∞ grows like 1/ξ_0).
+    bench/bench_mean_square.py). Cost: a numba kernel, O(n_osc · n_steps), about 0.2-0.35 µs per
+    oscillator-step whose ω changes, 0.1 µs for a constant ω (its propagators kept).
+    Needs ξ_0 ≥ 1e-6 (P_∞ grows like 1/ξ_0).
 ``"monte-carlo"``: N synthetic motions (:func:`stepframe.stochastic.synthetic.synthetic_motions`)
     through the oscillator, stepped exactly for frozen ω with linear interpolation of the samples
     (bias O((ω h_mc)²/12), about 0.1 % at the default ω_max h_mc = 0.1). Its statistical error is
