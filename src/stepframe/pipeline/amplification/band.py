@@ -10,9 +10,9 @@ against f0 inherits that uncertainty. Two ways to carry it along the whole curve
     settle in fewer sets than with independent draws); sets that break ω_p ≥ ω_s ≥ ω_r > 0 or
     ξ > 0 are drawn again and counted; the band is the sets' percentile interval at each f0.
     N curves: its cost is N times a curve's (0.07-0.11 s of CPU for 60 frequencies at 4,000
-    steps: 35-60 s for the default 512 sets, docs/benchmarks.md), and it sees the curve's curvature and asymmetry: with two
-    records' standard errors (RSN 8883) the amplification at 0.1 Hz runs from 2.1 to 6.3 over
-    ω_p ± 2 SE, about 4.6.
+    steps: 35-60 s for the default 512 sets, docs/benchmarks.md), and it sees the curve's
+    curvature and asymmetry: with two records' standard errors (RSN 8883) the amplification at
+    0.1 Hz runs from 2.1 to 6.3 over ω_p ± 2 SE, about 4.6.
 ``"delta"``
     The delta method on the logarithm (the amplification is a positive ratio): the derivative of
     ln A along each parameter by central differences (step a tenth of the parameter's standard
