@@ -96,11 +96,6 @@ def test_every_command_is_documented() -> None:
     }  # fmt: skip
 
 
-# One worker runs these in order: the documented commands share one workspace, as a user's
-# session would (``store compact`` reads what ``run`` wrote).
-pytestmark = pytest.mark.xdist_group("cli_schemas")
-
-
 @pytest.fixture(scope="module")
 def workspace(tmp_path_factory: pytest.TempPathFactory) -> Path:
     folder = tmp_path_factory.mktemp("schemas")

@@ -73,10 +73,6 @@ def _runnable(line: str) -> bool:
     return " | " not in line and "<" not in line.split(">")[0]
 
 
-# One worker runs the examples, in order: later ones read what earlier ones wrote (the inbox's
-# workspace, the demo's folder), as a reader following the docs would have them.
-pytestmark = pytest.mark.xdist_group("examples")
-
 EXAMPLES = sorted(
     {(where, _PROSE.sub("", line)) for where, line in _help_examples() + _docs_examples()
      if _runnable(line)}
