@@ -380,6 +380,69 @@ def test_numbers_to_the_end_equal_word_by_word(rows: list[list[str]], block_valu
                 _text.numbers(lines, 1, Path("f.txt"))
 
 
+_NUMBER_FIELDS = st.one_of(
+    st.floats(-1e5, 1e5, allow_nan=False).map(lambda v: f"{v:.4E}"),
+    st.floats(-1e3, 1e3, allow_nan=False).map(lambda v: f"{v:.3f}"),
+)
+_ANY_FIELDS = st.one_of(
+    _NUMBER_FIELDS, st.sampled_from(["1.0D-03", "nan", "1e999", "abc", "", "1_000", "é", "-9."])
+)
+
+
+@given(
+    st.integers(6, 15),
+    st.one_of(  # rows of numbers only (the vectorised path's), or with anything in them
+        st.lists(st.tuples(st.lists(_NUMBER_FIELDS, max_size=8), st.integers(0, 3)), max_size=30),
+        st.lists(st.tuples(st.lists(_ANY_FIELDS, max_size=8), st.integers(0, 3)), max_size=30),
+    ),
+    st.one_of(st.none(), st.floats(0.0, 1.2)),  # to the end, or this share of the fields
+    st.sampled_from([4, 64, 1 << 16]),
+)
+@settings(max_examples=300, deadline=None)
+def test_fixed_width_numbers_equal_the_line_by_line_path(
+    width: int, rows: list[tuple[list[str], int]], share: float | None, block_values: int
+) -> None:
+    """Fixed-width fields converted a chunk of lines at a time give what the line-by-line path
+    gives (it slices, strips and converts field by field): the same values to the bit, the same
+    next line, or the same error on the same line; with or without a count, whatever the chunk
+    size, for fields that touch, blank fields, Fortran D exponents, words, non-ASCII text and
+    lines cut inside a field."""
+    from stepframe.records.formats import _text
+
+    lines = ["header"]
+    for fields, cut in rows:
+        line = "".join(field[-width:].rjust(width) for field in fields)
+        lines.append(line[: len(line) - cut] if cut < len(line) else line)
+    count = None if share is None else round(share * sum(len(f) for f, _ in rows))
+    if count is not None:
+        lines.append("trailer")  # a count stops before it
+
+    def outcome() -> tuple[bytes, int] | str:
+        try:
+            values, next_line = _text.numbers(lines, 1, Path("f.txt"), count=count, width=width)
+        except FormatError as error:
+            return str(error)
+        assert values.dtype == np.float64
+        return values.tobytes(), next_line
+
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(_text, "_BLOCK_VALUES", block_values)
+        fast = outcome()
+        patch.setattr(_text, "_fixed_width", lambda *args: None)  # the line-by-line path only
+        assert fast == outcome()
+
+
+def test_fixed_width_fields_take_the_vectorised_path() -> None:
+    """A block of full fixed-width lines and a short last line is converted without the
+    line-by-line path (what the property test above compares it with)."""
+    from stepframe.records.formats._text import _fixed_width
+
+    lines = ["header", " 1.500E+00-2.250E-01 3.000E+02", " 4.000E+00 5.5", "trailer"]
+    values, next_line = _fixed_width(lines, 1, 5, 10) or (None, None)
+    assert values is not None and values.tolist() == [1.5, -0.225, 300.0, 4.0, 5.5]
+    assert next_line == 3
+
+
 def _as_float(word: str) -> float | None:
     try:
         return float(word.replace("D", "E"))

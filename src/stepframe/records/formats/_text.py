@@ -110,10 +110,13 @@ def numbers(
     FormatError
         A field that is not a number, or values beyond ``count`` on the last line, naming the line.
     """
-    if width is None:
-        fast = _blank_separated(lines, first, count)
-        if fast is not None:
-            return fast
+    fast = (
+        _blank_separated(lines, first, count)
+        if width is None
+        else _fixed_width(lines, first, count, width)
+    )
+    if fast is not None:
+        return fast
     # Line by line: fixed-width fields, Fortran D exponents, and the exact line of a bad value.
     values: list[float] = []
     index = first
@@ -181,6 +184,55 @@ def _blank_separated(
     if words:
         block = _converted(words)
         if block is None:
+            return None
+        blocks.append(block)
+        converted += block.size
+    if count is not None and converted > count:
+        return None
+    if len(blocks) == 1:
+        return blocks[0], index
+    return (np.concatenate(blocks) if blocks else np.empty(0, dtype=np.float64)), index
+
+
+def _fixed_width(
+    lines: list[str], first: int, count: int | None, width: int
+) -> tuple[np.ndarray, int] | None:
+    """:func:`numbers` for fields of ``width`` characters, converted as fixed-width byte
+    strings a chunk of lines at a time (numpy parses them as Python's ``float`` does), or None
+    when any field needs the line-by-line path: a blank field (which that path skips), a field
+    that is not a plain number (a Fortran D exponent, a word), a value not finite and below
+    ``MAX_VALUE``, a character beyond ASCII, or more values than ``count`` on the last line.
+    Lines are stripped, measured and joined by C loops; only a line that ends inside a field
+    is padded in Python. A CSMIP or COSMOS file of 20,000-100,000 values reads two to five
+    times faster (docs/benchmarks.md)."""
+    blocks: list[np.ndarray] = []
+    converted = 0
+    index = first
+    blank = b" " * width
+    chunk_lines = max(1, _BLOCK_VALUES // 8)
+    while index < len(lines) and (count is None or converted < count):
+        stripped = list(map(str.rstrip, lines[index : index + chunk_lines]))
+        lengths = np.fromiter(map(len, stripped), dtype=np.int64, count=len(stripped))
+        fields = -(-lengths // width)
+        if count is not None:  # up to the line that completes ``count`` values
+            reached = np.flatnonzero(converted + np.cumsum(fields) >= count)
+            if reached.size:
+                del stripped[reached[0] + 1 :]
+        index += len(stripped)
+        # Pad a line that ends inside a field to whole fields, as the line-by-line path cuts it.
+        for k in np.flatnonzero(lengths[: len(stripped)] % width):
+            stripped[k] = stripped[k].ljust(int(fields[k]) * width)
+        try:
+            raw = np.frombuffer("".join(stripped).encode("ascii"), dtype=f"S{width}")
+        except UnicodeEncodeError:
+            return None
+        if np.any(raw == blank):
+            return None
+        try:
+            block = raw.astype(np.float64)
+        except ValueError:
+            return None
+        if not np.all(np.abs(block) <= MAX_VALUE):  # also false for NaN
             return None
         blocks.append(block)
         converted += block.size
