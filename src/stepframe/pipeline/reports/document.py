@@ -155,12 +155,17 @@ def _place_texts(figure: MplFigure) -> None:
     figure.draw_without_rendering()
 
 
-def texts_outside(figure: MplFigure) -> list[str]:
+def texts_outside(figure: MplFigure, *, laid_out: bool = False) -> list[str]:
     """The drawn texts of a figure (titles, labels, tick labels, legends) that reach past its
-    edges: clipped in the PNG. Empty for a figure that shows all its words."""
+    edges: clipped in the PNG. Empty for a figure that shows all its words.
+
+    ``laid_out``: the figure was laid out since its last change (:func:`fit_titles` says so),
+    so its texts' extents are read as they are instead of laying it out again (a layout is a
+    draw without the pixels: a quarter of a report's figure time)."""
     from matplotlib.text import Text
 
-    _place_texts(figure)
+    if not laid_out:
+        _place_texts(figure)
     renderer = figure.canvas.get_renderer()  # type: ignore[attr-defined]
     width, height = figure.bbox.width, figure.bbox.height
     hidden = _undrawn_tick_labels(figure)
@@ -178,11 +183,14 @@ def texts_outside(figure: MplFigure) -> list[str]:
 MIN_TITLE_CHARACTERS = 24
 
 
-def fit_titles(figure: MplFigure) -> None:
+def fit_titles(figure: MplFigure) -> bool:
     """Wrap each axes title that reaches past the figure's edges onto more lines (a long site
     or file name would otherwise be cut at both edges of the PNG). A title is centred over its
     axes, which need not be centred in the figure: the room is twice the distance from the
-    title's centre to the nearer edge."""
+    title's centre to the nearer edge.
+
+    Returns True when the figure's layout is current (its last layout wrapped nothing), False
+    when the fourth wrapping changed a title after it."""
     import textwrap
 
     for _ in range(4):
@@ -205,7 +213,8 @@ def fit_titles(figure: MplFigure) -> None:
                 title.set_text(new)
                 wrapped = True
         if not wrapped:
-            return
+            return True
+    return False
 
 
 def figure_from_matplotlib(
@@ -219,8 +228,7 @@ def figure_from_matplotlib(
         from matplotlib.backends.backend_agg import FigureCanvasAgg
 
         FigureCanvasAgg(figure)
-    fit_titles(figure)
-    clipped = tuple(texts_outside(figure))
+    clipped = tuple(texts_outside(figure, laid_out=fit_titles(figure)))
     buffer = io.BytesIO()
     figure.savefig(buffer, format="png", dpi=FIGURE_DPI)
     figure.clear()
