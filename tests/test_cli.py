@@ -254,3 +254,17 @@ def test_the_command_tree_builds_whatever_module_is_imported_first() -> None:
         assert done.stdout.strip() == (
             "['demo', 'records', 'report', 'run', 'select', 'stochastic', 'store', 'structure']"
         )
+
+
+def test_the_cached_parser_keeps_no_state_between_runs() -> None:
+    """build_parser is built once per process: a repeated option's list from one parse must not
+    reach the next (argparse's append action copies the default list)."""
+    from stepframe.cli import build_parser
+
+    parser = build_parser()
+    assert build_parser() is parser
+    select = ["select", "--frame", "f.toml", "-n", "3", "-o", "picks"]
+    first = parser.parse_args([*select, "--exclude", "RSN1", "--exclude", "RSN2"])
+    second = parser.parse_args(select)
+    assert first.exclude == ["RSN1", "RSN2"]
+    assert second.exclude == []
