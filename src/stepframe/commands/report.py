@@ -52,8 +52,9 @@ def run_amplification(args: argparse.Namespace) -> CommandResult:
     stepframe report amplification --fp-hz 7.43 --fs-hz 3.12 --fr-hz 1.11 --xi-p 0.096 \\
         --xi-r 0.655 --t-max-s 5 --t-dur-s 20 --alpha-at-tmax paper \\
         --frame frame.toml --delta-star-m 0.25 -o paper_site.html
-    # a site from a folder of its records (every component fitted, usable fits combined)
-    stepframe report amplification --records records/ --site-name "RSN 8883" -o x.html
+    # a site from a folder of its records (every component fitted, usable fits combined),
+    # its band by the delta method (11 curves instead of the Monte Carlo band's 512)
+    stepframe report amplification --records records/ --site-name "RSN 8883" --band delta -o x.html
     """
     from stepframe.pipeline.amplification.report import make_amplification_report
     from stepframe.pipeline.reports.document import report_summary
