@@ -221,6 +221,7 @@ def zero_crossings(
 def swing_frequency_rad_s(
     x_m: Floats, v_m_s: Floats, phase: NDArray[np.int8], dt_s: float, backbone: ModelBackbone,
     *, overturns: bool = False, law_everywhere: bool = True,
+    crossings: tuple[NDArray[np.intp], Floats] | None = None,
 ) -> tuple[Floats, Floats, Floats]:  # fmt: skip
     """ω_f(t) [rad/s], the swing amplitude A(t) [m] and the law's frequency at it 2π/T(A(t))
     [rad/s] at each sample (module docstring).
@@ -237,10 +238,13 @@ def swing_frequency_rad_s(
         False: A(t) and the law's frequency only where ω_f needs them (before the first zero
         crossing and after the last), NaN between: ω_f is the same, at a third of the cost for
         a history of many half-cycles (the moving-resonance index's path, docs/benchmarks.md).
+    crossings
+        :func:`zero_crossings` of this history when the caller has them already (the index
+        cuts the response into half-cycles at the same crossings); found here otherwise.
     """
     from stepframe.structure._frequency_kernel import fill_half_cycles, swing_law
 
-    i, z = zero_crossings(x_m, v_m_s, dt_s)
+    i, z = zero_crossings(x_m, v_m_s, dt_s) if crossings is None else crossings
     samples = np.arange(x_m.size)
     if not law_everywhere and i.size >= 2:
         samples = np.concatenate((samples[: i[0] + 1], samples[i[-1] + 1 :]))
@@ -322,18 +326,21 @@ def felt_ground_acc(result: SimulationResult) -> Floats:
 
 
 def motion_frequency(
-    result: SimulationResult, *, law_everywhere: bool = True
+    result: SimulationResult,
+    *,
+    law_everywhere: bool = True,
+    crossings: tuple[NDArray[np.intp], Floats] | None = None,
 ) -> tuple[Floats, Floats, Floats]:
     """ω_f(t) [rad/s], A(t) [m] and 2π/T(A(t)) [rad/s] over the samples of motion
-    (:func:`motion_samples`) of a simulation with history and model (``law_everywhere`` as
-    :func:`swing_frequency_rad_s`)."""
+    (:func:`motion_samples`) of a simulation with history and model (``law_everywhere`` and
+    ``crossings``, those of the samples of motion, as :func:`swing_frequency_rad_s`)."""
     if result.model is None or not result.raw.hist_x.size:
         raise ValueError("the simulation kept no history, expected record_history=True")
     n = motion_samples(result)
     raw = result.raw
     return swing_frequency_rad_s(
         raw.hist_x[:n], raw.hist_v[:n], raw.hist_p[:n], result.dt_s, backbone_of(result.model),
-        overturns=result.summary.overturned, law_everywhere=law_everywhere,
+        overturns=result.summary.overturned, law_everywhere=law_everywhere, crossings=crossings,
     )  # fmt: skip
 
 

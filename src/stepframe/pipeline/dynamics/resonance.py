@@ -300,6 +300,7 @@ def resonance_index(
     from stepframe.structure.frame_frequency import (
         felt_ground_acc,
         motion_frequency,
+        motion_samples,
         zero_crossings,
     )
 
@@ -309,13 +310,15 @@ def resonance_index(
     raw, model = result.raw, result.model
     if not raw.hist_x.size or model is None:
         return _failed(band, "no history, expected a simulation with record_history=True")
-    omega_f = motion_frequency(result, law_everywhere=False)[0]
-    n = omega_f.size
+    n = motion_samples(result)
     if n < 2:
         return _failed(band, "fewer than two samples of motion before overturning")
     x, v, phase = raw.hist_x[:n], raw.hist_v[:n], raw.hist_p[:n]
+    # The half-cycles of ω_f and of the index are cut at the same crossings: found once.
+    found = zero_crossings(x, v, result.dt_s)
+    omega_f = motion_frequency(result, law_everywhere=False, crossings=found)[0]
+    crossings = found[0]
     arrays = _checked(spectrum)
-    crossings, _ = zero_crossings(x, v, result.dt_s)
     sums = index_sums(
         x, v, phase, felt_ground_acc(result)[:n], omega_f, crossings.astype(np.int64),
         result.dt_s, float(model.p_1), float(model.p_2), arrays.psd, arrays.time_s,
