@@ -12,7 +12,7 @@ from typing import Any
 
 import pytest
 
-from stepframe.cli import main
+from stepframe.cli import build_parser, main
 from stepframe.commands import CommandResult, Parser, add_command, execute
 from stepframe.errors import InputError
 from stepframe.records.read_options import RecordSource
@@ -121,9 +121,15 @@ def test_execute_keeps_the_exit_code_and_cli_returns_it(
         return _Study(exit_code=1)
 
     degraded.__doc__ = structure.run_frame_template.__doc__  # its help
-    # the parser binds run_frame_template when main builds it, after the patch
+    # The parser binds run_frame_template when it is built: built again after the patch, and
+    # again after the test (build_parser keeps one per process).
     monkeypatch.setattr(structure, "run_frame_template", degraded)
-    assert main(["structure", "frame-template", "--json"]) == 1
+    build_parser.cache_clear()
+    try:
+        assert main(["structure", "frame-template", "--json"]) == 1
+    finally:
+        monkeypatch.undo()
+        build_parser.cache_clear()
     assert json.loads(capsys.readouterr().out) == {"value": 2.5}
 
 

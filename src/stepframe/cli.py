@@ -42,7 +42,8 @@ def build_parser() -> argparse.ArgumentParser:
     """The whole command tree (no heavy imports), built once per process: 20 ms that a process
     calling :func:`main` many times (the test suite's in-process runs over a corpus of files)
     would otherwise pay per call. Parsing does not change it (argparse copies a list default
-    before appending to it)."""
+    before appending to it); it binds each command's function when built, so a test that
+    patches one calls ``build_parser.cache_clear()`` after the patch and after the test."""
     parser = Parser(
         prog="stepframe",
         description="Seismic analysis of stepping (rocking) frames under earthquake ground motion.",
