@@ -432,6 +432,16 @@ def test_fixed_width_numbers_equal_the_line_by_line_path(
         assert fast == outcome()
 
 
+def test_a_zero_field_width_is_an_error_on_the_formats_line() -> None:
+    """A data format such as (10I0) (a damaged COSMOS header) names its line, before any
+    field is cut (both paths would otherwise divide by the width)."""
+    from stepframe.records.formats._text import fortran_width, numbers
+
+    lines = ["header", "100 Integer-header values follow on 10 lines, Format= (10I0)", "1 2 3"]
+    with pytest.raises(FormatError, match=r"f.txt:2: data format with fields 0 characters wide"):
+        numbers(lines, 2, Path("f.txt"), count=3, width=fortran_width(lines[1]))
+
+
 def test_fixed_width_fields_take_the_vectorised_path() -> None:
     """A block of full fixed-width lines and a short last line is converted without the
     line-by-line path (what the property test above compares it with)."""

@@ -110,6 +110,12 @@ def numbers(
     FormatError
         A field that is not a number, or values beyond ``count`` on the last line, naming the line.
     """
+    if width is not None and width < 1:  # a data format such as (8F0.3)
+        raise FormatError(
+            f"data format with fields {width} characters wide, expected a positive width",
+            path,
+            first,  # the format's line, just before the data
+        )
     fast = (
         _blank_separated(lines, first, count)
         if width is None
