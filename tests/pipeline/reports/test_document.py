@@ -180,3 +180,13 @@ def test_the_layout_fit_titles_leaves_is_the_one_texts_outside_would_make(
     assert reused == ["past the right edge"]
     assert texts_outside(figure) == reused
     assert ("\n" in right.get_title()) == (title_words > 3)  # the long title was wrapped
+
+
+def test_a_report_made_by_a_workflow_says_where_its_records_are(arrivals_html: Path) -> None:
+    """A workflow's report lists no input files (the run's tables do): it says the workflow
+    names them, not that the report was computed from parameters alone."""
+    page = arrivals_html.read_text(encoding="utf-8")
+    assert "computed from parameters alone" not in page
+    assert "the records are those the workflow below names" in page
+    assert "<h3>Workflow wf.toml</h3>" in page
+    html5lib.HTMLParser(strict=True).parse(page)  # still valid HTML5
