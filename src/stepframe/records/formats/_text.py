@@ -192,12 +192,7 @@ def _blank_separated(
         if block is None:
             return None
         blocks.append(block)
-        converted += block.size
-    if count is not None and converted > count:
-        return None
-    if len(blocks) == 1:
-        return blocks[0], index
-    return (np.concatenate(blocks) if blocks else np.empty(0, dtype=np.float64)), index
+    return _joined(blocks, count, index)
 
 
 def _fixed_width(
@@ -214,7 +209,6 @@ def _fixed_width(
     blocks: list[np.ndarray] = []
     converted = 0
     index = first
-    blank = b" " * width
     chunk_lines = max(1, _BLOCK_VALUES // 8)
     while index < len(lines) and (count is None or converted < count):
         stripped = list(map(str.rstrip, lines[index : index + chunk_lines]))
@@ -229,19 +223,23 @@ def _fixed_width(
         for k in np.flatnonzero(lengths[: len(stripped)] % width):
             stripped[k] = stripped[k].ljust(int(fields[k]) * width)
         try:
-            raw = np.frombuffer("".join(stripped).encode("ascii"), dtype=f"S{width}")
+            fields_text = np.frombuffer("".join(stripped).encode("ascii"), dtype=f"S{width}")
         except UnicodeEncodeError:
             return None
-        if np.any(raw == blank):
-            return None
-        try:
-            block = raw.astype(np.float64)
-        except ValueError:
-            return None
-        if not np.all(np.abs(block) <= MAX_VALUE):  # also false for NaN
+        block = _converted(fields_text)  # None for a blank field too: it is no number
+        if block is None:
             return None
         blocks.append(block)
         converted += block.size
+    return _joined(blocks, count, index)
+
+
+def _joined(
+    blocks: list[np.ndarray], count: int | None, index: int
+) -> tuple[np.ndarray, int] | None:
+    """The vectorised paths' blocks as one array with the next line, or None when they hold
+    more values than ``count`` (the line-by-line path then names the line)."""
+    converted = sum(block.size for block in blocks)
     if count is not None and converted > count:
         return None
     if len(blocks) == 1:
@@ -249,8 +247,9 @@ def _fixed_width(
     return (np.concatenate(blocks) if blocks else np.empty(0, dtype=np.float64)), index
 
 
-def _converted(words: list[str]) -> np.ndarray | None:
-    """``words`` as float64 if each is a plain finite number below ``MAX_VALUE``, else None."""
+def _converted(words: list[str] | np.ndarray) -> np.ndarray | None:
+    """``words`` (strings, or fixed-width byte strings) as float64 if each is a plain finite
+    number below ``MAX_VALUE``, else None."""
     try:
         values = np.array(words, dtype=np.float64)
     except ValueError:
