@@ -4,10 +4,13 @@ nothing."""
 from __future__ import annotations
 
 import hashlib
+import io
 import re
 from pathlib import Path
+from typing import Any
 
 import html5lib
+import numpy as np
 import pandas as pd
 import pytest
 
@@ -180,6 +183,55 @@ def test_the_layout_fit_titles_leaves_is_the_one_texts_outside_would_make(
     assert reused == ["past the right edge"]
     assert texts_outside(figure) == reused
     assert ("\n" in right.get_title()) == (title_words > 3)  # the long title was wrapped
+
+
+def _figure_with_long_title(title_words: int) -> Any:
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure as MplFigure
+
+    figure = MplFigure(figsize=(6.0, 3.0), layout="constrained")
+    FigureCanvasAgg(figure)
+    left, right = figure.subplots(1, 2)
+    left.plot([0.0, 1.0], [0.0, 2.0])
+    right.set_title(" ".join(["station"] * title_words))
+    right.set_ylabel("acceleration [m/s²]")
+    figure.text(1.02, 0.5, "past the right edge")
+    return figure
+
+
+@pytest.mark.parametrize("title_words", [3, 16])
+def test_a_figure_painted_first_is_the_one_laid_out_first(title_words: int) -> None:
+    """figure_from_matplotlib paints the PNG and reads the texts from that painting (painting
+    again only after wrapping a title): the clipped texts and the picture of laying the figure
+    out at the PNG's resolution, fitting its titles, then painting it. (The pixels agree to
+    anti-aliasing: a layout made from a painted one moves the axes by a thousandth of a
+    pixel.)"""
+    from PIL import Image
+
+    from stepframe.pipeline.reports.document import (
+        FIGURE_DPI,
+        figure_from_matplotlib,
+        fit_titles,
+        texts_outside,
+    )
+
+    drawn = figure_from_matplotlib(
+        _figure_with_long_title(title_words), key="k", title="t", alt="a", how_to_read="h"
+    )
+    expected = _figure_with_long_title(title_words)
+    expected.set_dpi(FIGURE_DPI)
+    assert fit_titles(expected)
+    clipped = texts_outside(expected, laid_out=True)
+    assert ("\n" in expected.axes[1].get_title()) == (title_words > 3)
+    buffer = io.BytesIO()
+    expected.savefig(buffer, format="png", dpi=FIGURE_DPI)
+    assert drawn.clipped == tuple(clipped) == ("past the right edge",)
+    pixels = [
+        np.asarray(Image.open(io.BytesIO(png)).convert("L"), dtype=float)
+        for png in (drawn.png, buffer.getvalue())
+    ]
+    assert pixels[0].shape == pixels[1].shape == (330, 660)  # 6 × 3 in at FIGURE_DPI
+    assert np.abs(pixels[0] - pixels[1]).mean() < 0.5  # an unwrapped title differs by ~10
 
 
 def test_a_report_made_by_a_workflow_says_where_its_records_are(arrivals_html: Path) -> None:

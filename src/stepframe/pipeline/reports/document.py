@@ -183,36 +183,48 @@ def texts_outside(figure: MplFigure, *, laid_out: bool = False) -> list[str]:
 MIN_TITLE_CHARACTERS = 24
 
 
-def fit_titles(figure: MplFigure) -> bool:
-    """Wrap each axes title that reaches past the figure's edges onto more lines (a long site
-    or file name would otherwise be cut at both edges of the PNG). A title is centred over its
-    axes, which need not be centred in the figure: the room is twice the distance from the
-    title's centre to the nearer edge.
+def wrap_titles(figure: MplFigure) -> bool:
+    """Wrap each axes title that reaches past the figure's edges in its current layout onto
+    more lines (a long site or file name would otherwise be cut at both edges of the PNG). A
+    title is centred over its axes, which need not be centred in the figure: the room is twice
+    the distance from the title's centre to the nearer edge.
 
-    Returns True when the figure's layout is current (its last layout wrapped nothing), False
-    when the fourth wrapping changed a title after it."""
+    Returns True when a title changed (the layout is then stale)."""
     import textwrap
 
-    for _ in range(4):
+    renderer = figure.canvas.get_renderer()  # type: ignore[attr-defined]
+    width = figure.bbox.width
+    wrapped = False
+    for ax in figure.axes:
+        title = ax.title
+        text = title.get_text()
+        box = title.get_window_extent(renderer)
+        if not text or (box.x0 >= 0 and box.x1 <= width):
+            continue
+        centre = (box.x0 + box.x1) / 2
+        room = 2 * min(centre, width - centre) * 0.95
+        longest = max(len(line) for line in text.split("\n"))
+        fits = max(MIN_TITLE_CHARACTERS, int(longest * room / box.width))
+        new = "\n".join(textwrap.wrap(text.replace("\n", " "), fits))
+        if new != text:
+            title.set_text(new)
+            wrapped = True
+    return wrapped
+
+
+#: Layouts :func:`fit_titles` and :func:`figure_from_matplotlib` make at most (a title wrapped
+#: once seldom needs a second wrap: each narrows it to the room its layout gave).
+MAX_TITLE_LAYOUTS = 4
+
+
+def fit_titles(figure: MplFigure) -> bool:
+    """Lay the figure out and :func:`wrap_titles` until no title changes.
+
+    Returns True when the figure's layout is current (its last layout wrapped nothing), False
+    when the last wrapping changed a title after it."""
+    for _ in range(MAX_TITLE_LAYOUTS):
         _place_texts(figure)
-        renderer = figure.canvas.get_renderer()  # type: ignore[attr-defined]
-        width = figure.bbox.width
-        wrapped = False
-        for ax in figure.axes:
-            title = ax.title
-            text = title.get_text()
-            box = title.get_window_extent(renderer)
-            if not text or (box.x0 >= 0 and box.x1 <= width):
-                continue
-            centre = (box.x0 + box.x1) / 2
-            room = 2 * min(centre, width - centre) * 0.95
-            longest = max(len(line) for line in text.split("\n"))
-            fits = max(MIN_TITLE_CHARACTERS, int(longest * room / box.width))
-            new = "\n".join(textwrap.wrap(text.replace("\n", " "), fits))
-            if new != text:
-                title.set_text(new)
-                wrapped = True
-        if not wrapped:
+        if not wrap_titles(figure):
             return True
     return False
 
@@ -220,17 +232,29 @@ def fit_titles(figure: MplFigure) -> bool:
 def figure_from_matplotlib(
     figure: MplFigure, *, key: str, title: str, alt: str, how_to_read: str
 ) -> Figure:
-    """Render a matplotlib figure to PNG bytes (titles wrapped to fit: :func:`fit_titles`; texts
-    still past its edges listed: :func:`texts_outside`) and close it."""
+    """Render a matplotlib figure to PNG bytes (titles wrapped to fit: :func:`wrap_titles`; texts
+    still past its edges listed: :func:`texts_outside`) and close it.
+
+    The PNG is painted first and its layout read after: the figure is painted again only when
+    a title had to be wrapped (laying a figure out before painting it cost a second draw, about
+    40 % of a report's figure time; docs/benchmarks.md, "Report figures painted once")."""
     from matplotlib.backend_bases import FigureCanvasBase
 
     if type(figure.canvas) is FigureCanvasBase:  # a Figure made without pyplot: draw with Agg
         from matplotlib.backends.backend_agg import FigureCanvasAgg
 
         FigureCanvasAgg(figure)
-    clipped = tuple(texts_outside(figure, laid_out=fit_titles(figure)))
-    buffer = io.BytesIO()
-    figure.savefig(buffer, format="png", dpi=FIGURE_DPI)
+    # At the PNG's own resolution, the layout the texts are read from is the one painted.
+    figure.set_dpi(FIGURE_DPI)
+    for _ in range(MAX_TITLE_LAYOUTS):
+        buffer = io.BytesIO()
+        figure.savefig(buffer, format="png", dpi=FIGURE_DPI)
+        if not wrap_titles(figure):
+            break
+    else:  # the last wrapping changed a title after the last painting
+        buffer = io.BytesIO()
+        figure.savefig(buffer, format="png", dpi=FIGURE_DPI)
+    clipped = tuple(texts_outside(figure, laid_out=True))
     figure.clear()
     return Figure(key, title, buffer.getvalue(), alt, how_to_read, clipped)
 
