@@ -40,8 +40,13 @@ def at2_bytes(
         "ACCELERATION TIME SERIES IN UNITS OF G",
         f"NPTS= {values_g.size:7d}, DT= {dt_word} SEC",
     ]
-    words = [f"{v: .{digits}E}" for v in values_g]
-    lines += ["  ".join(words[i : i + 5]) for i in range(0, len(words), 5)]
+    # One %-format over all the values (a C loop; Python's float formatting, as f"{v: .8E}"):
+    # formatting value by value was most of writing the example catalogue (1.7 s of the demo).
+    word = f"% .{digits}E"
+    full, rest = divmod(values_g.size, 5)
+    layout = ["  ".join([word] * 5)] * full + (["  ".join([word] * rest)] if rest else [])
+    if layout:
+        lines.append("\n".join(layout) % tuple(values_g.tolist()))
     return ("\n".join(lines) + "\n").encode("ascii")
 
 
