@@ -23,6 +23,8 @@ from stepframe.pipeline.amplification.headlines import (
 )
 from stepframe.pipeline.reports.document import data_folder_of
 
+from .conftest import RECORDS_BAND_CURVES
+
 
 def _numbers(html: Path) -> dict[str, Any]:
     return dict(json.loads((data_folder_of(html) / "numbers.json").read_text()))
@@ -277,7 +279,8 @@ def test_records_report_draws_the_band(records_amplification_html: Path) -> None
     import pandas as pd
 
     numbers = _numbers(records_amplification_html)
-    assert numbers["band"]["method"] == "monte-carlo" and numbers["band"]["n_curves"] == 512
+    assert numbers["band"]["method"] == "monte-carlo"
+    assert numbers["band"]["n_curves"] == RECORDS_BAND_CURVES
     table = pd.read_csv(data_folder_of(records_amplification_html) / "amplification.csv")
     assert (table["band_low"] < table["response_vs_fixed"]).all()
     assert (table["response_vs_fixed"] < table["band_high"]).all()
