@@ -22,6 +22,11 @@ Measured, in one process (CPU time of this thread, medians of 3):
   at ``--n-steps`` to keep its 20,000 curves affordable).
 
 Prints Markdown tables for docs/benchmarks.md ("Issue 30").
+
+``--jobs 1,2`` measures instead the report's default band (512 Sobol sets, 4,000 steps, RSN
+8883's two components) on each number of worker processes, in turn and alternated
+``--rounds`` times in the same run: wall time and the CPU time of this process and its workers,
+and whether the curves are the same bit for bit.
 """
 
 from __future__ import annotations
@@ -71,7 +76,12 @@ def main() -> None:
     parser.add_argument("--seeds", type=int, default=4)
     parser.add_argument("--sizes", default="64,128,256,512,1024")
     parser.add_argument("--n-steps", type=int, default=1000)
+    parser.add_argument("--jobs", help="comma-separated worker counts: the band on each")
+    parser.add_argument("--rounds", type=int, default=2)
     args = parser.parse_args()
+    if args.jobs:
+        compare_jobs([int(n) for n in args.jobs.split(",")], args.rounds)
+        return
     sizes = [int(n) for n in args.sizes.split(",")]
     f0 = np.geomspace(0.1, 10.0, 60)
     vs_fixed_curve(*_sites()[0][1:2], f0, XI0, 200)  # type: ignore[arg-type]  # compile first
@@ -155,6 +165,38 @@ def main() -> None:
             f"| {high_med:.3f} ({high_max:.3f}) |"
         )
     print(f"\nmachine: {_machine()}")
+
+
+def compare_jobs(jobs: list[int], rounds: int) -> None:
+    """The report's default Monte Carlo band of RSN 8883 on each worker count, alternated."""
+    import os
+
+    _, model, stderr = _sites()[0]
+    varied = tuple(k for k in VARIED if stderr.get(k, 0) > 0)
+    f0 = np.geomspace(0.1, 10.0, 60)
+    vs_fixed_curve(model, f0, XI0, 200)  # type: ignore[arg-type]  # kernels loaded first
+    times: dict[int, list[tuple[float, float]]] = {n: [] for n in jobs}
+    reference = None
+    for _ in range(rounds):
+        for n in jobs:
+            before, start = os.times(), time.perf_counter()
+            args = (model, stderr, varied, f0, XI0, 4000, 512, 1)
+            curves, _ = monte_carlo_curves(*args, jobs=n)  # type: ignore[arg-type]
+            wall, after = time.perf_counter() - start, os.times()
+            cpu = sum(after[:4]) - sum(before[:4])  # user + system, this process and children
+            times[n].append((wall, cpu))
+            if reference is None:
+                reference = curves
+            assert np.array_equal(curves, reference), f"jobs {n}: different curves"
+    print("| workers | wall [s], each round | CPU [s], each round | wall / 1 worker's |")
+    print("|---|---|---|---|")
+    base = statistics.median(w for w, _ in times[jobs[0]])
+    for n in jobs:
+        walls = ", ".join(f"{w:.1f}" for w, _ in times[n])
+        cpus = ", ".join(f"{c:.1f}" for _, c in times[n])
+        ratio = statistics.median(w for w, _ in times[n]) / base
+        print(f"| {n} | {walls} | {cpus} | {ratio:.2f} |")
+    print(f"\nthe curves of every run the same bit for bit; machine: {_machine()}")
 
 
 def _machine() -> str:

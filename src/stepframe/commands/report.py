@@ -12,6 +12,7 @@ from stepframe.commands import CommandResult, add_command
 from stepframe.core.options import add_fields, add_options, options_from
 from stepframe.pipeline.amplification.analysis import SITE_PARAMETERS
 from stepframe.pipeline.amplification.analysis import AmplificationReportOptions as Options
+from stepframe.pipeline.engine.run_options import RunOptions
 
 if TYPE_CHECKING:
     from stepframe.commands import Subparsers
@@ -32,6 +33,7 @@ def register(subparsers: Subparsers) -> None:
     add_fields(site, Options, (*SITE_PARAMETERS, *RECORDS))
     add_fields(amplification.add_argument_group("frame (optional)"), Options, FRAME)
     add_fields(amplification, Options, ANALYSIS)
+    add_fields(amplification, RunOptions, ["jobs"])
     add_options(
         amplification, (("-o", "--out"), None, "OUT.html", "HTML file", "amplification_report.html")
     )
@@ -59,7 +61,8 @@ def run_amplification(args: argparse.Namespace) -> CommandResult:
     from stepframe.pipeline.amplification.report import make_amplification_report
     from stepframe.pipeline.reports.document import report_summary
 
-    out = make_amplification_report(args.out, options_from(args, Options))
+    jobs = options_from(args, RunOptions).jobs  # checked before any record is read
+    out = make_amplification_report(args.out, options_from(args, Options), jobs=jobs)
     return CommandResult(*report_summary(out))
 
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 import html
 import json
 import math
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 from typing import Any
 
@@ -260,6 +261,27 @@ def test_monte_carlo_band_sees_the_curvature_the_delta_method_misses(rsn8883_sit
     assert delta is not None and mc is not None
     assert mc.low[0] < 0.85 * delta.low[0]
     assert mc.low[0] < ends[1] < mc.high[0]
+
+
+def test_monte_carlo_curves_are_the_same_on_workers(rsn8883_site: Any) -> None:
+    """The parameter sets are drawn in this process and each curve computed whole by one
+    worker: two workers give the curves of one process bit for bit, and each curve is the
+    curve of its parameter set (the first set's, recomputed here)."""
+    from stepframe.pipeline.amplification.band import VARIED, monte_carlo_curves
+
+    model, stderr = rsn8883_site.model, rsn8883_site.stderr
+    varied = tuple(name for name in VARIED if stderr.get(name, 0) > 0)
+    f0 = np.array([0.2, 1.0, 5.0])
+    args = (model, stderr, varied, f0, 0.05, 200, 6, 3)
+    here, rejected_here = monte_carlo_curves(*args, jobs=1)
+    # a started pool takes every curve (2 --jobs would keep curves this short in this process)
+    with ProcessPoolExecutor(max_workers=2) as pool:
+        spread, rejected_spread = monte_carlo_curves(*args, executor=pool)
+    assert here.shape == (6, 3) and rejected_here == rejected_spread
+    np.testing.assert_array_equal(here, spread)
+    assert np.unique(here[:, 0]).size == 6  # six different parameter sets
+    with pytest.raises(InputError, match="jobs"):
+        monte_carlo_curves(*args, jobs=0)
 
 
 def test_no_band_without_standard_errors(paper_model: Any) -> None:

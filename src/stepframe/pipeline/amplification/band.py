@@ -45,6 +45,8 @@ from stepframe.errors import InputError
 from stepframe.pipeline.amplification.analysis import BAND_SAMPLES, BandMethod
 
 if TYPE_CHECKING:
+    from concurrent.futures import Executor
+
     from stepframe.stochastic.model import GroundMotionModel
 
 Floats = NDArray[np.float64]
@@ -139,6 +141,8 @@ def parameter_band(
     seed: int = 1,
     confidence: float = 0.95,
     central: Floats | None = None,
+    jobs: int | None = 1,
+    executor: Executor | None = None,
 ) -> ParameterBand | None:
     """The band of the response amplification from the parameters' standard errors.
 
@@ -164,6 +168,10 @@ def parameter_band(
         Coverage of the band.
     central
         The curve at the model's own parameters, when already computed (delta method).
+    jobs, executor
+        Where the Monte Carlo curves are computed
+        (:func:`stepframe.core.execution.call_each`; default this process): the same curves,
+        bit for bit, on any number of workers.
 
     Returns
     -------
@@ -184,7 +192,10 @@ def parameter_band(
     f0 = np.asarray(f0_hz, dtype=np.float64)
     if method == "delta":
         return _delta_band(model, stderr, varied, f0, xi0, n_steps, confidence, central)
-    return _monte_carlo_band(model, stderr, varied, f0, xi0, n_steps, n_samples, seed, confidence)
+    curves, rejected = monte_carlo_curves(
+        model, stderr, varied, f0, xi0, n_steps, n_samples, seed, jobs=jobs, executor=executor
+    )
+    return _monte_carlo_band(curves, rejected, f0, varied, confidence)
 
 
 def _delta_band(
@@ -255,20 +266,28 @@ def monte_carlo_curves(
     seed: int,
     *,
     sampler: Sampler = "sobol",
+    jobs: int | None = 1,
+    executor: Executor | None = None,
 ) -> tuple[Floats, int]:
     """``n_samples`` curves of parameter sets drawn from independent normals, shape
     ``(n_samples, f0.size)``, and the number of draws the model refused (drawn again).
 
     ``sampler``: scrambled Sobol points (randomised quasi-Monte Carlo, the default: the band's
     percentiles settle in fewer sets than with independent draws; docs/benchmarks.md) or
-    ``"random"`` (independent pseudo-random draws).
+    ``"random"`` (independent pseudo-random draws). ``jobs``, ``executor``: where the curves
+    are computed (:func:`stepframe.core.execution.call_each`); the parameter sets are drawn
+    here first, so the curves are the same on any number of workers.
     """
+    from functools import partial
+
+    from stepframe.core.execution import call_each
+
     mean = np.array([float(getattr(model, name)) for name in varied])
     sd = np.array([float(stderr[name]) for name in varied])
-    curves: list[Floats] = []
+    samples: list[GroundMotionModel] = []
     rejected = 0
     draws = _normal_draws(mean, sd, n_samples, seed, sampler)
-    while len(curves) < n_samples:
+    while len(samples) < n_samples:
         if rejected > MAX_DRAWS_PER_SET * n_samples:
             raise InputError(
                 f"{rejected} of the parameter draws break ω_p ≥ ω_s ≥ ω_r > 0 or ξ > 0, expected "
@@ -276,29 +295,21 @@ def monte_carlo_curves(
             )
         draw = next(draws)
         try:
-            sample = _with(model, dict(zip(varied, map(float, draw), strict=True)))
+            samples.append(_with(model, dict(zip(varied, map(float, draw), strict=True))))
         except InputError:
             rejected += 1
-            continue
-        curves.append(vs_fixed_curve(sample, f0, xi0, n_steps))
+    calls = [partial(vs_fixed_curve, sample, f0, xi0, n_steps) for sample in samples]
+    curves = call_each(calls, jobs=jobs, executor=executor, stage="band")
     return np.vstack(curves), rejected
 
 
 def _monte_carlo_band(
-    model: GroundMotionModel,
-    stderr: Mapping[str, float],
-    varied: tuple[str, ...],
-    f0: Floats,
-    xi0: float,
-    n_steps: int,
-    n_samples: int,
-    seed: int,
-    confidence: float,
+    curves: Floats, rejected: int, f0: Floats, varied: tuple[str, ...], confidence: float
 ) -> ParameterBand:
-    curves, rejected = monte_carlo_curves(model, stderr, varied, f0, xi0, n_steps, n_samples, seed)
+    """The band between the curves' percentiles of the two tails."""
     tail = 100 * (1 - confidence) / 2
     low, high = np.percentile(curves, [tail, 100 - tail], axis=0)
-    return ParameterBand("monte-carlo", f0, low, high, confidence, varied, n_samples, rejected)
+    return ParameterBand("monte-carlo", f0, low, high, confidence, varied, len(curves), rejected)
 
 
 __all__ = [

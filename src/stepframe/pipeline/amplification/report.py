@@ -17,7 +17,7 @@ import math
 from dataclasses import dataclass
 from os import PathLike
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
@@ -43,6 +43,9 @@ from stepframe.pipeline.reports.document import (
 )
 from stepframe.pipeline.reports.provenance import Provenance, collect_provenance, command_line
 from stepframe.stochastic.model import GroundMotionModel
+
+if TYPE_CHECKING:
+    from concurrent.futures import Executor
 
 TWO_PI = 2 * math.pi
 
@@ -181,11 +184,18 @@ class MonteCarloCheck:
 
 
 def response_curve(
-    model: GroundMotionModel, opts: AmplificationOptions, stderr: dict[str, float] | None = None
+    model: GroundMotionModel,
+    opts: AmplificationOptions,
+    stderr: dict[str, float] | None = None,
+    *,
+    jobs: int | None = 1,
+    executor: Executor | None = None,
 ) -> ResponseCurve:
     """Eq. 6.18 and both response amplifications over the options' f0 grid (the same
     composition as the workflow's ``amplification`` stage), continued past an edge where the
-    amplification still rises (unless ``grid_only``), with the band from ``stderr``."""
+    amplification still rises (unless ``grid_only``), with the band from ``stderr`` (its Monte
+    Carlo curves on ``jobs`` workers or ``executor``:
+    :func:`~stepframe.pipeline.amplification.band.parameter_band`)."""
     import xarray as xr
 
     from stepframe.pipeline.amplification.amplify import amplification_curve
@@ -216,7 +226,8 @@ def response_curve(
     vs_stationary = np.asarray(curve["response_amplification_vs_stationary"].values)
     band = parameter_band(
         model, stderr or {}, f0_hz, xi0, n_steps=opts.n_steps, method=opts.band,
-        n_samples=opts.band_samples_or_default, seed=opts.seed, central=vs_fixed,
+        n_samples=opts.band_samples_or_default, seed=opts.seed, central=vs_fixed, jobs=jobs,
+        executor=executor,
     )  # fmt: skip
     table = pd.DataFrame(
         {
@@ -631,6 +642,8 @@ def amplification_report(
     frame: Any = None,
     options: AmplificationOptions | None = None,
     provenance: Provenance,
+    jobs: int | None = 1,
+    executor: Executor | None = None,
 ) -> Report:
     """Compute everything an amplification report shows and assemble it (no file written).
 
@@ -650,6 +663,9 @@ def amplification_report(
         The analysis (:class:`~stepframe.pipeline.amplification.analysis.AmplificationOptions`).
     provenance
         How the report was made.
+    jobs, executor
+        Where the band's Monte Carlo curves are computed (:func:`response_curve`; default this
+        process): the same report on any number of workers.
     """
     from stepframe.pipeline.amplification.frame_section import check_design_displacement
 
@@ -658,7 +674,7 @@ def amplification_report(
         check_design_displacement(frame, opts.delta_star_m)  # before the curves are computed
     model = model_of(site)
     name = opts.site_name or "site"
-    curve = response_curve(model, opts, stderr_of(site))
+    curve = response_curve(model, opts, stderr_of(site), jobs=jobs, executor=executor)
     stated = _site_statement(site, name, curve, opts)
     frame_result = None
     if frame is not None:
@@ -698,6 +714,8 @@ def write_amplification_report(
     frame: Any = None,
     options: AmplificationOptions | None = None,
     provenance: Provenance,
+    jobs: int | None = 1,
+    executor: Executor | None = None,
 ) -> Path:
     """Write the amplification report (HTML + ``<stem>_files/`` of its numbers), all or nothing.
 
@@ -714,18 +732,25 @@ def write_amplification_report(
         :class:`~stepframe.pipeline.amplification.analysis.AmplificationOptions`.
     provenance
         From :func:`stepframe.pipeline.reports.provenance.collect_provenance`.
+    jobs, executor
+        As :func:`amplification_report`.
 
     Returns
     -------
     pathlib.Path
         The HTML file.
     """
-    report = amplification_report(site, frame=frame, options=options, provenance=provenance)
+    report = amplification_report(
+        site, frame=frame, options=options, provenance=provenance, jobs=jobs, executor=executor
+    )
     return write_report(report, out_html)
 
 
-def _site_of(o: AmplificationReportOptions) -> tuple[GroundMotionModel | SiteFromRecords, str]:
-    """The site of a report's options (parameters or a records folder) and its name."""
+def _site_of(
+    o: AmplificationReportOptions, jobs: int | None
+) -> tuple[GroundMotionModel | SiteFromRecords, str]:
+    """The site of a report's options (parameters or a records folder, its records fitted on
+    ``jobs`` workers) and its name."""
     parameters = o.parameters
     given = [name for name in SITE_PARAMETERS if parameters[name] is not None]
     if o.records is not None:
@@ -740,7 +765,7 @@ def _site_of(o: AmplificationReportOptions) -> tuple[GroundMotionModel | SiteFro
         site = site_from_records(
             o.records, options=FitOptions(t0=o.t0, alpha_reading=o.alpha_reading),
             record_options={"format": o.record_format, "units": o.units},
-            statistic=o.statistic, plausible_only=o.plausible_only,
+            statistic=o.statistic, plausible_only=o.plausible_only, jobs=jobs,
         )  # fmt: skip
         return site, o.site_name or Path(o.records).resolve().name
     missing = [name for name in SITE_PARAMETERS if parameters[name] is None]
@@ -758,7 +783,9 @@ def _site_of(o: AmplificationReportOptions) -> tuple[GroundMotionModel | SiteFro
     return model, o.site_name or "site"
 
 
-def make_amplification_report(out_html: str, options: AmplificationReportOptions) -> Path:
+def make_amplification_report(
+    out_html: str, options: AmplificationReportOptions, *, jobs: int | None = None
+) -> Path:
     """The amplification report of a site given by its parameters or by a folder of its records.
 
     Parameters
@@ -773,6 +800,9 @@ def make_amplification_report(out_html: str, options: AmplificationReportOptions
         :func:`~stepframe.pipeline.amplification.site.site_from_records`); the name in titles
         (default: the records folder's name, else ``site``); an optional frame file and its
         design displacement δ* [m]; the analysis.
+    jobs
+        Worker processes for the records' fits and the band's Monte Carlo curves (None: all
+        CPUs, as ``--jobs``; the same report on any number).
 
     Returns
     -------
@@ -793,7 +823,7 @@ def make_amplification_report(out_html: str, options: AmplificationReportOptions
 
         portal = read_frame_file(o.frame)
         check_design_displacement(portal, o.delta_star_m)  # before the records are fitted
-    site, name = _site_of(o)
+    site, name = _site_of(o, jobs)
     inputs = [path for path in (o.records, o.frame) if path is not None]
     analysis = AmplificationOptions(
         **{f.name: getattr(o, f.name) for f in fields(AmplificationOptions)}
@@ -803,5 +833,5 @@ def make_amplification_report(out_html: str, options: AmplificationReportOptions
     command = command_line(["stepframe", "report", "amplification"], recorded | {"out": out_html})
     provenance = collect_provenance(command, inputs=inputs, parameters=recorded)
     return write_amplification_report(
-        site, out_html, frame=portal, options=analysis, provenance=provenance
+        site, out_html, frame=portal, options=analysis, provenance=provenance, jobs=jobs
     )

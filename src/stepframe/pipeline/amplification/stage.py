@@ -341,6 +341,8 @@ def _amplification_report_run(context: Context, folder: Path) -> None:
         frame=context.workflow.frame,
         options=options,
         provenance=workflow_provenance(context.workflow.path, parameters),
+        jobs=context.jobs,
+        executor=context.executor,
     )
 
 
