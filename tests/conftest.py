@@ -48,6 +48,15 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
     items.sort(key=rank)  # stable: the order within a rank is the collection's
 
 
+def pytest_configure(config: pytest.Config) -> None:
+    """In a worker of the parallel suite the CPUs are the workers' already: a command run with
+    its default ``--jobs`` starts no pool of its own (``STEPFRAME_JOBS=1``), which could only
+    contend for them (the demo costs 18.8 s of CPU on one worker, 22.1 s on two: the pool's
+    start and the kernels loaded in each worker). Tests of the pools name their workers."""
+    if hasattr(config, "workerinput"):
+        os.environ.setdefault("STEPFRAME_JOBS", "1")
+
+
 def pytest_xdist_auto_num_workers(config: pytest.Config) -> int:
     """``-n auto``: one worker per core, at most four (the longest file alone is a third of the
     two-worker suite, so more workers would wait on it; each worker holds its own numba kernels

@@ -186,6 +186,35 @@ def test_every_shipped_file_is_package_data() -> None:
         ), file
 
 
+@pytest.mark.parametrize("value", ["0", "two", "2000", "-1"])
+def test_a_bad_jobs_variable_is_refused_before_anything_is_written(
+    value: str, tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setenv("STEPFRAME_JOBS", value)
+    assert main(["demo", "-o", str(tmp_path / "demo")]) == 2
+    assert _one_line(capsys) == (
+        f"stepframe: error: STEPFRAME_JOBS = {value!r}, expected a number of worker processes "
+        "in [1, 1024] (or unset: all CPUs)"
+    )
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_the_jobs_variable_is_the_default_and_jobs_overrides_it(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from stepframe.core.execution import default_jobs
+    from stepframe.pipeline.engine.scheduler import open_execution
+
+    monkeypatch.setenv("STEPFRAME_JOBS", " 3 ")
+    assert default_jobs() == 3
+    with open_execution(None, None) as execution:
+        assert execution.jobs == 3
+    with open_execution(None, 1) as execution:
+        assert execution.jobs == 1
+    monkeypatch.delenv("STEPFRAME_JOBS")
+    assert default_jobs() == len(os.sched_getaffinity(0))
+
+
 def test_demo_names_a_damaged_stored_object(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

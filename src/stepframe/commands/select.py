@@ -27,7 +27,7 @@ FIELDS: dict[str | None, tuple[str | OptionRow, ...]] = {
         "rank_by", "scale", "unit", "confirm",
         ("--options", None, "TOML", "a file with a [selection] table"),
         ("--metadata", None, "CSV", "catalogue metadata joined on column 'file' (for the filters)"),
-        ("--jobs", int, None, "worker processes (default: all CPUs)"),
+        ("--jobs", int, None, "worker processes (default: all CPUs, or STEPFRAME_JOBS)"),
     ),
     "the frame's band": (
         "a_max_m",

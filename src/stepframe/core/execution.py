@@ -80,8 +80,31 @@ class MapOutcome(Generic[Result]):
         return iter((self.results, self.failures))
 
 
+#: The environment variable that sets the number of worker processes a command starts when
+#: ``--jobs`` is not given (a shared machine; a test suite whose own workers fill the CPUs).
+JOBS_ENVIRONMENT = "STEPFRAME_JOBS"
+
+
 def default_jobs() -> int:
-    """Worker processes by default: the CPUs this process may use."""
+    """Worker processes by default: :data:`JOBS_ENVIRONMENT` when set, else the CPUs this
+    process may use.
+
+    Raises
+    ------
+    InputError
+        :data:`JOBS_ENVIRONMENT` is not a whole number in the range ``--jobs`` accepts.
+    """
+    text = os.environ.get(JOBS_ENVIRONMENT, "").strip()
+    if text:
+        from stepframe.core.options import JOBS
+
+        jobs = int(text) if text.isdecimal() else 0
+        if not JOBS.contains(jobs):
+            raise InputError(
+                f"{JOBS_ENVIRONMENT} = {text!r}, expected a number of worker processes "
+                f"{JOBS.describe()} (or unset: all CPUs)"
+            )
+        return jobs
     try:
         return len(os.sched_getaffinity(0))
     except AttributeError:  # not on Linux

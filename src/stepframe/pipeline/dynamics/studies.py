@@ -279,7 +279,10 @@ class BifurcationOptions:
         valid=Range(1, 10_000_000),
     )
     jobs: int | None = option(
-        None, "worker processes (default: all cores)", kind="positive_int", valid=JOBS
+        None,
+        "worker processes (default: all CPUs, or STEPFRAME_JOBS)",
+        kind="positive_int",
+        valid=JOBS,
     )
 
     def __post_init__(self) -> None:

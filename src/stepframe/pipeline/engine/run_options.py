@@ -21,7 +21,11 @@ class RunOptions:
 
     dry_run: bool = option(False, "print the plan: items to compute and cached")
     jobs: int | None = option(
-        None, "worker processes (default: all CPUs)", kind="int", metavar="N", valid=JOBS
+        None,
+        "worker processes (default: all CPUs, or STEPFRAME_JOBS)",
+        kind="int",
+        metavar="N",
+        valid=JOBS,
     )
     scheduler: str | None = option(
         None,

@@ -48,10 +48,15 @@ def check_scheduler(scheduler: str | None, jobs: int | None) -> None:
     Raises
     ------
     InputError
-        ``jobs`` below 1, an unknown scheduler, or Dask missing (naming the install command).
+        ``jobs`` below 1 (or, without it, a bad ``STEPFRAME_JOBS``), an unknown scheduler, or
+        Dask missing (naming the install command).
     """
+    from stepframe.core.execution import default_jobs
+
     if jobs is not None and jobs < 1:
         raise InputError(f"--jobs {jobs}, expected ≥ 1")
+    if jobs is None:
+        default_jobs()  # the variable is checked before anything is written
     if scheduler is None:
         return
     if scheduler != "dask-local" and not scheduler.startswith("tcp://"):
