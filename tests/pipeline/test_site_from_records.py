@@ -81,3 +81,30 @@ def test_no_plausible_component_is_one_error_naming_why(site_folder: Path) -> No
         site_from_features(table)
     with pytest.raises(InputError, match="statistic 'mode'"):
         site_from_features(table, statistic="mode", plausible_only=False)  # type: ignore[arg-type]
+
+
+def test_a_record_saved_twice_is_one_record(site_folder: Path) -> None:
+    """A copy of a record (another name, a subfolder) is the same record: the site is the one
+    of the folder without it, as the workflow's over the same folder, and the copy is listed
+    (same bytes as, read once). Counted twice, it moved the median and shrank the standard
+    errors by √2 (the band of the report with it)."""
+    folder = site_folder / "with_copy"
+    shutil.copytree(site_folder / "records", folder / "records")
+    first = sorted((folder / "records").glob("*.AT2"))[0]
+    (folder / "records" / "again").mkdir()
+    copy = folder / "records" / "again" / "copy.at2"
+    shutil.copy(first, copy)
+    garbage = folder / "records" / "garbage.dat"
+    garbage.write_bytes(b"\x00\x01 not a record")
+    alone = site_from_records(site_folder / "records")
+    twice = site_from_records(folder / "records")
+    assert twice.combined.site.source["n_components"] == 2
+    assert twice.model.to_dict() == alone.model.to_dict()
+    assert twice.stderr == alone.stderr
+    assert list(twice.failures["item"]) == [str(copy), str(garbage)]
+    assert twice.failures["message"][0] == f"the same bytes as {first}: read once"
+    assert list(twice.failures["stage"]) == ["read", "read"]
+    from_workflow = _workflow_site(folder, "median")
+    for key, value in twice.model.to_dict().items():
+        if isinstance(value, float):
+            assert from_workflow[key] == pytest.approx(value, rel=1e-12), key

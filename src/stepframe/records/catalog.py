@@ -155,6 +155,34 @@ def is_record_file(name: str) -> bool:
     )
 
 
+def distinct_contents(files: Iterable[Path]) -> tuple[list[Path], list[tuple[Path, Path]]]:
+    """The files with one file per content (the first of each, in the given order), and each
+    other file with the kept file it has the same bytes as.
+
+    A record saved twice (a download kept under a second name, a copy in a subfolder) is one
+    record: read twice, it would count twice wherever records are combined (a site's median
+    and its standard error). The workflow merges such files by their content key; this is the
+    same rule for the commands that read a folder directly. Files are compared by SHA-256.
+    """
+    import hashlib
+
+    first: dict[str, Path] = {}
+    kept: list[Path] = []
+    same: list[tuple[Path, Path]] = []
+    for path in files:
+        digest = hashlib.sha256()
+        with open(path, "rb") as handle:
+            for block in iter(lambda: handle.read(1 << 20), b""):
+                digest.update(block)
+        key = digest.hexdigest()
+        if key in first:
+            same.append((path, first[key]))
+        else:
+            first[key] = path
+            kept.append(path)
+    return kept, same
+
+
 def record_files(
     path: str | PathLike[str], *, exclude: Iterable[str | PathLike[str]] = ()
 ) -> list[Path]:
