@@ -225,3 +225,16 @@ def test_a_selection_without_its_band_is_drawn_on_the_selection_s_default_band(
     assert high == pytest.approx(frame.omega_1_rad_s, rel=1e-12)
     with pytest.raises(InputError, match="no band_rad_s and no frame"):
         _band({}, None, tmp_path)
+
+
+def test_the_paths_note_names_the_default_ranking(selection_html: Path) -> None:
+    """The note under the ω_g paths says what the default ranking reads: the options' default
+    (it named substitute_demand_ratio after the default had become the simulated response)."""
+    import html
+
+    from stepframe.pipeline.selection.options import SelectionOptions
+
+    page = html.unescape(selection_html.read_text(encoding="utf-8"))
+    assert SelectionOptions().rank_by == "simulated_response"
+    assert "it simulates the frame under each candidate (simulated_response;" in page
+    assert "default score (substitute_demand_ratio)" not in page

@@ -37,6 +37,7 @@ from stepframe.pipeline.reports.document import (
     write_report,
 )
 from stepframe.pipeline.reports.provenance import Provenance, collect_provenance, command_line
+from stepframe.pipeline.selection.options import SelectionOptions
 from stepframe.pipeline.selection.report_folder import SelectionOutputs, read_selection_folder
 from stepframe.pipeline.selection.report_resonance import resonance_runs, resonance_section
 from stepframe.stochastic.model import MODEL_FIELDS, GroundMotionModel
@@ -441,6 +442,10 @@ def band_section(summary: dict[str, Any], frame: Any, band: tuple[float, float])
     return Section("The frame's band", items)
 
 
+#: The ranking a selection uses when none is named (what the paths' note says of it).
+DEFAULT_RANK_BY = SelectionOptions().rank_by
+
+
 def paths_section(
     rows: list[dict[str, Any]], names: list[str], band: tuple[float, float]
 ) -> Section:
@@ -469,8 +474,8 @@ def paths_section(
             "strong-motion window in yellow. A candidate that sweeps down through the "
             "band while the motion is strong matches the frame's softening; recorded "
             "motions' fitted paths rarely reach a flexible frame's band, which is why the "
-            "default score (substitute_demand_ratio) reads each record's own spectrum "
-            "along the backbone instead (docs/selection.md)."
+            "default ranking does not stand on these paths: it simulates the frame under "
+            f"each candidate ({DEFAULT_RANK_BY}; docs/selection.md)."
         ),
     )
     return Section("Dominant-frequency paths of the selected records", [figure])
