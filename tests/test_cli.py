@@ -205,6 +205,25 @@ def test_report_selection_reads_the_demo_folder(
     assert numbers["selected"] == shown["selected"] and len(numbers["selected"]) == 10
 
 
+def test_the_demo_report_says_why_a_tier_row_is_empty(
+    demo_run: tuple[dict[str, object], Path],
+) -> None:
+    """At equal S_a(T_1) the tier sa_t1_g gives every candidate the same value (and no fitted
+    ω_g path reaches Example 4's band, so band_coverage is 0 for all): no ρ, no recall. The
+    tiers table's caption names the empty rows and says why."""
+    import html
+
+    import pandas as pd
+
+    _, out = demo_run
+    tiers = pd.read_csv(out / "selection_report_files" / "tiers.csv")
+    empty = list(tiers.loc[tiers["spearman"].isna(), "tier"])
+    assert "sa_t1_g" in empty
+    page = html.unescape((out / "selection_report.html").read_text(encoding="utf-8"))
+    expected = f"{', '.join(empty)}: the same value for every candidate at the ranking intensity"
+    assert expected in page
+
+
 def test_help_cold_start_avoids_heavy_imports() -> None:
     code = (
         "import sys; from stepframe.cli import build_parser; build_parser();"

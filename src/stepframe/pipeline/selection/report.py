@@ -532,6 +532,15 @@ def scores_section(outputs: SelectionOutputs, candidates: pd.DataFrame, rank_by:
         )
     tiers = summary.get("tiers")
     if isinstance(tiers, list) and tiers:
+        # A tier with the same value for every candidate has neither ρ nor recall (JSON leaves
+        # them out): say why its row is empty.
+        ranks_nothing = [str(t.get("tier")) for t in tiers if t.get("spearman") is None]
+        empty = (
+            f"; {', '.join(ranks_nothing)}: the same value for every candidate at the ranking "
+            "intensity, so no order to compare"
+            if ranks_nothing
+            else ""
+        )
         items.append(
             Table(
                 "tiers",
@@ -539,7 +548,7 @@ def scores_section(outputs: SelectionOutputs, candidates: pd.DataFrame, rank_by:
                 pd.DataFrame(tiers),
                 "Spearman ρ of each tier with the simulated ranking, and the share of its top n "
                 "found in each tier's top K (K = n, 2n, 5n, 10n); docs/selection.md publishes "
-                "the same for a family of frames",
+                f"the same for a family of frames{empty}",
                 {
                     "spearman": "Spearman ρ with the exact ranking (95 % bootstrap interval: "
                     "low, high)",
