@@ -159,32 +159,6 @@ def test_provenance_hashes_inputs(tmp_path: Path) -> None:
     assert provenance.to_dict()["parameters"] == {"k": 1}
 
 
-@pytest.mark.parametrize("title_words", [3, 16])
-def test_the_layout_fit_titles_leaves_is_the_one_texts_outside_would_make(
-    title_words: int,
-) -> None:
-    """figure_from_matplotlib reads the clipped texts from fit_titles' last layout instead of
-    laying the figure out again: the same texts as a fresh layout, a clipped one included."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure as MplFigure
-
-    from stepframe.pipeline.reports.document import fit_titles, texts_outside
-
-    figure = MplFigure(figsize=(6.0, 3.0), layout="constrained")
-    FigureCanvasAgg(figure)
-    left, right = figure.subplots(1, 2)
-    left.plot([0.0, 1.0], [0.0, 2.0])
-    right.set_title(" ".join(["station"] * title_words))
-    right.set_ylabel("acceleration [m/s²]")
-    figure.text(1.02, 0.5, "past the right edge")
-    laid_out = fit_titles(figure)
-    assert laid_out
-    reused = texts_outside(figure, laid_out=laid_out)
-    assert reused == ["past the right edge"]
-    assert texts_outside(figure) == reused
-    assert ("\n" in right.get_title()) == (title_words > 3)  # the long title was wrapped
-
-
 def _figure_with_long_title(title_words: int) -> Any:
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure as MplFigure
@@ -197,6 +171,24 @@ def _figure_with_long_title(title_words: int) -> Any:
     right.set_ylabel("acceleration [m/s²]")
     figure.text(1.02, 0.5, "past the right edge")
     return figure
+
+
+@pytest.mark.parametrize("title_words", [3, 16])
+def test_the_layout_fit_titles_leaves_is_the_one_texts_outside_would_make(
+    title_words: int,
+) -> None:
+    """figure_from_matplotlib reads the clipped texts from fit_titles' last layout instead of
+    laying the figure out again: the same texts as a fresh layout, a clipped one included."""
+    from stepframe.pipeline.reports.document import fit_titles, texts_outside
+
+    figure = _figure_with_long_title(title_words)
+    right = figure.axes[1]
+    laid_out = fit_titles(figure)
+    assert laid_out
+    reused = texts_outside(figure, laid_out=laid_out)
+    assert reused == ["past the right edge"]
+    assert texts_outside(figure) == reused
+    assert ("\n" in right.get_title()) == (title_words > 3)  # the long title was wrapped
 
 
 @pytest.mark.parametrize("title_words", [3, 16])

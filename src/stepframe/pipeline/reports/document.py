@@ -246,17 +246,21 @@ def figure_from_matplotlib(
         FigureCanvasAgg(figure)
     # At the PNG's own resolution, the layout the texts are read from is the one painted.
     figure.set_dpi(FIGURE_DPI)
+    png = _painted(figure)
     for _ in range(MAX_TITLE_LAYOUTS):
-        buffer = io.BytesIO()
-        figure.savefig(buffer, format="png", dpi=FIGURE_DPI)
         if not wrap_titles(figure):
             break
-    else:  # the last wrapping changed a title after the last painting
-        buffer = io.BytesIO()
-        figure.savefig(buffer, format="png", dpi=FIGURE_DPI)
+        png = _painted(figure)  # a title changed: paint its new layout
     clipped = tuple(texts_outside(figure, laid_out=True))
     figure.clear()
-    return Figure(key, title, buffer.getvalue(), alt, how_to_read, clipped)
+    return Figure(key, title, png, alt, how_to_read, clipped)
+
+
+def _painted(figure: MplFigure) -> bytes:
+    """The figure painted as PNG at :data:`FIGURE_DPI` (its texts then placed as painted)."""
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format="png", dpi=FIGURE_DPI)
+    return buffer.getvalue()
 
 
 @dataclass(frozen=True)
