@@ -57,6 +57,31 @@ def test_folder_rows_failures_and_parallel_equals_serial(tmp_path: Path) -> None
     assert np.all(table["max_intensity_m_s2"].between(2.0, 3.2))
 
 
+def test_a_file_given_twice_is_one_record(tmp_path: Path) -> None:
+    """The same bytes under two names (a folder, or a list of files as `select --records`
+    gives) are one row, the copy listed once as read (the first in order is kept); a missing
+    file in the list is still the reader's failure, not a crash of the grouping."""
+    import shutil
+
+    acc = _motions(2)
+    for i, x in enumerate(acc):
+        _write_fema(tmp_path / f"rec{i}.txt", x, 0.01)
+    (tmp_path / "sub").mkdir()
+    shutil.copy(tmp_path / "rec0.txt", tmp_path / "sub" / "again.txt")
+    table, failures = catalog_features(tmp_path, n_jobs=1)
+    assert sorted(table["file"]) == [str(tmp_path / "rec0.txt"), str(tmp_path / "rec1.txt")]
+    assert list(failures["item"]) == [str(tmp_path / "sub" / "again.txt")]
+    assert list(failures["error_type"]) == ["SameContent"]
+    files = [tmp_path / "rec1.txt", tmp_path / "sub" / "again.txt", tmp_path / "rec0.txt"]
+    listed, listed_failures = catalog_features([*files, tmp_path / "gone.txt"], n_jobs=1)
+    assert list(listed["file"]) == [str(tmp_path / "rec1.txt"), str(tmp_path / "sub" / "again.txt")]
+    assert list(listed_failures["item"]) == [str(tmp_path / "rec0.txt"), str(tmp_path / "gone.txt")]
+    assert list(listed_failures["stage"]) == ["read", "read"]
+    assert listed_failures["message"][0] == (
+        f"the same bytes as {tmp_path / 'sub' / 'again.txt'}: read once"
+    )
+
+
 def test_stream_input_and_plausibility(tmp_path: Path) -> None:
     from obspy import Stream
 

@@ -160,9 +160,10 @@ def distinct_contents(files: Iterable[Path]) -> tuple[list[Path], list[tuple[Pat
     other file with the kept file it has the same bytes as.
 
     A record saved twice (a download kept under a second name, a copy in a subfolder) is one
-    record: read twice, it would count twice wherever records are combined (a site's median
-    and its standard error). The workflow merges such files by their content key; this is the
-    same rule for the commands that read a folder directly. Files are compared by SHA-256.
+    record: read twice, it would count twice wherever records are combined or ranked (a site's
+    median and its standard error, a selection's candidates). The workflow merges such files by
+    their content key; this is the same rule for the commands that read files directly. Files
+    are compared by SHA-256; a file that cannot be opened is kept, for its reader to report.
     """
     import hashlib
 
@@ -171,9 +172,13 @@ def distinct_contents(files: Iterable[Path]) -> tuple[list[Path], list[tuple[Pat
     same: list[tuple[Path, Path]] = []
     for path in files:
         digest = hashlib.sha256()
-        with open(path, "rb") as handle:
-            for block in iter(lambda: handle.read(1 << 20), b""):
-                digest.update(block)
+        try:
+            with open(path, "rb") as handle:
+                for block in iter(lambda: handle.read(1 << 20), b""):
+                    digest.update(block)
+        except OSError:
+            kept.append(path)
+            continue
         key = digest.hexdigest()
         if key in first:
             same.append((path, first[key]))

@@ -263,11 +263,14 @@ def catalog_features(
         ``stepframe.core.results.get_column_dictionary(table)``).
     failures : pandas.DataFrame
         :func:`stepframe.core.results.failures_table`: ``item`` (``file [component]``),
-        ``stage`` (``read``, ``features`` or ``fit``), ``error_type``, ``message``.
+        ``stage`` (``read``, ``features`` or ``fit``), ``error_type``, ``message``. A file with
+        the same bytes as an earlier one is one record (read once): it is listed here, stage
+        ``read``, error type ``SameContent``
+        (:func:`stepframe.records.catalog.distinct_contents`).
     """
     import pandas as pd
 
-    items = _items(source, lowest_usable_hz)
+    items, copies = _items(source, lowest_usable_hz)
     options = Options(
         frequency,
         t0,
@@ -299,25 +302,35 @@ def catalog_features(
             [(k, u, m) for k, (u, m) in COLUMNS.items()], columns=["column", "unit", "meaning"]
         ),
     )
-    # _run_item records its own failures; one the executor caught is an internal error.
-    return table, failures_table([*fails, *outcome.failures])
+    # A file with the same bytes as another is read once and listed here; _run_item records
+    # its own failures; one the executor caught is an internal error.
+    same = [
+        Failure(str(copy), "read", "SameContent", f"the same bytes as {kept}: read once")
+        for copy, kept in copies
+    ]
+    return table, failures_table([*same, *fails, *outcome.failures])
 
 
 def _item_name(item: Item) -> str:
     return item.file
 
 
-def _items(source: str | Path | Any, lowest: Iterable[float | None] | None) -> list[Item]:
-    if isinstance(source, str | Path):
-        folder = Path(source)
-        if not folder.is_dir():
-            raise InputError("not a directory, expected a folder of record files", folder)
-        from stepframe.records.catalog import record_files  # the catalogue's rule: recursive
+def _items(
+    source: str | Path | Any, lowest: Iterable[float | None] | None
+) -> tuple[list[Item], list[tuple[Path, Path]]]:
+    """The items to read, and the files left out as copies of a kept one (copy, kept)."""
+    from stepframe.records.catalog import distinct_contents, record_files
 
-        files = record_files(folder)
-        return [Item(str(p)) for p in files]
-    if isinstance(source, list | tuple):
-        return [Item(str(p)) for p in source]
+    if isinstance(source, str | Path | list | tuple):
+        if isinstance(source, str | Path):
+            folder = Path(source)
+            if not folder.is_dir():
+                raise InputError("not a directory, expected a folder of record files", folder)
+            files = record_files(folder)  # the catalogue's rule: recursive
+        else:
+            files = [Path(p) for p in source]
+        kept, copies = distinct_contents(files)
+        return [Item(str(p)) for p in kept], copies
     traces = list(source)
     usable = (
         list(lowest)
@@ -342,4 +355,4 @@ def _items(source: str | Path | Any, lowest: Iterable[float | None] | None) -> l
                 None if low is None else float(low),
             )
         )
-    return items
+    return items, []

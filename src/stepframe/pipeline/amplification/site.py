@@ -306,30 +306,18 @@ def site_from_records(
 
     opts = options or FitOptions()
     read_options = {k: v for k, v in (record_options or {}).items() if v is not None}
-    from stepframe.records.catalog import distinct_contents, record_files
+    from stepframe.records.catalog import record_files
 
     root = Path(folder)
     if not root.is_dir():
         raise InputError("not a folder, expected a folder of the site's record files", root)
-    files = record_files(root)
-    if not files:
+    if not record_files(root):
         raise InputError("no record files, expected a folder of the site's records", root)
-    # One record per content, as the workflow's inventory: a copy would count twice in the
-    # median and shrink its standard error by √2. The copies are listed with the failures.
-    distinct, copies = distinct_contents(files)
+    # A copy of a record is read once (catalog_features lists it with the failures), as the
+    # workflow's inventory: counted twice it would shrink the median's standard error by √2.
     table, failures = catalog_features(
-        distinct, n_jobs=jobs, record_options=read_options, **opts.catalog_kwargs()
+        root, n_jobs=jobs, record_options=read_options, **opts.catalog_kwargs()
     )
-    if copies:
-        from stepframe.core.results import FAILURE_COLUMNS, Failure, failures_table
-
-        same = [
-            Failure(str(copy), "read", "SameContent", f"the same bytes as {kept}: read once")
-            for copy, kept in copies
-        ]
-        failures = failures_table(
-            [*same, *(Failure(*row) for row in failures[list(FAILURE_COLUMNS)].itertuples(False))]
-        )
     try:
         combined = site_from_features(
             table,
