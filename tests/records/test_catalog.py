@@ -73,6 +73,22 @@ def test_catalog_rows_failures_and_values(folder: Path) -> None:
     assert sorted(dmg["component"]) == ["H1", "H2", "Up"]
 
 
+def test_a_copy_is_catalogued_once_and_named_in_the_failures(folder: Path) -> None:
+    kept = folder / "chino" / "RSN8883_14383980_13849090.AT2"
+    copy = folder / "chino" / "deep" / "saved again.AT2"
+    shutil.copy(kept, copy)
+    table, failures = catalog(folder)
+    # The five components of the fixture's folder, not six: the copy is not a second row.
+    assert len(table) == 5
+    assert not table["file"].str.endswith("saved again.AT2").any()
+    same = failures[failures["error_type"] == "SameContent"]
+    assert list(same["item"]) == [str(copy)]
+    assert list(same["stage"]) == ["read"]
+    assert list(same["message"]) == [f"the same bytes as {kept}: read once"]
+    # The other failures are the fixture's, unchanged.
+    assert len(failures) == 4
+
+
 def test_write_catalog_outputs(folder: Path, tmp_path: Path) -> None:
     table, failures = catalog(folder)
     paths = write_catalog(table, failures, tmp_path / "cat.csv")

@@ -188,6 +188,16 @@ def distinct_contents(files: Iterable[Path]) -> tuple[list[Path], list[tuple[Pat
     return kept, same
 
 
+def copy_failures(copies: Iterable[tuple[Path, Path]]) -> list[Failure]:
+    """Each copy left out by :func:`distinct_contents` as a failure row: stage ``read``, error
+    type ``SameContent``, naming the kept file (what every command that reads record files lists
+    in its failures, so a copy is seen, not silently dropped)."""
+    return [
+        Failure(str(copy), "read", "SameContent", f"the same bytes as {kept}: read once")
+        for copy, kept in copies
+    ]
+
+
 def record_files(
     path: str | PathLike[str], *, exclude: Iterable[str | PathLike[str]] = ()
 ) -> list[Path]:
@@ -313,11 +323,13 @@ def catalog(
     failures : pandas.DataFrame
         :func:`stepframe.core.results.failures_table` (``item``, ``stage`` — ``read`` or
         ``measures`` —, ``error_type``, ``message``) of every file or component that could not
-        be catalogued.
+        be catalogued, and of each file with the same bytes as an earlier one (catalogued once:
+        error type ``SameContent``, :func:`distinct_contents`).
     """
     import pandas as pd
 
-    files = record_files(path, exclude=exclude)
+    # A record saved twice is one row (the rule of every reader of record files).
+    files, copies = distinct_contents(record_files(path, exclude=exclude))
     options = _ReadOptions(
         format,
         units,
@@ -342,7 +354,7 @@ def catalog(
     succeeded = set(outcome.indices)
     failed = [index for index in range(len(files)) if index not in succeeded]
     read_failures = dict(zip(failed, outcome.failures, strict=True))
-    failures = [
+    failures = copy_failures(copies) + [
         failure
         for index in range(len(files))
         for failure in ([read_failures[index]] if index in read_failures else per_file[index])

@@ -270,6 +270,8 @@ def catalog_features(
     """
     import pandas as pd
 
+    from stepframe.records.catalog import copy_failures
+
     items, copies = _items(source, lowest_usable_hz)
     options = Options(
         frequency,
@@ -304,11 +306,7 @@ def catalog_features(
     )
     # A file with the same bytes as another is read once and listed here; _run_item records
     # its own failures; one the executor caught is an internal error.
-    same = [
-        Failure(str(copy), "read", "SameContent", f"the same bytes as {kept}: read once")
-        for copy, kept in copies
-    ]
-    return table, failures_table([*same, *fails, *outcome.failures])
+    return table, failures_table([*copy_failures(copies), *fails, *outcome.failures])
 
 
 def _item_name(item: Item) -> str:
