@@ -27,6 +27,12 @@ Prints Markdown tables for docs/benchmarks.md ("Issue 30").
 8883's two components) on each number of worker processes, in turn and alternated
 ``--rounds`` times in the same run: wall time and the CPU time of this process and its workers,
 and whether the curves are the same bit for bit.
+
+``--grids`` measures the band's time grids (``band_grids``: each f0 on the coarsest of 4,000,
+2,000, 1,000 and 500 steps with four steps a period of it) against 4,000 steps for every f0,
+the report's 512 Sobol sets over each site's report f0 (the 0.1-10 Hz grid and its extension
+past an edge), alternated ``--rounds`` times in one process: CPU time of each, and how far the
+curves and the band's edges move (relative, and as a fraction of the band's half-width).
 """
 
 from __future__ import annotations
@@ -78,7 +84,16 @@ def main() -> None:
     parser.add_argument("--n-steps", type=int, default=1000)
     parser.add_argument("--jobs", help="comma-separated worker counts: the band on each")
     parser.add_argument("--rounds", type=int, default=2)
+    parser.add_argument("--grids", action="store_true", help="the band's grids against 4,000")
+    parser.add_argument(
+        "--grid-errors", action="store_true", help="only the central curve's error by f0, steps"
+    )
     args = parser.parse_args()
+    if args.grids or args.grid_errors:
+        grid_errors()
+        if args.grids:
+            compare_grids(args.rounds)
+        return
     if args.jobs:
         compare_jobs([int(n) for n in args.jobs.split(",")], args.rounds)
         return
@@ -197,6 +212,63 @@ def compare_jobs(jobs: list[int], rounds: int) -> None:
         ratio = statistics.median(w for w, _ in times[n]) / base
         print(f"| {n} | {walls} | {cpus} | {ratio:.2f} |")
     print(f"\nthe curves of every run the same bit for bit; machine: {_machine()}")
+
+
+def grid_errors() -> None:
+    """RSN 8883's central curve on 500-4,000 steps against 8,000, relative error by f0."""
+    from stepframe.stochastic.mean_square import analysis_grid
+
+    _, model, _ = _sites()[0]
+    f0 = np.array([0.1, 1.0, 4.0, 10.0, 16.0, 26.0])
+    reference = vs_fixed_curve(model, f0, XI0, 8000)  # type: ignore[arg-type]
+    duration_s = float(analysis_grid(model, n_steps=8000)[-1])  # type: ignore[arg-type]
+    print("| steps (h) | " + " | ".join(f"{f:g} Hz" for f in f0) + " |")
+    print("|---" * (f0.size + 1) + "|")
+    for steps in (500, 700, 1000, 2000, 4000):
+        curve = vs_fixed_curve(model, f0, XI0, steps)  # type: ignore[arg-type]
+        errors = " | ".join(f"{e:.0e}" for e in np.abs(curve / reference - 1))
+        print(f"| {steps:,} ({duration_s / steps:.3f} s) | {errors} |")
+    print()
+
+
+def compare_grids(rounds: int) -> None:
+    """The report's Monte Carlo band on the band's grids and on 4,000 steps, alternated."""
+    from stepframe.pipeline.amplification.analysis import AmplificationOptions
+    from stepframe.pipeline.amplification.band import band_grids
+    from stepframe.pipeline.amplification.report import response_curve
+
+    print(
+        "| site | report f0 | grids: f0 on each of 500 / 1,000 / 2,000 / 4,000 steps "
+        "| CPU [s] each round: 4,000 steps | band's grids | ratio "
+        "| curves: max rel. difference | edges: max rel. difference | edges / half-width |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|")
+    for name, model, stderr in _sites():
+        varied = tuple(k for k in VARIED if stderr.get(k, 0) > 0)
+        options = AmplificationOptions(band="none", monte_carlo=0)
+        f0 = response_curve(model, options).f0_hz  # type: ignore[arg-type]
+        grids = band_grids(model, f0, XI0, 4000)  # type: ignore[arg-type]
+        counts = " / ".join(str(int(np.sum(grids == n))) for n in (500, 1000, 2000, 4000))
+        seconds: dict[str, list[float]] = {"fine": [], "grids": []}
+        curves: dict[str, np.ndarray] = {}
+        for _ in range(rounds):
+            for key, steps in (("fine", 4000), ("grids", grids)):
+                start = time.process_time()
+                curves[key], _ = monte_carlo_curves(model, stderr, varied, f0, XI0, steps, 512, 1)  # type: ignore[arg-type]
+                seconds[key].append(time.process_time() - start)
+        fine, coarse = curves["fine"], curves["grids"]
+        edges = [np.percentile(c, [2.5, 97.5], axis=0) for c in (fine, coarse)]
+        half = (edges[0][1] - edges[0][0]) / 2
+        moved = np.abs(edges[1] - edges[0])
+        ratio = statistics.median(seconds["grids"]) / statistics.median(seconds["fine"])
+        print(
+            f"| {name} | {f0.size}: {f0.min():.3g}-{f0.max():.3g} Hz | {counts} "
+            f"| {', '.join(f'{t:.1f}' for t in seconds['fine'])} "
+            f"| {', '.join(f'{t:.1f}' for t in seconds['grids'])} | {ratio:.2f} "
+            f"| {np.max(np.abs(coarse / fine - 1)):.1e} | {np.max(moved / edges[0]):.1e} "
+            f"| {np.max(moved / half):.1e} |"
+        )
+    print(f"\nmachine: {_machine()}")
 
 
 def _machine() -> str:

@@ -284,6 +284,40 @@ def test_monte_carlo_curves_are_the_same_on_workers(rsn8883_site: Any) -> None:
         monte_carlo_curves(*args, jobs=0)
 
 
+def test_the_band_on_its_coarser_grids_is_the_band_on_the_analysis_grid(
+    rsn8883_site: Any, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """RSN 8883's site (the widest standard errors of the documented sites), f0 over 0.1-25 Hz
+    (its report's curve runs past the grid to 25.5 Hz): each f0 on the coarsest of 4,000, 2,000,
+    1,000 and 500 steps with four steps a period of it over the analysis's 34.86 s, and the
+    same parameter sets' curves there and on 4,000 steps everywhere differ by less than 1e-4
+    here (1.3e-4 at most over the report's 512 sets and 78 f0, docs/benchmarks.md); the band
+    says which grids."""
+    from stepframe.pipeline.amplification import band as band_module
+
+    model, stderr = rsn8883_site.model, rsn8883_site.stderr
+    varied = tuple(name for name in band_module.VARIED if stderr.get(name, 0) > 0)
+    f0 = np.array([0.1, 1.0, 3.5, 3.6, 7.0, 7.2, 14.0, 14.4, 25.0])
+    grids = band_module.band_grids(model, f0, 0.05, 4000)
+    # 4 × f0 × 34.86 s steps at least: 3.5 Hz needs 488, 3.6 Hz 502, 7.2 Hz 1,004, 14.4 Hz 2,008.
+    assert list(grids) == [500, 500, 500, 1000, 1000, 2000, 2000, 4000, 4000]
+    coarse, _ = band_module.monte_carlo_curves(model, stderr, varied, f0, 0.05, grids, 16, 2)
+    fine, _ = band_module.monte_carlo_curves(model, stderr, varied, f0, 0.05, 4000, 16, 2)
+    np.testing.assert_allclose(coarse, fine, rtol=1e-4)
+    # Each f0's curve is its own run's: f0 = 7.0 Hz alone on 1,000 steps.
+    alone = band_module.vs_fixed_curve(model, f0[4:5], 0.05, 1000)[0]
+    assert band_module.grid_curve(model, f0, 0.05, grids)[4] == alone
+    band = band_module.parameter_band(model, stderr, f0, 0.05, n_steps=4000, n_samples=16, seed=2)
+    assert band is not None and band.grid_steps == (500, 1000, 2000, 4000)
+    assert "16 parameter sets at 500-4,000 time steps by f0" in band.describe()
+    np.testing.assert_allclose(band.low, np.percentile(coarse, 2.5, axis=0), rtol=1e-12)
+    # The analysis's grid as coarse as the rule allows keeps it for every f0 ...
+    assert set(band_module.band_grids(model, f0[-2:], 0.05, 1000)) == {1000}
+    # ... and so does a site whose central curve moves on the coarser grids.
+    monkeypatch.setattr(band_module, "BAND_STEP_TOLERANCE", 0.0)
+    assert set(band_module.band_grids(model, f0, 0.05, 4000)) == {4000}
+
+
 def test_no_band_without_standard_errors(paper_model: Any) -> None:
     from stepframe.pipeline.amplification.band import parameter_band
 
@@ -303,6 +337,12 @@ def test_records_report_draws_the_band(records_amplification_html: Path) -> None
     numbers = _numbers(records_amplification_html)
     assert numbers["band"]["method"] == "monte-carlo"
     assert numbers["band"]["n_curves"] == RECORDS_BAND_CURVES
+    # The grids of its curves, which the report names: the fixture's 1,000 steps for the
+    # f0 above 3.6 Hz (four steps a period over the site's 35 s), 500 below.
+    assert numbers["band"]["grid_steps"] == [500, 1000]
+    assert f"{RECORDS_BAND_CURVES} parameter sets at 500-1,000 time steps by f0" in html.unescape(
+        records_amplification_html.read_text()
+    )
     table = pd.read_csv(data_folder_of(records_amplification_html) / "amplification.csv")
     assert (table["band_low"] < table["response_vs_fixed"]).all()
     assert (table["response_vs_fixed"] < table["band_high"]).all()

@@ -9,10 +9,15 @@ against f0 inherits that uncertainty. Two ways to carry it along the whole curve
     its standard error) as scrambled Sobol points (randomised quasi-Monte Carlo: the percentiles
     settle in fewer sets than with independent draws); sets that break ω_p ≥ ω_s ≥ ω_r > 0 or
     ξ > 0 are drawn again and counted; the band is the sets' percentile interval at each f0.
-    N curves: its cost is N times a curve's (0.07-0.11 s of CPU for 60 frequencies at 4,000
-    steps: 35-60 s for the default 512 sets, docs/benchmarks.md), and it sees the curve's
-    curvature and asymmetry: with two records' standard errors (RSN 8883) the amplification at
-    0.1 Hz runs from 2.1 to 6.3 over ω_p ± 2 SE, about 4.6.
+    N curves: its cost is N times a curve's, and it sees the curve's curvature and asymmetry:
+    with two records' standard errors (RSN 8883) the amplification at 0.1 Hz runs from 2.1 to
+    6.3 over ω_p ± 2 SE, about 4.6. Each set's curve is computed f0 by f0 on the coarsest of
+    the analysis's grid, a half, a quarter or an eighth of it that keeps four steps a period of
+    that f0 (:func:`band_grids`, checked on the central curve): the covariance run's cost is in
+    its steps, and low frequencies need few. For RSN 8883's report the band's 512 curves cost
+    0.39 × their CPU on 4,000 steps everywhere, the curves within 1.3e-4 of those, the band's
+    edges within 4e-5 (1e-4 of its half-width, against 2-7 % between seeds;
+    docs/benchmarks.md, "The band's time grids").
 ``"delta"``
     The delta method on the logarithm (the amplification is a positive ratio): the derivative of
     ln A along each parameter by central differences (step a tenth of the parameter's standard
@@ -61,6 +66,21 @@ VARIED = ("omega_p_rad_s", "omega_s_rad_s", "omega_r_rad_s", "xi_p", "xi_r")
 #: small against the curve's curvature over one standard error, large against rounding.
 DELTA_STEP = 0.1
 
+#: Time steps a period of f0 on the grid of each f0's curve in a Monte Carlo set
+#: (:func:`band_grids`). The mean square's peak is read on the grid, and its ripple at twice the
+#: oscillator's frequency aliases when a step nears half that period: on RSN 8883's site at 700
+#: steps (two a period of 10 Hz) the curve there is off by 8e-3; at four a period the report's
+#: 512 curves are within 1.3e-4 of 4,000 steps (docs/benchmarks.md, "The band's time grids").
+BAND_STEPS_PER_PERIOD = 4.0
+
+#: Fewest time steps of a band curve's grid: the envelope and ω_g(t) vary over the whole record
+#: whatever the oscillator (at 500 steps over RSN 8883's 35 s, below 1 Hz within 2e-5).
+MIN_BAND_STEPS = 500
+
+#: Largest relative difference, at any f0, between the central curve on the band's grids and on
+#: the analysis's: beyond it the band is computed on the analysis's grid (:func:`band_grids`).
+BAND_STEP_TOLERANCE = 2e-4
+
 #: Draws tried per accepted Monte Carlo parameter set before giving up (a site whose standard
 #: errors put most draws outside ω_p ≥ ω_s ≥ ω_r has no meaningful band).
 MAX_DRAWS_PER_SET = 5
@@ -86,6 +106,9 @@ class ParameterBand:
         Amplification curves computed (delta: 1 + 2k; Monte Carlo: the accepted sets).
     n_rejected
         Monte Carlo draws refused by the model's constraints (delta: 0).
+    grid_steps
+        The time grids of the curves' covariance runs, in steps (Monte Carlo: each f0 on one of
+        them, :func:`band_grids`; empty when not said).
     """
 
     method: str
@@ -96,6 +119,7 @@ class ParameterBand:
     varied: tuple[str, ...]
     n_curves: int
     n_rejected: int = 0
+    grid_steps: tuple[int, ...] = ()
 
     def describe(self) -> str:
         """One line: method, coverage and cost."""
@@ -103,6 +127,7 @@ class ParameterBand:
             f"delta method ({self.n_curves} curves)"
             if self.method == "delta"
             else f"Monte Carlo over N = {self.n_curves} parameter sets"
+            + _grids_text(self.grid_steps)
             + (
                 f" ({self.n_rejected} draw{'s' * (self.n_rejected > 1)} refused by ω_p ≥ ω_s ≥ ω_r)"
                 if self.n_rejected
@@ -122,6 +147,63 @@ def vs_fixed_curve(model: GroundMotionModel, f0_hz: Floats, xi0: float, n_steps:
     grid = analysis_grid(model, n_steps=n_steps)
     result = response_amplification(model, 2 * math.pi * f0_hz, xi0, time_s=grid)
     return np.asarray(result.vs_fixed, dtype=np.float64)
+
+
+def _grids_text(grid_steps: tuple[int, ...]) -> str:
+    if not grid_steps:
+        return ""
+    if len(grid_steps) == 1:
+        return f" at {grid_steps[0]:,} time steps"
+    return f" at {grid_steps[0]:,}-{grid_steps[-1]:,} time steps by f0"
+
+
+def band_grids(
+    model: GroundMotionModel,
+    f0_hz: Floats,
+    xi0: float,
+    n_steps: int,
+    central: Floats | None = None,
+) -> NDArray[np.int64]:
+    """Time steps of each f0's grid in a Monte Carlo set's curve: the coarsest of ``n_steps``,
+    its half, quarter and eighth (not below :data:`MIN_BAND_STEPS`) with
+    :data:`BAND_STEPS_PER_PERIOD` steps a period of that f0 over the analysis's duration;
+    ``n_steps`` for every f0 when the central curve so computed differs from the central curve
+    on the analysis's grid (``central``, else computed) by more than
+    :data:`BAND_STEP_TOLERANCE` at any f0.
+
+    The band is a percentile interval of N curves whose edges move between seeds by a few
+    percent of its half-width (:data:`~stepframe.pipeline.amplification.analysis.BAND_SAMPLES`);
+    a covariance run costs in proportion to its steps, and an oscillator needs a fine grid only
+    at high f0 (docs/benchmarks.md).
+    """
+    from stepframe.stochastic.mean_square import analysis_grid
+
+    f0 = np.asarray(f0_hz, dtype=np.float64)
+    duration_s = float(analysis_grid(model, n_steps=n_steps)[-1])
+    needed = BAND_STEPS_PER_PERIOD * f0 * duration_s
+    grids = np.full(f0.shape, n_steps, dtype=np.int64)
+    coarser = n_steps // 2
+    while coarser >= MIN_BAND_STEPS:
+        grids[needed <= coarser] = coarser
+        coarser //= 2
+    if np.all(grids == n_steps):
+        return grids
+    fine = vs_fixed_curve(model, f0, xi0, n_steps) if central is None else central
+    differs = np.max(np.abs(grid_curve(model, f0, xi0, grids) / fine - 1.0))
+    return grids if differs <= BAND_STEP_TOLERANCE else np.full(f0.shape, n_steps, np.int64)
+
+
+def grid_curve(
+    model: GroundMotionModel, f0_hz: Floats, xi0: float, grid_steps: NDArray[np.int64]
+) -> Floats:
+    """:func:`vs_fixed_curve` with each f0 on its own grid of ``grid_steps`` steps (one run per
+    distinct grid: the oscillators of a covariance run are independent)."""
+    f0 = np.asarray(f0_hz, dtype=np.float64)
+    curve = np.empty(f0.size)
+    for steps in np.unique(grid_steps):
+        on_grid = grid_steps == steps
+        curve[on_grid] = vs_fixed_curve(model, f0[on_grid], xi0, int(steps))
+    return curve
 
 
 def _with(model: GroundMotionModel, values: Mapping[str, float]) -> GroundMotionModel:
@@ -157,7 +239,7 @@ def parameter_band(
     xi0
         Oscillator damping ratio (fraction).
     n_steps
-        Time steps of each covariance run.
+        Time steps of each covariance run (Monte Carlo: at most; :func:`band_grids`).
     method
         ``"delta"`` or ``"monte-carlo"`` (module docstring); ``"none"``: no band.
     n_samples
@@ -192,10 +274,11 @@ def parameter_band(
     f0 = np.asarray(f0_hz, dtype=np.float64)
     if method == "delta":
         return _delta_band(model, stderr, varied, f0, xi0, n_steps, confidence, central)
+    grids = band_grids(model, f0, xi0, n_steps, central)
     curves, rejected = monte_carlo_curves(
-        model, stderr, varied, f0, xi0, n_steps, n_samples, seed, jobs=jobs, executor=executor
+        model, stderr, varied, f0, xi0, grids, n_samples, seed, jobs=jobs, executor=executor
     )
-    return _monte_carlo_band(curves, rejected, f0, varied, confidence)
+    return _monte_carlo_band(curves, rejected, f0, varied, confidence, grids)
 
 
 def _delta_band(
@@ -261,7 +344,7 @@ def monte_carlo_curves(
     varied: tuple[str, ...],
     f0: Floats,
     xi0: float,
-    n_steps: int,
+    n_steps: int | NDArray[np.int64],
     n_samples: int,
     seed: int,
     *,
@@ -276,7 +359,8 @@ def monte_carlo_curves(
     percentiles settle in fewer sets than with independent draws; docs/benchmarks.md) or
     ``"random"`` (independent pseudo-random draws). ``jobs``, ``executor``: where the curves
     are computed (:func:`stepframe.core.execution.call_each`); the parameter sets are drawn
-    here first, so the curves are the same on any number of workers.
+    here first, so the curves are the same on any number of workers. ``n_steps``: the time
+    steps of every f0's grid, or of each f0's (:func:`band_grids`).
     """
     from functools import partial
 
@@ -298,24 +382,38 @@ def monte_carlo_curves(
             samples.append(_with(model, dict(zip(varied, map(float, draw), strict=True))))
         except InputError:
             rejected += 1
-    calls = [partial(vs_fixed_curve, sample, f0, xi0, n_steps) for sample in samples]
+    grids = np.broadcast_to(np.asarray(n_steps, dtype=np.int64), f0.shape)
+    calls = [partial(grid_curve, sample, f0, xi0, grids) for sample in samples]
     curves = call_each(calls, jobs=jobs, executor=executor, stage="band")
     return np.vstack(curves), rejected
 
 
 def _monte_carlo_band(
-    curves: Floats, rejected: int, f0: Floats, varied: tuple[str, ...], confidence: float
+    curves: Floats,
+    rejected: int,
+    f0: Floats,
+    varied: tuple[str, ...],
+    confidence: float,
+    grids: NDArray[np.int64],
 ) -> ParameterBand:
     """The band between the curves' percentiles of the two tails."""
     tail = 100 * (1 - confidence) / 2
     low, high = np.percentile(curves, [tail, 100 - tail], axis=0)
-    return ParameterBand("monte-carlo", f0, low, high, confidence, varied, len(curves), rejected)
+    steps = tuple(int(n) for n in np.unique(grids))
+    return ParameterBand(
+        "monte-carlo", f0, low, high, confidence, varied, len(curves), rejected, steps
+    )
 
 
 __all__ = [
+    "BAND_STEPS_PER_PERIOD",
+    "BAND_STEP_TOLERANCE",
+    "MIN_BAND_STEPS",
     "VARIED",
     "BandMethod",
     "ParameterBand",
+    "band_grids",
+    "grid_curve",
     "monte_carlo_curves",
     "parameter_band",
     "vs_fixed_curve",

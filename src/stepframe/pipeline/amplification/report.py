@@ -618,6 +618,7 @@ def _site_statement(
             "varied": list(band.varied),
             "n_curves": band.n_curves,
             "n_rejected": band.n_rejected,
+            "grid_steps": list(band.grid_steps),
             "at_largest": [float(band.low[at]), float(band.high[at])],
         }
     else:
