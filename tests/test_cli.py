@@ -185,7 +185,18 @@ def test_demo_summary_text(demo_run: tuple[dict[str, object], Path]) -> None:
     assert "ranked at: every record at equal PSA(T_1) = 0.681 g, 1 × the onset of stepping" in (
         "\n".join(lines)
     )
-    assert any(line.startswith("at the ranking intensity: the chosen") for line in lines)
+    # Each response line says at which scale: the ranking's and the chosen set's differ.
+    assert any(
+        line.startswith(
+            "at the ranking intensity (every record at equal PSA(T_1) = 0.681 g, 1 × the onset "
+            "of stepping): the chosen reach"
+        )
+        for line in lines
+    )
+    assert any(
+        line.startswith("at the chosen scale (the records as recorded): of 10 components")
+        for line in lines
+    )
     assert any(line.startswith("ρ with overturn margin at equal PSA(T_1)") for line in lines)
     assert any(line.startswith("tiers closest to the exact ranking") for line in lines)
     outputs = [line for line in lines if line.startswith(("report: ", "tables: ", "features: "))]

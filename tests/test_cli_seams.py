@@ -15,13 +15,16 @@ from stepframe.cli import main
 PEER = Path(__file__).resolve().parent / "data" / "peer_nga_west2"
 
 
-def test_broken_pipe_exits_quietly() -> None:
-    """`stepframe demo --json | head -0`: the reader is gone before the first write."""
+def test_broken_pipe_exits_quietly(tmp_path: Path) -> None:
+    """`stepframe records info FILE --json | head -0`: the reader is gone before the first
+    write. The handling is the CLI's, around every command (this test ran the whole demo, in
+    the folder pytest was started from, where it left a stepframe-demo/ folder)."""
     process = subprocess.Popen(
         [sys.executable, "-c", "from stepframe.cli import main; import sys; sys.exit(main())",
-         "demo", "--json"],
+         "records", "info", str(PEER / "RSN8883_14383980_13849360.AT2"), "--json"],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
+        cwd=tmp_path,
     )  # fmt: skip
     assert process.stdout is not None and process.stderr is not None
     process.stdout.close()  # no reader: every write raises BrokenPipeError

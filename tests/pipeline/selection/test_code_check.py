@@ -46,6 +46,13 @@ def test_asce7_22_rule_by_hand() -> None:
     assert check.factor_to_pass == pytest.approx(0.9 / (0.25 / 0.3))  # 1.08
     assert "FAILS below it at 1-2 s, lowest 83% at 2 s" in check.line()
     assert "scale every record by 1.08 to pass" in check.line()
+    # Below at the range's last period only: that period, not a span "2-2 s".
+    at_end = check_suite(
+        "asce7-22", periods, np.array([1.0, 0.95, 0.6, 0.25]), target_g, (0.2, 2.0),
+        measure="rotd100", n_units=3,
+    )  # fmt: skip
+    assert at_end.below == [(2.0, 2.0)]
+    assert "FAILS below it at 2 s, lowest 83% at 2 s" in at_end.line()
     assert check.notes == ()  # maximum direction, as §16.2.3 asks
     # the set scaled by 1.08 passes, the lowest ratio now exactly 0.9
     scaled = check_suite(

@@ -125,7 +125,11 @@ class SuiteCheck:
         if self.passes:
             text = f"{head}: passes (lowest {worst:.0%} at {at:.3g} s)"
         else:
-            spans = ", ".join(f"{a:.3g}-{b:.3g} s" for a, b in self.below)
+            # A span of one period (the range's end only) is that period, not "1.95-1.95 s".
+            spans = ", ".join(
+                f"{a:.3g} s" if f"{a:.3g}" == f"{b:.3g}" else f"{a:.3g}-{b:.3g} s"
+                for a, b in self.below
+            )
             text = f"{head}: FAILS" + (
                 f" below it at {spans}, lowest {worst:.0%} at {at:.3g} s (scale every record by "
                 f"{self.factor_to_pass:.3g} to pass)"

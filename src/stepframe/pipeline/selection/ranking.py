@@ -249,8 +249,12 @@ def ranking_lines(summary: dict[str, Any]) -> list[str]:
         )
     versus = ranking.get("chosen_vs_rest") or {}
     if versus:
+        # Which intensity, said on the line: the chosen set's own scale is another.
+        level = str(intensity.get("text") or "").split("; ladder")[0]
         lines.append(
-            "at the ranking intensity: the chosen reach a median peak |x| of "
+            "at the ranking intensity"
+            + (f" ({level})" if level else "")
+            + ": the chosen reach a median peak |x| of "
             f"{_number(versus['peak_x_m_chosen'], '.3g')} m ({versus['overturned_chosen']} of "
             f"{versus['n_chosen']} overturn), the other {versus['n_rest']} candidates "
             f"{_number(versus['peak_x_m_rest'], '.3g')} m ({versus['overturned_rest']} overturn)"

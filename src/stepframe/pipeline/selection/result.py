@@ -207,10 +207,13 @@ class SelectionResult:
         lines = []
         response = summary.get("chosen_response") or {}
         if response.get("n"):
+            # Which scale, said on the line: the ranking's line above is at another intensity.
+            rule = str(summary.get("scale_rule") or "as recorded").split(": ", 1)[-1]
+            rule = rule.split(", factors clipped")[0].removesuffix(" (scale factor 1)")
             lines.append(
-                f"at the chosen scale: of {response['n']} components, {response['linear']} "
-                f"stay linear, {response['steps']} step, {response['overturns']} overturn the "
-                f"frame (x_c = {response['x_c_m']:.3g} m)"
+                f"at the chosen scale ({rule}): of {response['n']} components, "
+                f"{response['linear']} stay linear, {response['steps']} step, "
+                f"{response['overturns']} overturn the frame (x_c = {response['x_c_m']:.3g} m)"
             )
         if summary.get("set_misfit") is not None:
             lines.append(
