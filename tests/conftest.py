@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import importlib.metadata
 import importlib.util
@@ -117,13 +118,18 @@ def _kernel_sources_key() -> str:
 def _built_kernels() -> Path | None:
     """The folder of the build's kernels for the present sources (see :data:`BUILT_KERNELS`),
     compiled now when there is none (2 processes; 30-40 s), else the one an earlier run left in
-    the temporary folder; None when the build fails. Folders of other sources are removed."""
+    the temporary folder; None when the build fails. Folders of other sources untouched for a
+    day are removed (not sooner: another clone's suite may be reading its own)."""
+    import time
+
     root = Path(tempfile.gettempdir())
     folder = root / f"stepframe-test-kernels-{_kernel_sources_key()}"
     if (folder / "build.log").is_file():
         return folder
     for old in root.glob("stepframe-test-kernels-*"):
-        shutil.rmtree(old, ignore_errors=True)
+        with contextlib.suppress(OSError):
+            if time.time() - old.stat().st_mtime > 86_400:
+                shutil.rmtree(old, ignore_errors=True)
     partial = Path(tempfile.mkdtemp(prefix=f"{folder.name}.partial-", dir=root))
     env = {k: v for k, v in os.environ.items() if not k.startswith("NUMBA_")}
     env.update(NUMBA_CACHE_DIR=str(partial / "cache"))
