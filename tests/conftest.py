@@ -11,6 +11,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 import pytest
@@ -120,8 +121,6 @@ def _built_kernels() -> Path | None:
     compiled now when there is none (2 processes; 30-40 s), else the one an earlier run left in
     the temporary folder; None when the build fails. Folders of other sources untouched for a
     day are removed (not sooner: another clone's suite may be reading its own)."""
-    import time
-
     root = Path(tempfile.gettempdir())
     folder = root / f"stepframe-test-kernels-{_kernel_sources_key()}"
     if (folder / "build.log").is_file():

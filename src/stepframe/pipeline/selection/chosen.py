@@ -94,7 +94,8 @@ def _units(table: Any, rows: list[int], unit: str) -> list[tuple[str, list[int]]
 
 
 def scale_rule(options: SelectionOptions, target: Target | None, period_1_s: float) -> str:
-    """The scale rule in words, with the level it scales to."""
+    """The scale rule in words, with the level it scales to (:func:`scale_phrase` reads the
+    level back from it)."""
     low, high = options.scale_min, options.scale_max
     if options.unit == "record":
         what = f"each record (both components, by its {options.pair_spectrum})"
@@ -113,6 +114,14 @@ def scale_rule(options: SelectionOptions, target: Target | None, period_1_s: flo
         f"target-mse: {what} scaled by the least squares in ln PSA over the misfit periods, "
         f"factors clipped to [{low:g}, {high:g}]"
     )
+
+
+def scale_phrase(rule: str) -> str:
+    """What :func:`scale_rule`'s text says was scaled to what, without the rule's name, the
+    clipping and "(scale factor 1)": the response line of the summary names its scale by it
+    (a selection folder keeps the rule as text only)."""
+    phrase = rule.split(": ", 1)[-1].split(", factors clipped")[0]
+    return phrase.removesuffix(" (scale factor 1)")
 
 
 def _response(frame: Any, motions: list[Motion]) -> dict[str, Any]:

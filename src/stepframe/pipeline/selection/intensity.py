@@ -55,7 +55,8 @@ class RankingIntensity:
     ladder: tuple[float, ...]
 
     def describe(self) -> str:
-        """One line for people (the summary, the report)."""
+        """One line for people (the summary, the report): the level, then the ladder after
+        "; " (:func:`intensity_level` reads the level back)."""
         ladder = f"ladder ×{self.ladder[0]:g} to ×{self.ladder[-1]:g} ({len(self.ladder)} levels)"
         if self.kind == "as-used":
             how = "as recorded" if self.scale == "none" else f"at their {self.scale} scale factors"
@@ -111,6 +112,12 @@ class RankingIntensity:
                 )
             assert self.psa_t1_g is not None
             return np.asarray(self.psa_t1_g / np.asarray(psa_t1_g), dtype=np.float64)
+
+
+def intensity_level(text: str) -> str:
+    """The level of :meth:`RankingIntensity.describe`'s text without its ladder (a selection
+    folder keeps the intensity's text; the summary's response line names its intensity by it)."""
+    return text.split("; ladder")[0]
 
 
 def onset_psa_t1_g(frame: Any) -> float:

@@ -249,8 +249,10 @@ def ranking_lines(summary: dict[str, Any]) -> list[str]:
         )
     versus = ranking.get("chosen_vs_rest") or {}
     if versus:
+        from stepframe.pipeline.selection.intensity import intensity_level
+
         # Which intensity, said on the line: the chosen set's own scale is another.
-        level = str(intensity.get("text") or "").split("; ladder")[0]
+        level = intensity_level(str(intensity.get("text") or ""))
         lines.append(
             "at the ranking intensity"
             + (f" ({level})" if level else "")

@@ -207,9 +207,10 @@ class SelectionResult:
         lines = []
         response = summary.get("chosen_response") or {}
         if response.get("n"):
+            from stepframe.pipeline.selection.chosen import scale_phrase
+
             # Which scale, said on the line: the ranking's line above is at another intensity.
-            rule = str(summary.get("scale_rule") or "as recorded").split(": ", 1)[-1]
-            rule = rule.split(", factors clipped")[0].removesuffix(" (scale factor 1)")
+            rule = scale_phrase(str(summary.get("scale_rule") or "as recorded"))
             lines.append(
                 f"at the chosen scale ({rule}): of {response['n']} components, "
                 f"{response['linear']} stay linear, {response['steps']} step, "
