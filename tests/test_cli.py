@@ -107,6 +107,27 @@ def test_demo_selects_for_example_4(demo_run: tuple[dict[str, object], Path]) ->
     assert [s["component"] for s in selected] == top["component"].astype(str).tolist()
     assert [s["score"] for s in selected] == pytest.approx(top[rank_by].tolist())
     assert all(s["scale_factor"] == 1.0 for s in selected)
+    # The ranking's tie across the chosen set's edge, recomputed from candidates.csv: Example 4
+    # at the onset of stepping overturns as soon as it steps under many records (factor ×1),
+    # whose ladder means differ by less than the bisection's resolution.
+    resolution = (1 - 1 / math.sqrt(2)) / 256
+    inside = passed[passed["selected"]]
+    outside = passed[~passed["selected"]]
+
+    def close(a: object, b: object) -> np.ndarray:
+        a, b = np.asarray(a, dtype=float)[:, None], np.asarray(b, dtype=float)[None, :]
+        return np.abs(a - b) <= resolution * np.minimum(a, b)
+
+    pairs = close(inside["simulated_response"], outside["simulated_response"]) & close(
+        inside["overturn_factor"], outside["overturn_factor"]
+    )
+    assert (
+        candidates["ranking_tie"].astype(str).eq("True").sum()
+        == pairs.any(1).sum() + pairs.any(0).sum()
+    )
+    tie = payload["ranking"]["tie"]
+    assert (tie["n_chosen"], tie["n_other"]) == (int(pairs.any(1).sum()), int(pairs.any(0).sum()))
+    assert tie["n_chosen"] == 10 and tie["n_other"] > 0 and tie["overturn_factor"] == 1.0
     entry = next(
         e
         for e in payload["correlations"]
@@ -123,6 +144,20 @@ def test_demo_selects_for_example_4(demo_run: tuple[dict[str, object], Path]) ->
     assert payload["medians"]["equal_psa_t1_peak_x_m_selected"] == pytest.approx(
         float(np.median(equal.loc[key.isin(chosen), "peak_abs_x_m"]))
     )
+    # ... and at the chosen scale, the selected and their controls, peaks and overturned counts
+    # (the confirmation's intensity named in g: ω_1²·x_c/P_1 at the onset, Example 4's 0.681).
+    at_scale = confirmation[confirmation["case"] == "chosen-scale"]
+    for group, name in (("selected", "selected"), ("control", "control")):
+        rows = at_scale[at_scale["group"] == group]
+        assert len(rows) == 10
+        assert payload["medians"][f"chosen_scale_peak_x_m_{name}"] == pytest.approx(
+            float(np.median(rows["peak_abs_x_m"]))
+        )
+        assert payload["medians"][f"chosen_scale_overturned_{name}"] == rows["overturned"].sum()
+    onset_g = frame.omega_1_rad_s**2 * frame.x_c_m / frame.p_1 / 9.80665
+    # (the printed constants above have five digits; the frame file's are exact)
+    assert payload["medians"]["equal_psa_t1_g"] == pytest.approx(onset_g, rel=1e-4)
+    assert onset_g == pytest.approx(0.681, abs=5e-4)
     assert not list(out.rglob("*.part")) and not list(out.rglob(".*.tmp"))
 
 
@@ -176,10 +211,24 @@ def test_demo_summary_text(demo_run: tuple[dict[str, object], Path]) -> None:
     lines = again.describe().splitlines()
     assert lines[0].startswith("band: 0.654 to 6.46 rad/s (T 0.973 to 9.61 s); 100 candidates")
     assert sum(1 for line in lines if line.startswith("  ") and ". RSN" in line) == 10
-    assert any(
-        line.startswith(f"confirmation: Spearman({payload['rank_by']}, peak_drift) = ")
-        and "], n = " in line
-        for line in lines
+    # The confirmation names its intensity (here the ranking's own), then ρ and the medians.
+    start = lines.index(
+        "confirmation, every candidate at equal PSA(T_1) = 0.681 g, 1 × the onset of stepping "
+        "(the ranking's own intensity):"
+    )
+    assert lines[start + 1].startswith(f"  Spearman({payload['rank_by']}, peak_drift) = ")
+    assert "], n = 100" in lines[start + 1]
+    medians = payload["medians"]
+    assert lines[start + 3] == (
+        f"  median peak |x|: the 10 selected {medians['equal_psa_t1_peak_x_m_selected']:.3g} m "
+        f"({medians['equal_psa_t1_overturned_selected']} overturn), 10 controls "
+        f"{medians['equal_psa_t1_peak_x_m_control']:.3g} m "
+        f"({medians['equal_psa_t1_overturned_control']} overturn)"
+    )
+    assert lines[start + 4].startswith(
+        "confirmation at the chosen scale (the records as recorded): median peak |x| of the 10 "
+        f"selected {medians['chosen_scale_peak_x_m_selected']:.3g} m "
+        f"({medians['chosen_scale_overturned_selected']} overturn)"
     )
     # the stated intensity, the chosen set against the rest, the peers and the tiers
     assert "ranked at: every record at equal PSA(T_1) = 0.681 g, 1 × the onset of stepping" in (
@@ -198,6 +247,11 @@ def test_demo_summary_text(demo_run: tuple[dict[str, object], Path]) -> None:
         for line in lines
     )
     assert any(line.startswith("ρ with overturn margin at equal PSA(T_1)") for line in lines)
+    tie = payload["ranking"]["tie"]  # type: ignore[index]
+    assert (
+        f"tie: the ranking does not tell {tie['n_chosen']} of the chosen from {tie['n_other']} "
+        "other candidates (each overturns the frame from ×1 of its ranking scale"
+    ) in "\n".join(lines)
     assert any(line.startswith("tiers closest to the exact ranking") for line in lines)
     outputs = [line for line in lines if line.startswith(("report: ", "tables: ", "features: "))]
     assert outputs[0] == f"report: {out}/selection_report.html"

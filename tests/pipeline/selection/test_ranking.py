@@ -13,9 +13,11 @@ from stepframe.errors import InputError
 from stepframe.pipeline.selection import SelectionOptions
 from stepframe.pipeline.selection.exact import (
     LADDER,
+    RESOLUTION,
     overturn_peak_m,
     ranking_order,
     simulated_response,
+    tied_across,
 )
 from stepframe.pipeline.selection.intensity import (
     check_target_covers,
@@ -122,6 +124,24 @@ def test_ranking_order_overturning_first() -> None:
     response = np.array([0.5, 5.0, 0.9, 5.0, 5.0, np.nan])
     # overturners by factor (ties by index), then the rest by response, failed last
     assert ranking_order(factor, response).tolist() == [3, 1, 4, 2, 0, 5]
+
+
+def test_ties_across_the_chosen_sets_edge() -> None:
+    """A tie needs both keys within the bisection's resolution, (1 - 1/√2)/256, and a chosen
+    and an unchosen candidate; NaN factors (never overturning) tie with each other only."""
+    assert abs(RESOLUTION - 0.29289321881 / 256) < 1e-13
+    near = 1.0 + 0.9 * RESOLUTION  # within the resolution of 1
+    far = 1.0 + 1.1 * RESOLUTION
+    factor = np.array([1.0, 1.0, near, far, 1.0, np.nan, np.nan, np.nan, 1.0])
+    response = np.array([1.2, 1.2, 1.2, 1.2, 1.2 * far, 0.4, 0.4 * near, 0.4, np.nan])
+    chosen = np.array([True, True, False, False, False, True, False, False, False])
+    tied = tied_across(factor, response, chosen)
+    # 2: factor within; 3: factor beyond; 4: response beyond; 6: both never overturn, response
+    # within; 7: the same keys as 5 (chosen); 8: not ranked (NaN response)
+    assert tied.tolist() == [True, True, True, False, False, True, True, True, False]
+    # nothing across an edge: all chosen, or none
+    assert not tied_across(factor, response, np.ones(9, dtype=bool)).any()
+    assert not tied_across(factor, response, np.zeros(9, dtype=bool)).any()
 
 
 def test_simulated_response_and_overturning_factor(example4: PortalFrame) -> None:

@@ -72,6 +72,9 @@ def test_selection_is_the_top_of_the_ranking_under_the_cap(run: Any) -> None:
     # The response does not depend on the fit: every bootstrap replicate chooses the same set.
     probability = passed["selection_probability"].to_numpy()
     assert np.array_equal(probability, passed["selected"].astype(float).to_numpy())
+    # ... so the summary does not print it as if the bootstrap had tested the set.
+    picks = [line for line in result.summary_lines() if line.startswith("  pick ")]
+    assert len(picks) == 6 and not any("P(in set)" in line for line in picks)
 
 
 def test_substitute_score_is_the_records_own_spectrum(

@@ -155,4 +155,14 @@ def test_confirmation_section_marks_the_chosen_and_prints_the_run_medians(
         medians["equal_psa_t1_peak_x_m_selected"]
     )
     table_csv = pd.read_csv(data_folder_of(html) / "confirmation_summary.csv")
-    assert table_csv["group"].tolist() == ["selected", "controls"]
+    assert table_csv["group"].tolist() == ["selected", "controls"] * 2
+    assert table_csv["at"].tolist() == ["equal PSA(T_1)"] * 2 + ["chosen scale"] * 2
+    # the chosen-scale rows: the selected and their controls as the run simulated them
+    at_scale = rows[rows["case"] == "chosen-scale"]
+    for place, group in ((2, "selected"), (3, "control")):
+        runs = at_scale[at_scale["group"] == group]
+        assert len(runs) == 3
+        assert table_csv["median_peak_abs_x_m"][place] == pytest.approx(
+            np.median(runs["peak_abs_x_m"])
+        )
+        assert table_csv["overturned"][place] == runs["overturned"].sum()

@@ -91,6 +91,13 @@ def test_sweeping_motions_rank_first(catalogue: tuple[Any, Any]) -> None:
     probability = result.candidates["selection_probability"].to_numpy()
     assert probability.sum() == pytest.approx(3.0)
     assert probability[kinds == "sweep"].sum() >= 2.0, probability
+    # A ranking by the fit: the summary prints each pick's share of replicates.
+    shares = [
+        float(line.rsplit("P(in set) ", 1)[1])
+        for line in result.summary_lines()
+        if line.startswith("  pick ")
+    ]
+    assert shares == pytest.approx(result.selection["selection_probability"].tolist(), abs=0.0051)
 
 
 #: (ω_p, ω_s, ω_r) [rad/s]: ω_g falls through Example 4's band [0.65, 6.46] rad/s during strong

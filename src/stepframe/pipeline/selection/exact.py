@@ -44,6 +44,10 @@ LADDER: tuple[float, ...] = (0.5, 0.707, 1.0, 1.414, 2.0)
 EXTENSION = 4
 #: Halvings of the bracket below the first level that overturns.
 BISECTION_STEPS = 8
+#: Relative resolution of the order's two keys: the width of the bisection's last bracket on
+#: a ladder step of √2, (1 - 1/√2)/2^8 = 0.11 %. Two candidates whose overturning factors (or
+#: both: none) and ladder means are this close are a tie (:func:`tied_across`).
+RESOLUTION = (1.0 - 1.0 / math.sqrt(2.0)) / 2**BISECTION_STEPS
 #: Candidates per simulation batch: a batch holds its records' scaled samples once (2,000
 #: records of 6,000 samples: 96 MB).
 CHUNK = 2000
@@ -174,6 +178,41 @@ def ranking_order(overturn_factor: Floats, response_m: Floats) -> NDArray[np.int
     response = np.where(failed, -np.inf, response_m)
     index = np.arange(response.size)
     return np.asarray(np.lexsort((index, -response, factor, failed)), dtype=np.int64)
+
+
+def tied_across(
+    overturn_factor: Floats, response_m: Floats, chosen: NDArray[np.bool_]
+) -> NDArray[np.bool_]:
+    """The candidates the order does not tell apart across the chosen set's edge: each chosen
+    candidate tied with one not chosen, and each such other, where a tie is overturning
+    factors within :data:`RESOLUTION` of each other (or neither overturning) and ladder means
+    within it too. NaN responses (not ranked, failed) are never tied.
+
+    Parameters
+    ----------
+    overturn_factor, response_m
+        The two keys per candidate (:class:`ResponseRanking`; NaN factor: never overturns).
+    chosen
+        The chosen set's mask.
+    """
+    factor = np.asarray(overturn_factor, dtype=np.float64)
+    response = np.asarray(response_m, dtype=np.float64)
+    ranked = np.isfinite(response)
+    inside = np.flatnonzero(chosen & ranked)
+    outside = np.flatnonzero(~chosen & ranked)
+    tied = np.zeros(response.size, dtype=bool)
+    if not inside.size or not outside.size:
+        return tied
+
+    def close(values: Floats) -> NDArray[np.bool_]:
+        a, b = values[inside][:, None], values[outside][None, :]
+        return np.asarray(np.abs(a - b) <= RESOLUTION * np.minimum(a, b))
+
+    never = np.isnan(factor)
+    pairs = close(response) & (close(factor) | (never[inside][:, None] & never[outside][None, :]))
+    tied[inside[pairs.any(axis=1)]] = True
+    tied[outside[pairs.any(axis=0)]] = True
+    return tied
 
 
 def overturn_factor(

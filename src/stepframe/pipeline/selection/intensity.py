@@ -62,10 +62,7 @@ class RankingIntensity:
             how = "as recorded" if self.scale == "none" else f"at their {self.scale} scale factors"
             return f"the records as they will be used ({how}); {ladder}"
         if self.onset_ratio is not None:
-            level = (
-                f"PSA(T_1) = {self.onset_ratio * self.onset_psa_t1_g:.3g} g, {self.onset_ratio:g}"
-                " × the onset of stepping"
-            )
+            level = equal_psa_level(self.onset_ratio, self.onset_psa_t1_g)
         else:
             assert self.psa_t1_g is not None
             level = (
@@ -112,6 +109,23 @@ class RankingIntensity:
                 )
             assert self.psa_t1_g is not None
             return np.asarray(self.psa_t1_g / np.asarray(psa_t1_g), dtype=np.float64)
+
+
+def equal_psa_level(onset_ratio: float, onset_psa_t1_g: float) -> str:
+    """An equal intensity given as a multiple of the onset of stepping, for people: "PSA(T_1) =
+    0.681 g, 1 × the onset of stepping" (the ranking's, :meth:`RankingIntensity.describe`, and
+    the confirmation's).
+
+    Parameters
+    ----------
+    onset_ratio
+        The linear frame's peak P_1·SD(T_1, ξ_1) over x_c [-].
+    onset_psa_t1_g
+        PSA(T_1, ξ_1) at the onset (:func:`onset_psa_t1_g`) [g].
+    """
+    return (
+        f"PSA(T_1) = {onset_ratio * onset_psa_t1_g:.3g} g, {onset_ratio:g} × the onset of stepping"
+    )
 
 
 def intensity_level(text: str) -> str:

@@ -15,8 +15,6 @@ RANKABLE = (
 )
 #: Scores computed per candidate by the covariance method (the others are closed forms).
 PHYSICS_SCORES = ("backbone_amplification", "descent_amplification")
-#: Scores computed from the record's samples (its response spectrum), not from the fit.
-RECORD_SCORES = ("substitute_demand_ratio",)
 
 ScalePolicy = Literal["none", "psa-at-t1", "target-mse"]
 SCALE_POLICIES: tuple[ScalePolicy, ...] = ("none", "psa-at-t1", "target-mse")

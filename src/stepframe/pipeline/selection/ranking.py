@@ -50,6 +50,12 @@ RANKING_COLUMNS: dict[str, tuple[str, str]] = {
     "ranking_peak_x_m": ("m", "simulated peak |x| at the ranking intensity itself"),
     "ranking_overturned": ("", "the frame overturned at the ranking intensity itself"),
     "ladder_overturns": ("", "ladder levels at which the frame overturned"),
+    "ranking_tie": (
+        "",
+        "the ranking does not tell it from a candidate on the other side of the chosen set's "
+        "edge (overturn_factor and simulated_response within 0.11 %, the bisection's "
+        "resolution)",
+    ),
     **{name: (peer.unit, peer.meaning) for name, peer in PEERS.items()},
 }
 #: The simulator's free-vibration tail counted in the cost estimate [s].
@@ -229,6 +235,28 @@ def _failure(table: Any, row: int, message: str) -> Failure:
 
 def _number(value: Any, digits: str = ".2f") -> str:
     return format(float(value), digits) if isinstance(value, int | float) else "—"
+
+
+def tie_line(summary: dict[str, Any]) -> str | None:
+    """The tie across the chosen set's edge, for people (the summary, the report); None when
+    the ranking told the chosen from the rest."""
+    tie = (summary.get("ranking") or {}).get("tie")
+    if not isinstance(tie, dict):
+        return None
+    chosen, other = int(tie["n_chosen"]), int(tie["n_other"])
+    factor = tie.get("overturn_factor")
+    keys = (
+        f"each overturns the frame from ×{factor:.3g} of its ranking scale and their ladder "
+        "means are"
+        if isinstance(factor, int | float)
+        else "their overturning factors and ladder means are"
+    )
+    return (
+        f"tie: the ranking does not tell {chosen} of the chosen from {other} other candidates "
+        f"({keys} within {100 * float(tie['resolution']):.2g} %, the bisection's resolution): "
+        f"which {chosen} of these {chosen + other} are chosen is decided by differences below "
+        "it (candidates.csv: ranking_tie)"
+    )
 
 
 def ranking_lines(summary: dict[str, Any]) -> list[str]:

@@ -40,6 +40,7 @@ from stepframe.pipeline.reports.provenance import Provenance, collect_provenance
 from stepframe.pipeline.selection.options import SelectionOptions
 from stepframe.pipeline.selection.report_folder import SelectionOutputs, read_selection_folder
 from stepframe.pipeline.selection.report_resonance import resonance_runs, resonance_section
+from stepframe.pipeline.selection.result import confirmation_level
 from stepframe.stochastic.model import MODEL_FIELDS, GroundMotionModel
 
 TWO_PI = 2 * math.pi
@@ -324,18 +325,19 @@ def _confirmation(
         Table(
             "confirmation_summary",
             "Selected against controls",
-            pd.DataFrame(
-                [
-                    {"group": "selected", f"median_{response}": _or_not_run(medians["selected"])},
-                    {
-                        "group": "controls" if stated else "controls / others",
-                        f"median_{response}": _or_not_run(medians["controls"]),
-                    },
-                ]
-            ),
-            f"Median simulated {response} at equal PSA(T_1); Spearman ρ({score}, {response}) "
-            f"= {_or_not_run(rho, '.3g')}, n = {x.size}",
-            {"group": "which records", f"median_{response}": "median of the simulated response"},
+            pd.DataFrame(_medians_rows(medians, stated, response, bool(stated))),
+            f"Median simulated {response} of the selected and of the controls (as many "
+            f"candidates, ranked lowest) at the confirmation's {confirmation_level(summary)} "
+            "and, where the run states it, at the chosen scale; Spearman "
+            f"ρ({score}, {response}) at the confirmation's intensity = {_or_not_run(rho, '.3g')}"
+            f", n = {x.size}",
+            {
+                "group": "which records",
+                "at": "the intensity: the confirmation's equal PSA(T_1), or each record at its "
+                "chosen scale",
+                f"median_{response}": "median of the simulated response",
+                "overturned": "how many of the group overturn the frame there",
+            },
         ),
     ]
     stated = summary.get("correlations")
@@ -367,6 +369,34 @@ def _confirmation(
 
 
 Items = list[Figure | Table | Note | FigureJob]
+
+
+def _medians_rows(
+    medians: dict[str, float], stated: dict[str, Any], response: str, controls: bool
+) -> list[dict[str, Any]]:
+    """The rows of "Selected against controls": the medians at the confirmation's equal
+    intensity, and the run's stated medians at the chosen scale with the overturned counts
+    (absent from a folder of an earlier run)."""
+    others = "controls" if controls else "controls / others"
+    column = f"median_{response}"
+    rows: list[dict[str, Any]] = [
+        {"group": "selected", "at": "equal PSA(T_1)", column: _or_not_run(medians["selected"])},
+        {"group": others, "at": "equal PSA(T_1)", column: _or_not_run(medians["controls"])},
+    ]
+    if "equal_psa_t1_overturned_selected" in stated:
+        rows[0]["overturned"] = stated["equal_psa_t1_overturned_selected"]
+        rows[1]["overturned"] = stated["equal_psa_t1_overturned_control"]
+    if "chosen_scale_overturned_selected" in stated and response == "peak_abs_x_m":
+        for group, name in (("selected", "selected"), (others, "control")):
+            rows.append(
+                {
+                    "group": group,
+                    "at": "chosen scale",
+                    column: _or_not_run(stated[f"chosen_scale_peak_x_m_{name}"]),
+                    "overturned": stated[f"chosen_scale_overturned_{name}"],
+                }
+            )
+    return rows
 
 
 def _or_not_run(value: Any, spec: str | None = None) -> Any:
@@ -498,10 +528,13 @@ def scores_section(outputs: SelectionOutputs, candidates: pd.DataFrame, rank_by:
     """The ranking (its stated intensity, what was simulated, the chosen set against the rest
     at that intensity, the tiers against the run's exact ranking), then the chosen set and
     every candidate with its scores and peers, as sortable tables."""
-    from stepframe.pipeline.selection.ranking import ranking_lines
+    from stepframe.pipeline.selection.ranking import ranking_lines, tie_line
 
     summary = outputs.summary
     items: Items = [Note(line) for line in ranking_lines(summary)[:3]]
+    tie = tie_line(summary)
+    if tie:
+        items.append(Note(tie[0].upper() + tie[1:]))
     versus = (summary.get("ranking") or {}).get("chosen_vs_rest")
     if isinstance(versus, dict) and versus:
         items.append(

@@ -117,6 +117,8 @@ class SelectionResult:
         and scale rule, the chosen set (pick order, score and its rank, scale factor, what it
         does to the frame), the response counts and warnings, the code check, and the
         confirmation's rank correlation and medians when it ran."""
+        from stepframe.pipeline.selection.ranking import tie_line
+
         low, high = self.band_rad_s
         summary = self.summary
         lines = [
@@ -125,25 +127,45 @@ class SelectionResult:
             *self._input_lines(),
             f"chosen by {summary.get('rank_by')} ({self.status}: {self.message}):",
             *self._chosen_lines(),
+            *([tie] if (tie := tie_line(summary)) else []),
             *self._outcome_lines(),
         ]
-        for entry in summary.get("correlations", []):
-            if entry["score"] == summary.get("rank_by"):
-                lines.append(
-                    f"confirmation: Spearman({entry['score']}, {entry['response']}) = "
-                    f"{_number(entry.get('spearman'), '.2f')} "
-                    f"[{_number(entry.get('low'), '.2f')}, "
-                    f"{_number(entry.get('high'), '.2f')}], n = {entry['n']}"
-                )
+        return lines + self._confirmation_lines()
+
+    def _confirmation_lines(self) -> list[str]:
+        """The confirmation at its equal intensity (named, with the ranking's when that was
+        another), the run's ranking's ρ there, and the selected against the controls there and
+        at the chosen scale."""
+        summary = self.summary
         medians = summary.get("medians") or {}
+        rhos = [
+            f"  Spearman({entry['score']}, {entry['response']}) = "
+            f"{_number(entry.get('spearman'), '.2f')} [{_number(entry.get('low'), '.2f')}, "
+            f"{_number(entry.get('high'), '.2f')}], n = {entry['n']}"
+            for entry in summary.get("correlations", [])
+            if entry["score"] == summary.get("rank_by")
+        ]
+        if not medians and not rhos:
+            if "options" in summary and not summary["options"].get("confirm"):
+                return ["confirmation by simulation: not run (--confirm runs it)"]
+            return []
+        lines = [f"confirmation, every candidate at {confirmation_level(summary)}:", *rhos]
         if medians:
             lines.append(
-                "median peak |x| at equal PSA(T_1): selected "
-                f"{_number(medians['equal_psa_t1_peak_x_m_selected'], '.3g')} m, controls "
-                f"{_number(medians['equal_psa_t1_peak_x_m_control'], '.3g')} m"
+                f"  median peak |x|: the {medians['n_selected']} selected "
+                f"{_peak_text(medians, 'equal_psa_t1', 'selected')}, "
+                f"{medians['n_control']} controls {_peak_text(medians, 'equal_psa_t1', 'control')}"
             )
-        elif "options" in summary and not summary["options"].get("confirm"):
-            lines.append("confirmation by simulation: not run (--confirm runs it)")
+        if "chosen_scale_overturned_selected" in medians:
+            from stepframe.pipeline.selection.chosen import scale_phrase
+
+            rule = scale_phrase(str(summary.get("scale_rule") or "as recorded"))
+            selected = _peak_text(medians, "chosen_scale", "selected")
+            lines.append(
+                f"confirmation at the chosen scale ({rule}): median peak |x| of the "
+                f"{medians['n_selected']} selected {selected}, of {medians['n_control']} "
+                f"controls {_peak_text(medians, 'chosen_scale', 'control')}"
+            )
         return lines
 
     def _input_lines(self) -> list[str]:
@@ -170,13 +192,13 @@ class SelectionResult:
         """One line per chosen component: pick order, score and its rank among the candidates,
         scale factor (clipped flagged), state at the chosen scale, P(in set) where it means
         something."""
-        from stepframe.pipeline.selection.names import RECORD_SCORES
+        from stepframe.pipeline.selection.tiers import ranks_by_fit
 
         summary = self.summary
         rank_by = str(summary.get("rank_by"))
         options = summary.get("options", {})
         bootstrap = int(options.get("n_bootstrap", 0) or 0)
-        meaningful = bootstrap > 0 and rank_by not in RECORD_SCORES
+        meaningful = bootstrap > 0 and ranks_by_fit(rank_by)
         ranks = _score_ranks(self.candidates, rank_by)
         response = {
             (row["file"], row["component"]): row
@@ -343,6 +365,34 @@ def _framed(name: str, columns: dict[str, tuple[str, str]]) -> Any:
     table = column_dictionary(columns)
     table.insert(0, "table", name)
     return table
+
+
+def confirmation_level(summary: dict[str, Any]) -> str:
+    """The confirmation's equal intensity for people, "equal PSA(T_1) = 0.681 g, 1 × the onset
+    of stepping", followed by the ranking's intensity when the ranking was at another (the
+    summary and the report; a folder of an earlier run, without the level: "equal PSA(T_1)").
+    """
+    from stepframe.pipeline.selection.intensity import equal_psa_level, intensity_level
+
+    medians = summary.get("medians") or {}
+    ratio, psa = medians.get("equal_psa_t1_onset_ratio"), medians.get("equal_psa_t1_g")
+    if ratio is None or psa is None:
+        return "equal PSA(T_1)"
+    level = equal_psa_level(ratio, psa / ratio)
+    intensity = summary.get("ranking_intensity")
+    if not isinstance(intensity, dict):
+        return f"equal {level}"
+    if intensity.get("kind") == "equal-psa-t1" and intensity.get("onset_ratio") == ratio:
+        return f"equal {level} (the ranking's own intensity)"
+    return f"equal {level} (ranked at {intensity_level(str(intensity.get('text', '')))})"
+
+
+def _peak_text(medians: dict[str, Any], case: str, group: str) -> str:
+    """ "0.191 m (2 overturn)": a group's median peak |x| and its overturned count in one case
+    of the confirmation's medians (``equal_psa_t1`` or ``chosen_scale``)."""
+    peak = _number(medians.get(f"{case}_peak_x_m_{group}"), ".3g")
+    overturned = medians.get(f"{case}_overturned_{group}")
+    return f"{peak} m" + ("" if overturned is None else f" ({overturned} overturn)")
 
 
 def _number(value: Any, spec: str) -> str:

@@ -22,10 +22,11 @@ from stepframe.pipeline.selection import scores as sc
 from stepframe.pipeline.selection.band import FrameBand, frame_band
 from stepframe.pipeline.selection.choose import Units, choose, percentile_scores
 from stepframe.pipeline.selection.chosen import ChosenSet, chosen_set
+from stepframe.pipeline.selection.exact import RESOLUTION, tied_across
 from stepframe.pipeline.selection.filters import FilterReport, apply_filters, filter_summary
 from stepframe.pipeline.selection.grouping import COLUMNS as GROUPING_COLUMNS
 from stepframe.pipeline.selection.grouping import grouping_summary
-from stepframe.pipeline.selection.intensity import checked_target
+from stepframe.pipeline.selection.intensity import checked_target, onset_psa_t1_g
 from stepframe.pipeline.selection.memory import check_selection_memory
 from stepframe.pipeline.selection.names import (
     DOMINATED,
@@ -52,7 +53,7 @@ from stepframe.pipeline.selection.substitute import (
     predicted_overturn_ratio,
     substitute_demand_ratio,
 )
-from stepframe.pipeline.selection.tiers import FIT_TIERS
+from stepframe.pipeline.selection.tiers import ranks_by_fit
 from stepframe.structure.frame import PortalFrame
 
 Floats = NDArray[np.float64]
@@ -681,19 +682,18 @@ def rank_stability(
 
     table, band, passing = candidates.table, candidates.band, candidates.passing
     counts = np.zeros(len(table))
+    if not ranks_by_fit(options.rank_by):
+        # The record's response and spectrum do not depend on the fit: every replicate would
+        # rank alike and choose this set (1 for it, 0 for the rest), so none is drawn.
+        counts[choice.chosen_rows] = options.n_bootstrap
     rng = np.random.default_rng(options.seed)
     replicates = [
         _perturbed(table.iloc[passing].reset_index(drop=True), rng)
-        for _ in range(options.n_bootstrap)
+        for _ in range(options.n_bootstrap if ranks_by_fit(options.rank_by) else 0)
     ]
     if replicates:
         drawn = pd.concat(replicates, ignore_index=True)
-        if options.rank_by not in FIT_TIERS:
-            # The record's response and spectrum do not depend on the fit: every replicate
-            # ranks alike.
-            score = np.asarray(table["rank_score_percentile"], dtype=np.float64)
-            all_values = np.tile(score[passing], options.n_bootstrap)
-        elif options.rank_by in PHYSICS_SCORES:
+        if options.rank_by in PHYSICS_SCORES:
             paths = strong_motion_paths(drawn, options.strong_motion_fraction)
             b, d, _, _ = _physics(drawn, np.arange(len(drawn)), band, frame, paths, *parallel)
             all_values = b if options.rank_by == "backbone_amplification" else d
@@ -922,6 +922,19 @@ def ranking_summary(
         "n_chosen": int((in_set & simulated).sum()),
         "n_rest": int(rest.sum()),
     }
+    factor = table["overturn_factor"].to_numpy(dtype=np.float64)
+    tied = tied_across(factor, np.where(simulated, response, np.nan), in_set)
+    table["ranking_tie"] = tied
+    if tied.any():
+        tie: dict[str, Any] = {
+            "n_chosen": int((tied & in_set).sum()),
+            "n_other": int((tied & ~in_set).sum()),
+            "resolution": RESOLUTION,
+        }
+        common = np.unique(factor[tied])
+        if common.size == 1 and math.isfinite(common[0]):  # one overturning factor for all
+            tie["overturn_factor"] = float(common[0])
+        out["ranking"]["tie"] = tie
     rows = np.asarray([i for i in passing if simulated[i]], dtype=np.int64)
     if ranking.plan.method != "exact" or rows.size < 4:
         out["tiers"] = []
@@ -1001,14 +1014,19 @@ def _confirm(
     is_control = np.isin(candidates, controls)
     overturned = run_equal["overturned"].to_numpy(dtype=bool)
     chosen_peak = run.table["peak_abs_x_m"].to_numpy(dtype=np.float64)
+    chosen_over = run.table["overturned"].to_numpy(dtype=bool)
     in_set = np.arange(len(pair)) < len(chosen)
     medians = {
+        "equal_psa_t1_onset_ratio": float(options.confirm_onset_ratio),
+        "equal_psa_t1_g": float(options.confirm_onset_ratio * onset_psa_t1_g(frame)),
         "equal_psa_t1_peak_x_m_selected": _median(peak, is_chosen),
         "equal_psa_t1_peak_x_m_control": _median(peak, is_control),
         "equal_psa_t1_overturned_selected": int(overturned[is_chosen].sum()),
         "equal_psa_t1_overturned_control": int(overturned[is_control].sum()),
         "chosen_scale_peak_x_m_selected": _median(chosen_peak, in_set),
         "chosen_scale_peak_x_m_control": _median(chosen_peak, ~in_set),
+        "chosen_scale_overturned_selected": int(chosen_over[in_set].sum()),
+        "chosen_scale_overturned_control": int(chosen_over[~in_set].sum()),
         "n_selected": len(chosen),
         "n_control": len(controls),
         "n_equal_intensity": len(candidates),

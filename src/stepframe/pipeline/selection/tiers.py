@@ -56,6 +56,14 @@ FIT_TIERS = (
 )
 
 
+def ranks_by_fit(rank_by: str) -> bool:
+    """Whether the ranking ``rank_by`` reads the fitted parameters: only then can the bootstrap
+    over their standard errors move the chosen set, and ``selection_probability`` say more than
+    1 for the chosen and 0 for the rest (the simulated response and the spectra read the
+    record)."""
+    return rank_by in FIT_TIERS
+
+
 def tier_values(table: Any, name: str, base_scales: Floats) -> Floats:
     """The tier ``name``'s values at the ranking intensity, larger more severe."""
     from stepframe.pipeline.selection.peers import at_intensity
