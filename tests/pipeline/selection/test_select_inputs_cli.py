@@ -167,6 +167,22 @@ def test_bad_input_is_one_line(
     assert line.startswith(expected), line
 
 
+def test_a_folder_with_no_record_names_the_first_failure(
+    folders: tuple[Path, Path, Path], tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Every file failed: the one line says which file and why (no failures.csv is written)."""
+    frame = folders[0]
+    junk = tmp_path / "junk"
+    junk.mkdir()
+    (junk / "notes.txt").write_text("site visit, 3 May\n")
+    line = _error(capsys, "--frame", str(frame), str(junk), "-n", "1", "-o", str(tmp_path / "o"))
+    assert line.startswith(
+        f"no component gave features (1 failed; the first: {junk / 'notes.txt'}: format not "
+        "recognised"
+    ), line
+    assert not (tmp_path / "o").exists()
+
+
 def test_metadata_with_the_example_alone_and_unknown_arguments(
     folders: tuple[Path, Path, Path], tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -272,8 +272,13 @@ def _select(
     table.attrs = dict(parts[0].attrs)
     feature_failures = pd.concat(failure_parts, ignore_index=True)
     if table.empty:
+        # the first failure's own line says which file and why (failures.csv is not written)
+        first = ""
+        if len(feature_failures):
+            item, message = (str(feature_failures[k].iat[0]) for k in ("item", "message"))
+            first = f"; the first: {message if item in message else f'{item}: {message}'}"
         raise InputError(
-            f"no component gave features ({len(feature_failures)} failed), expected records"
+            f"no component gave features ({len(feature_failures)} failed{first}), expected records"
         )
     result = select_records(
         table,
