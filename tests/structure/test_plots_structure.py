@@ -89,3 +89,27 @@ def test_without_the_ground_motion_one_panel_and_the_legend_outside(
     figure.draw_without_rendering()
     (legend,) = figure.legends
     assert not legend.get_window_extent().overlaps(axes.get_window_extent())
+
+
+def test_ida_figure_draws_overturned_runs_in_a_column_of_their_own() -> None:
+    """The overturned runs' peak is the cap (5.77 m for Example 4), ten times the standing
+    peaks: they go to an "overturned" column just beyond the widest standing peak, and the axis
+    ends there, so the curves keep the width of the figure."""
+    from stepframe.structure.dynamics_plots import ida_figure
+    from stepframe.structure.ida import ItemIda
+
+    items = [
+        ItemIda(intensity=[0.1, 0.2, 0.3], overturned=[False, False, True],
+                peak_abs_x_m=[0.05, 0.4, 5.77]),
+        ItemIda(intensity=[0.1, 0.2], overturned=[False, True], peak_abs_x_m=[0.6, 5.77]),
+    ]  # fmt: skip
+    figure = ida_figure(items)
+    (axes,) = figure.axes
+    crosses = [line for line in axes.get_lines() if line.get_marker() == "x"]
+    columns = {float(x) for line in crosses for x in line.get_xdata()}
+    assert len(columns) == 1 and columns.pop() == pytest.approx(1.15 * 0.6)
+    assert axes.get_xlim()[1] == pytest.approx(1.23 * 0.6)
+    assert axes.get_xticklabels()[-1].get_text() == "overturned"
+    # the standing runs are where they were
+    standing = [line for line in axes.get_lines() if line.get_marker() == "o"]
+    assert [list(line.get_xdata()) for line in standing] == [[0.05, 0.4], [0.6]]

@@ -65,7 +65,9 @@ def ida_figure(
     names: Sequence[str] | None = None,
     intensity_label: str = "PGA [g]",
 ) -> Figure:
-    """IDA curves: intensity against peak |x| per item; overturning runs as crosses.
+    """IDA curves: intensity against peak |x| per item; overturning runs as crosses in a column
+    of their own at the right (their peak is the frame's cap, metres beyond any standing peak,
+    which would squeeze the curves into a sliver of the axis).
 
     Resurrected items are drawn in red, others in grey.
     """
@@ -73,6 +75,12 @@ def ida_figure(
 
     fig = Figure(figsize=(7, 5))
     ax = fig.add_subplot(1, 1, 1)
+    standing = [
+        np.asarray(item.peak_abs_x_m)[~np.asarray(item.overturned, dtype=bool)] for item in items
+    ]
+    finite = np.concatenate([p[np.isfinite(p)] for p in standing]) if standing else np.empty(0)
+    widest = float(finite.max()) if finite.size and finite.max() > 0 else 1.0
+    column = 1.15 * widest  # where the overturned runs are drawn
     for k, item in enumerate(items):
         s = np.asarray(item.intensity)
         pk = np.asarray(item.peak_abs_x_m)
@@ -80,8 +88,12 @@ def ida_figure(
         color = "tab:red" if item.resurrections else "0.5"
         label = names[k] if names is not None and len(items) <= 8 else None
         ax.plot(pk[~ov], s[~ov], "-o", ms=2, lw=0.7, color=color, label=label)
-        ax.plot(pk[ov], s[ov], "x", ms=4, color=color)
-    ax.set_xlabel("peak |x| [m] (x: overturned)")
+        ax.plot(np.full(int(ov.sum()), column), s[ov], "x", ms=4, color=color)
+    ax.axvline(1.075 * widest, color="0.7", lw=0.8, ls="--")
+    ax.set_xlim(0.0, 1.23 * widest)
+    ticks = [t for t in ax.get_xticks() if 0.0 <= t <= widest]
+    ax.set_xticks([*ticks, column], [*(f"{t:g}" for t in ticks), "overturned"])
+    ax.set_xlabel("peak |x| [m]")
     ax.set_ylabel(intensity_label)
     ax.set_title("IDA by hunt-trace-fill (red: resurrection found)")
     if names is not None and len(items) <= 8:
