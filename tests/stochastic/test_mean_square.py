@@ -347,3 +347,20 @@ def test_bad_arguments_raise_input_errors() -> None:
         mean_square_response(SITE, 10.0, 0.05, time_s=np.array([0.0, 1.0, 3.0]))
     with pytest.raises(InputError, match="n_realisations"):
         mean_square_response(SITE, 10.0, 0.05, method="monte-carlo", time_s=grid, n_realisations=1)
+
+
+def test_an_envelope_between_the_grid_times_is_refused() -> None:
+    """t_max 1 ms before t_dur: the envelope's exponent, ln 0.1 / (ln r + 1 - r) with r =
+    t_dur/t_max, is about 2·10⁹, a pulse of some 2 ms that no time of a 0.01-s grid samples at
+    strength; the response (~1e-19 m) and any ratio of two of them would be rounding noise."""
+    spike = GroundMotionModel(20.0, 20.0, 10.0, 0.1, 0.2, t_max_s=19.999, t_dur_s=20.0)
+    grid = np.linspace(0.0, 40.0, 4001)
+    sampled = default_envelope(grid, 19.999, 20.0)
+    assert np.count_nonzero(sampled >= 0.1) < 2  # the strong motion between the grid's times
+    with pytest.raises(InputError, match=r"holds [01] of the analysis's 4000 time steps of 0\.01"):
+        mean_square_response(spike, 10.0, 0.05, time_s=grid)
+    # 0.1 s before t_dur: ten samples of strong motion, computed, and the peak response has
+    # the size of the stationary one over that short pulse (finite, not 1e-19)
+    short = GroundMotionModel(20.0, 20.0, 10.0, 0.1, 0.2, t_max_s=19.9, t_dur_s=20.0)
+    result = mean_square_response(short, 10.0, 0.05, time_s=grid)
+    assert 1e-4 < math.sqrt(float(np.max(result.mean_square_m2))) < 1.0

@@ -514,6 +514,32 @@ def analysis_grid(
 
 
 EnvelopeFn = Callable[[Floats], ArrayLike]
+#: Fewest samples of the analysis grid within the default envelope's strong motion (I_g at or
+#: above :data:`~stepframe.stochastic.envelope.DEFAULT_DURATION_THRESHOLD` of its peak).
+MIN_STRONG_MOTION_SAMPLES = 2
+
+
+def _check_envelope_resolved(
+    model: GroundMotionModel, grid: Floats, values: Floats, peak_intensity: float
+) -> None:
+    """Refuse a default envelope whose strong motion falls between the grid's times.
+
+    As t_max nears t_dur the envelope's exponent grows without bound (t_max = 19.999 s, t_dur
+    = 20 s: a ≈ 2·10⁹, a pulse some 2 ms wide): on a grid of 0.01 s the motion is nowhere, the
+    response ~1e-19 m, and every ratio of two such responses is rounding noise.
+    """
+    from stepframe.stochastic.envelope import DEFAULT_DURATION_THRESHOLD
+
+    strong = int(np.count_nonzero(values >= DEFAULT_DURATION_THRESHOLD * peak_intensity))
+    if strong < MIN_STRONG_MOTION_SAMPLES:
+        step = float(grid[1] - grid[0])
+        raise InputError(
+            f"t_max_s = {model.t_max_s:g}, t_dur_s = {model.t_dur_s:g}: the envelope's strong "
+            f"motion (I_g ≥ {DEFAULT_DURATION_THRESHOLD:g} of its peak) holds {strong} of the "
+            f"analysis's {grid.size - 1} time steps of {step:.3g} s, expected ≥ "
+            f"{MIN_STRONG_MOTION_SAMPLES} (t_dur - t_max = {model.t_dur_s - model.t_max_s:.3g} "
+            "s: more time steps, or a t_max further from t_dur)"
+        )
 
 
 def _envelope_fn(
@@ -1110,6 +1136,8 @@ def mean_square_response(
         _FrameLaw(spec) if isinstance(spec, FrameDriven) else _Path(spec, model, grid)
     )
     env = _envelope_fn(model, envelope, peak_intensity)
+    if envelope is None:
+        _check_envelope_resolved(model, grid, env(grid), peak_intensity)
     check_mean_square_memory(np.atleast_1d(path.omega_0).size, grid.size - 1)
     problem = MeanSquareProblem(
         model, path, float(xi0), grid, env, n_realisations, seed, confidence, mc_dt_s, keep_samples
