@@ -74,6 +74,26 @@ def test_an_option_given_twice_is_an_error(capsys: pytest.CaptureFixture[str]) -
     assert "--units given twice" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize(
+    ("words", "hint"),
+    [
+        (["structure", "design", "pier.toml"], " (a TOML file is given with --input TOML)"),
+        (
+            ["structure", "simulate", "--frame", "f.toml", "a.AT2", "FRAME.toml"],
+            " (a TOML file is given with --frame FRAME.toml)",
+        ),
+        (["structure", "design", "--input", "x.toml", "extra"], ""),  # not a TOML file
+    ],
+)
+def test_a_stray_toml_file_names_the_option_that_reads_it(
+    words: list[str], hint: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert main(words) == 2
+    assert capsys.readouterr().err == (
+        f"stepframe: error: unrecognized arguments: {words[-1]}{hint}\n"
+    )
+
+
 def test_csv_floats_are_printed_cleanly(tmp_path: Path) -> None:
     import pandas as pd
 

@@ -103,9 +103,31 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _run(args_list, debug)
 
 
+def _parse(args_list: list[str]) -> argparse.Namespace:
+    """The command line parsed; words no option takes are an error, which names the option that
+    reads a TOML file when a stray word is one (``structure design pier.toml``: ``--input``)."""
+    parser = build_parser()
+    args, extras = parser.parse_known_args(args_list)
+    if extras:
+        hint = ""
+        leaf = getattr(args, "_leaf_parser", None)
+        if leaf is not None and any(word.lower().endswith(".toml") for word in extras):
+            takers = [
+                f"{action.option_strings[-1]} {action.metavar}"
+                for action in leaf._actions
+                if action.option_strings
+                and isinstance(action.metavar, str)
+                and action.metavar.upper().endswith("TOML")
+            ]
+            if takers:
+                hint = f" (a TOML file is given with {' or '.join(takers)})"
+        parser.error(f"unrecognized arguments: {' '.join(extras)}{hint}")
+    return args
+
+
 def _run(args_list: list[str], debug: bool) -> int:
     try:
-        args = build_parser().parse_args(args_list)
+        args = _parse(args_list)
         if getattr(args, "run", None) is None:
             # A group without a sub-command (or no command at all): show its help.
             target = getattr(args, "_group_parser", None) or build_parser()

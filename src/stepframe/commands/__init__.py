@@ -95,7 +95,7 @@ def add_command(
     add_fields(parser, MemoryOptions)
     if plot is not None:
         add_options(parser, ("--plot", None, "OUT.png", plot))
-    parser.set_defaults(run=run)
+    parser.set_defaults(run=run, _leaf_parser=parser)
     return parser
 
 
