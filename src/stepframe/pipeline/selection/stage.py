@@ -29,8 +29,10 @@ from stepframe.pipeline.reports.provenance import workflow_provenance
 # chosen set's spectra, code check, response and motions; 4: records by identity; 5: ranked by
 # the simulated response at a stated intensity; 6: the frame in selection.json; 7: the ranking's
 # estimate and budget in CPU seconds of one core (the same on every machine); 8: the exact
-# integrator's chord-bound fast path (its runs the same to rounding), the bootstrap's kernel
-SELECTION_VERSION = 8
+# integrator's chord-bound fast path (its runs the same to rounding), the bootstrap's kernel; 9:
+# the ranking's ties (ranking_tie, ranking.tie), the confirmation's intensity and the chosen
+# scale's overturned counts in the medians
+SELECTION_VERSION = 9
 # 2: the peers and the ranking's simulations in the pass; 3: the exact integrator's chord-bound
 # fast path (the same runs to rounding: recomputed rather than mixed with the former kernel's)
 RESPONSES_VERSION = 3
@@ -38,8 +40,9 @@ RESPONSES_VERSION = 3
 # the chosen set at its scale, chosen records marked, "not run"; 5: records by identity; 6: the
 # ranking's sections; 7: the ranking intensity in the summary box; 8: the frame from
 # selection.json (the moving-resonance section runs); 9: that section at the ranking intensity;
-# 10: its simulations by the integrator's chord-bound fast path (the same to rounding)
-SELECTION_REPORT_VERSION = 10
+# 10: its simulations by the integrator's chord-bound fast path (the same to rounding); 11: the
+# ranking's tie, the selected against the controls at both intensities
+SELECTION_REPORT_VERSION = 11
 SELECTION_REPORT_HTML = "selection_report.html"
 
 
