@@ -118,7 +118,7 @@ def test_partial_metadata_caps_count_unknown_events_apart(
     table = table.copy()
     known = table["event"].isin(["Northridge 1994", "Kobe, Japan 1995"])
     table.loc[~known, "event"] = None
-    options = SelectionOptions(n=7, max_per_event=1, rank_by="band_coverage", n_bootstrap=0)
+    options = SelectionOptions(n=7, max_per_event=1, rank_by="omega_p_over_s_sq", n_bootstrap=0)
     result = select_records(table, example4, options, records=records, jobs=1)
     assert len(result.selection) == 7 and result.status == "ok"
     chosen_events = result.selection["event"].dropna().tolist()

@@ -174,7 +174,7 @@ def test_unreadable_record_lands_in_failures(
             "-o",
             str(out),
             "--rank-by",
-            "band_coverage",
+            "omega_p_over_s_sq",
             "--n-bootstrap",
             "0",
             json_first=True,

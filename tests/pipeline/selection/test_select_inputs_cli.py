@@ -78,7 +78,7 @@ def test_symlinked_folders_are_followed_once(
     os.symlink(knet, peer / "knet-again")  # the same folder twice: its files once
     code, payload = _run(
         capsys, "--frame", str(frame), str(peer), "-n", "1",
-        "-o", str(tmp_path / "o"), "--rank-by", "band_coverage",
+        "-o", str(tmp_path / "o"), "--rank-by", "omega_p_over_s_sq",
     )  # fmt: skip
     assert code == 0
     assert payload["n_candidates"] == 5  # 2 AT2 + 3 K-NET, none twice

@@ -5,7 +5,9 @@ motion rank first, against motions at equal intensity whose ω_g stays above or 
 
 from __future__ import annotations
 
+import dataclasses
 import math
+import tomllib
 from typing import Any
 
 import numpy as np
@@ -167,3 +169,38 @@ def test_sweepers_are_chosen_as_recorded(equal_pga: Any, example4: PortalFrame) 
         jobs=1,
     )
     assert not set(gated.selection["file"]) & set(sweepers)
+
+
+def test_a_tier_tie_across_the_edge_is_said(catalogue: tuple[Any, Any]) -> None:
+    """By band coverage, the three sweeps and one motion from below cover part of the band,
+    the five others none of it: five chosen take those four and one of five equal zeros (a
+    tie, said), four take those four (none)."""
+    from stepframe.pipeline.selection.ranking import tie_line
+
+    features, _ = catalogue
+    options = SelectionOptions(
+        n=5, rank_by="band_coverage", a_max_m=A_MAX_M, n_bootstrap=0, require_plausible=False
+    )
+    result = select_records(features, FRAME, options, jobs=1)
+    zero = result.candidates["band_coverage"].to_numpy() == 0.0
+    assert zero.sum() == 5
+    tie = result.summary["ranking"]["tie"]
+    assert tie == {"n_chosen": 1, "n_other": 4, "resolution": 0.0, "score": "band_coverage"}
+    assert result.candidates["ranking_tie"].tolist() == zero.tolist()
+    assert tie_line(result.summary) in result.summary_lines()
+    assert "their band_coverage values are equal" in str(tie_line(result.summary))
+    four = select_records(features, FRAME, dataclasses.replace(options, n=4), jobs=1)
+    assert "tie" not in four.summary["ranking"] and not four.candidates["ranking_tie"].any()
+
+
+def test_a_tier_equal_for_every_candidate_is_refused(example_inputs: Any) -> None:
+    """FEMA P695 against Example 4's band: no fitted ω_g path enters it, band coverage 0 for
+    all; choosing by it would be file order."""
+    from stepframe.errors import InputError
+    from stepframe.structure.frame_file import FRAME_TEMPLATE, frame_from_mapping
+
+    table, records, _ = example_inputs
+    frame = frame_from_mapping(tomllib.loads(FRAME_TEMPLATE))
+    options = SelectionOptions(n=3, rank_by="band_coverage", n_bootstrap=0)
+    with pytest.raises(InputError, match=r"'band_coverage' is 0 for every one of the \d+ cand"):
+        select_records(table, frame, options, records=records, jobs=1)

@@ -181,19 +181,25 @@ def ranking_order(overturn_factor: Floats, response_m: Floats) -> NDArray[np.int
 
 
 def tied_across(
-    overturn_factor: Floats, response_m: Floats, chosen: NDArray[np.bool_]
+    overturn_factor: Floats,
+    response_m: Floats,
+    chosen: NDArray[np.bool_],
+    resolution: float = RESOLUTION,
 ) -> NDArray[np.bool_]:
     """The candidates the order does not tell apart across the chosen set's edge: each chosen
     candidate tied with one not chosen, and each such other, where a tie is overturning
-    factors within :data:`RESOLUTION` of each other (or neither overturning) and ladder means
+    factors within ``resolution`` of each other (or neither overturning) and ladder means
     within it too. NaN responses (not ranked, failed) are never tied.
 
     Parameters
     ----------
     overturn_factor, response_m
         The two keys per candidate (:class:`ResponseRanking`; NaN factor: never overturns).
+        A ranking by one value (a tier) passes NaN factors and its values as the responses.
     chosen
         The chosen set's mask.
+    resolution
+        Relative difference below which two keys are equal (0: only equal values).
     """
     factor = np.asarray(overturn_factor, dtype=np.float64)
     response = np.asarray(response_m, dtype=np.float64)
@@ -206,7 +212,7 @@ def tied_across(
 
     def close(values: Floats) -> NDArray[np.bool_]:
         a, b = values[inside][:, None], values[outside][None, :]
-        return np.asarray(np.abs(a - b) <= RESOLUTION * np.minimum(a, b))
+        return np.asarray(np.abs(a - b) <= resolution * np.abs(np.minimum(a, b)))
 
     never = np.isnan(factor)
     pairs = close(response) & (close(factor) | (never[inside][:, None] & never[outside][None, :]))

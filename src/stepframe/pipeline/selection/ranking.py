@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from stepframe.core.results import Failure
+from stepframe.errors import InputError
 from stepframe.pipeline.selection.choose import percentile_scores
 from stepframe.pipeline.selection.exact import (
     BISECTION_STEPS,
@@ -140,7 +141,9 @@ def rank_candidates(
     if options.rank_by != SIMULATED_RESPONSE:
         # a tier alone: its values at the ranking intensity, nothing simulated
         the_plan = plan(options, int(passing.size), 0, len(LADDER))
-        z[passing] = percentile_scores(tier_values(table, options.rank_by, base)[passing])
+        values = tier_values(table, options.rank_by, base)[passing]
+        _check_ranks_something(options.rank_by, values, int(options.n))
+        z[passing] = percentile_scores(values)
         return Ranking(intensity, the_plan, z, 0, 0.0), [], []
     failures: list[Failure] = []
     done = {
@@ -180,6 +183,22 @@ def rank_candidates(
     failures += [_failure(table, i, response.failed[list(rows).index(i)]) for i in failed]
     bad = sorted(set(passing.tolist()) - set(usable.tolist())) + failed
     return Ranking(intensity, the_plan, z, int(rows.size), seconds), failures, bad
+
+
+def _check_ranks_something(name: str, values: Floats, n: int) -> None:
+    """A tier whose value is the same for every candidate (or undefined for all) ranks nothing:
+    the chosen set would be the first n in file order. An error, not a silent pick (FEMA P695
+    against Example 4's band: no fitted ω_g path enters it, ``band_coverage`` 0 for all 100)."""
+    finite = values[np.isfinite(values)]
+    # equal to rounding: a peer scaled to a common intensity is one number times a ratio
+    if values.size <= n or (finite.size and np.ptp(finite) > 1e-12 * np.max(np.abs(finite))):
+        return
+    what = f"{finite[0]:g} for every one" if finite.size else "undefined for every one"
+    raise InputError(
+        f"rank_by = {name!r} is {what} of the {values.size} candidates, so it ranks nothing, "
+        "expected a ranking that tells them apart (the default simulated_response, or another "
+        "tier: docs/selection.md)"
+    )
 
 
 def _size(
@@ -245,17 +264,20 @@ def tie_line(summary: dict[str, Any]) -> str | None:
         return None
     chosen, other = int(tie["n_chosen"]), int(tie["n_other"])
     factor = tie.get("overturn_factor")
-    keys = (
-        f"each overturns the frame from ×{factor:.3g} of its ranking scale and their ladder "
-        "means are"
-        if isinstance(factor, int | float)
-        else "their overturning factors and ladder means are"
-    )
+    if "score" in tie:  # a tier: equal values
+        keys, below = f"their {tie['score']} values are equal", "by candidate order"
+    else:
+        keys = (
+            f"each overturns the frame from ×{factor:.3g} of its ranking scale and their "
+            "ladder means are"
+            if isinstance(factor, int | float)
+            else "their overturning factors and ladder means are"
+        ) + f" within {100 * float(tie['resolution']):.2g} %, the bisection's resolution"
+        below = "by differences below it"
     return (
         f"tie: the ranking does not tell {chosen} of the chosen from {other} other candidates "
-        f"({keys} within {100 * float(tie['resolution']):.2g} %, the bisection's resolution): "
-        f"which {chosen} of these {chosen + other} are chosen is decided by differences below "
-        "it (candidates.csv: ranking_tie)"
+        f"({keys}): which {chosen} of these {chosen + other} are chosen is decided {below} "
+        "(candidates.csv: ranking_tie)"
     )
 
 

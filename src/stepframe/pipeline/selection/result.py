@@ -142,6 +142,9 @@ class SelectionResult:
             f"  Spearman({entry['score']}, {entry['response']}) = "
             f"{_number(entry.get('spearman'), '.2f')} [{_number(entry.get('low'), '.2f')}, "
             f"{_number(entry.get('high'), '.2f')}], n = {entry['n']}"
+            if isinstance(entry.get("spearman"), int | float) and math.isfinite(entry["spearman"])
+            else f"  Spearman({entry['score']}, {entry['response']}) undefined (the same value "
+            f"for every candidate, in the score or the response), n = {entry['n']}"
             for entry in summary.get("correlations", [])
             if entry["score"] == summary.get("rank_by")
         ]

@@ -902,12 +902,16 @@ def ranking_summary(
     from stepframe.pipeline.selection.tiers import agreement, tier_values
 
     out = ranking.summary()
+    in_set = np.zeros(len(table), dtype=bool)
+    in_set[chosen] = True
     if ranking.plan.method == "tier":
+        # one key, the tier's value (its percentile): only equal values tie
+        none = np.full(len(table), np.nan)
+        tied = tied_across(none, ranking.z, in_set, resolution=0.0)
+        _tie(out, table, tied, in_set, none, score=options.rank_by)
         out["tiers"] = []
         return out
     simulated = table["simulated"].to_numpy(dtype=bool)
-    in_set = np.zeros(len(table), dtype=bool)
-    in_set[chosen] = True
     rest = simulated & ~in_set
     response = table[SIMULATED_RESPONSE].to_numpy(dtype=np.float64)
     peak = table["ranking_peak_x_m"].to_numpy(dtype=np.float64)
@@ -924,17 +928,7 @@ def ranking_summary(
     }
     factor = table["overturn_factor"].to_numpy(dtype=np.float64)
     tied = tied_across(factor, np.where(simulated, response, np.nan), in_set)
-    table["ranking_tie"] = tied
-    if tied.any():
-        tie: dict[str, Any] = {
-            "n_chosen": int((tied & in_set).sum()),
-            "n_other": int((tied & ~in_set).sum()),
-            "resolution": RESOLUTION,
-        }
-        common = np.unique(factor[tied])
-        if common.size == 1 and math.isfinite(common[0]):  # one overturning factor for all
-            tie["overturn_factor"] = float(common[0])
-        out["ranking"]["tie"] = tie
+    _tie(out, table, tied, in_set, factor, RESOLUTION)
     rows = np.asarray([i for i in passing if simulated[i]], dtype=np.int64)
     if ranking.plan.method != "exact" or rows.size < 4:
         out["tiers"] = []
@@ -948,6 +942,34 @@ def ranking_summary(
     }
     out["tiers"] = agreement(ranking.z[rows], tiers, options.n, parallel)
     return out
+
+
+def _tie(
+    out: dict[str, Any],
+    table: Any,
+    tied: NDArray[np.bool_],
+    in_set: NDArray[np.bool_],
+    factor: Floats,
+    resolution: float = 0.0,
+    score: str | None = None,
+) -> None:
+    """candidates.csv's ``ranking_tie`` and, when some candidates tie across the chosen set's
+    edge, ``ranking.tie`` (counts, the resolution, the common overturning factor if any, the
+    tier's name for a ranking by a tier's equal values)."""
+    table["ranking_tie"] = tied
+    if not tied.any():
+        return
+    tie: dict[str, Any] = {
+        "n_chosen": int((tied & in_set).sum()),
+        "n_other": int((tied & ~in_set).sum()),
+        "resolution": resolution,
+    }
+    common = np.unique(factor[tied])
+    if common.size == 1 and math.isfinite(common[0]):  # one overturning factor for all
+        tie["overturn_factor"] = float(common[0])
+    if score is not None:
+        tie["score"] = score
+    out["ranking"]["tie"] = tie
 
 
 def _confirm(
