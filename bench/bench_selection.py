@@ -8,7 +8,7 @@ absolute times.
 
 - Ranking: a synthetic features table of 43,000 components (the FEMA P695 fits resampled with
   5 % lognormal jitter, so the parameters are realistic), filtered and ranked by
-  ``select_records`` (rank by band coverage, n = 50, no bootstrap, no confirmation). Peer: the
+  ``select_records`` (rank by omega_p_over_s_sq, n = 50, no bootstrap, no confirmation). Peer: the
   same scores for 1,000 rows through the per-model library calls (GroundMotionModel and
   amplification.spectral_ratio_eq_6_18 per row), scaled to 43,000.
 - Physics score: ``scores.physics_scores`` per candidate on one core (numba threads = 1), over
@@ -96,7 +96,7 @@ def main() -> None:
     print("| step | rows | wall [s] | CPU [s] | peer (per-row library calls) [s] | ratio |")
     print("|---|---|---|---|---|---|")
     print(
-        f"| filter + rank (band coverage, n = 50) | 43,000 | {rank_s:.2f} | {rank_cpu:.2f} | "
+        f"| filter + rank (omega_p_over_s_sq, n = 50) | 43,000 | {rank_s:.2f} | {rank_cpu:.2f} | "
         f"{peer_s:.1f} (eq. 6.18 only) | {peer_s / rank_s:.0f}× |"
     )
     print(f"| the same with 16 bootstrap replicates | 43,000 | {boot_s:.2f} | | | |")
