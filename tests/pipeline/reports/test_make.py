@@ -80,7 +80,17 @@ def test_the_summary_states_the_runs_correlations_with_their_intervals() -> None
     ]  # fmt: skip
     line = _stated_correlations({"correlations": rows}, "s")
     assert line == (
-        "Spearman, s, 95 % bootstrap intervals: ρ = 0.19 [-0.08, 0.44] with peak drift "
-        "(n = 53); ρ = 0.31 [0.05, 0.54] with overturn margin (n = 53)"
+        "Spearman, s, 95 % bootstrap intervals, at equal PSA(T_1): ρ = 0.19 [-0.08, 0.44] with "
+        "peak drift (n = 53); ρ = 0.31 [0.05, 0.54] with overturn margin (n = 53)"
+    )
+    # with the run's stated intensities: the confirmation's level, and the ranking's when other
+    stated = {
+        "correlations": rows,
+        "medians": {"equal_psa_t1_onset_ratio": 2.0, "equal_psa_t1_g": 1.2},
+        "ranking_intensity": {"kind": "as-used", "text": "the records as recorded; ladder ×1"},
+    }
+    assert _stated_correlations(stated, "s").startswith(
+        "Spearman, s, 95 % bootstrap intervals, at equal PSA(T_1) = 1.2 g, 2 × the onset of "
+        "stepping (ranked at the records as recorded): ρ = 0.19"
     )
     assert _stated_correlations({}, "s") == ""

@@ -250,7 +250,10 @@ def _stated_correlations(summary: dict[str, Any], rank_by: str) -> str:
         parts.append(f"ρ = {rho:.2f} [{low:.2f}, {high:.2f}] with {response} (n = {row.get('n')})")
     if not parts:
         return ""
-    return f"Spearman, {rank_by}, 95 % bootstrap intervals: " + "; ".join(parts)
+    return (
+        f"Spearman, {rank_by}, 95 % bootstrap intervals, at {confirmation_level(summary)}: "
+        + "; ".join(parts)
+    )
 
 
 def _confirmation(
