@@ -184,3 +184,40 @@ def test_a_motion_too_short_for_the_band_spectrum_is_simulated_and_says_so(
     assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     status, out, _ = run(capsys, *args)
     assert status == 0 and "moving resonance: not measured (no band spectrum" in out
+
+
+def test_a_frame_without_a_band_is_simulated_and_says_so(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path, data_dir: Path
+) -> None:
+    """γ_1 = 0.07912 m/s² puts x* = γ_1/ω_2² at 0.190476 m, 5e-5 m above x_c: the default band's
+    bottom, 0.8 x*, is below x_c, so there is no band to measure moving resonance over. The
+    simulation stands (before, the command refused the whole run); the measures say why, and
+    `select` on the frame names the options that give a band."""
+    frame_file = tmp_path / "FRAME.toml"
+    frame_file.write_text(
+        FRAME_TEMPLATE.replace("gamma_1_m_s2 = 0.1387 ", "gamma_1_m_s2 = 0.07912"),
+        encoding="utf-8",
+    )
+    frame = read_frame_file(frame_file)
+    assert frame.x_c_m < frame.x_star_m < frame.x_c_m / 0.8
+    record = str(data_dir / RECORD)
+    status, out, err = run(
+        capsys, "structure", "simulate", "--frame", str(frame_file), record, "--scale", "6",
+        "--json",
+    )  # fmt: skip
+    assert (status, err) == (0, "")
+    summary = json.loads(out)
+    trace = read(record)[0]
+    expected = simulate(frame, trace.data, trace.stats.delta, scale=6.0).summary
+    assert summary["peak_abs_x_m"] == expected.peak_abs_x_m
+    resonance = summary["moving_resonance"]
+    assert resonance["status"] == "failed" and "band_rad_s" not in resonance
+    assert resonance["message"].startswith("no band: A_max = 0.152381 m (fraction-of-x-star)")
+    status, _, err = run(
+        capsys, "select", "--frame", str(frame_file), "--example", "fema-p695", "-n", "1",
+        "-o", str(tmp_path / "o"),
+    )  # fmt: skip
+    assert status == 2 and err.rstrip().endswith(
+        "x_c is 0.9997 x*: give --a-max-m between them or a --x-star-fraction above that"
+    )
+    assert not (tmp_path / "o").exists()

@@ -225,9 +225,12 @@ class MovingResonance:
     message: str = ""
 
     def to_dict(self) -> dict[str, Any]:
-        """Plain dictionary (JSON-ready; NaN stays NaN for core.jsonable to map)."""
+        """Plain dictionary (JSON-ready; NaN stays NaN for core.jsonable to map; no
+        ``band_rad_s`` when the frame has none, :func:`unmeasured`)."""
         data = asdict(self)
         data["band_rad_s"] = list(self.band_rad_s)
+        if not all(math.isfinite(value) for value in self.band_rad_s):
+            del data["band_rad_s"]
         return data
 
 
@@ -442,6 +445,12 @@ def measure_run(
     return ResonanceRun(result, spectrum, resonance_index(result, spectrum, band_rad_s), title)
 
 
+def unmeasured(result: SimulationResult, message: str) -> ResonanceRun:
+    """A simulation whose moving resonance cannot be measured at all (no band: the frame's
+    default band needs 0.8 x* above x_c), the reason in its measures; the simulation stands."""
+    return ResonanceRun(result, None, _failed((math.nan, math.nan), message))
+
+
 def moving_resonance(
     frame: PortalFrame,
     ground_acc_m_s2: ArrayLike,
@@ -494,4 +503,5 @@ __all__ = [
     "moving_resonance",
     "resonance_figure",
     "resonance_index",
+    "unmeasured",
 ]

@@ -142,7 +142,7 @@ def simulate_record(
     """
     import numpy as np
 
-    from stepframe.pipeline.dynamics.resonance import default_band, measure_run
+    from stepframe.pipeline.dynamics.resonance import default_band, measure_run, unmeasured
     from stepframe.structure.simulator import DEFAULT_TAIL_S, simulate
 
     dt_s = float(trace.stats.delta)
@@ -156,7 +156,12 @@ def simulate_record(
         )
     tail = DEFAULT_TAIL_S if tail_s is None else float(tail_s)
     result = simulate(frame, samples, dt_s, scale=float(scale), tail_s=tail)
-    resonance = measure_run(result, samples, dt_s, default_band(frame))
+    try:
+        band = default_band(frame)
+    except InputError as error:  # a frame with little room to step: simulated, not measured
+        resonance = unmeasured(result, f"no band: {error}")
+    else:
+        resonance = measure_run(result, samples, dt_s, band)
     summary: dict[str, Any] = {
         "record": str(name),
         "component": str(trace.stats.channel),

@@ -131,9 +131,17 @@ def frame_band(
     else:
         a_max, source = x_star_fraction * frame.x_star_m, "fraction-of-x-star"
     if not (math.isfinite(a_max) and frame.x_c_m < a_max < frame.x_star_m):
+        # the default's fix: a fraction of x* above x_c/x* (a frame with little room to step)
+        hint = (
+            f"; x_c is {frame.x_c_m / frame.x_star_m:.4g} x*: give --a-max-m between them or a "
+            "--x-star-fraction above that"
+            if source == "fraction-of-x-star"
+            else ""
+        )
         raise InputError(
             f"A_max = {a_max:.6g} m ({source}), expected x_c = {frame.x_c_m:.6g} m < A_max < "
-            f"x* = {frame.x_star_m:.6g} m (below x_c the frame does not step; at x* it overturns)"
+            f"x* = {frame.x_star_m:.6g} m (below x_c the frame does not step; at x* it "
+            f"overturns){hint}"
         )
     omega_1 = frame.omega_1_rad_s
     omega_low = 2.0 * math.pi / float(period_amplitude(frame, a_max))
