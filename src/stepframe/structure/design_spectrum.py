@@ -125,6 +125,19 @@ class TwoPeriodSpectrum:
         return out
 
 
+def point_problem(period_s: float, sa: float, previous_s: float | None) -> str | None:
+    """What is wrong with one point (T, S_a) of a tabulated spectrum, the point before it at
+    ``previous_s`` (None for the first); None when nothing (the table's rule, which the target
+    CSV's reader applies line by line)."""
+    if not (math.isfinite(period_s) and period_s >= 0):
+        return "expected a finite period ≥ 0"
+    if not (math.isfinite(sa) and sa > 0):
+        return "expected a spectral acceleration > 0"
+    if previous_s is not None and not period_s > previous_s:
+        return f"expected strictly increasing periods (after {previous_s:g} s)"
+    return None
+
+
 @dataclass(frozen=True)
 class TabulatedSpectrum:
     """A spectrum given as points (T_k, S_a,k), linear between them.
@@ -150,15 +163,9 @@ class TabulatedSpectrum:
         if len(periods) < 2:
             raise InputError(f"{len(periods)} spectrum points, expected at least 2")
         for k, (p, v) in enumerate(zip(periods, values, strict=True)):
-            if not (math.isfinite(p) and p >= 0):
-                raise InputError(f"periods_s[{k}] = {p}, expected a finite period ≥ 0")
-            validation.positive(f"sa_m_s2[{k}]", v)
-        for k in range(1, len(periods)):
-            if not periods[k] > periods[k - 1]:
-                raise InputError(
-                    f"periods_s[{k}] = {periods[k]} ≤ periods_s[{k - 1}] = {periods[k - 1]}, "
-                    "expected strictly increasing periods"
-                )
+            problem = point_problem(p, v, periods[k - 1] if k else None)
+            if problem:
+                raise InputError(f"point {k}: periods_s = {p}, sa_m_s2 = {v}, {problem}")
         object.__setattr__(self, "periods_s", periods)
         object.__setattr__(self, "sa_m_s2_values", values)
 

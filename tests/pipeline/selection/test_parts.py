@@ -158,6 +158,19 @@ def test_target_csv(tmp_path: Path) -> None:
     with pytest.raises(InputError) as error:
         read_target_csv(bad)
     assert error.value.line == 3 and "expected two numbers" in error.value.one_line()
+    # a point the table refuses: on its line, in the file's units (g, not m/s²)
+    for rows, line, message in (
+        ("0.1,1.0\n0.5,1.2\n0.4,0.8\n", 4, "period_s = 0.4, sa_g = 0.8, expected strictly "
+         "increasing periods (after 0.5 s)"),
+        ("0.1,1.0\n0.5,-1.0\n", 3, "period_s = 0.5, sa_g = -1.0, expected a spectral "
+         "acceleration > 0"),
+        ("-0.1,1.0\n0.5,1.0\n", 2, "period_s = -0.1, sa_g = 1.0, expected a finite period ≥ 0"),
+        ("0.1,nan\n0.5,1.0\n", 2, "period_s = 0.1, sa_g = nan, expected a spectral accel"),
+    ):  # fmt: skip
+        bad.write_text("period_s,sa_g\n" + rows)
+        with pytest.raises(InputError) as error:
+            read_target_csv(bad)
+        assert error.value.line == line and error.value.what.startswith(message), error.value
     headless = tmp_path / "headless.csv"
     headless.write_text("a,b\n0.1,1.0\n")
     with pytest.raises(InputError, match="expected that header"):

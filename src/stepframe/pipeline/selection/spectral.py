@@ -25,7 +25,7 @@ from stepframe.errors import InputError
 from stepframe.pipeline.selection.band import FrameBand
 from stepframe.pipeline.selection.options import SelectionOptions
 from stepframe.structure.code_spectra import Asce7TwoPeriod, Ec8Elastic
-from stepframe.structure.design_spectrum import TabulatedSpectrum
+from stepframe.structure.design_spectrum import TabulatedSpectrum, point_problem
 
 Target = Asce7TwoPeriod | Ec8Elastic | TabulatedSpectrum
 
@@ -66,6 +66,12 @@ def read_target_csv(path: str | Path) -> TabulatedSpectrum:
             raise InputError(
                 f"{','.join(row)!r}, expected two numbers: period_s,sa_g", source, number
             ) from None
+        # the table's rule, on the row's line and in the file's units
+        problem = point_problem(period, value, periods[-1] if periods else None)
+        if problem:
+            raise InputError(
+                f"period_s = {row[0].strip()}, sa_g = {row[1].strip()}, {problem}", source, number
+            )
         periods.append(period)
         values.append(value * G_M_S2)
     try:
