@@ -210,3 +210,38 @@ def test_metadata_naming_no_file_is_an_error(
         "--metadata", str(meta),
     )  # fmt: skip
     assert line.startswith(f"{meta}:2: no row names one of the 2 record files")
+
+
+@pytest.mark.parametrize(
+    ("rows", "expected"),
+    [
+        # a word where the magnitude filter reads a number: was a traceback
+        ("peer/{a},Chino,5.39\n\npeer/{b},Chino,five\n",
+         ":4: magnitude = 'five', expected a number (or an empty cell)"),
+        # the same file on two rows (by path, then by name): was two candidates of one component
+        ("peer/{a},Chino,5.39\npeer/{a},Other,6\n",
+         ":3: peer/{a} has a row on line 2 already, expected one row per record file"),
+        ("peer/{a},Chino,5.39\n{a},Other,6\n",
+         ":3: {a} (that is peer/{a}) has a row on line 2 already, expected one row per record "
+         "file"),
+    ],
+)  # fmt: skip
+def test_bad_metadata_rows_are_one_line_with_their_line(
+    rows: str,
+    expected: str,
+    folders: tuple[Path, Path, Path],
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    frame, peer, _ = folders
+    monkeypatch.chdir(tmp_path)  # the folder as "peer", as a user gives it
+    a, b = sorted(path.name for path in peer.glob("*.AT2"))
+    meta = tmp_path / "meta.csv"
+    meta.write_text("file,event,magnitude\n" + rows.format(a=a, b=b))
+    line = _error(
+        capsys, "--frame", str(frame), "peer", "-n", "1", "-o", "o", "--metadata", "meta.csv",
+        "--magnitude-min", "5",
+    )  # fmt: skip
+    assert line == "meta.csv" + expected.format(a=a, b=b)
+    assert not (tmp_path / "o").exists()

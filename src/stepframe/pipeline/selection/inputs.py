@@ -37,6 +37,18 @@ def join_metadata(features: Any, metadata: Any, on: str = "file") -> Any:
     return joined
 
 
+#: Metadata columns the filters read as numbers (a word in one is an error on its line).
+NUMERIC_METADATA = (
+    "magnitude",
+    "rrup_km",
+    "rjb_km",
+    "repi_km",
+    "vs30_m_s",
+    "pga_g",
+    "lowest_usable_frequency_hz",
+)
+
+
 #: What the record headers give for grouping and filtering (``stats.stepframe`` and ``stats``).
 HEADER_COLUMNS = ("event", "rsn", "magnitude", "repi_km", "rrup_km", "rjb_km", "vs30_m_s")
 
@@ -87,18 +99,31 @@ def read_metadata(path: str, files: list[str]) -> Any:
     Raises
     ------
     InputError
-        Unreadable, no ``file`` column, or no row naming any of ``files`` (line of the first).
+        Unreadable, no ``file`` column, no row naming any of ``files`` (line of the first), a
+        record file named on two rows, or a word in a column of :data:`NUMERIC_METADATA` (each
+        with its line).
     """
     import pandas as pd
 
     from stepframe.errors import InputError
 
     try:
-        extra = pd.read_csv(path)
+        # blank lines kept as rows, so that row k is line k + 2
+        extra = pd.read_csv(path, skip_blank_lines=False)
     except (OSError, ValueError) as error:
         raise InputError(f"cannot read ({error}), expected a CSV", path) from None
     if "file" not in extra.columns:
         raise InputError("no column 'file', expected one to join on", path, 1)
+    for column in (c for c in NUMERIC_METADATA if c in extra.columns):
+        given = extra[column]
+        numbers = pd.to_numeric(given, errors="coerce")
+        words = np.flatnonzero(numbers.isna().to_numpy() & given.notna().to_numpy())
+        if words.size:
+            k = int(words[0])
+            raise InputError(
+                f"{column} = {given.iat[k]!r}, expected a number (or an empty cell)", path, k + 2
+            )
+        extra[column] = numbers
     by_path = {str(Path(f)): f for f in files}
     names: dict[str, list[str]] = {}
     for f in files:
@@ -116,6 +141,20 @@ def read_metadata(path: str, files: list[str]) -> Any:
             path,
             2,
         )
+    first_line: dict[str, int] = {}
+    for k, record in enumerate(matched):
+        if record is None:
+            continue
+        if record in first_line:  # two rows would make two rows of every table it joins
+            entry = str(extra["file"].iat[k])
+            named = entry if entry == record else f"{entry} (that is {record})"
+            raise InputError(
+                f"{named} has a row on line {first_line[record]} already, expected one row per "
+                "record file",
+                path,
+                k + 2,
+            )
+        first_line[record] = k + 2
     extra = extra.assign(file=matched)
     return extra[extra["file"].notna()]
 
