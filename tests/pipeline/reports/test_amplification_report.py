@@ -106,6 +106,31 @@ def test_records_report_marks_the_unused_fit(records_amplification_html: Path) -
     assert numbers["frame_driven_lower_bound"] in (True, False)
 
 
+def test_record_figures_drawn_on_workers_are_the_ones_drawn_here(
+    site_records: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Each record's ω_g(t) figure is a job a worker draws whole (it reads its record again):
+    the same PNG bytes, titles and texts as drawn in this process, in the records' order."""
+    from stepframe.core import execution
+    from stepframe.pipeline.amplification.report import record_paths_section
+    from stepframe.pipeline.reports.document import Figure, FigureJob, draw_figures
+
+    site = site_from_records(
+        site_records, options=FitOptions(t0="start"), record_options={"units": "m/s2"}
+    )
+    section = record_paths_section(site)
+    assert len(section.items) == 3 and all(isinstance(i, FigureJob) for i in section.items)
+    monkeypatch.setattr(execution, "POOL_WORTH_S", 0.0)  # a batch this small would stay here
+    (here,), _ = draw_figures([section], jobs=1)
+    (there,), _ = draw_figures([section], jobs=2)
+    assert all(isinstance(item, Figure) for item in here.items)
+    assert here.items == there.items
+    assert [item.title for item in here.items] == [  # type: ignore[union-attr]
+        f"{path.name} [{path.stem.split('_')[1]}]" + ("" if k != 2 else " (not used: flagged)")
+        for k, path in enumerate(sorted(site_records.glob("*.sac")))
+    ]
+
+
 def test_cli_paper_site(
     tmp_path: Path, frame_file: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import partial
 from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -34,10 +35,12 @@ from stepframe.pipeline.amplification.headlines import CurveMaximum, ReportNumbe
 from stepframe.pipeline.amplification.site import SiteFromRecords, SiteModel
 from stepframe.pipeline.reports.document import (
     Figure,
+    FigureJob,
     Note,
     Report,
     Section,
     Table,
+    draw_figures,
     figure_from_matplotlib,
     write_report,
 )
@@ -47,13 +50,15 @@ from stepframe.stochastic.model import GroundMotionModel
 if TYPE_CHECKING:
     from concurrent.futures import Executor
 
+    from stepframe.pipeline.catalogue.fit_options import FitOptions
+
 TWO_PI = 2 * math.pi
 
 #: Frequencies checked by Monte Carlo [Hz] (N synthetic motions each): four, with the default N,
 #: keep the report under 10 s (docs/benchmarks.md, Reports); more with ``monte_carlo``.
 MONTE_CARLO_HZ = np.geomspace(0.2, 8.0, 4)
 
-Items = list[Figure | Table | Note]
+Items = list[Figure | Table | Note | FigureJob]
 
 #: What a report's site may be: given parameters, a site model (the workflow's ``site`` stage,
 #: with the standard errors of a site from records) or the fits of a folder of records.
@@ -326,38 +331,26 @@ def site_section(site: Site, opts: AmplificationOptions) -> Section:
 
 
 def record_paths_section(site: SiteFromRecords) -> Section:
-    """Each record's measured ω_g(t) and fitted eq. 6.10 path over its evolutionary spectrum."""
-    from stepframe.records import read
-    from stepframe.stochastic import plots
-    from stepframe.stochastic.features import record_features
-    from stepframe.stochastic.spectra import evolutionary_spectrum
-
+    """Each record's measured ω_g(t) and fitted eq. 6.10 path over its evolutionary spectrum, as
+    figures still to draw (:class:`FigureJob`: each reads its record, measures ω_g(t) and paints
+    in a worker, :func:`amplification_report`; a site of 44 records spent 46 of its report's
+    55 s drawing them one after the other)."""
     opts = site.options
     used = set(site.combined.used.index)
     figures: Items = []
     for index, row in site.features.iterrows():
-        stream = read(str(row["file"]), **site.record_options)
-        trace = stream.select(channel=str(row["component"]))[0]
-        features = record_features(
-            trace, frequency=opts.frequency, t0=opts.t0, window_s=opts.window_s,
-            fft=opts.fft, omega_max_rad_s=opts.omega_max_rad_s,
-        )  # fmt: skip
-        model = GroundMotionModel(
-            **{key: float(row[key]) for key in
-               ("omega_p_rad_s", "omega_s_rad_s", "omega_r_rad_s", "xi_p", "xi_r",
-                "t_max_s", "t_dur_s", "t0_s")},
-            alpha_reading=opts.alpha_reading,
-        )  # fmt: skip
+        model = {key: float(row[key]) for key in MODEL_KEYS}
         name = f"{Path(str(row['file'])).name} [{row['component']}]"
+        where = (str(row["file"]), str(row["component"]), dict(site.record_options))
         figures.append(
-            figure_from_matplotlib(
-                plots.omega_path_figure(evolutionary_spectrum(trace), features, model, name=name),
+            FigureJob(
+                partial(_record_path_figure, where, opts, model, name),
                 key=f"omega_g_{len(figures)}",
                 title=name + ("" if index in used else " (not used: flagged)"),
                 alt=(
                     f"Time-frequency image of {name} with its measured dominant frequency and "
-                    f"the fitted eq. 6.10 path from {_hz(model.omega_p_rad_s):.3g} Hz down to "
-                    f"{_hz(model.omega_r_rad_s):.3g} Hz"
+                    f"the fitted eq. 6.10 path from {_hz(model['omega_p_rad_s']):.3g} Hz down "
+                    f"to {_hz(model['omega_r_rad_s']):.3g} Hz"
                 ),
                 how_to_read=(
                     "The background is the record's short-time spectrum (bright = strong). "
@@ -369,6 +362,37 @@ def record_paths_section(site: SiteFromRecords) -> Section:
             )
         )
     return Section("Dominant frequency ω_g(t) over each record's evolutionary spectrum", figures)
+
+
+#: The fitted eq. 6.10-6.11 parameters of a features row that make its ground-motion model.
+MODEL_KEYS = (
+    "omega_p_rad_s", "omega_s_rad_s", "omega_r_rad_s", "xi_p", "xi_r", "t_max_s", "t_dur_s",
+    "t0_s",
+)  # fmt: skip
+
+
+def _record_path_figure(
+    where: tuple[str, str, dict[str, Any]],
+    opts: FitOptions,
+    model: dict[str, float],
+    name: str,
+) -> Any:
+    """One record's ω_g(t) figure (:func:`record_paths_section`): the component read again, its
+    features measured as the fit measured them, the fitted path drawn over its spectrum.
+    ``where`` is the record file, its component and the options it is read with."""
+    from stepframe.records import read
+    from stepframe.stochastic import plots
+    from stepframe.stochastic.features import record_features
+    from stepframe.stochastic.spectra import evolutionary_spectrum
+
+    file, component, record_options = where
+    trace = read(file, **record_options).select(channel=component)[0]
+    features = record_features(
+        trace, frequency=opts.frequency, t0=opts.t0, window_s=opts.window_s, fft=opts.fft,
+        omega_max_rad_s=opts.omega_max_rad_s,
+    )  # fmt: skip
+    fitted = GroundMotionModel(**model, alpha_reading=opts.alpha_reading)
+    return plots.omega_path_figure(evolutionary_spectrum(trace), features, fitted, name=name)
 
 
 def spectral_ratio_section(
@@ -690,6 +714,7 @@ def amplification_report(
     if frame_result is not None:
         sections.append(Section("Frame", frame_result.items))
     stated.numbers["warnings"] = list(stated.warnings)
+    sections, _ = draw_figures(sections, jobs=jobs, executor=executor)
     return Report(
         title=f"Site amplification report: {name}",
         subtitle="Moving resonance under the Beck-Papadimitriou ground-motion model "
