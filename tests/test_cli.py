@@ -289,6 +289,23 @@ def test_the_demo_report_says_why_a_tier_row_is_empty(
     assert expected in page
 
 
+def test_the_demo_report_says_the_tie_in_its_summary_and_its_ranking(
+    demo_run: tuple[dict[str, object], Path],
+) -> None:
+    """The ranking's tie is in the page's summary box (its own row) and in the ranking section,
+    in the words of the command's summary line."""
+    import html
+
+    from stepframe.pipeline.selection.ranking import tie_line
+
+    payload, out = demo_run
+    line = tie_line(payload)  # type: ignore[arg-type]
+    assert line is not None and line.startswith("tie: the ranking does not tell 10 of the chosen")
+    page = html.unescape((out / "selection_report.html").read_text(encoding="utf-8"))
+    assert f"<dt>Tie</dt><dd>{line.removeprefix('tie: ')}</dd>" in page
+    assert "Tie: the ranking does not tell 10" in page
+
+
 def test_help_cold_start_avoids_heavy_imports() -> None:
     code = (
         "import sys; from stepframe.cli import build_parser; build_parser();"

@@ -38,6 +38,7 @@ from stepframe.pipeline.reports.document import (
 )
 from stepframe.pipeline.reports.provenance import Provenance, collect_provenance, command_line
 from stepframe.pipeline.selection.options import SelectionOptions
+from stepframe.pipeline.selection.ranking import tie_line
 from stepframe.pipeline.selection.report_folder import SelectionOutputs, read_selection_folder
 from stepframe.pipeline.selection.report_resonance import resonance_runs, resonance_section
 from stepframe.pipeline.selection.result import confirmation_level
@@ -531,7 +532,7 @@ def scores_section(outputs: SelectionOutputs, candidates: pd.DataFrame, rank_by:
     """The ranking (its stated intensity, what was simulated, the chosen set against the rest
     at that intensity, the tiers against the run's exact ranking), then the chosen set and
     every candidate with its scores and peers, as sortable tables."""
-    from stepframe.pipeline.selection.ranking import ranking_lines, tie_line
+    from stepframe.pipeline.selection.ranking import ranking_lines
 
     summary = outputs.summary
     items: Items = [Note(line) for line in ranking_lines(summary)[:3]]
@@ -786,6 +787,7 @@ def selection_report(
             else []
         ),
         ("Selected", f"{len(rows)} of {len(candidates)} candidates"),
+        *([("Tie", tie.removeprefix("tie: "))] if (tie := tie_line(summary)) else []),
         ("Scaling", str(summary.get("scale", summary.get("scaling", "none")))),
     ]
     best = rows[:N_ACCELEROGRAMS]
