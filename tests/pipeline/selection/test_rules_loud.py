@@ -149,3 +149,36 @@ def test_amplitude_filters_computed_from_the_records(example4: PortalFrame) -> N
     rules = {r.name: r.rule for r in reports}
     assert rules["pga"] == "pga_g ≥ 0.12 g (1 from metadata, 4 from the records)"
     assert rules["arias"] == "arias_m_s ≤ 1 m/s (0 from metadata, 5 from the records)"
+
+
+ASCE = {"target_s_ds_g": 1.0, "target_s_d1_g": 0.6}
+EC8 = {"target_ec8": "type1", "target_ground": "B", "target_ag_g": 0.3}
+
+
+@pytest.mark.parametrize(
+    ("given", "context", "expected"),
+    [
+        ({"confirm_onset_ratio": 2.0}, {"confirm": True}, "confirm = true (--confirm)"),
+        ({"spectral_weight": 2.0}, ASCE, "a target spectrum: it weighs"),
+        ({"target_periods_s": (0.5, 2.0)}, ASCE, "a target spectrum: the misfit's periods"),
+        ({"target_damping": 0.1}, EC8, "a target spectrum"),
+        ({"target_importance": 1.2}, EC8, "a Eurocode 8 target"),
+        ({"distance_metric": "rjb"}, {"distance_max_km": 50.0}, "a distance filter"),
+        ({"n_bootstrap": 50}, {"rank_by": "omega_p_over_s_sq"}, "a ranking by a fitted score"),
+    ],
+)
+def test_an_option_that_does_nothing_is_an_error(
+    given: dict[str, Any], context: dict[str, Any], expected: str
+) -> None:
+    """Each option away from its default runs in its context and is refused without it (each of
+    these ran and changed nothing before); at its default it is never refused."""
+    SelectionOptions(n=3, **given, **context)
+    name, value = next(iter(given.items()))
+    with pytest.raises(InputError) as error:
+        SelectionOptions(n=3, **given)
+    assert error.value.what.startswith(
+        f"{name} = {value!r} does nothing here, expected it only with {expected}"
+    )
+    SelectionOptions(n=3)  # every default: nothing refused
+    # no bootstrap asked for, with a ranking that could not use one: fine
+    SelectionOptions(n=3, n_bootstrap=0)

@@ -25,7 +25,7 @@ def run(example_inputs: tuple[Any, Any, Any], example4: PortalFrame) -> Any:
     lost = (str(table["file"].iat[0]), str(table["component"].iat[0]))
     del records[lost]
     options = SelectionOptions(
-        n=6, confirm=True, n_bootstrap=4, scale="psa-at-t1", max_per_event=2,
+        n=6, confirm=True, scale="psa-at-t1", max_per_event=2,
         scores=("substitute_demand_ratio",),
     )  # fmt: skip
     return select_records(table, example4, options, records=records, jobs=1), lost

@@ -58,8 +58,6 @@ def test_select_json_and_outputs(
         "1",
         "-o",
         str(out),
-        "--n-bootstrap",
-        "4",
         "--jobs",
         "1",
         json_first=True,

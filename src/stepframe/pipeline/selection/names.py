@@ -16,6 +16,24 @@ RANKABLE = (
 #: Scores computed per candidate by the covariance method (the others are closed forms).
 PHYSICS_SCORES = ("backbone_amplification", "descent_amplification")
 
+#: Fit-based tiers: they need finite fitted parameters; the others read the record.
+FIT_TIERS = (
+    "band_coverage",
+    "spectral_ratio_eq_6_18",
+    "omega_p_over_s_sq",
+    "backbone_amplification",
+    "descent_amplification",
+)
+
+
+def ranks_by_fit(rank_by: str) -> bool:
+    """Whether the ranking ``rank_by`` reads the fitted parameters: only then can the bootstrap
+    over their standard errors move the chosen set, and ``selection_probability`` say more than
+    1 for the chosen and 0 for the rest (the simulated response and the spectra read the
+    record)."""
+    return rank_by in FIT_TIERS
+
+
 ScalePolicy = Literal["none", "psa-at-t1", "target-mse"]
 SCALE_POLICIES: tuple[ScalePolicy, ...] = ("none", "psa-at-t1", "target-mse")
 DistanceMetric = Literal["rrup", "rjb", "repi"]

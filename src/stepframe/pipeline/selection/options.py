@@ -27,6 +27,7 @@ from stepframe.pipeline.selection.io_names import (
 )
 from stepframe.pipeline.selection.names import (
     DISTANCE_METRICS,
+    FIT_TIERS,
     PREFILTER_CHOICES,
     RANK_BY_CHOICES,
     SCALE_POLICIES,
@@ -36,6 +37,7 @@ from stepframe.pipeline.selection.names import (
     DistanceMetric,
     ScalePolicy,
     Unit,
+    ranks_by_fit,
 )
 
 #: Amplitude limits accepted [m]: a frame's overturning displacement is a few metres.
@@ -334,6 +336,39 @@ class SelectionOptions:
                 "scale = 'target-mse' without a target spectrum, expected target_s_ds_g and "
                 "target_s_d1_g, or target_csv"
             )
+        self._check_applies()
+
+    def _check_applies(self) -> None:
+        """An option set away from its default where nothing reads it is an error, not a silent
+        no-op (tried: each of these ran and changed nothing)."""
+        defaults = {f.name: f.default for f in fields(self)}
+
+        def given(name: str) -> bool:
+            return bool(getattr(self, name) != defaults[name])
+
+        needs = [
+            ("confirm_onset_ratio", self.confirm, "confirm = true (--confirm): the intensity "
+             "of the confirmation"),
+            ("spectral_weight", self.has_target, "a target spectrum: it weighs the set's misfit "
+             "to the target"),
+            ("target_periods_s", self.has_target, "a target spectrum: the misfit's periods"),
+            ("target_damping", self.has_target, "a target spectrum"),
+            ("target_importance", self.target_ec8 is not None, "a Eurocode 8 target "
+             "(target_ec8)"),
+            ("distance_metric", self.distance_min_km is not None
+             or self.distance_max_km is not None, "a distance filter (distance_min_km or "
+             "distance_max_km)"),
+            ("n_bootstrap", self.n_bootstrap == 0 or ranks_by_fit(self.rank_by),
+             f"a ranking by a fitted score ({', '.join(FIT_TIERS)}): the bootstrap redraws "
+             f"the fits, which {self.rank_by} does not read"),
+        ]  # fmt: skip
+        for name, applies, expected in needs:
+            if given(name) and not applies:
+                raise InputError(
+                    f"{name} = {getattr(self, name)!r} does nothing here, expected it only with "
+                    f"{expected}",
+                    key=name,
+                )
 
     def _check_ranking(self) -> None:
         """The ranking's options: their ranges, then the rules between them."""

@@ -41,12 +41,11 @@ from stepframe.errors import InputError
 from stepframe.pipeline.selection import confirm as confirmation
 from stepframe.pipeline.selection.band import FrameBand, frame_band
 from stepframe.pipeline.selection.intensity import RankingIntensity, ranking_intensity
-from stepframe.pipeline.selection.names import SIMULATED_RESPONSE
+from stepframe.pipeline.selection.names import FIT_TIERS, SIMULATED_RESPONSE
 from stepframe.pipeline.selection.options import SelectionOptions
 from stepframe.pipeline.selection.peers import PeerPeriods, spectra_and_peers
 from stepframe.pipeline.selection.spectral import G_M_S2, misfit_periods_s
 from stepframe.pipeline.selection.substitute import SubstituteLevels, substitute_levels
-from stepframe.pipeline.selection.tiers import FIT_TIERS
 
 Floats = NDArray[np.float64]
 Samples = tuple[Floats, float]

@@ -195,7 +195,7 @@ class SelectionResult:
         """One line per chosen component: pick order, score and its rank among the candidates,
         scale factor (clipped flagged), state at the chosen scale, P(in set) where it means
         something."""
-        from stepframe.pipeline.selection.tiers import ranks_by_fit
+        from stepframe.pipeline.selection.names import ranks_by_fit
 
         summary = self.summary
         rank_by = str(summary.get("rank_by"))

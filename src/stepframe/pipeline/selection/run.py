@@ -34,6 +34,7 @@ from stepframe.pipeline.selection.names import (
     PHYSICS_SCORES,
     SIMULATED_RESPONSE,
     TIERS,
+    ranks_by_fit,
 )
 from stepframe.pipeline.selection.options import SelectionOptions
 from stepframe.pipeline.selection.path import MODEL_COLUMNS, strong_motion_paths
@@ -53,7 +54,6 @@ from stepframe.pipeline.selection.substitute import (
     predicted_overturn_ratio,
     substitute_demand_ratio,
 )
-from stepframe.pipeline.selection.tiers import ranks_by_fit
 from stepframe.structure.frame import PortalFrame
 
 Floats = NDArray[np.float64]

@@ -46,22 +46,6 @@ MIN_K_PER_N = 10
 #: CPU seconds of the exact simulation per input sample and run on one core (bench/bench_ranking.py:
 #: 0.26 ms for a 6,000-sample record with its 10 s tail at 0.01 s, 7,000 samples).
 SIMULATION_S_PER_SAMPLE = 3.7e-8
-#: Fit-based tiers: they need finite fitted parameters; the others read the record.
-FIT_TIERS = (
-    "band_coverage",
-    "spectral_ratio_eq_6_18",
-    "omega_p_over_s_sq",
-    "backbone_amplification",
-    "descent_amplification",
-)
-
-
-def ranks_by_fit(rank_by: str) -> bool:
-    """Whether the ranking ``rank_by`` reads the fitted parameters: only then can the bootstrap
-    over their standard errors move the chosen set, and ``selection_probability`` say more than
-    1 for the chosen and 0 for the rest (the simulated response and the spectra read the
-    record)."""
-    return rank_by in FIT_TIERS
 
 
 def tier_values(table: Any, name: str, base_scales: Floats) -> Floats:
