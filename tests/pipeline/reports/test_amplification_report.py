@@ -241,6 +241,31 @@ def test_cli_missing_parameter(tmp_path: Path, capsys: pytest.CaptureFixture[str
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.parametrize(
+    ("extra", "flag"),
+    [(["--units", "g"], "--units g"), (["--t0", "start"], "--t0 start"),
+     (["--format", "at2"], "--format at2"), (["--band", "delta"], "--band delta")],
+)  # fmt: skip
+def test_cli_record_options_with_parameters_are_refused(
+    extra: list[str], flag: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """What reads records (or their standard errors) given with the site's parameters did
+    nothing: now one line, nothing written."""
+    site = ["--fp-hz", "7.43", "--fs-hz", "3.12", "--fr-hz", "1.11", "--xi-p", "0.096",
+            "--xi-r", "0.655", "--t-max-s", "5", "--t-dur-s", "20"]  # fmt: skip
+    code = main(["report", "amplification", *site, *extra, "-o", str(tmp_path / "r.html")])
+    assert code == 2
+    err = capsys.readouterr().err
+    assert (
+        err.startswith(
+            f"stepframe: error: {flag} with the site given by its parameters, expected it only "
+            "with --records DIR"
+        )
+        and err.count("\n") == 1
+    )
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_frame_section_draws_the_site_over_the_band(amplification_html: Path) -> None:
     # The time-frequency panel of issue 26 (its values: tests/pipeline/test_moving_resonance.py).
     html = amplification_html.read_text(encoding="utf-8")

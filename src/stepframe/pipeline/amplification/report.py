@@ -794,6 +794,19 @@ def _site_of(
             statistic=o.statistic, plausible_only=o.plausible_only, jobs=jobs,
         )  # fmt: skip
         return site, o.site_name or Path(o.records).resolve().name
+    # what reads records, set where there are none: an error, not a silent no-op
+    for flag, set_here in (
+        (f"--t0 {o.t0}", o.t0 != "auto"),
+        (f"--format {o.record_format}", o.record_format is not None),
+        (f"--units {o.units}", o.units is not None),
+        ("--band delta", o.band == "delta"),
+    ):
+        if set_here:
+            raise InputError(
+                f"{flag} with the site given by its parameters, expected it only with --records "
+                "DIR (it applies to the records read and fitted"
+                + ("; parameters have no standard errors, so no band)" if "band" in flag else ")")
+            )
     missing = [name for name in SITE_PARAMETERS if parameters[name] is None]
     if missing:
         raise InputError(
