@@ -111,8 +111,17 @@ def test_plot_is_written_whole(tmp_path: Path, capsys: pytest.CaptureFixture[str
         ([*SITE, "--f0-hz", "2", "--xi0", "0"], "--xi0 0"),
         ([*SITE, "--f0-hz", "-2"], "not positive"),
         ([*SITE[:-2], "--t-dur-s", "3", "--f0-hz", "2"], "t_max"),
+        # options nothing reads in that run (each printed the same numbers before)
+        ([*SITE, "--f0-hz", "2", "--units", "g", "--t0", "start"],
+         "--units, --t0 do nothing here, expected them only with --record FILE or --example"),
+        ([*SITE, "--f0-hz", "2", "--peak-intensity-m-s2", "2"],
+         "--peak-intensity-m-s2 does nothing here, expected it only with --frame"),
+        ([*SITE, "--f0-hz", "2", "--seed", "3"],
+         "--seed does nothing here, expected it only with --monte-carlo N"),
+        ([*SITE, "--f0-hz", "2", "--f-min-hz", "0.2", "--n-frequencies", "30"],
+         "--f-min-hz, --n-frequencies do nothing here, expected them only with --plot"),
     ],
-)
+)  # fmt: skip
 def test_user_errors_are_one_line_exit_2(
     args: list[str], message: str, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -10,7 +10,7 @@ catalogue (``--example``) as the alternative to a file, and reads either.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import TYPE_CHECKING, Any
 
 from stepframe.core.options import Range, check_fields, option
@@ -106,6 +106,16 @@ class RecordReadOptions:
     def __post_init__(self) -> None:
         check_fields(self)
 
+    def given_flags(self, names: tuple[str, ...] | None = None) -> list[str]:
+        """The command-line flags of the options set (not None, not False), of ``names`` or of
+        all: what a command that reads no record must refuse rather than ignore."""
+        chosen = names if names is not None else tuple(f.name for f in fields(self))
+        return [
+            "--" + name.replace("_", "-")
+            for name in chosen
+            if name != "example" and getattr(self, name) not in (None, False)
+        ]
+
     def read_kwargs(self) -> dict[str, Any]:
         """The keyword arguments of :func:`stepframe.records.read` (the read limits only when
         given: ``read(max_abs_g=None)`` would turn the peak check off; ``allow_short`` only
@@ -158,11 +168,7 @@ class RecordSource(RecordReadOptions):
         # ``component`` applies to it; any other would be silently ignored.
         if self.example is None:
             return
-        given = [
-            "--" + name.replace("_", "-")
-            for name in _FILE_ONLY
-            if getattr(self, name) not in (None, False)
-        ]
+        given = self.given_flags(_FILE_ONLY)
         if given:
             raise InputError(
                 f"{', '.join(given)} with --example {self.example}, expected only --component "

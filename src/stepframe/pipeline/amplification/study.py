@@ -11,7 +11,7 @@ what to give, and runs :func:`stepframe.pipeline.amplification.amplify.amplify` 
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import TYPE_CHECKING, Any
 
 from stepframe.errors import InputError
@@ -121,6 +121,7 @@ def amplify_study(
 
     if (options.f0_hz is None) == (options.frame is None):
         raise InputError("expected exactly one of --f0-hz F and --frame FRAME.toml")
+    _check_applies(options, source or RecordSource(), figure)
     parameters = options.parameters
     given = [name for name in SITE_PARAMETERS if parameters[name] is not None]
     record, alpha_reading = options.record, options.alpha_reading
@@ -167,6 +168,33 @@ def amplify_study(
             n_steps=options.n_steps, monte_carlo=options.monte_carlo or 0, seed=options.seed,
         )  # fmt: skip
     return AmplifyStudy(result, site, oscillator, options)
+
+
+def _check_applies(options: AmplifyOptions, source: RecordSource, figure: bool) -> None:
+    """Options that nothing reads in this run are an error, not a silent no-op (each ran and
+    printed the same numbers): record options without a record, the peak intensity without a
+    frame, the Monte Carlo seed without Monte Carlo motions, the figure's grid without --plot."""
+    reads_a_record = options.record is not None or source.example is not None
+    record_flags = source.given_flags() + (["--t0"] if options.t0 != "auto" else [])
+    defaults = {f.name: f.default for f in fields(options)}
+    grid = [
+        "--" + name.replace("_", "-")
+        for name in ("f_min_hz", "f_max_hz", "n_frequencies")
+        if getattr(options, name) != defaults[name]
+    ]
+    for flags, applies, expected in (
+        (record_flags, reads_a_record, "--record FILE or --example (they read the record)"),
+        (["--peak-intensity-m-s2"] if options.peak_intensity_m_s2 is not None else [],
+         options.frame is not None, "--frame (it scales the frame-driven run)"),
+        (["--seed"] if options.seed != defaults["seed"] else [], bool(options.monte_carlo),
+         "--monte-carlo N (it seeds the synthetic motions)"),
+        (grid, figure, "--plot (the figure's f0 grid)"),
+    ):  # fmt: skip
+        if flags and not applies:
+            verb, pronoun = ("does", "it") if len(flags) == 1 else ("do", "them")
+            raise InputError(
+                f"{', '.join(flags)} {verb} nothing here, expected {pronoun} only with {expected}"
+            )
 
 
 def _envelope_free(
