@@ -163,3 +163,27 @@ def test_bad_settings_raise() -> None:
         IdaSettings(resolution=0.0)
     with pytest.raises(InputError):
         IdaSettings(probe_factor=0.5)
+
+
+def test_fractiles_never_rest_on_a_lower_bound() -> None:
+    """An item that never overturned up to its last intensity only bounds its capacity from
+    below: a fractile that depends on it is undefined (NaN), one that rests on found capacities
+    alone is their quantile (numpy's linear one, recomputed by hand)."""
+    from stepframe.structure.ida import ItemIda
+
+    found = [ItemIda(intensity=[c], overturned=[True], first_overturning=c)
+             for c in (0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0)]  # fmt: skip
+    censored = ItemIda(intensity=[0.1, 2.0], overturned=[False, False], first_overturning=None)
+    fractiles = capacity_fractiles([*found, censored])
+    # ten items: q = 0.16 sits between the 2nd and 3rd smallest (0.3 and 0.4), found ones
+    assert fractiles["q0.16"] == pytest.approx(0.3 + 0.44 * 0.1)
+    assert fractiles["q0.5"] == pytest.approx(0.65)
+    assert fractiles["q0.84"] == pytest.approx(0.9 + 0.56 * 0.1)  # the 8th and 9th
+    # q = 0.95 reaches the 10th item, whose capacity is only known to exceed 2.0
+    assert math.isnan(capacity_fractiles([*found, censored], (0.95,))["q0.95"])
+    # none overturned: nothing defined (the bounds were once printed as the fractiles)
+    assert all(math.isnan(v) for v in capacity_fractiles([censored, censored]).values())
+    # all found: numpy's quantiles of the capacities
+    assert capacity_fractiles(found)["q0.84"] == pytest.approx(
+        float(np.quantile([i.first_overturning for i in found], 0.84))
+    )

@@ -93,6 +93,33 @@ def test_bifurcation_and_ida_commands(capsys: pytest.CaptureFixture[str], tmp_pa
     assert data["simulations"] < data["fixed_step_simulations"]
 
 
+IDA = ["structure", "ida", "--block", "0.25,1"]
+PULSES = [*IDA, "--pulse", "cosine", "--omega-rad-s", "10.8,16"]
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        ([*IDA, "--fema-p695", "2", "--omega-rad-s", "10,16"],
+         "--omega-rad-s without --pulse, expected it only with --pulse cosine|sine"),
+        ([*PULSES, "--fema-p695", "2"],
+         "--pulse with --fema-p695, expected pulses or records, not both"),
+        ([*PULSES, "--tail-s", "3"], "--pulse with --tail-s, expected pulses or records"),
+        ([*IDA, "--fema-p695", "2", "--units", "g"],
+         "--units without RECORD files, expected record options only with RECORD files"),
+    ],
+)  # fmt: skip
+def test_ida_options_the_run_does_not_read_are_refused(
+    capsys: pytest.CaptureFixture[str], argv: list[str], message: str
+) -> None:
+    """Each ran and ignored the option (the pulses' run printed no record; the records' run no
+    pulse): one line, exit 2, before any simulation."""
+    assert main(argv) == 2
+    out, err = capsys.readouterr()
+    assert out == ""
+    assert err.startswith(f"stepframe: error: {message}") and err.count("\n") == 1
+
+
 @pytest.mark.parametrize(
     "argv",
     [

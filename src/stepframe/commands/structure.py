@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 
 from stepframe.commands import CommandResult, add_command, add_record_options
 from stepframe.core.options import add_fields, options_from
+from stepframe.errors import InputError
 from stepframe.pipeline.dynamics import design, studies
 from stepframe.pipeline.dynamics.response import SimulatedComponent, SimulateOptions, simulate_file
 from stepframe.pipeline.dynamics.studies import (
@@ -194,5 +195,11 @@ def run_ida(args: argparse.Namespace) -> studies.IdaStudy:
     stepframe structure ida --block 0.25,1.0 --pulse cosine --omega-rad-s 10.6,16
     """
     frame, source = options_from(args, FrameSource).portal_frame(), options_from(args, RecordSource)
+    unread = source.given_flags() + ([f"--example {source.example}"] if source.example else [])
+    if unread and not args.records:
+        raise InputError(
+            f"{', '.join(unread)} without RECORD files, expected record options only with "
+            "RECORD files (the embedded catalogue: --fema-p695 N)"
+        )
     records = [(path, source.read(path)) for path in args.records]
     return studies.ida_study(frame, options_from(args, IdaOptions), records)

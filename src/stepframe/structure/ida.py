@@ -281,18 +281,29 @@ def ida_table(items: Sequence[ItemIda], names: Sequence[str] | None = None) -> p
 def capacity_fractiles(
     items: Sequence[ItemIda], quantiles: Sequence[float] = (0.16, 0.5, 0.84)
 ) -> dict[str, float]:
-    """Fractiles of the first-overturning intensity over items (lower bounds count as found)."""
-    vals = [
-        it.first_overturning
-        if it.first_overturning is not None
-        else (it.intensity[-1] if it.intensity else math.nan)
-        for it in items
-    ]
-    arr = np.asarray(vals, dtype=float)
-    arr = arr[np.isfinite(arr)]
-    if arr.size == 0:
+    """Fractiles of the first-overturning intensity over items, NaN where the items that never
+    overturned leave them undefined.
+
+    An item with no overturning up to its last intensity is right-censored: its capacity is
+    only known to exceed that intensity. A fractile is defined when it is the same with those
+    items at their bound and with them beyond every value (it then rests on found capacities
+    alone); otherwise it is NaN, not the bound (before, the bounds counted as capacities: two
+    pulses with none found up to 48.25 gave "q0.5 48.25").
+    """
+    found = [it.first_overturning for it in items if it.first_overturning is not None]
+    bounds = [it.intensity[-1] for it in items if it.first_overturning is None and it.intensity]
+    values = np.asarray([*found, *bounds], dtype=float)
+    values = values[np.isfinite(values)]
+    if values.size == 0:
         return {f"q{q:g}": math.nan for q in quantiles}
-    return {f"q{q:g}": float(np.quantile(arr, q)) for q in quantiles}
+    beyond = 2.0 * float(np.max(np.abs(values))) + 1.0  # above every value: "somewhere higher"
+    at_bound = np.asarray([*found, *bounds], dtype=float)
+    high = np.asarray([*found, *([beyond] * len(bounds))], dtype=float)
+    out = {}
+    for q in quantiles:
+        low_q, high_q = float(np.quantile(at_bound, q)), float(np.quantile(high, q))
+        out[f"q{q:g}"] = low_q if low_q == high_q else math.nan
+    return out
 
 
 def ida_records(

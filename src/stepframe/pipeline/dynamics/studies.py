@@ -581,8 +581,20 @@ class IdaStudy:
                 bands = ", ".join(f"[{a:.6g}, {b:.6g}]" for a, b in item.overturning_bands)
                 extra = f", resurrections {row['resurrections']}; overturns on {bands}"
             lines.append(f"  {row['item']}: first overturning {shown} ({row['status']}){extra}")
-        fractiles = ", ".join(f"{k} {v:.4g}" for k, v in data["fractiles"].items())
-        lines.append("fractiles of the first overturning: " + fractiles)
+        # an undefined fractile says why (items that never overturned: lower bounds only)
+        fractiles = ", ".join(
+            f"{k} {v:.4g}" if v == v else f"{k} undefined" for k, v in data["fractiles"].items()
+        )
+        unfound = sum(item.first_overturning is None for item in self.items)
+        lines.append(
+            "fractiles of the first overturning: "
+            + fractiles
+            + (
+                f" ({unfound} of {len(self.items)} never overturned: lower bounds)"
+                if unfound
+                else ""
+            )
+        )
         return "\n".join(lines)
 
     def figure(self) -> Figure:
@@ -634,6 +646,24 @@ def ida_study(
 
     fema_p695, pulse, omegas_rad_s = options.fema_p695, options.pulse, options.omegas_rad_s
     resolution_g, tail_s = options.resolution_g, options.tail_s
+    # what the other kind of IDA reads is an error here, not ignored
+    if pulse is not None:
+        unread = [
+            name
+            for name, given in (
+                ("--fema-p695", bool(fema_p695)),
+                ("RECORD files", bool(records)),
+                ("--tail-s", tail_s != IdaOptions.tail_s),
+            )
+            if given
+        ]
+        if unread:
+            raise InputError(
+                f"--pulse with {', '.join(unread)}, expected pulses or records, not both (a "
+                "pulse IDA reads no record and has no tail)"
+            )
+    elif omegas_rad_s:
+        raise InputError("--omega-rad-s without --pulse, expected it only with --pulse cosine|sine")
     if pulse is not None:
         factor, probes = PULSE_PROBES
         factor = factor if options.probe_factor is None else options.probe_factor
