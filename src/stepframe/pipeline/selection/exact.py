@@ -210,14 +210,25 @@ def tied_across(
     if not inside.size or not outside.size:
         return tied
 
-    def close(values: Floats) -> NDArray[np.bool_]:
-        a, b = values[inside][:, None], values[outside][None, :]
+    def close(a: float, b: Floats) -> NDArray[np.bool_]:
         return np.asarray(np.abs(a - b) <= resolution * np.abs(np.minimum(a, b)))
 
+    # one chosen candidate at a time against all the others: memory of one candidate list (a
+    # set of n against 43,000 candidates at once would hold n × 43,000 of each temporary)
     never = np.isnan(factor)
-    pairs = close(response) & (close(factor) | (never[inside][:, None] & never[outside][None, :]))
-    tied[inside[pairs.any(axis=1)]] = True
-    tied[outside[pairs.any(axis=0)]] = True
+    others_factor, others_response, others_never = (
+        factor[outside],
+        response[outside],
+        never[outside],
+    )
+    hit = np.zeros(outside.size, dtype=bool)
+    for i in inside:
+        same_factor = others_never if never[i] else close(factor[i], others_factor)
+        pairs = close(response[i], others_response) & same_factor
+        if pairs.any():
+            tied[i] = True
+            hit |= pairs
+    tied[outside[hit]] = True
     return tied
 
 

@@ -54,8 +54,8 @@ RANKING_COLUMNS: dict[str, tuple[str, str]] = {
     "ranking_tie": (
         "",
         "the ranking does not tell it from a candidate on the other side of the chosen set's "
-        "edge (overturn_factor and simulated_response within 0.11 %, the bisection's "
-        "resolution)",
+        "edge (the simulated ranking: overturn_factor and simulated_response within 0.11 %, "
+        "the bisection's resolution; a tier: equal values)",
     ),
     **{name: (peer.unit, peer.meaning) for name, peer in PEERS.items()},
 }
