@@ -107,13 +107,14 @@ class RecordReadOptions:
         check_fields(self)
 
     def given_flags(self, names: tuple[str, ...] | None = None) -> list[str]:
-        """The command-line flags of the options set (not None, not False), of ``names`` or of
-        all: what a command that reads no record must refuse rather than ignore."""
-        chosen = names if names is not None else tuple(f.name for f in fields(self))
+        """The command-line flags of the read options set (not None, not False), of ``names``
+        or of all of them: what a command that reads no record must refuse rather than
+        ignore."""
+        chosen = names if names is not None else tuple(f.name for f in fields(RecordReadOptions))
         return [
             "--" + name.replace("_", "-")
             for name in chosen
-            if name != "example" and getattr(self, name) not in (None, False)
+            if getattr(self, name) not in (None, False)
         ]
 
     def read_kwargs(self) -> dict[str, Any]:
