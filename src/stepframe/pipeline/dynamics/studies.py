@@ -646,8 +646,8 @@ def ida_study(
 
     fema_p695, pulse, omegas_rad_s = options.fema_p695, options.pulse, options.omegas_rad_s
     resolution_g, tail_s = options.resolution_g, options.tail_s
-    # what the other kind of IDA reads is an error here, not ignored
     if pulse is not None:
+        # what an IDA over records reads is an error here, not ignored
         unread = [
             name
             for name, given in (
@@ -662,9 +662,6 @@ def ida_study(
                 f"--pulse with {', '.join(unread)}, expected pulses or records, not both (a "
                 "pulse IDA reads no record and has no tail)"
             )
-    elif omegas_rad_s:
-        raise InputError("--omega-rad-s without --pulse, expected it only with --pulse cosine|sine")
-    if pulse is not None:
         factor, probes = PULSE_PROBES
         factor = factor if options.probe_factor is None else options.probe_factor
         probes = probes if options.probes is None else options.probes
@@ -682,6 +679,8 @@ def ida_study(
         names = [f"{pulse} ω = {w:g} rad/s" for w in omegas_rad_s]
         items = ida_pulse(frame, omegas_rad_s, kind=pulse, settings=settings)
         return IdaStudy(items, names, settings, "amplitude / (γ₁/P₂)")
+    if omegas_rad_s:  # what a pulse IDA reads
+        raise InputError("--omega-rad-s without --pulse, expected it only with --pulse cosine|sine")
     settings = options.settings()
     motions: list[tuple[np.ndarray, float]] = []
     names = []

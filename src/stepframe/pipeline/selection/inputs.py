@@ -13,30 +13,6 @@ if TYPE_CHECKING:
     from stepframe.pipeline.selection.result import SelectionResult
     from stepframe.records.read_options import RecordSource
 
-#: Metadata columns of the embedded example catalogue that the filters and caps use.
-EXAMPLE_METADATA = (
-    "rsn",
-    "event",
-    "year",
-    "magnitude",
-    "rrup_km",
-    "rjb_km",
-    "repi_km",
-    "vs30_m_s",
-    "pga_g",
-    "lowest_usable_frequency_hz",
-)
-
-
-def join_metadata(features: Any, metadata: Any, on: str = "file") -> Any:
-    """``features`` with the columns of ``metadata`` it lacks, matched on ``on`` (left join); the
-    features table's column dictionary is kept."""
-    extra = [c for c in metadata.columns if c not in features.columns or c == on]
-    joined = features.merge(metadata[extra], on=on, how="left")
-    joined.attrs = dict(features.attrs)
-    return joined
-
-
 #: Metadata columns the filters read as numbers (a word in one is an error on its line).
 NUMERIC_METADATA = (
     "magnitude",
@@ -47,6 +23,19 @@ NUMERIC_METADATA = (
     "pga_g",
     "lowest_usable_frequency_hz",
 )
+
+
+#: Metadata columns of the embedded example catalogue that the filters and caps use.
+EXAMPLE_METADATA = ("rsn", "event", "year", *NUMERIC_METADATA)
+
+
+def join_metadata(features: Any, metadata: Any, on: str = "file") -> Any:
+    """``features`` with the columns of ``metadata`` it lacks, matched on ``on`` (left join); the
+    features table's column dictionary is kept."""
+    extra = [c for c in metadata.columns if c not in features.columns or c == on]
+    joined = features.merge(metadata[extra], on=on, how="left")
+    joined.attrs = dict(features.attrs)
+    return joined
 
 
 #: What the record headers give for grouping and filtering (``stats.stepframe`` and ``stats``).

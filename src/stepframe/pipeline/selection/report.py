@@ -329,7 +329,7 @@ def _confirmation(
         Table(
             "confirmation_summary",
             "Selected against controls",
-            pd.DataFrame(_medians_rows(medians, stated, response, bool(stated))),
+            pd.DataFrame(_medians_rows(medians, stated, response)),
             f"Median simulated {response} of the selected and of the controls (as many "
             f"candidates, ranked lowest) at the confirmation's {confirmation_level(summary)} "
             "and, where the run states it, at the chosen scale; Spearman "
@@ -376,12 +376,13 @@ Items = list[Figure | Table | Note | FigureJob]
 
 
 def _medians_rows(
-    medians: dict[str, float], stated: dict[str, Any], response: str, controls: bool
+    medians: dict[str, float], stated: dict[str, Any], response: str
 ) -> list[dict[str, Any]]:
     """The rows of "Selected against controls": the medians at the confirmation's equal
-    intensity, and the run's stated medians at the chosen scale with the overturned counts
+    intensity (against the controls when the run states its medians, else every other
+    candidate), and the run's stated medians at the chosen scale with the overturned counts
     (absent from a folder of an earlier run)."""
-    others = "controls" if controls else "controls / others"
+    others = "controls" if stated else "controls / others"
     column = f"median_{response}"
     rows: list[dict[str, Any]] = [
         {"group": "selected", "at": "equal PSA(T_1)", column: _or_not_run(medians["selected"])},

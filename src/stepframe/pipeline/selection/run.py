@@ -682,17 +682,19 @@ def rank_stability(
 
     table, band, passing = candidates.table, candidates.band, candidates.passing
     counts = np.zeros(len(table))
+    replicates = options.n_bootstrap
     if not ranks_by_fit(options.rank_by):
         # The record's response and spectrum do not depend on the fit: every replicate would
         # rank alike and choose this set (1 for it, 0 for the rest), so none is drawn.
-        counts[choice.chosen_rows] = options.n_bootstrap
+        counts[choice.chosen_rows] = replicates
+        replicates = 0
     rng = np.random.default_rng(options.seed)
-    replicates = [
-        _perturbed(table.iloc[passing].reset_index(drop=True), rng)
-        for _ in range(options.n_bootstrap if ranks_by_fit(options.rank_by) else 0)
-    ]
     if replicates:
-        drawn = pd.concat(replicates, ignore_index=True)
+        drawn = pd.concat(
+            [_perturbed(table.iloc[passing].reset_index(drop=True), rng)
+             for _ in range(replicates)],
+            ignore_index=True,
+        )  # fmt: skip
         if options.rank_by in PHYSICS_SCORES:
             paths = strong_motion_paths(drawn, options.strong_motion_fraction)
             b, d, _, _ = _physics(drawn, np.arange(len(drawn)), band, frame, paths, *parallel)
