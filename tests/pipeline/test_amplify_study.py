@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from stepframe.errors import InputError
@@ -41,3 +43,37 @@ def test_mixed_or_incomplete_inputs_are_one_error(kwargs: dict[str, object], mes
         amplify_study(AmplifyOptions(**PAPER_SITE, **kwargs))  # type: ignore[arg-type]
     with pytest.raises(InputError, match="--plot without --t-max-s"):
         amplify_study(AmplifyOptions(**PAPER_SITE, f0_hz=2.0, alpha_reading="paper"), figure=True)
+
+
+def test_a_frame_says_whether_it_stepped_and_from_which_intensity(tmp_path: Path) -> None:
+    """The frame-driven run's amplitude √2·σ_x against x_c decides whether ω(t) moved at all:
+    below the stated onset intensity the frame stays linear (amplification 1 by construction),
+    just above it the run steps (its amplification differs from 1)."""
+    from stepframe.structure.frame_file import frame_template
+
+    frame_file = tmp_path / "f.toml"
+    frame_file.write_text(frame_template())
+
+    def run(intensity: float) -> AmplificationResult:
+        options = AmplifyOptions(
+            **PAPER_SITE, **TIMES, frame=str(frame_file), peak_intensity_m_s2=intensity,
+            n_steps=400,
+        )  # fmt: skip
+        result = amplify_study(options).result
+        assert isinstance(result, AmplificationResult) and result.frame_stepping is not None
+        return result
+
+    quiet = run(1.0)
+    stepping = quiet.frame_stepping
+    assert stepping is not None and not stepping.stepped
+    assert quiet.response_amplification_vs_fixed == 1.0
+    # The linear response is proportional to the intensity: √2·σ_x reaches x_c at the onset.
+    assert stepping.peak_amplitude_m == pytest.approx(2**0.5 * quiet.peak_rms_fixed_m, rel=1e-12)
+    onset = stepping.onset_intensity_m_s2
+    assert onset == pytest.approx(stepping.x_c_m / stepping.peak_amplitude_m, rel=1e-12)
+    assert "did not step" in quiet.describe() and f"{onset:.3g} m/s²" in quiet.describe()
+    below, above = run(0.99 * onset), run(1.01 * onset)
+    assert below.frame_stepping is not None and not below.frame_stepping.stepped
+    assert above.frame_stepping is not None and above.frame_stepping.stepped
+    assert above.response_amplification_vs_fixed != 1.0
+    assert above.to_dict()["frame_stepping"]["stepped"] is True

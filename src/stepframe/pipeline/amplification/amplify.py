@@ -15,7 +15,7 @@ and :func:`read_curve`.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, fields
+from dataclasses import asdict, dataclass, field, fields
 from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING, Any
 from stepframe.core.results import Status
 from stepframe.core.tables import read_dataset, write_dataset
 from stepframe.errors import InputError
+from stepframe.pipeline.amplification.headlines import Stepping, frame_stepping
 from stepframe.pipeline.amplification.site import SiteModel
 
 if TYPE_CHECKING:
@@ -53,6 +54,9 @@ class Oscillator:
         -p_1 ẍ_g in the unstepped phase, eq. 4.11), 1 for a plain oscillator.
     inputs
         What describes it in the result's ``inputs`` (the frame file, p_1).
+    x_c_m
+        A frame's uplift amplitude [m]: its period changes only above it (None for an
+        oscillator given by f0).
     """
 
     f0_hz: float
@@ -60,6 +64,7 @@ class Oscillator:
     frame_law: FrameDriven | None = None
     participation: float = 1.0
     inputs: dict[str, Any] = field(default_factory=dict)
+    x_c_m: float | None = None
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.xi0) and self.xi0 > 0):
@@ -97,6 +102,7 @@ def frame_oscillator(
         frame_law=FrameDriven(period_s),
         participation=frame.p_1,
         inputs={"frame": None if name is None else str(name), "participation_p_1": frame.p_1},
+        x_c_m=frame.x_c_m,
     )
 
 
@@ -125,7 +131,8 @@ class AmplificationResult:
 
     ``status`` is ``"ok"``, or ``"lower_bound"`` when a frame stopped the run (its period law gave
     no finite period: overturning), so the peak RMS so far is only a lower bound; ``message``
-    says where it stopped.
+    says where it stopped. ``frame_stepping`` (a frame only) says whether the frame stepped in
+    the run, so whether its frequency moved at all, and from which site intensity it would.
     """
 
     spectral_ratio_eq_6_18: float
@@ -148,6 +155,7 @@ class AmplificationResult:
     n_steps: int
     inputs: dict[str, Any]
     monte_carlo: MonteCarloCheck | None = None
+    frame_stepping: Stepping | None = None
 
     @property
     def lower_bound(self) -> bool:
@@ -160,10 +168,13 @@ class AmplificationResult:
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready form (what ``stepframe stochastic amplify --json`` prints)."""
-        out = {key: value for key, value in self.__dict__.items() if key != "monte_carlo"}
+        nested = ("monte_carlo", "frame_stepping")
+        out = {key: value for key, value in self.__dict__.items() if key not in nested}
         out["lower_bound"] = self.lower_bound
         if self.monte_carlo is not None:
             out["monte_carlo"] = self.monte_carlo.to_dict()
+        if self.frame_stepping is not None:
+            out["frame_stepping"] = asdict(self.frame_stepping)
         return out
 
 
@@ -233,6 +244,11 @@ def amplify(
             status=mc.moving.status,
             message=mc.moving.message,
         )
+    stepping = None
+    if oscillator.frame_law is not None and oscillator.x_c_m is not None:
+        stepping = frame_stepping(
+            oscillator.x_c_m, covariance, base, oscillator.frame_law.amplitude_factor
+        )
     return AmplificationResult(
         spectral_ratio_eq_6_18=float(spectral_ratio_eq_6_18(model, omega_0)),
         approx_eq_6_19_first=approx_eq_6_19_first(model),
@@ -254,6 +270,7 @@ def amplify(
         n_steps=int(grid.size - 1),
         inputs={"ground_motion_model": model.to_dict(), **site.source, **oscillator.inputs},
         monte_carlo=check,
+        frame_stepping=stepping,
     )
 
 
@@ -308,7 +325,7 @@ class SpectralRatios:
         envelope."""
         out: dict[str, Any] = {}
         for item in fields(AmplificationResult):
-            if item.name != "monte_carlo" and item.name not in ENVELOPE_KEYS:
+            if item.name not in ("monte_carlo", "frame_stepping", *ENVELOPE_KEYS):
                 out[item.name] = getattr(self, item.name)
         out["lower_bound"] = False
         return out
@@ -397,6 +414,11 @@ def _describe(data: dict[str, Any]) -> str:
         )
     if data["status"] != "ok":
         lines.append(f"  status: {data['status']}")
+    if "frame_stepping" in data:
+        import textwrap
+
+        sentence = Stepping(**data["frame_stepping"]).describe()
+        lines += textwrap.wrap(sentence, 96, initial_indent="  ", subsequent_indent="    ")
     return "\n".join(lines)
 
 

@@ -149,23 +149,21 @@ def frame_part(
     """The frame's band from its period-amplitude law, its frame-driven amplification (exact
     covariance method) with whether it stepped and the intensity at which it would, and, with
     δ*, the adjusted design displacement against x_c and x*."""
+    from stepframe.pipeline.amplification.amplify import frame_oscillator
     from stepframe.stochastic.amplification import response_amplification
-    from stepframe.stochastic.mean_square import FrameDriven, analysis_grid
-    from stepframe.structure.period_amplitude import period_amplitude
+    from stepframe.stochastic.mean_square import analysis_grid
 
     a_max = _amplitude_limit(frame, opts)
     lo, hi = frame_band(frame, a_max)
-
-    def period_s(amplitude_m: float) -> float:
-        return float(period_amplitude(frame, amplitude_m, beyond_x_star="inf"))
-
     intensity = opts.peak_intensity_m_s2 or peak_intensity_m_s2
-    law = FrameDriven(period_s)
+    oscillator = frame_oscillator(frame)
+    law = oscillator.frame_law
+    assert law is not None  # a frame's oscillator always has its period law
     driven = response_amplification(
-        model, None, frame.xi_1, frame=law, peak_intensity=intensity * frame.p_1,
+        model, None, oscillator.xi0, frame=law, peak_intensity=intensity * frame.p_1,
         time_s=analysis_grid(model, n_steps=opts.n_steps),
     )  # fmt: skip
-    stepping = frame_stepping(frame, driven, intensity, law.amplitude_factor)
+    stepping = frame_stepping(frame.x_c_m, driven, intensity, law.amplitude_factor)
     lower = driven.moving.status != "ok"
     rows = _frame_rows(frame, (lo, hi), a_max, driven, stepping)
     stated.numbers["frame"] = {row["quantity"]: row["value"] for row in rows}

@@ -223,10 +223,11 @@ class Stepping:
 
 
 def frame_stepping(
-    frame: Any, driven: Any, intensity_m_s2: float, amplitude_factor: float = math.sqrt(2.0)
+    x_c_m: float, driven: Any, intensity_m_s2: float, amplitude_factor: float = math.sqrt(2.0)
 ) -> Stepping:
     """Stepping of a frame-driven run (:func:`stepframe.stochastic.amplification.
-    response_amplification` with ``frame=``) at the site intensity ``intensity_m_s2`` [m/s²].
+    response_amplification` with ``frame=``) at the site intensity ``intensity_m_s2`` [m/s²],
+    for a frame of uplift amplitude ``x_c_m`` [m].
 
     ``amplitude_factor`` is the one the frame's period law was given, A = factor·σ_x
     (:class:`stepframe.stochastic.mean_square.FrameDriven`, √2 by default).
@@ -234,7 +235,7 @@ def frame_stepping(
     factor = float(amplitude_factor)
     moving = float(np.sqrt(np.nanmax(driven.moving.mean_square_m2)))
     fixed = float(driven.fixed.peak_rms_m[0])
-    x_c = float(frame.x_c_m)
+    x_c = float(x_c_m)
     overturned = driven.moving.status != "ok"
     linear = factor * fixed
     return Stepping(
