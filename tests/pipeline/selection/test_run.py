@@ -257,3 +257,8 @@ def test_records_with_both_components(example_inputs: Any, example4: PortalFrame
     passed["pct"] = (passed["pct"] - 1) / (len(passed) - 1)
     means = passed.groupby(["event", "station"])["pct"].mean().sort_values(ascending=False)
     assert set(pairs.index) == set(means.index[:3])
+    # A tier simulates nothing: its intensity states the level, not the simulation's ladder.
+    intensity = result.summary["ranking_intensity"]
+    assert intensity["ladder"] == [] and "ladder" not in intensity["text"]
+    assert intensity["text"] == "the records as they will be used (as recorded)"
+    assert "ladder" not in result.message

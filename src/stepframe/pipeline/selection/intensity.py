@@ -22,6 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from stepframe.errors import InputError
+from stepframe.pipeline.selection.names import SIMULATED_RESPONSE
 
 Floats = NDArray[np.float64]
 STANDARD_GRAVITY_M_S2 = 9.80665
@@ -44,7 +45,8 @@ class RankingIntensity:
     onset_psa_t1_g
         The frame's onset of stepping as PSA(T_1, ξ_1) = ω_1²x_c/P_1 [g].
     ladder
-        Factors on each record's scale at which it is simulated.
+        Factors on each record's scale at which it is simulated (empty when the ranking is a
+        tier: it simulates nothing, it reads each record at its scale).
     """
 
     kind: str
@@ -56,20 +58,24 @@ class RankingIntensity:
 
     def describe(self) -> str:
         """One line for people (the summary, the report): the level, then the ladder after
-        "; " (:func:`intensity_level` reads the level back)."""
-        ladder = f"ladder ×{self.ladder[0]:g} to ×{self.ladder[-1]:g} ({len(self.ladder)} levels)"
+        "; " when the ranking simulates (:func:`intensity_level` reads the level back)."""
         if self.kind == "as-used":
             how = "as recorded" if self.scale == "none" else f"at their {self.scale} scale factors"
-            return f"the records as they will be used ({how}); {ladder}"
-        if self.onset_ratio is not None:
-            level = equal_psa_level(self.onset_ratio, self.onset_psa_t1_g)
+            level = f"the records as they will be used ({how})"
+        elif self.onset_ratio is not None:
+            level = (
+                f"every record at equal {equal_psa_level(self.onset_ratio, self.onset_psa_t1_g)}"
+            )
         else:
             assert self.psa_t1_g is not None
             level = (
-                f"PSA(T_1) = {self.psa_t1_g:.3g} g (5 % damping), "
+                f"every record at equal PSA(T_1) = {self.psa_t1_g:.3g} g (5 % damping), "
                 f"{self.psa_t1_g / self.onset_psa_t1_g:.3g} × the onset of stepping"
             )
-        return f"every record at equal {level}; {ladder}"
+        if not self.ladder:
+            return level
+        first, last = self.ladder[0], self.ladder[-1]
+        return f"{level}; ladder ×{first:g} to ×{last:g} ({len(self.ladder)} levels)"
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready, with ``text`` (:meth:`describe`)."""
@@ -140,7 +146,8 @@ def onset_psa_t1_g(frame: Any) -> float:
 
 
 def ranking_intensity(options: Any, frame: Any, ladder: tuple[float, ...]) -> RankingIntensity:
-    """The intensity the options state (module docstring)."""
+    """The intensity the options state (module docstring), with the simulation's ``ladder``
+    when the ranking is the simulated response (a tier reads each record once, at its scale)."""
     equal = options.rank_onset_ratio is not None or options.rank_psa_t1_g is not None
     kind = "equal-psa-t1" if equal else "as-used"
     return RankingIntensity(
@@ -149,7 +156,7 @@ def ranking_intensity(options: Any, frame: Any, ladder: tuple[float, ...]) -> Ra
         options.rank_onset_ratio,
         options.rank_psa_t1_g,
         onset_psa_t1_g(frame),
-        ladder,
+        ladder if options.rank_by == SIMULATED_RESPONSE else (),
     )
 
 

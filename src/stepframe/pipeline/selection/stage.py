@@ -31,8 +31,9 @@ from stepframe.pipeline.reports.provenance import workflow_provenance
 # estimate and budget in CPU seconds of one core (the same on every machine); 8: the exact
 # integrator's chord-bound fast path (its runs the same to rounding), the bootstrap's kernel; 9:
 # the ranking's ties (ranking_tie, ranking.tie), the confirmation's intensity and the chosen
-# scale's overturned counts in the medians
-SELECTION_VERSION = 9
+# scale's overturned counts in the medians; 10: a tier ranking's intensity without the
+# simulation's ladder (it simulates nothing)
+SELECTION_VERSION = 10
 # 2: the peers and the ranking's simulations in the pass; 3: the exact integrator's chord-bound
 # fast path (the same runs to rounding: recomputed rather than mixed with the former kernel's)
 RESPONSES_VERSION = 3
