@@ -10,6 +10,7 @@ from stepframe.errors import InputError
 from stepframe.pipeline.amplification.amplify import AmplificationResult, SpectralRatios
 from stepframe.pipeline.amplification.study import AmplifyOptions, amplify_study
 
+DATA = Path(__file__).parents[1] / "data"
 PAPER_SITE = {"fp_hz": 7.43, "fs_hz": 3.12, "fr_hz": 1.11, "xi_p": 0.096, "xi_r": 0.655}
 TIMES = {"t_max_s": 5.0, "t_dur_s": 20.0}
 
@@ -77,3 +78,26 @@ def test_a_frame_says_whether_it_stepped_and_from_which_intensity(tmp_path: Path
     assert above.frame_stepping is not None and above.frame_stepping.stepped
     assert above.response_amplification_vs_fixed != 1.0
     assert above.to_dict()["frame_stepping"]["stepped"] is True
+
+
+def test_an_implausible_fit_is_degraded_and_says_why() -> None:
+    """The ESM record's fit stops at its bounds (ω_p = ω_r: ω_g(t) does not fall), so eq. 6.19's
+    (ω_p/ω_s)² is 1 by construction: the result is not the site's and must not read "ok"."""
+    from stepframe.stochastic.flags import implausible
+
+    record = DATA / "formats" / "esm" / "HI.ARS1..HNE.D.20190728.160908.C.ACC.ASC.gz"
+    study = amplify_study(AmplifyOptions(record=str(record), f0_hz=2.0, n_steps=400))
+    result = study.result
+    assert isinstance(result, AmplificationResult)
+    flags = implausible(result.inputs["flags"])
+    assert "omega_not_decreasing" in flags
+    model = result.inputs["ground_motion_model"]
+    assert model["omega_p_rad_s"] == pytest.approx(model["omega_r_rad_s"], rel=1e-3)
+    assert result.status == "degraded" and not result.lower_bound
+    assert all(flag in result.message for flag in flags)
+    assert "status: degraded" in result.describe() and "not plausible" in result.describe()
+    # A plausible fit (RSN 8883) stays "ok".
+    good = DATA / "peer_nga_west2" / "RSN8883_14383980_13849090.AT2"
+    plain = amplify_study(AmplifyOptions(record=str(good), f0_hz=2.0, n_steps=400)).result
+    assert isinstance(plain, AmplificationResult)
+    assert implausible(plain.inputs["flags"]) == [] and plain.status == "ok"

@@ -15,6 +15,7 @@ and :func:`read_curve`.
 from __future__ import annotations
 
 import math
+import textwrap
 from dataclasses import asdict, dataclass, field, fields
 from os import PathLike
 from pathlib import Path
@@ -129,10 +130,13 @@ class MonteCarloCheck:
 class AmplificationResult:
     """Both kinds of amplification for one site and one oscillator.
 
-    ``status`` is ``"ok"``, or ``"lower_bound"`` when a frame stopped the run (its period law gave
-    no finite period: overturning), so the peak RMS so far is only a lower bound; ``message``
-    says where it stopped. ``frame_stepping`` (a frame only) says whether the frame stepped in
-    the run, so whether its frequency moved at all, and from which site intensity it would.
+    ``status`` is ``"ok"``; ``"lower_bound"`` when a frame stopped the run (its period law gave
+    no finite period: overturning), so the peak RMS so far is only a lower bound; or
+    ``"degraded"`` when the site was fitted to a record and the fit is not plausible (its
+    parameters are where the search stopped: :func:`stepframe.stochastic.flags.implausible`).
+    ``message`` says where the run stopped or which flags the fit has. ``frame_stepping`` (a
+    frame only) says whether the frame stepped in the run, so whether its frequency moved at
+    all, and from which site intensity it would.
     """
 
     spectral_ratio_eq_6_18: float
@@ -160,7 +164,7 @@ class AmplificationResult:
     @property
     def lower_bound(self) -> bool:
         """Whether the response values are lower bounds (a frame stopped the run)."""
-        return self.status != "ok"
+        return self.status == "lower_bound"
 
     def describe(self) -> str:
         """The result as text, one quantity a line (what ``stochastic amplify`` prints)."""
@@ -244,6 +248,11 @@ def amplify(
             status=mc.moving.status,
             message=mc.moving.message,
         )
+    status, message = covariance.moving.status, covariance.moving.message
+    unfit = _implausible_fit(site)
+    if unfit:
+        status = "degraded" if status == "ok" else status
+        message = f"{message}; {unfit}" if message else unfit
     stepping = None
     if oscillator.frame_law is not None and oscillator.x_c_m is not None:
         stepping = frame_stepping(
@@ -261,8 +270,8 @@ def amplify(
         omega_path=covariance.omega_path,
         alpha_reading=model.alpha_reading,
         method="covariance",
-        status=covariance.moving.status,
-        message=covariance.moving.message,
+        status=status,
+        message=message,
         f0_hz=oscillator.f0_hz,
         xi0=oscillator.xi0,
         peak_intensity_m_s2=intensity,
@@ -271,6 +280,23 @@ def amplify(
         inputs={"ground_motion_model": model.to_dict(), **site.source, **oscillator.inputs},
         monte_carlo=check,
         frame_stepping=stepping,
+    )
+
+
+def _implausible_fit(site: SiteModel) -> str:
+    """Why the site's fit to a record is not plausible ("" when it is, or when the site was
+    given by its parameters): the flags that make its parameters a bound, not an estimate."""
+    from stepframe.stochastic.flags import implausible
+
+    flags = implausible(site.source.get("flags", ()))
+    if not flags:
+        return ""
+    component = site.source.get("component")
+    where = f"{site.source.get('record')}" + (f" [{component}]" if component else "")
+    return (
+        f"the fit to {where} is not plausible ({', '.join(flags)}): its parameters are where the "
+        "search stopped, not the record's, so these amplifications are not the site's "
+        "(`stepframe stochastic fit` says why)"
     )
 
 
@@ -396,8 +422,6 @@ def _describe(data: dict[str, Any]) -> str:
         f"  eq. 6.19 last approximation (ωp/ωs)²   {data['approx_eq_6_19_last']:.4g}",
     ]
     if "response_amplification_vs_fixed" not in data:
-        import textwrap
-
         lines += textwrap.wrap(data["message"], 96, initial_indent="  ", subsequent_indent="    ")
         return "\n".join(lines)
     lines += [
@@ -414,9 +438,11 @@ def _describe(data: dict[str, Any]) -> str:
         )
     if data["status"] != "ok":
         lines.append(f"  status: {data['status']}")
+        if data["status"] == "degraded":
+            lines += textwrap.wrap(
+                data["message"], 96, initial_indent="  ", subsequent_indent="    "
+            )
     if "frame_stepping" in data:
-        import textwrap
-
         sentence = Stepping(**data["frame_stepping"]).describe()
         lines += textwrap.wrap(sentence, 96, initial_indent="  ", subsequent_indent="    ")
     return "\n".join(lines)
