@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 import pytest
@@ -11,6 +12,7 @@ from scipy.integrate import solve_ivp
 from stepframe.errors import InputError
 from stepframe.structure.frame import PortalFrame
 from stepframe.structure.ida import (
+    Evaluator,
     IdaSettings,
     capacity_fractiles,
     fixed_step_runs,
@@ -187,3 +189,59 @@ def test_fractiles_never_rest_on_a_lower_bound() -> None:
     assert capacity_fractiles(found)["q0.84"] == pytest.approx(
         float(np.quantile([i.first_overturning for i in found], 0.84))
     )
+
+
+def _threshold_evaluator(overturns: Callable[[float], bool]) -> Evaluator:
+    """An evaluator whose outcome is a known function of the intensity (peak = intensity)."""
+
+    def evaluate(idx: list[int], s: list[float]) -> tuple[np.ndarray, np.ndarray, list[str]]:
+        return np.array([overturns(x) for x in s]), np.asarray(s), ["ok"] * len(s)
+
+    return evaluate
+
+
+def test_a_capacity_below_the_hunts_start_is_found_not_reported_as_the_start() -> None:
+    """The first hunt run (0.05) already overturns: the capacity (0.02) lies below it, so the
+    intensity is halved until a run survives, then traced; before, 0.05 was reported, "ok"."""
+    st = IdaSettings(start=0.05, step=0.1, step_increment=0.05, resolution=0.001)
+    item = hunt_trace_fill(_threshold_evaluator(lambda x: x >= 0.02), 1, st)[0]
+    assert item.first_overturning is not None and item.last_survival_below is not None
+    assert item.last_survival_below < 0.02 <= item.first_overturning
+    assert item.first_overturning - item.last_survival_below <= st.resolution
+    assert item.status == "ok"
+    # Below the resolution itself: the bracket (0, lowest run] is within it, and said.
+    tiny = hunt_trace_fill(_threshold_evaluator(lambda x: x >= 1e-6), 1, st)[0]
+    assert tiny.first_overturning is not None and tiny.first_overturning <= st.resolution
+    assert tiny.last_survival_below is None and "capacity is below it" in tiny.message
+
+
+def test_probes_start_from_the_traced_first_overturning() -> None:
+    """Overturns on [0.20, 0.24] and from 0.28: the hunt first overturns at 0.30, above the
+    survival band (0.24, 0.28); probing from 0.30 (as before) never looked inside it."""
+    st = IdaSettings(start=0.05, step=0.1, step_increment=0.05, resolution=1e-3, n_probe=8)
+    item = hunt_trace_fill(_threshold_evaluator(lambda x: 0.2 <= x <= 0.24 or x >= 0.28), 1, st)
+    found = item[0]
+    assert found.first_overturning == pytest.approx(0.2, abs=1e-3)
+    assert len(found.resurrections) == 1
+    assert found.resurrections[0][0] == pytest.approx(0.24, abs=1e-3)
+    assert found.overturning_bands[1][0] == pytest.approx(0.28, abs=1e-3)
+
+
+def test_probe_factor_one_still_traces() -> None:
+    """With probe_factor 1 every probe is the first overturning itself: nothing to probe, but
+    the trace must still run (before, the item stopped at the hunt's coarse bracket)."""
+    st = IdaSettings(start=0.05, step=0.1, step_increment=0.05, resolution=1e-3, probe_factor=1)
+    item = hunt_trace_fill(_threshold_evaluator(lambda x: x >= 0.4321), 1, st)[0]
+    assert item.first_overturning is not None and item.last_survival_below is not None
+    assert item.last_survival_below < 0.4321 <= item.first_overturning
+    assert item.first_overturning - item.last_survival_below <= st.resolution
+    assert item.status == "ok"
+
+
+def test_a_resolution_at_or_above_the_cap_is_refused() -> None:
+    from stepframe.pipeline.dynamics.studies import IdaOptions
+
+    with pytest.raises(InputError, match="--resolution-g 10 is not below --max-g 5"):
+        IdaOptions(resolution_g=10.0)
+    with pytest.raises(InputError, match="start = 6 is above max_intensity = 5"):
+        IdaSettings(start=6.0, max_intensity=5.0)

@@ -1,14 +1,17 @@
 """Incremental dynamic analysis by hunt-trace-fill, with resurrection detection.
 
 For each item (a record, or a pulse of one frequency) the intensity is raised until the frame
-overturns (hunt: steps growing by a fixed increment, Vamvatsikos and Cornell 2004), then every
-change of outcome between neighbouring intensities is bisected until the gap is below the
-resolution (trace), and the largest gaps between surviving runs are filled (fill) while the
-budget lasts. Rocking systems can *resurrect*: overturn at one intensity and survive a higher
-one (the safe islands of Zhang and Makris 2001 under pulses). Hunt-trace-fill as published stops
-looking at the first overturning, so after it the intensities up to ``probe_factor`` times the
-first overturning one are probed; any survivor there is a resurrection, and its band edges are
-traced like the first one.
+overturns (hunt: steps growing by a fixed increment, Vamvatsikos and Cornell 2004); when the
+hunt's first run already overturns, the intensity is halved until a run survives or the lowest
+overturning run is below the resolution (the capacity lies below every intensity run, not at
+the first). Then every change of outcome between neighbouring intensities is bisected until the
+gap is below the resolution (trace), and the largest gaps between surviving runs are filled
+(fill) while the budget lasts. Rocking systems can *resurrect*: overturn at one intensity and
+survive a higher one (the safe islands of Zhang and Makris 2001 under pulses). Hunt-trace-fill
+as published stops looking at the first overturning, so once the first change is traced the
+intensities up to ``probe_factor`` times the traced first overturning are probed (from it, not
+from the hunt's coarser overturning point, which can lie above a survival band); any survivor
+there is a resurrection, and its band edges are traced like the first one.
 
 All items advance in lockstep: each round gathers every item's next intensities and evaluates
 them in one batch (:func:`stepframe.structure.simulator.simulate_batch` on all cores for records).
@@ -82,6 +85,11 @@ class IdaSettings:
             raise InputError(f"step_increment = {self.step_increment}, expected ≥ 0")
         if self.probe_factor < 1:
             raise InputError(f"probe_factor = {self.probe_factor}, expected ≥ 1")
+        if self.start > self.max_intensity:
+            raise InputError(
+                f"start = {self.start:g} is above max_intensity = {self.max_intensity:g}, "
+                "expected a hunt that starts at or below its cap"
+            )
         for name in ("n_probe", "n_fill", "max_runs"):
             if getattr(self, name) < 0:
                 raise InputError(f"{name} = {getattr(self, name)}, expected ≥ 0")
@@ -146,13 +154,10 @@ def _next_requests(item: ItemIda, st: IdaSettings, hunt: dict[str, Any]) -> list
         if hunt["next"] > st.max_intensity:
             return []
         return [hunt["next"]]
-    first = s[o.index(True)]
-    if not hunt["probed"]:
-        hunt["probed"] = True
-        top = st.probe_factor * first
-        probes = [first + (top - first) * (k + 1) / st.n_probe for k in range(st.n_probe)]
-        existing = set(s)
-        return [p for p in probes if p not in existing][:budget]
+    # Down: the lowest run overturned, so the capacity lies below every run; halve until a run
+    # survives or the bracket (0, s[0]] is within the resolution.
+    if o[0] and s[0] > st.resolution:
+        return [0.5 * s[0]]
     # Trace: bisect every neighbouring pair whose outcomes differ and whose gap is too wide.
     wanted = []
     for a in range(len(s) - 1):
@@ -160,6 +165,17 @@ def _next_requests(item: ItemIda, st: IdaSettings, hunt: dict[str, Any]) -> list
             wanted.append(0.5 * (s[a] + s[a + 1]))
     if wanted:
         return wanted[:budget]
+    # Probe above the traced first overturning for survival (resurrection), once; the probes
+    # that coincide with runs already made (probe_factor 1) leave nothing to probe.
+    first = s[o.index(True)]
+    if not hunt["probed"]:
+        hunt["probed"] = True
+        top = st.probe_factor * first
+        probes = [first + (top - first) * (k + 1) / st.n_probe for k in range(st.n_probe)]
+        existing = set(s)
+        fresh = [p for p in probes if p not in existing][:budget]
+        if fresh:
+            return fresh
     # Fill: the widest gaps between survivals below the first overturning (the IDA curve).
     if hunt["filled"] < st.n_fill:
         below = [x for x, ov in zip(s, o, strict=True) if x < first and not ov]
@@ -183,6 +199,10 @@ def _finish(item: ItemIda, st: IdaSettings) -> None:
     k = o.index(True)
     item.first_overturning = s[k]
     item.last_survival_below = s[k - 1] if k > 0 else None
+    if k == 0:
+        item.message = (
+            f"overturned at every intensity run, down to {s[0]:.6g}: the capacity is below it"
+        )
     bands: list[tuple[float, float]] = []
     lo = None
     for a in range(len(s)):
@@ -252,7 +272,8 @@ def fixed_step_runs(items: Sequence[ItemIda], settings: IdaSettings) -> int:
             if item.first_overturning is not None
             else (item.intensity[-1] if item.intensity else settings.start)
         )
-        total += math.floor((top - settings.start) / settings.resolution + 1e-9) + 1
+        # at least the grid's first run (a capacity below the start is not found by the grid)
+        total += max(1, math.floor((top - settings.start) / settings.resolution + 1e-9) + 1)
     return total
 
 

@@ -474,7 +474,8 @@ class IdaOptions:
     )
     max_intensity_g: float = option(
         5.0,
-        "largest intensity hunted [g of PGA] (default 5)",
+        "largest intensity hunted [g of PGA] (default 5; with --pulse, 10·S in units of "
+        "the static uplift acceleration γ₁/P₂)",
         kind="positive",
         metavar="S",
         flag="--max-g",
@@ -506,6 +507,12 @@ class IdaOptions:
 
     def __post_init__(self) -> None:
         check_fields(self)
+        if self.resolution_g >= self.max_intensity_g:
+            raise InputError(
+                f"--resolution-g {self.resolution_g:g} is not below --max-g "
+                f"{self.max_intensity_g:g}, expected a resolution finer than the largest "
+                "intensity hunted (nothing would be run)"
+            )
 
     def settings(self) -> IdaSettings:
         """The hunt-trace-fill settings of an IDA over records, in g of PGA (the command's and
@@ -568,9 +575,9 @@ class IdaStudy:
         """Counts, the first 50 items, the fractiles."""
         data = self.to_dict()
         lines = [
-            f"{len(self.items)} items, {data['simulations']} simulations (a fixed step of "
-            f"{self.settings.resolution:g} would need {data['fixed_step_simulations']}); "
-            f"resurrection in {data['resurrected']}"
+            f"{len(self.items)} items, intensity {self.intensity}, {data['simulations']} "
+            f"simulations (a fixed step of {self.settings.resolution:g} would need "
+            f"{data['fixed_step_simulations']}); resurrection in {data['resurrected']}"
         ]
         for row in data["items"][:50]:
             first = row.get("first_overturning")
