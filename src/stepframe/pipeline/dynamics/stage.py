@@ -26,8 +26,9 @@ from stepframe.pipeline.engine.stage import Context, Param, Stage, params_from_o
 from stepframe.pipeline.engine.store import make_key, write_output_table
 
 # 2: the command's settings and probes (one declaration with structure ida); 3: the exact
-# integrator's chord-bound fast path (the same runs to rounding, recomputed rather than mixed)
-IDA_VERSION = 3
+# integrator's chord-bound fast path (the same runs to rounding, recomputed rather than mixed);
+# 4: a capacity below the hunt's start searched for, the probes from the traced first overturning
+IDA_VERSION = 4
 IDA_TABLE = "ida.csv"
 IDA_SUMMARY = "ida_summary.json"
 
