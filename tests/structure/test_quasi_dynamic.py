@@ -387,3 +387,22 @@ def test_map_and_pier_round_trip() -> None:
     assert SteppingMap.from_dict(smap.to_dict()) == smap
     with pytest.raises(InputError, match=r"unknown key\(s\) \['w'\]"):
         SteppingMap.from_dict({"w": 1.0})
+
+
+def test_a_root_at_the_domains_end_gets_its_multiplier() -> None:
+    """A weak spectrum (S_DS 0.01 g, S_D1 0.001 g) puts the unstable root within a difference
+    step of δ = 1/w, where f is not defined: the central difference took f beyond it (a math
+    domain error, a traceback from `structure design`). The slope, from a step within the
+    domain, is checked against the derivative written out: f = c β S_D1 u/T, u = δ/(1 - wδ), T = 2π√(cu), so
+    f = β S_D1 √(c u)/2π and df/dδ = β S_D1 √c/(4π √u) · du/dδ, du/dδ = 1/(1 - wδ)²."""
+    smap = SteppingMap.from_pier(example_1_pier(), 1.0)
+    g = 9.81
+    spectrum = TwoPeriodSpectrum(0.01 * g, 0.001 * g)
+    roots = search_fixed_points(smap, spectrum)
+    edge = roots[-1]
+    assert edge.delta_m is not None and edge.delta_m > (1 - 1e-6) * smap.delta_limit_m
+    d, w, c = edge.delta_m, smap.w_per_m, smap.c_s2_per_m
+    u = d / (1 - w * d)
+    exact = 0.001 * g * math.sqrt(c) / (4 * math.pi * math.sqrt(u)) / (1 - w * d) ** 2
+    assert edge.multiplier == pytest.approx(exact, rel=0.1)  # 1 - wδ ≈ 1e-10: see map_derivative
+    assert not edge.stable

@@ -563,8 +563,15 @@ def iterate(
 def map_derivative(
     stepping_map: SteppingMap, spectrum: Spectrum, delta_m: float, rel_step: float = 1e-6
 ) -> float:
-    """Central-difference f'(δ) (one-sided at δ = 0); used by the numerical search."""
+    """Central-difference f'(δ) (one-sided at δ = 0); used by the numerical search.
+
+    Near the domain's end 1/w, where f grows like (1 - wδ)^(-1/2), the step is at most a quarter
+    of the distance to it: a weak spectrum puts the unstable root some 10⁻¹⁰/w from the end,
+    where a step of ``rel_step``·δ left the domain (a math domain error). The slope there is
+    good to a few per cent (the step's truncation and the rounding of 1 - wδ), enough for its
+    verdict: it is in the hundreds of thousands."""
     h = rel_step * max(delta_m, 1e-9 * stepping_map.delta_limit_m)
+    h = min(h, 0.25 * (stepping_map.delta_limit_m - delta_m))
     if delta_m - h <= 0:
         return (stepping_map(delta_m + h, spectrum) - stepping_map(delta_m, spectrum)) / h
     up = stepping_map(delta_m + h, spectrum)
