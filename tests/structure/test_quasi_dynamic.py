@@ -393,8 +393,9 @@ def test_a_root_at_the_domains_end_gets_its_multiplier() -> None:
     """A weak spectrum (S_DS 0.01 g, S_D1 0.001 g) puts the unstable root within a difference
     step of δ = 1/w, where f is not defined: the central difference took f beyond it (a math
     domain error, a traceback from `structure design`). The slope, from a step within the
-    domain, is checked against the derivative written out: f = c β S_D1 u/T, u = δ/(1 - wδ), T = 2π√(cu), so
-    f = β S_D1 √(c u)/2π and df/dδ = β S_D1 √c/(4π √u) · du/dδ, du/dδ = 1/(1 - wδ)²."""
+    domain, is checked against the derivative written out: f = c β S_D1 u/T, u = δ/(1 - wδ),
+    T = 2π√(cu), so f = β S_D1 √(c u)/2π and df/dδ = β S_D1 √c/(4π √u) · du/dδ, du/dδ =
+    1/(1 - wδ)²."""
     smap = SteppingMap.from_pier(example_1_pier(), 1.0)
     g = 9.81
     spectrum = TwoPeriodSpectrum(0.01 * g, 0.001 * g)
