@@ -63,6 +63,13 @@ def test_bifurcation_points_recount_the_dataset() -> None:
     assert sweep.describe().startswith("3 values × 4 initial states × 30 periods at ω = 16")
     with pytest.raises(InputError, match="expected exactly one sweep"):
         bifurcation_sweep(block, BifurcationOptions(amplitude_g=0.1, amplitudes_g=(0.1, 0.3, 3)))
+    # an option of the other sweep beside a complete one was ignored (the same diagram): refused
+    stray = BifurcationOptions(16.0, (0.1, 0.3, 3), amplitude_g=0.2, initial=4, periods=30)
+    with pytest.raises(InputError, match="--amplitude-g with the amplitude sweep"):
+        bifurcation_sweep(block, stray)
+    other = BifurcationOptions(amplitude_g=0.2, omegas_rad_s=(5.0, 10.0, 2), omega_rad_s=16.0)
+    with pytest.raises(InputError, match="--omega-rad-s with the frequency sweep"):
+        bifurcation_sweep(block, other)
 
 
 def test_ida_study_of_a_cosine_pulse_finds_the_resurrection() -> None:

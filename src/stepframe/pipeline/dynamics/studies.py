@@ -389,6 +389,22 @@ def bifurcation_sweep(
     initial, periods = options.initial, options.periods
     by_amp = amplitudes_g is not None and omega_rad_s is not None
     by_omega = omegas_rad_s is not None and amplitude_g is not None
+    # an option of the other sweep beside a complete one would be ignored: refused instead
+    stray = (
+        [("--amplitude-g", amplitude_g), ("--omegas-rad-s", omegas_rad_s)]
+        if by_amp and not by_omega
+        else [("--omega-rad-s", omega_rad_s), ("--amplitudes-g", amplitudes_g)]
+        if by_omega and not by_amp
+        else []
+    )
+    ignored = [flag for flag, value in stray if value is not None]
+    if ignored:
+        sweep = "amplitude" if by_amp else "frequency"
+        raise InputError(
+            f"{' and '.join(ignored)} with the {sweep} sweep, expected the options of one sweep "
+            "(--omega-rad-s W with --amplitudes-g LO,HI,N, or --amplitude-g R with "
+            "--omegas-rad-s LO,HI,N)"
+        )
     if by_amp == by_omega:
         raise InputError(
             "give --omega-rad-s W with --amplitudes-g LO,HI,N, or --amplitude-g R with "
