@@ -27,5 +27,15 @@ def test_the_component_is_simulated_as_simulate_record_does(data_dir: Path) -> N
     two = Stream([stream[0], stream[0].copy()])
     with pytest.raises(InputError, match=r"rec\.AT2: 2 components"):
         simulate_component(frame, two, name="rec.AT2")
-    with pytest.raises(InputError, match="--scale"):
-        simulate_component(frame, stream, name="rec.AT2", scale=2e3)
+    # One rule with the command's options (--scale in (0, 10⁴], --tail-s in [0, 3600]): a
+    # second one here refused the documented --tail-s 0 and accepted less scale.
+    with pytest.raises(InputError, match=r"--scale 20000, expected in \(0, 10000\]"):
+        simulate_component(frame, stream, name="rec.AT2", scale=2e4)
+    with pytest.raises(InputError, match=r"--tail-s 3601, expected in \[0, 3600\]"):
+        simulate_component(frame, stream, name="rec.AT2", tail_s=3601.0)
+    no_tail = simulate_component(frame, stream, name="rec.AT2", scale=2e3, tail_s=0.0)
+    assert (
+        no_tail.to_dict()
+        == simulate_record(frame, stream[0], scale=2e3, tail_s=0.0, name="rec.AT2").to_dict()
+    )
+    assert no_tail.to_dict()["tail_s"] == 0.0
