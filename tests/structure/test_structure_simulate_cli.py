@@ -89,6 +89,16 @@ def test_simulate_text_reports_overturning(
     assert status == 0
     assert "OVERTURNED at" in out
     assert "moving resonance: R_m " in out and "ω_f down to 0 rad/s" in out
+    # The run stops where |x| passed the cap: that state is not a residual (it printed
+    # "residual x 5.77319 m", the cap), so neither the text nor the JSON states one.
+    assert "residual" not in out.replace("no residual state", "")
+    status, out, _ = run(
+        capsys, "structure", "simulate", "--frame", str(frame_file), str(data_dir / RECORD),
+        "--scale", "30", "--json",
+    )  # fmt: skip
+    summary = json.loads(out)
+    assert summary["overturned"] and "residual_x_m" not in summary
+    assert "residual_v_m_s" not in summary
 
 
 @pytest.mark.parametrize(

@@ -89,11 +89,11 @@ class RecordResponse:
             + ("" if drift is None else f" (drift ratio {drift:.4g})"),
             f"x_c {data['frame']['x_c_m']:.6g} m, x* {data['frame']['x_star_m']:.6g} m; "
             f"{data['n_stepping_episodes']} stepping episodes, {data['n_impacts']} impacts",
-            f"residual x {data['residual_x_m']:.6g} m",
             (
-                f"OVERTURNED at {data['overturn_time_s']:.4f} s"
+                f"OVERTURNED at {data['overturn_time_s']:.4f} s (the run stops where |x| passed "
+                "its cap: no residual state)"
                 if data["overturned"]
-                else "not overturned"
+                else f"not overturned; residual x {data['residual_x_m']:.6g} m"
             )
             + ("" if ok else f"; numerical status: {data['status']}"),
         ]
@@ -175,11 +175,19 @@ def simulate_record(
             "x_star_m": frame.x_star_m,
             "uplift_acceleration_m_s2": frame.uplift_acceleration_m_s2,
         },
-        **result.summary.to_dict(),
+        **_reported_state(result.summary.to_dict()),
         "episodes": result.episode_records(),
         "moving_resonance": resonance.measures.to_dict(),
     }
     return RecordResponse(summary, result, resonance)
+
+
+def _reported_state(summary: dict[str, Any]) -> dict[str, Any]:
+    """The simulation's summary as reported: an overturned run has no residual state (it stops
+    where |x| passed the cap; the state there, x = ±x_cap, was printed as a "residual")."""
+    if not summary["overturned"]:
+        return summary
+    return {k: v for k, v in summary.items() if k not in ("residual_x_m", "residual_v_m_s")}
 
 
 @dataclass(frozen=True)
