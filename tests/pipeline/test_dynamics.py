@@ -42,6 +42,28 @@ def test_harmonic_study_orbit_is_a_fixed_point_of_the_period_map() -> None:
     lines = study.describe().splitlines()
     assert lines[0].startswith("A = 0.3 g, ω = 16 rad/s, 60 periods: status ok")
     assert lines[1].startswith("period-1 orbit: status ok")
+    assert "orbit_message" not in data
+
+
+def test_an_orbit_asked_of_an_overturning_run_says_why_there_is_none() -> None:
+    """Example 4's frame overturns at 0.25 g, 7.854 rad/s (8.45 s): no final state to start
+    Newton from; the orbit asked for was dropped without a word before."""
+    import tomllib
+
+    from stepframe.structure.dynamics_plots import phase_portrait_figure
+    from stepframe.structure.frame_file import FRAME_TEMPLATE, frame_from_mapping
+
+    frame = frame_from_mapping(tomllib.loads(FRAME_TEMPLATE))
+    study = harmonic_study(frame, HarmonicOptions(0.25, 7.854, orbit=1))
+    assert study.run.overturned and study.orbit is None
+    data = study.to_dict()
+    assert "orbit" not in data and "overturned" in data["orbit_message"]
+    assert study.describe().splitlines()[-1] == data["orbit_message"]
+    # Its phase portrait draws the run up to overturning (its second half is all NaN).
+    axes = phase_portrait_figure(study.run, x_c_m=frame.x_c_m, x_star_m=frame.x_star_m).axes[0]
+    drawn = axes.lines[0].get_xdata()
+    assert np.isfinite(drawn).sum() == np.isfinite(study.run.x_m).sum() > 0
+    assert "up to overturning" in axes.get_title()
 
 
 def test_frame_or_block_is_housners_block_and_refuses_three_numbers() -> None:

@@ -126,7 +126,9 @@ def phase_portrait_figure(
 
     fig = Figure(figsize=(6, 5))
     ax = fig.add_subplot(1, 1, 1)
-    half = len(run.x_m) // 2  # drop the first half as transient
+    # Drop the first half as transient; an overturned run has samples only up to overturning
+    # (NaN after), so all of it is drawn (its second half was empty).
+    half = 0 if run.overturned else len(run.x_m) // 2
     ax.plot(run.x_m[half:], run.v_m_s[half:], lw=0.6, color="0.3")
     if strobe_every:
         ax.plot(
@@ -142,7 +144,12 @@ def phase_portrait_figure(
         ax.axvline(-level, ls=style, color="tab:blue", lw=0.8)
     ax.set_xlabel("x [m]")
     ax.set_ylabel("ẋ [m/s]")
-    ax.set_title(title or "phase portrait (second half of the run)")
+    default = (
+        f"phase portrait up to overturning at t = {run.t_end_s:.4g} s"
+        if run.overturned
+        else "phase portrait (second half of the run)"
+    )
+    ax.set_title(title or default)
     ax.legend(fontsize="small")
     fig.tight_layout()
     return fig

@@ -140,6 +140,8 @@ class HarmonicStudy:
     orbit
         The orbit found by Newton from the run's final state (None when not asked for, or
         when the run overturned or did not end ``ok``).
+    orbit_message
+        Why an orbit asked for was not searched ("" otherwise).
     """
 
     frame: PortalFrame
@@ -148,6 +150,7 @@ class HarmonicStudy:
     periods: int
     run: HarmonicRun
     orbit: PeriodicOrbit | None = None
+    orbit_message: str = ""
 
     def to_dict(self) -> dict[str, Any]:
         """The run's summary, the final state and ``orbit`` when one was found."""
@@ -164,6 +167,8 @@ class HarmonicStudy:
             data["v_end_m_s"] = float(self.run.v_m_s[-1])
         if self.orbit is not None:
             data["orbit"] = self.orbit.to_dict()
+        if self.orbit_message:
+            data["orbit_message"] = self.orbit_message
         return data
 
     def describe(self) -> str:
@@ -185,6 +190,8 @@ class HarmonicStudy:
                 f"{'stable' if orbit.stable else 'unstable'}"
                 + (", symmetric" if orbit.symmetric else "")
             )
+        if self.orbit_message:
+            lines.append(self.orbit_message)
         return "\n".join(lines)
 
     def figure(self) -> Figure:
@@ -224,14 +231,20 @@ def harmonic_study(frame: PortalFrame, options: HarmonicOptions) -> HarmonicStud
         v0_m_s=options.v0_m_s,
         samples_per_period=SAMPLES_PER_PERIOD,
     )
-    found = None
-    if options.orbit is not None and not run.overturned and run.status == "ok":
+    found, why = None, ""
+    if options.orbit is not None and (run.overturned or run.status != "ok"):
+        ended = "overturned" if run.overturned else f"ended {run.status}"
+        why = (
+            f"period-{options.orbit} orbit: not searched, the run {ended} (Newton starts from "
+            "the final state of a run that settles)"
+        )
+    elif options.orbit is not None:
         from stepframe.structure.periodic import find_periodic_orbit
 
         found = find_periodic_orbit(
             frame, amplitude_m_s2, omega, run.x_m[-1], run.v_m_s[-1], n_periods=options.orbit
         )
-    return HarmonicStudy(frame, options.amplitude_g, omega, options.periods, run, found)
+    return HarmonicStudy(frame, options.amplitude_g, omega, options.periods, run, found, why)
 
 
 # ------------------------------------------------------------------ bifurcation
