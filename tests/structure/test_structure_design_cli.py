@@ -98,6 +98,7 @@ def test_tabulated_spectrum_uses_search(tmp_path: Path, capsys: pytest.CaptureFi
         (["--height-m", "-3"], "--height-m -3.0, expected in (0, 300]"),
         (["--xi", "0.1"], "expected exactly one of beta, xi or c_r"),
         (["--plot", "out.txt"], "expected .png, .pdf or .svg"),
+        (["--template"], "--template with --weight-super-n, --weight-col-n"),
     ],
 )
 def test_bad_input_is_one_line_exit_2(
@@ -122,6 +123,31 @@ def test_unknown_toml_key_names_file_and_key(
     assert main(["structure", "design", "--input", str(path)]) == 2
     err = capsys.readouterr().err
     assert str(path) in err and "unknown key(s) ['W_s']" in err
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        (("beta = 1.0 ", "beta = -1.0 "), "beta = -1.0, expected > 0"),
+        (("footing_length_m = 7.0 ", 'footing_length_m = "7" '), "footing_length_m = '7'"),
+        (("delta0_m = [0.05, 2.0]", "delta0_m = []"), "delta0_m = [], expected at least one"),
+    ],
+)
+def test_a_bad_value_in_the_file_names_its_line(
+    change: tuple[str, str], message: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Values checked after the file is parsed named neither file nor line (and an empty
+    delta0_m fell back to the default starts without a word)."""
+    assert main(["structure", "design", "--template"]) == 0
+    template = capsys.readouterr().out
+    old, new = change
+    assert old in template
+    path = tmp_path / "pier.toml"
+    path.write_text(template.replace(old, new, 1))
+    number = next(n for n, text in enumerate(path.read_text().splitlines(), 1) if new in text)
+    assert main(["structure", "design", "--input", str(path)]) == 2
+    error = capsys.readouterr().err.strip()
+    assert error.startswith(f"stepframe: error: {path}:{number}: {message}"), error
 
 
 def test_paper_table_from_map_constants(capsys: pytest.CaptureFixture[str]) -> None:

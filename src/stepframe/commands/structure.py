@@ -8,7 +8,7 @@ import argparse
 from typing import TYPE_CHECKING
 
 from stepframe.commands import CommandResult, add_command, add_record_options
-from stepframe.core.options import add_fields, options_from
+from stepframe.core.options import add_fields, fields_given, options_from
 from stepframe.errors import InputError
 from stepframe.pipeline.dynamics import design, studies
 from stepframe.pipeline.dynamics.response import SimulatedComponent, SimulateOptions, simulate_file
@@ -98,6 +98,22 @@ def run_design(args: argparse.Namespace) -> CommandResult:
     stepframe structure design --input pier.toml --c-r 0.9 --plot cobweb.png --json
     """
     if args.template:
+        # the template is printed alone: an option beside it would be ignored (no design runs)
+        import dataclasses
+
+        declared = {
+            f.name: f.metadata.get("flag") for f in dataclasses.fields(design.DesignOptions)
+        }
+        given = [declared[name] or name for name in fields_given(args, design.DesignOptions)]
+        given += [name for name in ("plot", "trace") if getattr(args, name)]
+        if given:
+            flags = ", ".join(
+                name if name.startswith("--") else "--" + name.replace("_", "-") for name in given
+            )
+            raise InputError(
+                f"--template with {flags}, expected --template alone (it prints the input file "
+                "and runs nothing)"
+            )
         text = design.DESIGN_TEMPLATE
         return CommandResult({"template": text}, text.rstrip("\n"))
     result = design.design_run(options_from(args, design.DesignOptions))

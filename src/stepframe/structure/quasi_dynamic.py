@@ -865,6 +865,10 @@ def case_from_dict(data: Mapping[str, Any], where: str = "design input") -> Desi
     starts = iteration.get("delta0_m", [])
     if isinstance(starts, int | float):
         starts = [starts]
+    if "delta0_m" in iteration and not starts:  # it fell back to the default starts, unsaid
+        raise InputError(
+            "delta0_m = [], expected at least one start [m] (or no delta0_m: the default starts)"
+        )
     delta0 = tuple(validation.finite("delta0_m", s) for s in starts)
     return DesignCase(stepping_map, spectrum, pier, xi, method, delta0)
 

@@ -306,7 +306,28 @@ def design_case(
     data = merged_design_input(
         path, overrides or {}, damping_method=damping_method, delta0_m=delta0_m
     )
-    return case_from_dict(data, where=str(path) if path else "options")
+    try:
+        return case_from_dict(data, where=str(path) if path else "options")
+    except InputError as error:
+        raise _at_key_line(error, path, overrides or {}) from None
+
+
+def _at_key_line(
+    error: InputError, path: str | PathLike[str] | None, overrides: Mapping[str, Any]
+) -> InputError:
+    """``error`` at the line of the file's key it starts with (``beta = -1.0, expected > 0``
+    named neither the file nor the line); as it is when the value came from an option, or when
+    it names no key of the file."""
+    from stepframe.core.io import read_toml
+    from stepframe.pipeline.engine.workflow import Lines
+
+    key = error.key or error.what.split(" ", 1)[0]
+    if not path or error.path is not None or overrides.get(key) is not None:
+        return error
+    _, text = read_toml(path, "a design input TOML file")
+    lines = Lines(Path(path), text)
+    line = next((number for (_, name), number in lines.keys.items() if name == key), None)
+    return error if line is None else InputError(error.what, path, line)
 
 
 @dataclass(frozen=True)
