@@ -82,3 +82,24 @@ def test_frequency_diagram_points_are_the_iterated_map() -> None:
             assert (ds["outcome"].values[k, j] == 1) == step.overturned
             if not step.overturned:
                 assert ds["x_m"].values[k, j, -1] == pytest.approx(step.x_m, abs=1e-12)
+
+
+def test_a_cap_below_x_star_bounds_the_starts() -> None:
+    """The template frame derived from its physical parameters (no [constants]) has its
+    geometric cap x_cap = 5.773 m below x* = 6.521 m: a start between them never crosses the
+    cap, so it had no overturning verdict (the harmonic run ended "failed"). The starts are
+    spread below the cap, and a harmonic run from past it is refused like `simulate`'s."""
+    import re
+    import tomllib
+
+    from stepframe.structure.frame_file import FRAME_TEMPLATE, frame_from_mapping
+    from stepframe.structure.harmonic import simulate_harmonic
+
+    physical = re.sub(r"\[constants\].*?(?=\[conventions\])", "", FRAME_TEMPLATE, flags=re.S)
+    frame = frame_from_mapping(tomllib.loads(physical))
+    assert frame.x_cap_m is not None and frame.x_cap_m < frame.x_star_m
+    x0, _ = initial_states(frame, 2000, seed=3)
+    assert np.max(np.abs(x0)) < frame.x_cap_m < frame.x_star_m
+    assert np.max(np.abs(x0)) > 0.99 * frame.x_cap_m  # spread up to it, not below x* only
+    with pytest.raises(InputError, match=r"expected \|x0_m\| < x_cap_m"):
+        simulate_harmonic(frame, 0.0, 5.0, 5.0, x0_m=0.5 * (frame.x_cap_m + frame.x_star_m))

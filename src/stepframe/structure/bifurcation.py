@@ -105,8 +105,10 @@ def _check_sweep_work(
 def initial_states(frame: FrameLike, n: int, *, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
     """n initial states spread over the region the frame can survive from.
 
-    x is uniform in (-x*, x*) and ẋ in (-ω₂x*, ω₂x*) (the velocity that carries the free stepped
-    frame from x_c to x*), drawn by a seeded generator so runs repeat.
+    x is uniform in (-x_0, x_0) and ẋ in (-ω₂x*, ω₂x*) (the velocity that carries the free
+    stepped frame from x_c to x*), drawn by a seeded generator so runs repeat; x_0 is x*, or the
+    overturning cap x_cap when that is lower (a frame derived from its physical parameters can
+    have its geometric cap below x*: a start past the cap has no overturning verdict).
 
     Returns
     -------
@@ -114,8 +116,9 @@ def initial_states(frame: FrameLike, n: int, *, seed: int = 0) -> tuple[np.ndarr
     """
     prm = frame_parameters(frame)
     x_star = prm[4] / prm[1] ** 2
+    reach = min(x_star, prm[9])
     rng = np.random.default_rng(seed)
-    x0 = rng.uniform(-x_star, x_star, n)
+    x0 = rng.uniform(-reach, reach, n)
     v0 = rng.uniform(-1.0, 1.0, n) * prm[1] * x_star
     return x0, v0
 

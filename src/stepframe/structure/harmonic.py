@@ -222,6 +222,10 @@ def simulate_harmonic(
     phi = validation.finite("phase_rad", phase_rad)
     x = validation.finite("x0_m", x0_m)
     v = validation.finite("v0_m_s", v0_m_s)
+    if abs(x) >= prm[9]:  # the cap (inf: none); a start past it never crosses it: no verdict
+        raise InputError(
+            f"x0_m = {x}, expected |x0_m| < x_cap_m = {prm[9]:g} (the overturning cap)"
+        )
     if samples_per_period < 1:
         raise InputError(f"samples_per_period = {samples_per_period}, expected ≥ 1")
     periods = dur * om / (2 * math.pi)
