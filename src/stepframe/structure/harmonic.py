@@ -230,7 +230,11 @@ def simulate_harmonic(
         raise InputError(f"samples_per_period = {samples_per_period}, expected ≥ 1")
     periods = dur * om / (2 * math.pi)
     what = f"a run of {dur:.6g} s ({periods:.6g} forcing periods of {2 * math.pi / om:.6g} s)"
-    check_samples(periods * samples_per_period, what, "lower samples_per_period or the duration")
+    check_samples(
+        periods * samples_per_period,
+        what,
+        "fewer forcing periods (--periods) or samples per period",
+    )
     n = max(1, math.ceil(periods * samples_per_period))
     check_harmonic_work(prm, om, dur, n, what)
     # The kernel (numba) is loaded only for a run that passed the checks: a refusal is instant.
