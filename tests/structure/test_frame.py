@@ -243,3 +243,13 @@ def test_a_frame_maps_onto_the_portal_form() -> None:
     # The substitute says what it costs: the error measured by bench/bench_structure_models.py.
     with pytest.warns(EquivalentViscousWarning, match=r"median 8\.1 % and up to \+567 %"):
         assert damped.to_portal_frame("equivalent-viscous").xi_1 == 0.03
+
+
+def test_housners_restitution_of_a_squat_block_is_refused_with_the_reason() -> None:
+    """C_r = 1 - 1.5 sin²α is negative beyond b/h = √2: "c_r = -0.2, expected 0 ≤ c_r ≤ 1"
+    blamed a value the user never gave. A given c_r still builds the block."""
+    with pytest.raises(InputError, match=r"too squat for Housner's C_r .* = -0\.2 \(b/h > √2\)"):
+        PortalFrame.housner_block(half_width_m=2.0, half_height_m=1.0)
+    just_slender = PortalFrame.housner_block(half_width_m=1.4, half_height_m=1.0)
+    assert just_slender.c_r == pytest.approx(1 - 1.5 * 1.4**2 / (1 + 1.4**2), rel=1e-12)
+    assert PortalFrame.housner_block(half_width_m=2.0, half_height_m=1.0, c_r=0.5).c_r == 0.5

@@ -402,6 +402,12 @@ class PortalFrame:
         p = math.sqrt(3.0 * g / (4.0 * radius))
         if c_r is None:
             c_r = 1.0 - 1.5 * math.sin(alpha) ** 2
+            if c_r < 0:  # sin²α > 2/3: Housner's formula has no meaning for so squat a block
+                raise InputError(
+                    f"a block of b = {b:g} m, h = {h:g} m is too squat for Housner's C_r = "
+                    f"1 - 1.5 sin²α = {c_r:.3g} (b/h > √2), expected a slender block (b/h < "
+                    "√2) or c_r given (a [block] table's c_r; --block cannot give it)"
+                )
         return cls(
             omega_1_rad_s=p,
             omega_2_rad_s=p,
