@@ -103,3 +103,27 @@ def test_a_cap_below_x_star_bounds_the_starts() -> None:
     assert np.max(np.abs(x0)) > 0.99 * frame.x_cap_m  # spread up to it, not below x* only
     with pytest.raises(InputError, match=r"expected \|x0_m\| < x_cap_m"):
         simulate_harmonic(frame, 0.0, 5.0, 5.0, x0_m=0.5 * (frame.x_cap_m + frame.x_star_m))
+
+
+def test_the_diagram_draws_the_survivors_only() -> None:
+    """An overturning run's last strobes are its escape, metres out; drawn, they squeezed the
+    survivors' attractors into a line near 0 (Example 4's frame at 0.405 g, 7.854 rad/s: one
+    run strobed at -3.87 m on its way over). The points drawn are the survivors' finite ones."""
+    import tomllib
+
+    from stepframe.structure.dynamics_plots import bifurcation_figure
+    from stepframe.structure.frame_file import FRAME_TEMPLATE, frame_from_mapping
+
+    frame = frame_from_mapping(tomllib.loads(FRAME_TEMPLATE))
+    x0, v0 = initial_states(frame, 10, seed=0)
+    amps = np.array([0.3, 0.05 + 15 * 0.45 / 19]) * 9.81
+    ds = bifurcation_diagram(frame, amps, 7.854, x0_m=x0, v0_m_s=v0, n_periods=50, n_keep=20,
+                             jobs=1)  # fmt: skip
+    outcome, x = ds["outcome"].values, ds["x_m"].values
+    assert (outcome == 1).any() and (outcome == 0).any()
+    escapes = x[outcome == 1]
+    assert np.nanmin(escapes) < -1.0  # the escape the figure used to draw
+    drawn = bifurcation_figure(ds).axes[0].lines[0].get_ydata()
+    survivors = x[outcome == 0]
+    assert len(drawn) == np.isfinite(survivors).sum()
+    assert np.max(np.abs(drawn)) == np.nanmax(np.abs(survivors)) < frame.x_star_m

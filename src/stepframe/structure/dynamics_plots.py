@@ -21,8 +21,8 @@ if TYPE_CHECKING:
 
 
 def bifurcation_figure(ds: xr.Dataset, *, g_m_s2: float = 9.81, title: str = "") -> Figure:
-    """Stroboscopic x against amplitude [g] or frequency (all initial states) with the fraction
-    of initial states that overturn.
+    """Stroboscopic x against amplitude [g] or frequency (the initial states whose runs survived)
+    with the fraction of initial states that overturn.
 
     Parameters
     ----------
@@ -40,7 +40,10 @@ def bifurcation_figure(ds: xr.Dataset, *, g_m_s2: float = 9.81, title: str = "")
     amps = ds["amplitude"].values / g_m_s2 if by_amp else ds["omega"].values
     x = ds["x_m"].values  # parameter, initial, sample
     a_grid = np.broadcast_to(amps[:, None, None], x.shape)
-    ok = np.isfinite(x)
+    # Only the runs that survived: an overturning run's last strobes are its escape (metres out,
+    # which squeezed the attractors near 0 into a line), not an attractor.
+    survived = (ds["outcome"].values == 0)[:, :, None]
+    ok = np.isfinite(x) & survived
     ax.plot(a_grid[ok], x[ok], ".", ms=1.5, color="k", alpha=0.5)
     frac = (ds["outcome"].values == 1).mean(axis=1)
     ax2 = ax.twinx()
