@@ -151,6 +151,13 @@ def test_template_is_a_valid_workflow(tmp_path: Path, capsys: pytest.CaptureFixt
     out = capsys.readouterr().out
     assert '"features"' in out and '"dry_run": true' in out
     assert not (tmp_path / "stepframe-work").exists()
+    # --template prints alone: a workflow or an option beside it was ignored (exit 0)
+    assert main(["run", "selection", "--template"]) == 2
+    assert "--template with WORKFLOW selection, expected --template alone" in (
+        capsys.readouterr().err
+    )
+    assert main(["run", "--template", "--jobs", "2"]) == 2
+    assert "--template with --jobs," in capsys.readouterr().err
 
 
 def test_workspace_under_a_file(folder: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -7,7 +7,7 @@ import argparse
 from typing import TYPE_CHECKING
 
 from stepframe.commands import CommandResult, add_command
-from stepframe.core.options import add_fields, add_options, options_from
+from stepframe.core.options import add_fields, add_options, fields_given, options_from
 from stepframe.errors import InputError
 from stepframe.pipeline.engine.run_options import RunOptions, run_with_options
 
@@ -87,6 +87,19 @@ def run_workflow(args: argparse.Namespace) -> CommandResult | RunReport:
     from stepframe.pipeline.stages import shipped_stages
 
     if args.template:
+        # printed alone: a workflow or an option beside it would be ignored (nothing runs)
+        given = [f"WORKFLOW {args.workflow}"] if args.workflow is not None else []
+        given += ["--copy"] if args.copy is not None else []
+        given += [
+            "--" + name.replace("_", "-")
+            for name, value in fields_given(args, RunOptions).items()
+            if value != []  # --force's default: no stage named
+        ]
+        if given:
+            raise InputError(
+                f"--template with {', '.join(given)}, expected --template alone (it prints a "
+                "commented workflow file and runs nothing)"
+            )
         text = workflow_template(shipped_stages())
         return CommandResult(data={"template": text}, text=text.rstrip("\n"))
     if args.workflow is None:
