@@ -140,6 +140,12 @@ def _statistic(values: Any, errors: Any, statistic: SiteStatistic) -> tuple[floa
 
     x = np.asarray(values, dtype=np.float64)
     se = np.asarray(errors, dtype=np.float64)
+    # In value order: the sums of the mean and the scatter round by their order, and the rows'
+    # order follows the files' names, which do not change the site (a workspace whose folder
+    # once held a copy of a file gave an xi_p stderr one unit of the last digit away from a
+    # fresh run's).
+    order = np.lexsort((se, x))
+    x, se = x[order], se[order]
     if x.size == 1:
         return float(x[0]), float(se[0])
     scatter = float(np.std(x, ddof=1) / math.sqrt(x.size))
@@ -204,8 +210,8 @@ def site_from_features(
             used[key].astype(float), used[f"{key}_stderr"].astype(float), statistic
         )
     central = "mean" if statistic == "mean" else "median"
-    for key in ("t_max_s", "t_dur_s", "max_intensity_m_s2"):
-        values[key] = float(getattr(used[key].astype(float), central)())
+    for key in ("t_max_s", "t_dur_s", "max_intensity_m_s2"):  # in value order, as above
+        values[key] = float(getattr(used[key].astype(float).sort_values(), central)())
     try:
         model = GroundMotionModel(
             **{key: values[key] for key in (*COMBINED, "t_max_s", "t_dur_s")},
