@@ -265,3 +265,17 @@ def test_a_run_lists_the_records_folder_once(scene: Path, monkeypatch: pytest.Mo
     assert walked == [scene / "records"]
     _run(scene / "wf.toml")  # a second run lists again: its own workflow, its own listing
     assert len(walked) == 2
+
+
+def test_a_run_does_not_read_its_own_files_as_records(tmp_path: Path) -> None:
+    """Records folder ".", the workflow file and an outputs folder inside it: the second run
+    read the workflow and the first run's tables as records (failed inventory items)."""
+    write_example_files(tmp_path, count=2)
+    text = FEATURES_WORKFLOW.replace('folder = "records"', 'folder = "."')
+    text = text.replace("[outputs]\n", '[outputs]\nfolder = "out"\n')
+    workflow = write_workflow(tmp_path, text)
+    for _ in range(2):
+        report = run_workflow(workflow, shipped_stages(), jobs=1)
+        assert report.exit_code == 0 and report.failures == []
+    features = pd.read_csv(tmp_path / "out" / "features.csv")
+    assert len(features) == 2  # the two records, nothing of out/ nor wf.toml

@@ -31,7 +31,7 @@ import fnmatch
 import os
 import stat
 import warnings
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from os import PathLike
 from pathlib import Path
 
@@ -145,7 +145,7 @@ def walk_files(
     pattern: str = "*",
     *,
     recursive: bool = True,
-    exclude: str | PathLike[str] | None = None,
+    exclude: Iterable[str | PathLike[str]] = (),
 ) -> Iterator[tuple[str, Path]]:
     """The regular files under ``folder`` whose path inside it matches ``pattern``, as
     ``(relative path in POSIX form, path)``: each folder's files in name order, then its
@@ -160,7 +160,8 @@ def walk_files(
     recursive
         Look into sub-folders.
     exclude
-        A folder never entered (a workspace inside the records folder).
+        Folders never entered and files never listed (a workspace, an outputs folder or the
+        workflow file inside the records folder: a run must not read its own files as records).
 
     Raises
     ------
@@ -169,7 +170,7 @@ def walk_files(
     """
     root = check_records_folder(folder)
     glob = _glob_parts(check_glob(pattern), recursive)
-    excluded = None if exclude is None else os.path.realpath(exclude)
+    excluded = frozenset(os.path.realpath(path) for path in exclude)
     outside: list[str] = []
     seen: set[tuple[int, int]] = set()
     info = os.stat(root)
@@ -188,10 +189,11 @@ def _walk(
     prefix: tuple[str, ...],
     glob: tuple[str, ...],
     recursive: bool,
-    excluded: str | None,
+    excluded: frozenset[str],
     seen: set[tuple[int, int]],
     outside: list[str],
 ) -> Iterator[tuple[str, Path]]:
+    excluded_names = {os.path.basename(path) for path in excluded}
     try:
         with os.scandir(folder) as found:
             entries = sorted(found, key=lambda entry: entry.name)
@@ -209,12 +211,15 @@ def _walk(
         if kind == "folder":
             folders.append((entry.name, path))
         elif kind == "file" and _matches(parts, glob):
+            # by name first: resolving every file of a large folder would cost a system call each
+            if entry.name in excluded_names and os.path.realpath(path) in excluded:
+                continue
             yield "/".join(parts), path
     if not (recursive or "**" in glob):
         # A pattern with folders in it ("sub/*.AT2") still descends as far as it names them.
         folders = [f for f in folders if len(prefix) + 1 < len(glob)]
     for name, path in folders:
-        if excluded is not None and os.path.realpath(path) == excluded:
+        if name in excluded_names and os.path.realpath(path) in excluded:
             continue
         info = os.stat(path)
         if (info.st_dev, info.st_ino) in seen:

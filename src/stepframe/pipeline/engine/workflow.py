@@ -202,13 +202,14 @@ class Workflow:
         """The files of ``folder`` matching the glob (each with its path inside the folder in
         POSIX form, :func:`~stepframe.core.paths.walk_files`), by the records-folder rule of
         :mod:`stepframe.core.paths` (regular files, links inside the folder, no pseudo-file
-        system), the workspace left out (it may sit inside the records folder)."""
+        system), the run's own files left out: the workspace, the outputs folder and the
+        workflow file (each may sit inside the records folder; read as records they were failed
+        items of the next run)."""
         from stepframe.core.paths import walk_files
 
+        own = (self.workspace, self.outputs_folder, self.path)
         try:
-            listed = walk_files(
-                folder, records.glob, recursive=records.recursive, exclude=self.workspace
-            )
+            listed = walk_files(folder, records.glob, recursive=records.recursive, exclude=own)
             return list(listed)
         except InputError as error:
             what = f"[records] folder: {error.one_line()}"
