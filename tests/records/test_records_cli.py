@@ -165,3 +165,52 @@ def test_spectrum_of_a_three_channel_file_uses_its_horizontals(
     traces = {t.stats.channel: t for t in read(path)}
     expected = rotd_spectrum(traces["H1"].data, traces["H2"].data, 0.01, [0.2, 1.0], 0.05)
     np.testing.assert_allclose(data["rotd50_g"], expected.in_g("rotd50"), rtol=1e-12)
+
+
+def _one_error_line(capsys: pytest.CaptureFixture[str], *args: str) -> str:
+    assert main(list(args)) == 2
+    captured = capsys.readouterr()
+    lines = captured.err.strip().splitlines()
+    assert captured.out == "" and len(lines) == 1 and lines[0].startswith("stepframe: error: ")
+    return lines[0]
+
+
+def test_spectrum_refuses_one_content_twice(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """The same file twice, or its copy under another name, is one component: its RotD100
+    was printed as √2 times its PSA."""
+    line = _one_error_line(capsys, "records", "spectrum", str(H1), str(H1), "--periods-s", "1")
+    assert f"{H1}: given twice, expected two components of one record" in line
+    copy = tmp_path / "copy.AT2"
+    shutil.copyfile(H1, copy)
+    line = _one_error_line(capsys, "records", "spectrum", str(H1), str(copy), "--periods-s", "1")
+    assert f"{copy}: the same bytes as {H1}: read once" in line
+
+
+def test_spectrum_refuses_components_of_two_records(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """Two PEER files with different record numbers (RSN8883 and a file named RSN174) are not
+    one record's components: no geometric mean or RotD of them."""
+    other = tmp_path / "RSN174_IMPVALL_H-E11230.AT2"
+    shutil.copyfile(H2, other)
+    line = _one_error_line(capsys, "records", "spectrum", str(H1), str(other))
+    assert "are of two records (RSN8883 and RSN174), expected two components of one record" in line
+
+
+def test_one_record_needs_overlapping_times() -> None:
+    """Two days of one station (start times stated, windows apart) are two records; two
+    components without a stated start (epoch 0) are taken as given."""
+    from stepframe.errors import InputError
+    from stepframe.pipeline.catalogue.record_spectra import check_one_record
+    from stepframe.records.trace import make_trace
+
+    data = np.sin(np.arange(200) * 0.1)
+    day1 = make_trace(data, 0.01, station="S", channel="HNE", starttime="2020-01-01T00:00:00")
+    day2 = make_trace(data, 0.01, station="S", channel="HNN", starttime="2020-01-02T00:00:00")
+    with pytest.raises(InputError, match="expected overlapping times"):
+        check_one_record(day1, day2)
+    same = make_trace(data, 0.01, station="S", channel="HNN", starttime="2020-01-01T00:00:01")
+    check_one_record(day1, same)  # overlapping: one record
+    check_one_record(make_trace(data, 0.01, channel="E"), make_trace(data, 0.01, channel="N"))
