@@ -214,3 +214,39 @@ def test_one_record_needs_overlapping_times() -> None:
     same = make_trace(data, 0.01, station="S", channel="HNN", starttime="2020-01-01T00:00:01")
     check_one_record(day1, same)  # overlapping: one record
     check_one_record(make_trace(data, 0.01, channel="E"), make_trace(data, 0.01, channel="N"))
+
+
+DATA = Path(__file__).parents[1] / "data" / "formats"
+XML = DATA / "miniseed" / "CE.68150.stationxml.xml"
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["records", "info", str(H1), "--inventory", str(XML)],
+        ["records", "info", str(H1), "--inventory", str(H1)],  # not even XML
+        ["records", "spectrum", str(H1), "--inventory", str(XML)],
+        ["records", "info", str(DATA / "geonet" / "20180212_211557_WPWS_20.V2A.gz"),
+         "--inventory", str(XML)],
+        ["records", "info", "--format", "text", "--units", "gal", "--dt-s", "0.01",
+         str(DATA / "text" / "acc.txt"), "--inventory", str(XML)],
+        ["stochastic", "fit", str(H1), "--inventory", str(XML)],
+    ],
+)  # fmt: skip
+def test_an_inventory_no_reader_uses_is_refused(
+    capsys: pytest.CaptureFixture[str], args: list[str]
+) -> None:
+    """--inventory with a format that states its units was silently ignored (exit 0)."""
+    line = _one_error_line(capsys, *args)
+    assert "reader does not use one" in line and "expected no --inventory" in line
+
+
+def test_read_refuses_an_unused_inventory() -> None:
+    from stepframe.errors import InputError
+    from stepframe.records import read
+
+    with pytest.raises(InputError, match="at2 reader does not use one"):
+        read(H1, inventory=XML)
+    # The reader that uses it records the step naming the inventory, and is not refused.
+    stream = read(DATA / "miniseed" / "CE.68150.unprocessed_counts.mseed", inventory=XML)
+    assert all(t.stats.stepframe.processing[0]["inventory"] == str(XML) for t in stream)
