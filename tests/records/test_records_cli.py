@@ -250,3 +250,12 @@ def test_read_refuses_an_unused_inventory() -> None:
     # The reader that uses it records the step naming the inventory, and is not refused.
     stream = read(DATA / "miniseed" / "CE.68150.unprocessed_counts.mseed", inventory=XML)
     assert all(t.stats.stepframe.processing[0]["inventory"] == str(XML) for t in stream)
+
+
+def test_spectrum_plot_to_a_folder_is_refused_before_the_work(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    folder = tmp_path / "isdir.png"
+    folder.mkdir()
+    line = _one_error_line(capsys, "records", "spectrum", str(H1), "--plot", str(folder))
+    assert f"{folder}: --plot target is a directory, expected a file name" in line
