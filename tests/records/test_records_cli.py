@@ -165,3 +165,97 @@ def test_spectrum_of_a_three_channel_file_uses_its_horizontals(
     traces = {t.stats.channel: t for t in read(path)}
     expected = rotd_spectrum(traces["H1"].data, traces["H2"].data, 0.01, [0.2, 1.0], 0.05)
     np.testing.assert_allclose(data["rotd50_g"], expected.in_g("rotd50"), rtol=1e-12)
+
+
+def _one_error_line(capsys: pytest.CaptureFixture[str], *args: str) -> str:
+    assert main(list(args)) == 2
+    captured = capsys.readouterr()
+    lines = captured.err.strip().splitlines()
+    assert captured.out == "" and len(lines) == 1 and lines[0].startswith("stepframe: error: ")
+    return lines[0]
+
+
+def test_spectrum_refuses_one_content_twice(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """The same file twice, or its copy under another name, is one component: its RotD100
+    was printed as √2 times its PSA."""
+    line = _one_error_line(capsys, "records", "spectrum", str(H1), str(H1), "--periods-s", "1")
+    assert f"{H1}: given twice, expected two components of one record" in line
+    copy = tmp_path / "copy.AT2"
+    shutil.copyfile(H1, copy)
+    line = _one_error_line(capsys, "records", "spectrum", str(H1), str(copy), "--periods-s", "1")
+    assert f"{copy}: the same bytes as {H1}: read once" in line
+
+
+def test_spectrum_refuses_components_of_two_records(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """Two PEER files with different record numbers (RSN8883 and a file named RSN174) are not
+    one record's components: no geometric mean or RotD of them."""
+    other = tmp_path / "RSN174_IMPVALL_H-E11230.AT2"
+    shutil.copyfile(H2, other)
+    line = _one_error_line(capsys, "records", "spectrum", str(H1), str(other))
+    assert "are of two records (RSN8883 and RSN174), expected two components of one record" in line
+
+
+def test_one_record_needs_overlapping_times() -> None:
+    """Two days of one station (start times stated, windows apart) are two records; two
+    components without a stated start (epoch 0) are taken as given."""
+    from stepframe.errors import InputError
+    from stepframe.pipeline.catalogue.record_spectra import check_one_record
+    from stepframe.records.trace import make_trace
+
+    data = np.sin(np.arange(200) * 0.1)
+    day1 = make_trace(data, 0.01, station="S", channel="HNE", starttime="2020-01-01T00:00:00")
+    day2 = make_trace(data, 0.01, station="S", channel="HNN", starttime="2020-01-02T00:00:00")
+    with pytest.raises(InputError, match="expected overlapping times"):
+        check_one_record(day1, day2)
+    same = make_trace(data, 0.01, station="S", channel="HNN", starttime="2020-01-01T00:00:01")
+    check_one_record(day1, same)  # overlapping: one record
+    check_one_record(make_trace(data, 0.01, channel="E"), make_trace(data, 0.01, channel="N"))
+
+
+DATA = Path(__file__).parents[1] / "data" / "formats"
+XML = DATA / "miniseed" / "CE.68150.stationxml.xml"
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["records", "info", str(H1), "--inventory", str(XML)],
+        ["records", "info", str(H1), "--inventory", str(H1)],  # not even XML
+        ["records", "spectrum", str(H1), "--inventory", str(XML)],
+        ["records", "info", str(DATA / "geonet" / "20180212_211557_WPWS_20.V2A.gz"),
+         "--inventory", str(XML)],
+        ["records", "info", "--format", "text", "--units", "gal", "--dt-s", "0.01",
+         str(DATA / "text" / "acc.txt"), "--inventory", str(XML)],
+        ["stochastic", "fit", str(H1), "--inventory", str(XML)],
+    ],
+)  # fmt: skip
+def test_an_inventory_no_reader_uses_is_refused(
+    capsys: pytest.CaptureFixture[str], args: list[str]
+) -> None:
+    """--inventory with a format that states its units was silently ignored (exit 0)."""
+    line = _one_error_line(capsys, *args)
+    assert "reader does not use one" in line and "expected no --inventory" in line
+
+
+def test_read_refuses_an_unused_inventory() -> None:
+    from stepframe.errors import InputError
+    from stepframe.records import read
+
+    with pytest.raises(InputError, match="at2 reader does not use one"):
+        read(H1, inventory=XML)
+    # The reader that uses it records the step naming the inventory, and is not refused.
+    stream = read(DATA / "miniseed" / "CE.68150.unprocessed_counts.mseed", inventory=XML)
+    assert all(t.stats.stepframe.processing[0]["inventory"] == str(XML) for t in stream)
+
+
+def test_spectrum_plot_to_a_folder_is_refused_before_the_work(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    folder = tmp_path / "isdir.png"
+    folder.mkdir()
+    line = _one_error_line(capsys, "records", "spectrum", str(H1), "--plot", str(folder))
+    assert f"{folder}: --plot target is a directory, expected a file name" in line

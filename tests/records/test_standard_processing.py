@@ -69,3 +69,48 @@ def test_high_passed_or_calibrated_records_are_measured_as_they_are() -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("error", ProcessingWarning)
         trace_intensity_measures(trace)
+
+
+def test_every_output_of_a_counts_record_is_of_the_processed_copy(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """records spectrum and records catalog used the record as read (the sensor's offset
+    dominated PSA(10 s): 0.059 g on HNN) while records info measured it processed; each now
+    gives the PSA of the standard-processed copy, computed here with obspy's own chain."""
+    import json
+    import shutil
+
+    from obspy import read as obspy_read
+    from obspy import read_inventory
+
+    from stepframe.cli import main
+    from stepframe.records.spectra import response_spectrum
+
+    expected_trace = obspy_read(str(MSEED)).select(channel="HNN")[0]
+    expected_trace.remove_sensitivity(read_inventory(str(XML)))
+    expected_trace.detrend("demean")
+    expected_trace.detrend("linear")
+    expected_trace.taper(0.05, "hann")
+    expected_trace.filter("highpass", freq=0.1, corners=4, zerophase=True)
+    periods = [1.0, 3.0, 10.0]
+    expected = response_spectrum(expected_trace.data, 0.005, periods, 0.05).psa_g
+    args = [str(MSEED), "--inventory", str(XML), "--periods-s", "1,3,10", "--json"]
+    assert main(["records", "spectrum", *args]) == 0
+    data = json.loads(capsys.readouterr().out)
+    psa = next(c["psa_g"] for c in data["components"] if c["component"] == "HNN")
+    # obspy filters without padding, scipy pads: the ends differ (module docstring)
+    np.testing.assert_allclose(psa, expected, rtol=0.05)
+    assert psa[2] < 0.01  # 0.0588 g as read
+
+    folder = tmp_path / "in"
+    folder.mkdir()
+    shutil.copyfile(MSEED, folder / MSEED.name)
+    out = tmp_path / "cat.csv"
+    assert main(["records", "catalog", str(folder), "-o", str(out), "--inventory",
+                 str(XML), "--json"]) == 0  # fmt: skip
+    import pandas as pd
+
+    row = pd.read_csv(out).set_index("component").loc["HNN"]
+    # the catalogue's PSA columns are of the copy its PGA is measured on (was: as read)
+    assert row["psa_1s_g"] == pytest.approx(psa[0], rel=1e-9)
+    assert row["pga_g"] == pytest.approx(np.max(np.abs(expected_trace.data)) / 9.80665, rel=0.01)

@@ -93,7 +93,7 @@ def test_parametric_spectrum_bootstrap_and_chosen_estimator(
 
 
 def test_fit_text_and_options(record: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    args = ["stochastic", "fit", str(record), "--frequency", "ridge", "--spectrum", "wavelet"]
+    args = ["stochastic", "fit", str(record), "--frequency", "ridge"]  # --spectrum alone is refused
     assert main(args) == 0
     text = capsys.readouterr().out
     assert "omega_s_rad_s" in text and "±" in text
@@ -208,3 +208,31 @@ def test_corner_option(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> No
     (data,) = json.loads(capsys.readouterr().out)
     assert 0.4 * omega_c < data["omega_c_rad_s"] < 1.05 * omega_c
     assert 0 < data["omega_c_rad_s_stderr"] < data["omega_c_rad_s"]
+
+
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [
+        (["--spectrum", "wavelet"], "--spectrum wavelet without --plot or --out"),
+        (["--seed", "3"], "--seed 3 without --bootstrap"),
+        (["--bootstrap", "1"], "--bootstrap 1, expected 0 (none) or at least 2"),
+        (["--plot", "DIR.png"], "--plot target is a directory, expected a file name"),
+        (["--out", "DIR.nc"], "output target is a directory, expected a file name"),
+    ],
+)
+def test_fit_options_that_would_do_nothing_are_refused_before_the_work(
+    record: Path,
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    options: list[str],
+    message: str,
+) -> None:
+    """Each ran the fit and ignored the option (or printed 'bootstrap ± nan', or failed at
+    the end naming a hidden temporary file)."""
+    (tmp_path / "DIR.png").mkdir()
+    (tmp_path / "DIR.nc").mkdir()
+    options = [str(tmp_path / o) if o.startswith("DIR") else o for o in options]
+    assert main(["stochastic", "fit", str(record), *options]) == 2
+    captured = capsys.readouterr()
+    lines = captured.err.strip().splitlines()
+    assert captured.out == "" and len(lines) == 1 and message in lines[0]

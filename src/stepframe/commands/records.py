@@ -77,6 +77,8 @@ def run_spectrum(args: argparse.Namespace) -> CommandResult:
     if len(args.paths) > 2:
         raise UserError("records spectrum: give one or two record files")
     source = options_from(args, RecordSource)
+    if len(args.paths) == 2:
+        _refuse_same_content(args.paths)
     traces = [(path, trace) for path in source.paths(args.paths) for trace in source.read(path)]
     options = options_from(args, SpectrumOptions)
     data = record_spectra([t for _, t in traces], options.periods_s, options.damping)
@@ -86,6 +88,17 @@ def run_spectrum(args: argparse.Namespace) -> CommandResult:
     ]
     figure = functools.partial(spectra_figure, data, record=names)
     return CommandResult(data, spectra_text(data), figure)
+
+
+def _refuse_same_content(paths: list[str]) -> None:
+    """Two files with the same bytes are one component read twice (the catalogue's rule: one
+    content is one item): its RotD100 would be √2 times its PSA."""
+    from stepframe.records.catalog import distinct_contents
+
+    _, copies = distinct_contents([Path(p) for p in paths])
+    for copy, kept in copies:
+        same = "given twice" if copy == kept else f"the same bytes as {kept}: read once"
+        raise UserError(f"{copy}: {same}, expected two components of one record")
 
 
 def run_catalog(args: argparse.Namespace) -> CatalogFiles:

@@ -7,7 +7,7 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
-from stepframe.commands import add_command, add_record_options
+from stepframe.commands import UserError, add_command, add_record_options
 from stepframe.core.options import (
     REQUIRED,
     Once,
@@ -44,7 +44,7 @@ def register(subparsers: Subparsers) -> None:
     add_options(
         fit,
         ("--spectrum", SPECTRUM_METHOD_NAMES, None, "evolutionary PSD drawn and written "
-         "(default stft)", "stft"),
+         "(default stft; with --plot or --out)"),
     )  # fmt: skip
     add_fields(fit, FitOptions, ("bootstrap", "seed", "corner"))
     add_options(fit, ("--out", None, "OUT.nc", "write the PSD and features (NetCDF)"))
@@ -92,9 +92,15 @@ def run_fit(args: argparse.Namespace) -> FittedFile:
 
     options, source = options_from(args, FitOptions), options_from(args, RecordSource)
     check_output_folder(args.out)
+    if args.spectrum is not None and args.plot is None and args.out is None:
+        # The evolutionary PSD is only drawn (--plot) or written (--out): the fit ignores it.
+        raise UserError(
+            f"--spectrum {args.spectrum} without --plot or --out, expected one of them (the "
+            "spectrum is drawn or written, the fit does not use it)"
+        )
     return fit_file(
         source.read(args.record), options, path=args.record, file=source.name(args.record),
-        spectrum_method=args.spectrum, out=args.out, spectrum=args.plot is not None,
+        spectrum_method=args.spectrum or "stft", out=args.out, spectrum=args.plot is not None,
     )  # fmt: skip
 
 

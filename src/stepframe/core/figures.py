@@ -28,6 +28,8 @@ def check_figure_path(path: str | PathLike[str], option: str = "--plot") -> Path
         raise InputError(f"{option} {path}: suffix {target.suffix!r}, expected .png, .pdf or .svg")
     if not target.resolve().parent.is_dir():
         raise InputError("output folder does not exist, expected an existing folder", target)
+    if target.is_dir():  # found here, not after the work when the rename fails
+        raise InputError(f"{option} target is a directory, expected a file name", target)
     return target
 
 

@@ -34,6 +34,7 @@ from stepframe.core.results import (
 from stepframe.core.text import spreadsheet_safe
 from stepframe.errors import InputError
 from stepframe.records.intensity import MEASURES, trace_intensity_measures
+from stepframe.records.processing import measured
 from stepframe.records.units import STANDARD_GRAVITY_M_S2
 
 if TYPE_CHECKING:
@@ -119,7 +120,8 @@ def trace_row(trace: Trace, file: str = "", warning_text: str = "") -> dict[str,
         value = info.get(key)
         row[key] = np.nan if value is None else float(value)
     row["incomplete"] = info.get("incomplete") or ""
-    row.update(trace_intensity_measures(trace))  # raw counts: after the standard processing
+    trace = measured(trace)  # raw counts: every column of the same processed copy
+    row.update(trace_intensity_measures(trace))
     psa = response_spectrum(trace.data, dt, CATALOG_PERIODS_S, CATALOG_DAMPING).psa_m_s2
     for period, value in zip(CATALOG_PERIODS_S, psa, strict=True):
         row[_psa_column(period)] = float(value) / STANDARD_GRAVITY_M_S2
@@ -253,18 +255,22 @@ def _catalog_file(file: Path, options: _ReadOptions) -> tuple[list[dict[str, Any
     A file that cannot be read raises (the executor records it at stage ``read``).
     """
     from stepframe.records.io import read
+    from stepframe.records.processing import measured_stream
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        stream = read(
-            file,
-            format=options.format,
-            units=options.units,
-            dt=options.dt_s,
-            inventory=options.inventory,
-            component=options.component,
-            allow_short=options.allow_short,
-            **dict(options.limits),  # type: ignore[arg-type]  # max_abs_g: float, max_bytes: int
+        # Raw counts: PGA and PSA columns of the same processed copy (one policy).
+        stream = measured_stream(
+            read(
+                file,
+                format=options.format,
+                units=options.units,
+                dt=options.dt_s,
+                inventory=options.inventory,
+                component=options.component,
+                allow_short=options.allow_short,
+                **dict(options.limits),  # type: ignore[arg-type]  # max_abs_g: float, max_bytes: int
+            )
         )
     warning_text = "; ".join(str(w.message).replace("\n", " ") for w in caught)
     rows: list[dict[str, Any]] = []

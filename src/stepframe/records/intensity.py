@@ -17,6 +17,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from stepframe.errors import InputError
 from stepframe.records.integration import check_record, displacement_m, velocity_m_s
+from stepframe.records.processing import ProcessingWarning as ProcessingWarning  # re-exported
 from stepframe.records.units import STANDARD_GRAVITY_M_S2
 
 if TYPE_CHECKING:
@@ -155,29 +156,15 @@ def intensity_measures(acc_m_s2: ArrayLike, dt_s: float) -> dict[str, float]:
 def trace_intensity_measures(trace: Trace) -> dict[str, float]:
     """:func:`intensity_measures` of a record (``obspy.Trace`` in m/s²).
 
-    A record made from raw counts (response or sensitivity removed by the reader) and not
-    high-passed since is measured after :func:`stepframe.records.processing.standard_processing`
-    (offset and linear trend removed, 5 % taper, 0.1 Hz high-pass), on a copy, with a
-    :class:`ProcessingWarning` saying so: as read, its offset integrates into PGV of metres per
-    second (CE.68150 HNN: PGV 37 m/s and PGD 2,200 m as read, 0.55 m/s and 0.15 m processed).
+    A record made from raw counts (response, sensitivity or a header calibration applied by the
+    reader) and not high-passed since is measured after
+    :func:`stepframe.records.processing.standard_processing` (offset and linear trend removed,
+    5 % taper, 0.1 Hz high-pass), on a copy, with a :class:`ProcessingWarning` saying so
+    (:func:`stepframe.records.processing.measured`): as read, its offset integrates into PGV of
+    metres per second (CE.68150 HNN: PGV 37 m/s and PGD 2,200 m as read, 0.55 m/s and 0.15 m
+    processed).
     """
-    from stepframe.records.processing import needs_standard_processing, standard_processing
+    from stepframe.records.processing import measured
 
-    if needs_standard_processing(trace):
-        import warnings
-
-        work = standard_processing(trace.copy())
-        steps = [step["step"] for step in work.stats.stepframe.processing[-4:]]
-        warnings.warn(
-            f"{trace.id}: made from raw counts and not high-passed: intensity measures after "
-            f"the standard processing ({', '.join(steps)}: offset and linear trend removed, "
-            f"5 % taper, high-pass at {work.stats.stepframe.processing[-1]['freqmin_hz']:g} Hz)",
-            ProcessingWarning,
-            stacklevel=2,
-        )
-        trace = work
+    trace = measured(trace)
     return intensity_measures(trace.data, float(trace.stats.delta))
-
-
-class ProcessingWarning(UserWarning):
-    """Intensity measures computed after a processing step the user did not ask for."""

@@ -462,8 +462,22 @@ def _check_agreement(stream: Stream, options: ReadOptions, file: Path) -> None:
     """Refuse ``units``/``dt`` options that contradict what the file states.
 
     Readers use the options only where the file is silent; an option the file contradicts is a
-    user error, never silently ignored.
+    user error, never silently ignored. So is an inventory no reader used: only a reader that
+    converts counts with it records a step naming it (``remove_sensitivity``,
+    ``remove_response``); the formats that state their units (AT2, COSMOS, DMG, GeoNet, ESM,
+    FEMA text) and plain text never look at it. One rule here, after the reader, rather than
+    one refusal per reader.
     """
+    if options.inventory is not None and not any(
+        "inventory" in step for trace in stream for step in trace.stats.stepframe.processing
+    ):
+        formats = sorted({str(trace.stats.stepframe.format) for trace in stream})
+        raise InputError(
+            f"--inventory {options.inventory} given but the {'/'.join(formats)} reader does not "
+            "use one (the file states its units, or --units gives them), expected no "
+            "--inventory (a StationXML converts raw counts: MiniSEED, SAC, ...)",
+            file,
+        )
     for trace in stream:
         stated_units = trace.stats.stepframe.units_in
         if options.units is not None and not _same_units(stated_units, options.units):

@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 from stepframe.errors import InputError
 
 if TYPE_CHECKING:
-    from obspy import Trace
+    from obspy import Stream, Trace
 from stepframe.records.integration import displacement_m
 
 StepName = Literal["demean", "detrend", "baseline", "bandpass", "taper", "resample", "trim"]
@@ -204,9 +204,11 @@ def process(trace: Trace, steps: Sequence[Mapping[str, Any]]) -> Trace:
     return trace
 
 
-#: Steps that make acceleration out of raw counts (the readers' names): data after them keep the
-#: sensor's offset and drift, which integrate into metres-per-second PGV and kilometre PGD.
-FROM_COUNTS_STEPS = ("remove_sensitivity", "remove_response")
+#: Steps that make acceleration out of raw counts (the readers' names: an inventory's
+#: sensitivity or response, a header's calibration of COSMOS V0 or Kinemetrics EVT counts): data
+#: after them keep the sensor's and digitiser's offset and drift, which integrate into
+#: metres-per-second PGV and kilometre PGD.
+FROM_COUNTS_STEPS = ("remove_sensitivity", "remove_response", "counts_to_acceleration")
 #: High-pass corner [Hz] of :func:`standard_processing`: the usual fixed corner of strong-motion
 #: processing for records with no measured noise spectrum (periods up to 10 s kept).
 STANDARD_HIGHPASS_HZ = 0.1
@@ -238,3 +240,42 @@ def standard_processing(trace: Trace, highpass_hz: float = STANDARD_HIGHPASS_HZ)
     detrend(trace)
     taper(trace, STANDARD_TAPER)
     return bandpass(trace, highpass_hz, None, order=4, zero_phase=True)
+
+
+def measured(trace: Trace) -> Trace:
+    """The record every output is made from: a copy after :func:`standard_processing` if it
+    :func:`needs_standard_processing`, with a :class:`ProcessingWarning` naming the steps, else
+    ``trace`` itself.
+
+    The one decision of the processing policy: intensity measures, spectra, fits, catalogue rows
+    and simulations of a record read from raw counts are all made from the same processed copy
+    (a catalogue row mixed a processed PGA with PSA of the unprocessed record, whose offset
+    dominates long periods: CE.68150 HNN PSA(10 s) 0.059 g as read, 0.0077 g processed).
+    """
+    if not needs_standard_processing(trace):
+        return trace
+    import warnings
+
+    work = standard_processing(trace.copy())
+    steps = [step["step"] for step in work.stats.stepframe.processing[-4:]]
+    corner_hz = work.stats.stepframe.processing[-1]["freqmin_hz"]
+    warnings.warn(
+        f"{trace.id}: made from raw counts and not high-passed: measured after the standard "
+        f"processing ({', '.join(steps)}: offset and linear trend removed, "
+        f"{STANDARD_TAPER:.0%} taper, high-pass at {corner_hz:g} Hz)",
+        ProcessingWarning,
+        stacklevel=3,
+    )
+    return work
+
+
+def measured_stream(stream: Stream) -> Stream:
+    """:func:`measured` of every trace of ``stream`` (a new Stream; traces that need no
+    processing are the same objects)."""
+    from obspy import Stream
+
+    return Stream([measured(trace) for trace in stream])
+
+
+class ProcessingWarning(UserWarning):
+    """Outputs computed after a processing step the user did not ask for."""

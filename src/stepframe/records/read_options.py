@@ -178,7 +178,8 @@ class RecordSource(RecordReadOptions):
 
     def read(self, path: str | None) -> Stream:
         """The record file ``path`` (or, with ``path`` None, the example) as an
-        ``obspy.Stream`` in m/s²."""
+        ``obspy.Stream`` in m/s², a record made from raw counts after the standard processing
+        (:func:`stepframe.records.processing.measured`)."""
         if self.example is not None:
             if path is not None:
                 message = f"a record file and --example {self.example}, expected one of them"
@@ -189,8 +190,11 @@ class RecordSource(RecordReadOptions):
         if path is None:
             raise InputError("no record file, expected a record file or --example fema-p695")
         from stepframe.records import read
+        from stepframe.records.processing import measured_stream
 
-        return read(path, **self.read_kwargs())
+        # One processing policy for every output a command makes of a record read from raw
+        # counts (info, spectrum, fit, simulate...): the processed copy, with a warning.
+        return measured_stream(read(path, **self.read_kwargs()))
 
     def paths(self, paths: list[str]) -> list[str | None]:
         """The files to read, or ``[None]`` (the example, for :meth:`read`) with no file and an

@@ -187,9 +187,11 @@ def _run_item(item: Item, options: Options) -> list[dict[str, Any] | Failure]:
         components = [(item.data, item.dt_s, item.station, item.component)]
     else:
         from stepframe.records import read
+        from stepframe.records.processing import measured_stream
 
         try:
-            stream = read(item.file, **dict(options.record_options))
+            # Raw counts: fitted after the standard processing, as every command measures them.
+            stream = measured_stream(read(item.file, **dict(options.record_options)))
         except Exception as error:  # readers (obspy's too) raise many types: recorded, not fatal
             return [Failure.from_exception(item.file, "read", error)]
         if len(stream) == 0:

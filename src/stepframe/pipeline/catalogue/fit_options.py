@@ -10,6 +10,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from stepframe.core.options import SEEDS, Range, check_fields, option
+from stepframe.errors import InputError
 from stepframe.stochastic.methods import DEFAULT_FREQUENCY_METHOD, FREQUENCY_METHOD_NAMES
 
 if TYPE_CHECKING:
@@ -76,6 +77,15 @@ class FitOptions:
 
     def __post_init__(self) -> None:
         check_fields(self)
+        # One refit has no spread (its standard error was printed as nan), and a seed drives
+        # nothing without refits: both would be silent no-ops.
+        if self.bootstrap == 1:
+            raise InputError("--bootstrap 1, expected 0 (none) or at least 2 refits")
+        if self.seed is not None and self.bootstrap == 0:
+            raise InputError(
+                f"--seed {self.seed} without --bootstrap, expected --bootstrap N (the seed "
+                "drives the bootstrap refits only)"
+            )
 
     def catalog_kwargs(self) -> dict[str, Any]:
         """The estimation options as keyword arguments of

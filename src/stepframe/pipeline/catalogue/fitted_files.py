@@ -39,6 +39,8 @@ def check_output_folder(path: str | PathLike[str] | None) -> None:
     """Fail before any work if an output's folder does not exist."""
     if path is not None and not Path(path).resolve().parent.is_dir():
         raise InputError("output folder does not exist, expected an existing folder", path)
+    if path is not None and Path(path).is_dir():  # before the work, not at the final rename
+        raise InputError("output target is a directory, expected a file name", path)
 
 
 @dataclass(frozen=True)

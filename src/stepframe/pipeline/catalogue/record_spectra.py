@@ -113,6 +113,9 @@ def record_spectra(
     from stepframe.records.spectra import DEFAULT_PERIODS_S, response_spectrum
 
     periods = np.asarray(DEFAULT_PERIODS_S if periods_s is None else periods_s, dtype=float)
+    horizontal = [t for t in traces if not is_vertical(t.stats.channel)]
+    if len(horizontal) == 2:
+        check_one_record(*horizontal)  # before the work: refused, it would be wasted
     components = []
     for trace in traces:
         result = response_spectrum(trace.data, float(trace.stats.delta), periods, damping)
@@ -130,16 +133,10 @@ def record_spectra(
         "damping": damping,
         "components": components,
     }
-    horizontal = [t for t in traces if not is_vertical(t.stats.channel)]
     if len(horizontal) == 2:
         from stepframe.records.rotd import rotd_spectrum
 
         h1, h2 = horizontal
-        if float(h1.stats.delta) != float(h2.stats.delta):
-            raise InputError(
-                f"horizontal components sampled at {h1.stats.delta} s and {h2.stats.delta} s, "
-                "expected the same sampling interval"
-            )
         rotd = rotd_spectrum(h1.data, h2.data, float(h1.stats.delta), periods, damping)
         data.update(
             h1=h1.stats.channel,
@@ -149,6 +146,69 @@ def record_spectra(
             rotd100_g=rotd.in_g("rotd100"),
         )
     return data
+
+
+def check_one_record(h1: Trace, h2: Trace) -> None:
+    """Refuse two components that are not of one record: combined into a geometric mean or
+    RotD, they would describe no ground motion.
+
+    A record is what the selection groups components by
+    (:func:`stepframe.pipeline.selection.grouping.group_records`: PEER's RSN, a K-NET/KiK-net
+    station and origin time, the header's station and event); components it names as different
+    records are refused. Components it cannot name (plain text: each file is its own record)
+    are taken as the user gives them, but they must still share the sampling interval, and two
+    with a stated start time must overlap in time (two days of one station are two records).
+
+    Raises
+    ------
+    InputError
+        Different records, sampling intervals or time windows (naming both components).
+    """
+    import pandas as pd
+
+    from stepframe.pipeline.selection.grouping import group_records
+
+    def name(trace: Trace) -> str:
+        file = trace.stats.stepframe.get("source_file") or ""
+        return f"{file} {trace.stats.channel}".strip()
+
+    pair = f"{name(h1)} and {name(h2)}"
+    if float(h1.stats.delta) != float(h2.stats.delta):
+        raise InputError(
+            f"horizontal components {pair} sampled at {h1.stats.delta} s and "
+            f"{h2.stats.delta} s, expected the same sampling interval (one record)"
+        )
+    table = pd.DataFrame(
+        [
+            {
+                "file": trace.stats.stepframe.get("source_file") or "",
+                "component": trace.stats.channel,
+                "station": trace.stats.station,
+                "event": trace.stats.stepframe.get("event"),
+                "rsn": trace.stats.stepframe.get("rsn"),
+                "format": trace.stats.stepframe.get("format"),
+            }
+            for trace in (h1, h2)
+        ]
+    )
+    grouping = group_records(table)
+    named = all(rule != "file" for rule in grouping.rule)
+    if named and grouping.record[0] != grouping.record[1]:
+        raise InputError(
+            f"horizontal components {pair} are of two records ({grouping.record[0]} and "
+            f"{grouping.record[1]}), expected two components of one record"
+        )
+    from obspy import UTCDateTime
+
+    # Readers leave the start at epoch 0 where the format states none (AT2, FEMA text).
+    starts = [trace.stats.starttime for trace in (h1, h2)]
+    if all(start != UTCDateTime(0) for start in starts):
+        ends = [trace.stats.endtime for trace in (h1, h2)]
+        if starts[0] > ends[1] or starts[1] > ends[0]:
+            raise InputError(
+                f"horizontal components {pair} recorded {starts[0]} to {ends[0]} and "
+                f"{starts[1]} to {ends[1]}, expected overlapping times (one record)"
+            )
 
 
 def spectra_figure(data: Mapping[str, Any], record: str | Sequence[str] | None = None) -> Figure:
@@ -188,6 +248,7 @@ def spectra_text(data: Mapping[str, Any]) -> str:
 
 
 __all__ = [
+    "check_one_record",
     "info_text",
     "record_info",
     "record_spectra",

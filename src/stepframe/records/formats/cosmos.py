@@ -300,7 +300,7 @@ def read(path: Path, options: ReadOptions) -> Stream:
             mean_m_s2 = float(np.mean(block.values)) * factor
             warn(
                 f"channel {code}: raw counts carry an offset of {mean_m_s2:.4g} m/s² "
-                "(mean); remove it before computing intensity measures",
+                "(mean); the commands measure it after the standard processing",
                 path,
                 block.line,
             )
