@@ -365,3 +365,37 @@ def test_catalog_records_a_short_file_as_a_failure_or_flags_it(tmp_path: Path) -
         table.loc["EW", "incomplete"] == "3848 of 10200 samples" and table.loc["EW", "npts"] == 3848
     )
     assert pd.isna(table.loc["90", "incomplete"])
+
+
+def test_every_output_of_a_short_record_says_so(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """docs/reading-records.md: "every output made from it can say so". The fit's flags, the
+    features table's row and the spectrum (text and JSON) lost the mark; only a warning on
+    stderr was left. Each output of the cut file carries it, and the whole file's none."""
+    lines = AT2.read_text().splitlines(keepends=True)
+    cut = tmp_path / "cut.AT2"
+    cut.write_text("".join(lines[:2000]))
+    folder = tmp_path / "both"
+    folder.mkdir()
+    (folder / "cut.AT2").write_text(cut.read_text())
+    (folder / "whole.AT2").write_text(AT2.read_text())
+
+    def json_of(*argv: str) -> Any:
+        assert main(["--json", *argv]) == 0
+        return json.loads(capsys.readouterr().out)
+
+    fit = json_of("stochastic", "fit", str(cut), "--allow-short")
+    assert "record_incomplete" in fit[0]["flags"]
+    whole = json_of("stochastic", "fit", str(AT2))
+    assert "record_incomplete" not in whole[0]["flags"]
+    spectrum = json_of("records", "spectrum", str(cut), "--allow-short", "--periods-s", "1")
+    declared = int(re.search(r"NPTS=\s*(\d+)", AT2.read_text()).group(1))  # type: ignore[union-attr]
+    assert spectrum["components"][0]["incomplete"].endswith(f"of {declared} samples")
+    table = tmp_path / "features.csv"
+    json_of("stochastic", "features", str(folder), "-o", str(table), "--allow-short")
+    import pandas as pd
+
+    rows = pd.read_csv(table).set_index("file")["flags"].fillna("")
+    assert rows[str(folder / "cut.AT2")] == "record_incomplete"
+    assert "record_incomplete" not in rows[str(folder / "whole.AT2")]

@@ -137,9 +137,15 @@ class _StageError(Exception):
 
 
 def component_row(
-    data: np.ndarray, dt_s: float, options: Options, lowest_usable_hz: float | None = None
+    data: np.ndarray,
+    dt_s: float,
+    options: Options,
+    lowest_usable_hz: float | None = None,
+    *,
+    incomplete: bool = False,
 ) -> dict[str, Any]:
-    """Features and fit of one component, as a table row.
+    """Features and fit of one component, as a table row; ``incomplete``: the record was read
+    cut short (``allow_short``), flagged ``record_incomplete`` in the row as in a fit of it.
 
     Raises
     ------
@@ -174,7 +180,7 @@ def component_row(
     row["p_onset_s"] = features.p_onset_s if features.p_onset_s is not None else math.nan
     row["t0_source"] = features.t0_source
     row["p_pick_snr"] = math.nan if features.p_pick_snr is None else features.p_pick_snr
-    row["flags"] = ";".join(result.flags)
+    row["flags"] = ";".join((["record_incomplete"] if incomplete else []) + list(result.flags))
     reason = plausibility(row, features.usable_floor_rad_s, lowest_usable_hz)
     row["plausible"] = not reason
     row["implausible_reason"] = reason
@@ -184,7 +190,7 @@ def component_row(
 def _run_item(item: Item, options: Options) -> list[dict[str, Any] | Failure]:
     """Rows (or failures) of every component of one item."""
     if item.data is not None and item.dt_s is not None:
-        components = [(item.data, item.dt_s, item.station, item.component)]
+        components = [(item.data, item.dt_s, item.station, item.component, False)]
     else:
         from stepframe.records import read
         from stepframe.records.processing import measured_stream
@@ -198,13 +204,13 @@ def _run_item(item: Item, options: Options) -> list[dict[str, Any] | Failure]:
             return [Failure(item.file, "read", "InputError", "no traces in the file")]
         components = [
             (np.asarray(tr.data, dtype=np.float64), float(tr.stats.delta), tr.stats.station,
-             tr.stats.channel)
+             tr.stats.channel, bool(tr.stats.stepframe.get("incomplete")))
             for tr in stream
         ]  # fmt: skip
     out: list[dict[str, Any] | Failure] = []
-    for data, dt, station, channel in components:
+    for data, dt, station, channel, incomplete in components:
         try:
-            row = component_row(data, dt, options, item.lowest_usable_hz)
+            row = component_row(data, dt, options, item.lowest_usable_hz, incomplete=incomplete)
         except _StageError as failed:
             name = f"{item.file} [{channel}]" if channel else item.file
             out.append(Failure.from_exception(name, failed.stage, failed.error))

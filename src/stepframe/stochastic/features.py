@@ -723,6 +723,11 @@ def record_features(
             f"band up to {omega_max_rad_s:.4g} rad/s, expected dt < π/omega_max"
         )
     flags: list[str] = []
+    # A record read cut short (--allow-short) says so in every output made from it: its strong
+    # motion's end, t_dur and the late ω_g(t) may lie in what is missing.
+    stats = getattr(record_or_array, "stats", None)
+    if stats is not None and stats.get("stepframe", {}).get("incomplete"):
+        flags.append("record_incomplete")
     # The frames' spectral moments, a block of frames at a time: the PSD itself (frames ×
     # frequencies) is computed whole only for an estimator that asks for it.
     grid = stft_grid(data.size, dt, window_s=window_s, hop_s=hop_s)

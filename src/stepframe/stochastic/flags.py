@@ -11,6 +11,11 @@ from collections.abc import Iterable
 
 #: flag → (makes the fit implausible, meaning).
 FLAGS: dict[str, tuple[bool, str]] = {
+    "record_incomplete": (
+        False,
+        "the record was read cut short (--allow-short): what is missing may hold the end of the "
+        "strong motion (t_dur) and the late omega_g(t)",
+    ),
     "envelope_fit_failed": (
         False,
         "the gamma envelope did not fit I_g(t): t_max is the raw argmax of I_g, no standard error",

@@ -126,6 +126,12 @@ def record_spectra(
                 "psa_g": result.psa_g,
                 "psv_m_s": result.psv_m_s,
                 "sd_m": result.sd_m,
+                # a record read cut short (allow_short) says so in every output made from it
+                **(
+                    {"incomplete": str(trace.stats.stepframe.incomplete)}
+                    if trace.stats.get("stepframe", {}).get("incomplete")
+                    else {}
+                ),
             }
         )
     data: dict[str, Any] = {
@@ -244,6 +250,12 @@ def spectra_text(data: Mapping[str, Any]) -> str:
     lines = [f"damping {data['damping']}", "  ".join(f"{h:>12}" for h in header)]
     for i in range(len(data["period_s"])):
         lines.append("  ".join(f"{float(col[i]):12.5g}" for col in columns))
+    lines += [
+        f"INCOMPLETE {c['component']}: {c['incomplete']} (read cut short: its spectrum lacks "
+        "what is missing)"
+        for c in data["components"]
+        if c.get("incomplete")
+    ]
     return "\n".join(lines)
 
 

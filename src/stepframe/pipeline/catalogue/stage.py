@@ -32,8 +32,9 @@ INVENTORY_VERSION = 1
 # 4: t_max's envelope fit with the analytic Jacobian (the same minimum to within a millisecond:
 # recomputed rather than mixed with the finite-difference fit's values in one table);
 # 5: the STFT's spectral moments as one product with the trapezoid weights (equal to rounding:
-# fitted parameters within a relative 2e-11 on 400 components, docs/benchmarks.md, issue 29)
-FEATURES_VERSION = 5
+# fitted parameters within a relative 2e-11 on 400 components, docs/benchmarks.md, issue 29);
+# 6: a record read cut short (allow_short) flagged record_incomplete in its row
+FEATURES_VERSION = 6
 
 #: Column dictionary of the inventory table: name → (unit, meaning).
 INVENTORY_COLUMNS: dict[str, tuple[str, str]] = {
@@ -343,6 +344,7 @@ def component_features(
             float(trace.stats.delta),
             options,
             lowest_usable_hz,
+            incomplete=bool(trace.stats.stepframe.get("incomplete")),
         )
     except Exception as error:
         # component_row names the step that failed (features or fit) and keeps its error
