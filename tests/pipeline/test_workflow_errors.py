@@ -165,3 +165,34 @@ def test_workspace_the_system_refuses(folder: Path, capsys: pytest.CaptureFixtur
     write_workflow(folder, 'workspace = "/proc/stepframe-work"\n' + FEATURES_WORKFLOW)
     line = _fails(folder, capsys)
     assert "/proc" in line and "expected a writable folder" in line
+
+
+SELECTION_WORKFLOW = """\
+[records]
+folder = "records"
+
+[frame]
+file = "frames/example-4.toml"
+
+[selection]
+n = 4
+{key} = "false"
+
+[outputs]
+features = true
+selection = true
+"""
+
+
+@pytest.mark.parametrize("key", ["confirm", "require_plausible", "verticals"])
+def test_a_string_where_a_selection_switch_belongs(
+    folder: Path, capsys: pytest.CaptureFixture[str], key: str
+) -> None:
+    """``confirm = "false"`` ran the confirmation (a non-empty string is true) and was written
+    into selection.json as the string: now the key's line, exit 2, nothing written."""
+    frames = Path(__file__).parents[2] / "src" / "stepframe" / "workflows" / "frames"
+    (folder / "frames").mkdir()
+    (folder / "frames" / "example-4.toml").write_bytes((frames / "example-4.toml").read_bytes())
+    write_workflow(folder, SELECTION_WORKFLOW.format(key=key))
+    line = _fails(folder, capsys)
+    assert line.endswith(f"wf.toml:9: [selection] {key} = 'false', expected true or false")

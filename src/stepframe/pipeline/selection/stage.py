@@ -54,7 +54,7 @@ def _selection_options(workflow: Any) -> Any:
     try:
         return SelectionOptions.from_dict(given)
     except InputError as error:
-        raise workflow.lines.error(f"[selection] {error.what}", "selection") from None
+        raise workflow.lines.error(f"[selection] {error.what}", "selection", error.key) from None
 
 
 def _selection_check(workflow: Any) -> None:
