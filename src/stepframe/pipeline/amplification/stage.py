@@ -16,7 +16,7 @@ import math
 from pathlib import Path
 from typing import Any
 
-from stepframe.core.io import copy_files, write_bytes
+from stepframe.core.io import publish_copy, write_bytes
 from stepframe.errors import InputError
 from stepframe.pipeline.amplification.analysis import (
     SITE_PARAMETERS,
@@ -308,7 +308,7 @@ def _amplification_report_check(workflow: Any) -> None:
 
 
 def _publish_report(folder: Path, outputs: Path) -> list[Path]:
-    return copy_files(folder, outputs)
+    return publish_copy(folder, outputs)
 
 
 def _amplification_report_key(context: Context) -> str:
