@@ -122,3 +122,29 @@ def test_a_selection_rerun_with_fewer_records_keeps_only_its_own_files(tmp_path:
     assert len(again["selection/confirmation.csv"].splitlines()) == 1  # its header: not run
     assert len(first["selection/confirmation.csv"].splitlines()) > 1
     assert not any(name.startswith("measures.") for name in again)
+
+
+def _values(data: object, key: str) -> list[object]:
+    """Every value of ``key`` anywhere in a JSON document."""
+    if isinstance(data, dict):
+        return [v for k, v in data.items() if k == key] + [
+            found for v in data.values() for found in _values(v, key)
+        ]
+    if isinstance(data, list):
+        return [found for v in data for found in _values(v, key)]
+    return []
+
+
+def test_the_report_states_the_alpha_reading_its_site_used(tmp_path: Path) -> None:
+    """A site with the paper's α reading: the report's provenance stated the options' unused
+    default ("eq-6-11", top level, and on the page under Parameters) beside the site's "paper".
+    Now one value, the site's, everywhere (this is a report of the run, not of its defaults)."""
+    import json
+
+    scene = _scene(tmp_path / "scene")
+    outputs = _run(scene, SITE.format(report="", frame="", report_on="true"))
+    provenance = json.loads(outputs["amplification_report_files/provenance.json"])
+    assert _values(provenance, "alpha_reading") == ["paper", "paper"]  # options', site's
+    assert json.loads(outputs["site_model.json"])["ground_motion_model"]["alpha_reading"] == "paper"
+    page = outputs["amplification_report.html"].decode()
+    assert "eq-6-11" not in page and "alpha_reading&#34;: &#34;paper&#34;" in page

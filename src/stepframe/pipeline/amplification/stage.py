@@ -266,8 +266,9 @@ AMPLIFICATION_STAGE = Stage(
 
 # 2: one set of analysis options with the command; 3: maxima past the grid's edges, the band
 # from the parameters' standard errors, the frame's stepping and δ* against x_c and x*; 4: the
-# frame's simulations by the integrator's chord-bound fast path (the same to rounding)
-AMPLIFICATION_REPORT_VERSION = 4
+# frame's simulations by the integrator's chord-bound fast path (the same to rounding); 5: the
+# provenance's alpha_reading is the site's (it stated the options' default, eq-6-11)
+AMPLIFICATION_REPORT_VERSION = 5
 AMPLIFICATION_REPORT_HTML = "amplification_report.html"
 
 #: The ``[amplification_report]`` table: the report's own choices (its curve follows
@@ -333,6 +334,9 @@ def _amplification_report_run(context: Context, folder: Path) -> None:
         _report_options(context.workflow),
         site_name=context.workflow.name or "site",
         peak_intensity_m_s2=site.peak_intensity_m_s2,
+        # the reading the site was made with ([site] or [features]), not the options' unused
+        # default: the provenance states one reading, the page's
+        alpha_reading=site.model.alpha_reading,
     )
     parameters = {"site": site.to_dict(), **asdict(options)}
     write_amplification_report(
