@@ -126,3 +126,67 @@ def test_a_features_table_value_out_of_range_is_a_parse_error(
     assert err == (
         f"stepframe: error: {workflow}:4: [features] window_s = -2.0, expected in [0.01, 600]\n"
     )
+
+
+#: Values for the required fields of the options dataclasses (those without a default).
+_REQUIRED = {
+    "SimulateOptions": {"frame": "frame.toml"},
+    "HarmonicOptions": {"amplitude_g": 0.1, "omega_rad_s": 10.0},
+}
+
+
+def _checked_options_classes() -> list[type]:
+    """Every dataclass of the package with a field declared by ``option`` and a
+    ``__post_init__`` (those that check themselves; mixins without one are checked as part of
+    the classes made of them)."""
+    import dataclasses
+    import importlib
+    import pkgutil
+
+    import stepframe
+
+    found: dict[str, type] = {}
+    for info in pkgutil.walk_packages(stepframe.__path__, "stepframe."):
+        module = importlib.import_module(info.name)
+        for cls in vars(module).values():
+            if not (
+                isinstance(cls, type)
+                and dataclasses.is_dataclass(cls)
+                and cls.__module__ == module.__name__
+                and hasattr(cls, "__post_init__")
+                and any("help" in f.metadata for f in dataclasses.fields(cls))
+            ):
+                continue
+            found[f"{cls.__module__}.{cls.__qualname__}"] = cls
+    return [found[name] for name in sorted(found)]
+
+
+def test_every_options_field_of_a_plain_type_refuses_a_string() -> None:
+    """A string where a switch or a number belongs is refused, naming the key, in every options
+    dataclass: ``confirm = "false"`` of a ``[selection]`` table ran the confirmation (a
+    non-empty string is true) before the type was checked for fields without a range."""
+    import dataclasses
+
+    classes = _checked_options_classes()
+    names = {cls.__name__ for cls in classes}
+    assert {"SelectionOptions", "RunOptions", "AmplificationReportOptions"} <= names
+    swept = []
+    for cls in classes:
+        required = _REQUIRED.get(cls.__name__, {})
+        cls(**required)  # the defaults pass
+        for f in dataclasses.fields(cls):
+            kind = value_type(cls, f.name)
+            if kind not in ("bool", "int", "float"):
+                continue
+            expected = {"bool": "true or false", "int": "an integer", "float": "a number"}[kind]
+            with pytest.raises(InputError) as error:
+                cls(**{**required, f.name: "false"})
+            assert error.value.key == f.name, (cls.__name__, f.name)
+            if f.metadata.get("valid") is None:  # else the range's words, as above
+                assert error.value.what == f"{f.name} = 'false', expected {expected}"
+            swept.append((cls.__name__, f.name))
+    # the four switches of the selection, the report's grid_only and plausible_only among them
+    for name in ("confirm", "require_plausible", "verticals", "lowest_usable_below_band"):
+        assert ("SelectionOptions", name) in swept
+    assert ("AmplificationReportOptions", "plausible_only") in swept
+    assert ("SelectionOptions", "n") in swept and ("SelectionOptions", "spectral_weight") in swept

@@ -172,3 +172,56 @@ def test_workspace_the_system_refuses(folder: Path, capsys: pytest.CaptureFixtur
     write_workflow(folder, 'workspace = "/proc/stepframe-work"\n' + FEATURES_WORKFLOW)
     line = _fails(folder, capsys)
     assert "/proc" in line and "expected a writable folder" in line
+
+
+SELECTION_WORKFLOW = """\
+[records]
+folder = "records"
+
+[frame]
+file = "frames/example-4.toml"
+
+[selection]
+n = 4
+{key} = "false"
+
+[outputs]
+features = true
+selection = true
+"""
+
+
+@pytest.mark.parametrize("key", ["confirm", "require_plausible", "verticals"])
+def test_a_string_where_a_selection_switch_belongs(
+    folder: Path, capsys: pytest.CaptureFixture[str], key: str
+) -> None:
+    """``confirm = "false"`` ran the confirmation (a non-empty string is true) and was written
+    into selection.json as the string: now the key's line, exit 2, nothing written."""
+    frames = Path(__file__).parents[2] / "src" / "stepframe" / "workflows" / "frames"
+    (folder / "frames").mkdir()
+    (folder / "frames" / "example-4.toml").write_bytes((frames / "example-4.toml").read_bytes())
+    write_workflow(folder, SELECTION_WORKFLOW.format(key=key))
+    line = _fails(folder, capsys)
+    assert line.endswith(f"wf.toml:9: [selection] {key} = 'false', expected true or false")
+
+
+@pytest.mark.parametrize(
+    ("line", "expected"),
+    [
+        ("dt_s = -1", "[records] dt_s = -1.0, expected in [1e-06, 1]"),
+        ("dt_s = 0", "[records] dt_s = 0.0, expected in [1e-06, 1]"),
+        ('format = "nonsense"', "[records] unknown format 'nonsense', expected one of "),
+    ],
+)
+@pytest.mark.parametrize("dry", [(), ("--dry-run",)])
+def test_a_record_option_out_of_range_is_refused_at_its_line(
+    folder: Path, capsys: pytest.CaptureFixture[str], line: str, expected: str, dry: tuple[str]
+) -> None:
+    """``dt_s = -1`` passed --dry-run, and the run failed every file at read time (exit 1, the
+    failures stored): now refused before anything runs, at the key's line, as the command
+    line's ``--dt-s`` (one declaration, RecordReadOptions)."""
+    write_workflow(
+        folder, FEATURES_WORKFLOW.replace('folder = "records"', f'folder = "records"\n{line}')
+    )
+    message = _fails(folder, capsys, *dry)
+    assert f"wf.toml:3: {expected}" in message

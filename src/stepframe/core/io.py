@@ -195,6 +195,49 @@ def copy_files(source: str | PathLike[str], target: str | PathLike[str]) -> list
     return written
 
 
+def replace_folder_copy(source: str | PathLike[str], target: str | PathLike[str]) -> list[Path]:
+    """Copy every file under ``source`` into a folder that replaces ``target`` whole
+    (:func:`staged_folder`): a file of an earlier ``target`` that ``source`` does not hold goes.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The written paths, under ``target``.
+    """
+    origin, destination = Path(source), Path(target)
+    destination.parent.mkdir(parents=True, exist_ok=True)
+    with staged_folder(destination) as staging:
+        written = copy_files(origin, staging)
+    return [destination / path.relative_to(staging) for path in written]
+
+
+def publish_copy(source: str | PathLike[str], target: str | PathLike[str]) -> list[Path]:
+    """Copy a result folder ``source`` into the outputs folder ``target``: each folder of
+    ``source`` replaces its namesake whole (:func:`replace_folder_copy`: a report's
+    ``<name>_files/`` holds the numbers of this result only, none of an earlier one), then each
+    of its files is written (atomically), so that a page is written after the folder it names.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The written paths, under ``target``: the files of ``source`` first (the page), then
+        those of its folders.
+    """
+    origin, destination = Path(source), Path(target)
+    destination.mkdir(parents=True, exist_ok=True)
+    entries = sorted(origin.iterdir())
+    in_folders: list[Path] = []
+    for entry in entries:
+        if entry.is_dir():
+            in_folders += replace_folder_copy(entry, destination / entry.name)
+    files = [
+        write_bytes(destination / entry.name, entry.read_bytes())
+        for entry in entries
+        if entry.is_file()
+    ]
+    return files + in_folders
+
+
 #: The largest TOML file read (a workflow or a frame file is a few kB).
 MAX_TOML_BYTES = 1 << 20
 

@@ -123,7 +123,9 @@ def _shown(value: Any) -> str:
 
 
 def check_fields(instance: Any) -> None:
-    """Check every field of a dataclass ``instance`` declared with a ``valid`` range.
+    """Check every field of a dataclass ``instance`` declared with a ``valid`` range, and the
+    type of every other field whose plain type is ``bool``, ``int`` or ``float``
+    (:func:`value_type`: a switch is true or false, never a string).
 
     A field whose value is None passes when None is its default (not given). A list field
     (kinds ``floats``, ``positive_floats``) is checked value by value, with at most
@@ -133,22 +135,46 @@ def check_fields(instance: Any) -> None:
     Raises
     ------
     InputError
-        ``name = value, expected <range>`` with ``key`` = the field's name.
+        ``name = value, expected <range>`` (or ``true or false``, ``a number``, ``an
+        integer``) with ``key`` = the field's name.
     """
     import dataclasses
 
     from stepframe.errors import InputError
 
     for f in dataclasses.fields(instance):
-        valid = f.metadata.get("valid")
-        if valid is None:
-            continue
         value = getattr(instance, f.name)
         if value is None and f.default is None:
             continue
-        problem = _field_problem(f.metadata.get("kind"), value, valid)
+        valid = f.metadata.get("valid")
+        if valid is None:
+            problem = _type_problem(type(instance), f, value)
+        else:
+            problem = _field_problem(f.metadata.get("kind"), value, valid)
         if problem is not None:
             raise InputError(f"{f.name} = {_shown(value)}, expected {problem}", key=f.name)
+
+
+def _type_problem(cls: type, f: Any, value: Any) -> str | None:
+    """What a field of plain type ``bool``, ``int`` or ``float`` (its kind, else its annotation:
+    :func:`value_type`) expects when ``value`` is not of it, or None: a field needs no ``valid``
+    range to refuse a string where a switch belongs (``confirm = "false"`` is a true string)."""
+    import numbers
+
+    kind = _field_kind(cls, f)
+    if kind is bool:
+        return None if isinstance(value, bool) else "true or false"
+    if isinstance(value, bool):  # a bool is an int to Python, never a number here
+        ok = False
+    elif kind in (int, positive_int):
+        ok = isinstance(value, numbers.Integral)
+    elif kind in (float, positive_float, non_negative_float, non_negative_seconds):
+        ok = isinstance(value, numbers.Real)
+    else:
+        return None
+    if ok:
+        return None
+    return "an integer" if kind in (int, positive_int) else "a number"
 
 
 def accepted(kind: str | None, valid: Range) -> str:

@@ -34,6 +34,16 @@ def _check_units(units: str) -> object:
     return normalize_units(units)
 
 
+def _check_record_options(options: dict[str, Any]) -> object:
+    from stepframe.records.read_options import RecordReadOptions
+
+    if "format" in options:
+        from stepframe.records.io import format_by_name
+
+        format_by_name(options["format"])
+    return RecordReadOptions(**options)
+
+
 @functools.cache
 def shipped_stages() -> StageTable:
     """The stages shipped with stepframe: catalogue (with the nightly job's measures, RotD50,
@@ -77,5 +87,6 @@ def shipped_stages() -> StageTable:
             read_frame_file=_read_frame_file,
             frame_from_mapping=_frame_from_mapping,
             check_units=_check_units,
+            check_record_options=_check_record_options,
         ),
     )

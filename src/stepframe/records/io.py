@@ -308,7 +308,7 @@ def _read_bytes(
 def _read_plain(file: Path, head: bytes, format: str | None, options: ReadOptions) -> Stream:
     if not head:
         raise InputError("empty file, expected an accelerogram", file)
-    fmt = _by_name(format, file) if format is not None else _sniff(head, file)
+    fmt = format_by_name(format) if format is not None else _sniff(head, file)
     size = file.stat().st_size
     text = fmt.name in registered_formats()
     check_memory(
@@ -383,7 +383,14 @@ def _read_gzip(
     return stream
 
 
-def _by_name(format: str, file: Path) -> RecordFormat:
+def format_by_name(format: str) -> RecordFormat:
+    """The reader named ``format`` (a stepframe format, or an obspy format in lower case).
+
+    Raises
+    ------
+    InputError
+        An unknown name, naming the accepted ones (with ``key`` ``format``).
+    """
     name = format.lower()
     formats = registered_formats()
     if name in formats:
@@ -396,7 +403,8 @@ def _by_name(format: str, file: Path) -> RecordFormat:
         )
     raise InputError(
         f"unknown format {format!r}, expected one of {', '.join(formats)} "
-        "or another obspy waveform format in lower case"
+        "or another obspy waveform format in lower case",
+        key="format",
     )
 
 

@@ -16,7 +16,7 @@ import math
 from pathlib import Path
 from typing import Any
 
-from stepframe.core.io import copy_files, write_bytes
+from stepframe.core.io import publish_copy, write_bytes
 from stepframe.errors import InputError
 from stepframe.pipeline.amplification.analysis import (
     SITE_PARAMETERS,
@@ -267,8 +267,9 @@ AMPLIFICATION_STAGE = Stage(
 
 # 2: one set of analysis options with the command; 3: maxima past the grid's edges, the band
 # from the parameters' standard errors, the frame's stepping and δ* against x_c and x*; 4: the
-# frame's simulations by the integrator's chord-bound fast path (the same to rounding)
-AMPLIFICATION_REPORT_VERSION = 4
+# frame's simulations by the integrator's chord-bound fast path (the same to rounding); 5: the
+# provenance's alpha_reading is the site's (it stated the options' default, eq-6-11)
+AMPLIFICATION_REPORT_VERSION = 5
 AMPLIFICATION_REPORT_HTML = "amplification_report.html"
 
 #: The ``[amplification_report]`` table: the report's own choices (its curve follows
@@ -309,7 +310,7 @@ def _amplification_report_check(workflow: Any) -> None:
 
 
 def _publish_report(folder: Path, outputs: Path) -> list[Path]:
-    return copy_files(folder, outputs)
+    return publish_copy(folder, outputs)
 
 
 def _amplification_report_key(context: Context) -> str:
@@ -334,6 +335,9 @@ def _amplification_report_run(context: Context, folder: Path) -> None:
         _report_options(context.workflow),
         site_name=context.workflow.name or "site",
         peak_intensity_m_s2=site.peak_intensity_m_s2,
+        # the reading the site was made with ([site] or [features]), not the options' unused
+        # default: the provenance states one reading, the page's
+        alpha_reading=site.model.alpha_reading,
     )
     parameters = {"site": site.to_dict(), **asdict(options)}
     write_amplification_report(

@@ -427,9 +427,9 @@ def _run(context: Context, folder: Path) -> None:
 
 
 def _publish(folder: Path, outputs: Path) -> list[Path]:
-    from stepframe.core.io import copy_files
+    from stepframe.core.io import publish_copy
 
-    return copy_files(folder, outputs)
+    return publish_copy(folder, outputs)
 
 
 ARRIVALS_REPORT_STAGE = Stage(

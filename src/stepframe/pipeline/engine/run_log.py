@@ -53,6 +53,8 @@ def run_line(
     }
     if report.missing:
         line["missing"] = report.missing
+    if report.removed:
+        line["removed"] = report.removed
     if report.store_events:
         line["store"] = [event.to_dict() for event in report.store_events]
     if facts:

@@ -66,6 +66,8 @@ from stepframe.pipeline.engine.store import (
     Store,
     publish_output_table,
     publish_set,
+    remember_published,
+    withdraw_published,
 )
 from stepframe.pipeline.engine.workflow import DEFAULT_WORKSPACE, Workflow, load_workflow
 
@@ -134,6 +136,9 @@ class RunReport:
     store_events: list[StoreEvent] = field(default_factory=list)
     #: Failures this run found first (with ``[outputs] history``; else None).
     new_failures: int | None = None
+    #: Per output the workflow no longer asks for, what of it this run removed from the outputs
+    #: folder (names in it).
+    removed: dict[str, list[str]] = field(default_factory=dict)
 
     @property
     def exit_code(self) -> int:
@@ -179,6 +184,8 @@ class RunReport:
             lines.append(f"output {name}: {paths[0]}{more}")
         for name, reason in self.missing.items():
             lines.append(f"output {name} NOT produced: {reason}")
+        for name, entries in self.removed.items():
+            lines.append(f"output {name} removed (no longer asked for): {', '.join(entries)}")
         return "\n".join(lines)
 
     def to_dict(self) -> dict[str, Any]:
@@ -198,6 +205,7 @@ class RunReport:
             ],
             "store": [event.to_dict() for event in self.store_events],
             "new_failures": self.new_failures,
+            "removed": self.removed,
             "exit_code": self.exit_code,
         }
 
@@ -610,6 +618,11 @@ def _publish_outputs(
     prune: bool,
 ) -> None:
     folder = workflow.outputs_folder
+    for name in stages:
+        if name not in workflow.outputs:  # an output turned off leaves nothing behind
+            removed = withdraw_published(store, name, folder)
+            if removed:
+                report.removed[name] = removed
     for name in workflow.outputs:
         stage = stages[name]
         summary = next(s for s in report.stages if s.name == name)
@@ -631,6 +644,7 @@ def _publish_outputs(
             if problem:  # never a damaged copy published as complete
                 report.missing[name] = problem
                 continue
+        remember_published(store, name, folder, paths)
         report.outputs[name] = [str(p) for p in paths]
 
 

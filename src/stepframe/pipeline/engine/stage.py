@@ -204,11 +204,15 @@ class Scene:
         the frame.
     check_units
         A ``[records] units`` value → None, or raises ``InputError`` naming what is accepted.
+    check_record_options
+        The record options of ``[records]`` (key → value) → None, or raises ``InputError``
+        naming the key (``key``) and what it accepts: the command line's one check of them.
     """
 
     read_frame_file: Callable[[Path], Any]
     frame_from_mapping: Callable[[dict[str, Any], Path], Any]
     check_units: Callable[[str], object]
+    check_record_options: Callable[[dict[str, Any]], object]
 
 
 @dataclass(frozen=True)

@@ -774,3 +774,59 @@ def publish_set(
                   "paths": [str(path) for path in paths], "files": _file_stats(paths)}  # fmt: skip
         store.write_file(stage, SET_STAMP, json.dumps(record).encode())
     return paths, problem
+
+
+#: The stage's store file naming the entries of the outputs folder its last publication made
+#: (:func:`remember_published`), so that a run that no longer asks for the output removes them.
+PUBLISHED_NAMES = "published-names.json"
+
+
+def remember_published(store: Store, stage: str, outputs: Path, paths: Iterable[Path]) -> None:
+    """Remember the entries of ``outputs`` (its files and folders, one level down) that the
+    publication of ``stage`` wrote as ``paths`` (the store file is written only when that
+    changes: a no-op re-run writes nothing)."""
+    root = outputs.absolute()
+    names = sorted(
+        {
+            path.absolute().relative_to(root).parts[0]
+            for path in paths
+            if path.absolute().is_relative_to(root) and path.absolute() != root
+        }
+    )
+    record = canonical_json({"outputs": str(root), "names": names}).encode()
+    if store.read_file(stage, PUBLISHED_NAMES) != record:
+        store.write_file(stage, PUBLISHED_NAMES, record)
+
+
+def withdraw_published(store: Store, stage: str, outputs: Path) -> list[str]:
+    """Remove from ``outputs`` what the last publication of ``stage`` put there (an output the
+    workflow no longer asks for: its files, and its folders whole), and forget it.
+
+    Only the entries :func:`remember_published` recorded for this outputs folder are touched:
+    a file of the user's beside the outputs is never removed.
+
+    Returns
+    -------
+    list of str
+        The entries removed (names in ``outputs``).
+    """
+    data = store.read_file(stage, PUBLISHED_NAMES)
+    if data is None:
+        return []
+    record = json.loads(data)
+    root = outputs.absolute()
+    if record.get("outputs") != str(root) or not record.get("names"):
+        return []
+    removed = []
+    for name in record["names"]:
+        entry = root / name
+        if entry.is_dir() and not entry.is_symlink():
+            shutil.rmtree(entry)
+        elif entry.exists() or entry.is_symlink():
+            entry.unlink()
+        else:
+            continue
+        removed.append(name)
+    forgotten = canonical_json({"outputs": str(root), "names": []})
+    store.write_file(stage, PUBLISHED_NAMES, forgotten.encode())
+    return removed

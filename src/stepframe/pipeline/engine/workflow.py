@@ -367,6 +367,11 @@ def _records(table: Any, folder: Path, lines: Lines, scene: Scene) -> Records | 
             scene.check_units(given["units"])
         except InputError as error:
             raise lines.error(f"[records] units: {error.what}", "records", "units") from None
+    options = {k: given[k] for k in RECORD_OPTIONS if k in given}
+    try:  # their ranges (dt_s > 0, ...): refused here, not by every file at read time
+        scene.check_record_options(options)
+    except InputError as error:
+        raise lines.error(f"[records] {error.what}", "records", error.key) from None
     if "glob" in given:
         from stepframe.core.paths import check_glob
 
@@ -381,7 +386,7 @@ def _records(table: Any, folder: Path, lines: Lines, scene: Scene) -> Records | 
         example=given.get("example"),
         glob=given.get("glob", "*"),
         recursive=given.get("recursive", True),
-        options={k: given[k] for k in RECORD_OPTIONS if k in given},
+        options=options,
     )
 
 

@@ -18,7 +18,7 @@ import os
 from pathlib import Path
 from typing import Any
 
-from stepframe.core.io import copy_files
+from stepframe.core.io import publish_copy, replace_folder_copy
 from stepframe.errors import InputError
 from stepframe.pipeline.catalogue.stage import record_folder
 from stepframe.pipeline.engine.stage import Context, Stage, Task
@@ -54,7 +54,7 @@ def _selection_options(workflow: Any) -> Any:
     try:
         return SelectionOptions.from_dict(given)
     except InputError as error:
-        raise workflow.lines.error(f"[selection] {error.what}", "selection") from None
+        raise workflow.lines.error(f"[selection] {error.what}", "selection", error.key) from None
 
 
 def _selection_check(workflow: Any) -> None:
@@ -141,7 +141,9 @@ def _join_new_columns(table: Any, extra: Any) -> Any:
 
 
 def _selection_publish(folder: Path, outputs: Path) -> list[Path]:
-    return copy_files(folder, outputs / "selection")
+    # replaced whole: a run choosing fewer records, or without confirmation, leaves no file of
+    # an earlier one (motions/ of records no longer chosen, confirmation.csv)
+    return replace_folder_copy(folder, outputs / "selection")
 
 
 #: What a responses task is made of besides its component: the pass the workflow's selection
@@ -285,7 +287,7 @@ SELECTION_STAGE = Stage(
 
 
 def _publish_report(folder: Path, outputs: Path) -> list[Path]:
-    return copy_files(folder, outputs)
+    return publish_copy(folder, outputs)
 
 
 def _selection_report_key(context: Context) -> str:
