@@ -271,3 +271,35 @@ def test_frame_section_draws_the_site_over_the_band(amplification_html: Path) ->
     html = amplification_html.read_text(encoding="utf-8")
     assert "site_band_spectrum" in html
     assert "The site&#39;s evolutionary spectrum over the frame&#39;s band" in html
+
+
+def test_a_workflows_report_lists_every_fit_as_the_command_lines(
+    records_amplification_html: Path, site_records: Path, tmp_path: Path
+) -> None:
+    """The workflow's report over a folder had the combined row only ("3 components used"),
+    where the command line's over the same folder lists each fit with its flags, the unused
+    one with its reason, and draws each record's ω_g(t). Same table, same figures now."""
+    import shutil
+
+    from stepframe.pipeline.engine.runner import run_workflow
+    from stepframe.pipeline.stages import shipped_stages
+
+    shutil.copytree(site_records, tmp_path / "records")
+    workflow = tmp_path / "wf.toml"
+    workflow.write_text(
+        'name = "site"\n[records]\nfolder = "records"\nunits = "m/s2"\n'
+        '[features]\nt0 = "start"\n[site]\nfrom = "records"\n[amplification]\nn_steps = 1000\n'
+        '[amplification_report]\nmonte_carlo = 0\nband = "delta"\n'
+        "[outputs]\namplification_report = true\n",
+        encoding="utf-8",
+    )
+    report = run_workflow(workflow, shipped_stages(), jobs=1)
+    assert report.exit_code == 0
+    html = tmp_path / "stepframe-work" / "outputs" / "amplification_report.html"
+    ours = pd.read_csv(data_folder_of(html) / "parameters.csv")
+    cli = pd.read_csv(data_folder_of(records_amplification_html) / "parameters.csv")
+    assert list(ours["record"]) == list(cli["record"]) and len(ours) == 4  # three and combined
+    pd.testing.assert_frame_equal(ours, cli, check_exact=False, rtol=1e-12)
+    page = html.read_text(encoding="utf-8")
+    assert page.count('alt="Time-frequency image of ') == 3
+    assert str(tmp_path) not in page  # the files named inside the records folder

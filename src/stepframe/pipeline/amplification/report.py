@@ -341,7 +341,10 @@ def record_paths_section(site: SiteFromRecords) -> Section:
     for index, row in site.features.iterrows():
         model = {key: float(row[key]) for key in MODEL_KEYS}
         name = f"{Path(str(row['file'])).name} [{row['component']}]"
-        where = (str(row["file"]), str(row["component"]), dict(site.record_options))
+        where = (
+            str(site.record_path(str(row["file"]))), str(row["component"]),
+            dict(site.record_options),
+        )  # fmt: skip
         figures.append(
             FigureJob(
                 partial(_record_path_figure, where, opts, model, name),

@@ -247,6 +247,9 @@ class SiteFromRecords:
     options
         How the records were read and fitted (:class:`stepframe.pipeline.catalogue.fit_options.
         FitOptions`) and their read options.
+    files_in_folder
+        Whether the table's ``file`` is relative to ``folder`` (a workflow's features table,
+        which names files inside the records folder) rather than a path as listed.
     """
 
     combined: CombinedSite
@@ -255,6 +258,11 @@ class SiteFromRecords:
     folder: Path
     options: FitOptions
     record_options: dict[str, Any]
+    files_in_folder: bool = False
+
+    def record_path(self, file: str) -> Path:
+        """Where the record of a features row's ``file`` is read again."""
+        return self.folder / file if self.files_in_folder else Path(file)
 
     @property
     def model(self) -> GroundMotionModel:

@@ -268,8 +268,9 @@ AMPLIFICATION_STAGE = Stage(
 # 2: one set of analysis options with the command; 3: maxima past the grid's edges, the band
 # from the parameters' standard errors, the frame's stepping and δ* against x_c and x*; 4: the
 # frame's simulations by the integrator's chord-bound fast path (the same to rounding); 5: the
-# provenance's alpha_reading is the site's (it stated the options' default, eq-6-11)
-AMPLIFICATION_REPORT_VERSION = 5
+# provenance's alpha_reading is the site's (it stated the options' default, eq-6-11); 6: a site
+# from records lists every fit and draws each record's ω_g(t), as the command line's report
+AMPLIFICATION_REPORT_VERSION = 6
 AMPLIFICATION_REPORT_HTML = "amplification_report.html"
 
 #: The ``[amplification_report]`` table: the report's own choices (its curve follows
@@ -319,8 +320,59 @@ def _amplification_report_key(context: Context) -> str:
         **AMPLIFICATION_REPORT_STAGE.parameters(context.workflow),
         "frame": context.workflow.frame_source,
     }
+    # A site from records: the page lists every component's fit (the implausible ones too)
+    features = (
+        sorted(map(str, context.tables["features"]["_key"]))
+        if "features" in _site_upstream(context.workflow)
+        else []
+    )
     return make_key(
-        "amplification_report", AMPLIFICATION_REPORT_VERSION, params, context.set_keys["site"]
+        "amplification_report",
+        AMPLIFICATION_REPORT_VERSION,
+        params,
+        context.set_keys["site"],
+        *features,
+    )
+
+
+def _site_of_records(context: Context, site: Any) -> Any:
+    """The workflow's site from records as the command line's report has it
+    (:class:`~stepframe.pipeline.amplification.site.SiteFromRecords`): every component's fit,
+    the implausible ones with their reason, and what each record's ω_g(t) figure reads again.
+    Before, the page had the combined row only ("4 components used"), where the command line's
+    over the same folder listed all six with their flags."""
+    import pandas as pd
+
+    from stepframe.core.results import FAILURE_COLUMNS
+    from stepframe.pipeline.amplification.site import SiteFromRecords, site_from_features
+    from stepframe.pipeline.catalogue.fit_options import ESTIMATION_FIELDS, FitOptions
+    from stepframe.pipeline.catalogue.stage import record_folder
+
+    workflow = context.workflow
+    records = workflow.records
+    assert records is not None  # a site from records (the features stage needs [records])
+    folder = record_folder(context)  # the folder, or the embedded example written out
+    table = context.tables["features"]
+    features = table.drop(columns=[c for c in table.columns if str(c).startswith("_")])
+    params = SITE_STAGE.parameters(workflow)
+    fitted = FEATURES_STAGE.parameters(workflow)
+    options = FitOptions(**{k: fitted[k] for k in ESTIMATION_FIELDS if k in fitted})
+    combined = site_from_features(
+        features,
+        statistic=params["statistic"],
+        plausible_only=params["plausible_only"],
+        alpha_reading=options.alpha_reading,
+        name=folder.name,
+    )
+    # the stated peak intensity ([site] peak_intensity_m_s2) is the site model's
+    from dataclasses import replace
+
+    combined = replace(combined, site=site)
+    # read and fit failures are the run's (its summary, features.failures.csv), not listed here
+    failures = pd.DataFrame(columns=list(FAILURE_COLUMNS))
+    # files named inside the records folder (the page shows them so: it is relocatable)
+    return SiteFromRecords(
+        combined, features, failures, folder, options, dict(records.options), True
     )
 
 
@@ -331,6 +383,9 @@ def _amplification_report_run(context: Context, folder: Path) -> None:
     from stepframe.pipeline.amplification.site import read_site_model
 
     site = read_site_model(context.set_dirs["site"] / SITE_JSON)
+    reported = (
+        _site_of_records(context, site) if "features" in _site_upstream(context.workflow) else site
+    )
     options = replace(
         _report_options(context.workflow),
         site_name=context.workflow.name or "site",
@@ -341,7 +396,7 @@ def _amplification_report_run(context: Context, folder: Path) -> None:
     )
     parameters = {"site": site.to_dict(), **asdict(options)}
     write_amplification_report(
-        site,
+        reported,
         folder / AMPLIFICATION_REPORT_HTML,
         frame=context.workflow.frame,
         options=options,
@@ -357,7 +412,7 @@ AMPLIFICATION_REPORT_STAGE = Stage(
     description="the site amplification report: self-contained HTML with its numbers",
     kind="set",
     params=AMPLIFICATION_REPORT_PARAMS,
-    upstream=lambda workflow: ("site",),
+    upstream=lambda workflow: ("site", *_site_upstream(workflow)),
     set_key=_amplification_report_key,
     run_set=_amplification_report_run,
     publish=_publish_report,
