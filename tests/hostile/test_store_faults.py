@@ -363,4 +363,10 @@ def test_store_verify_removes_unreachable_objects(
     _flip(next((work / "store" / "features").glob("seg-*.parquet")))
     capsys.readouterr()
     assert main(["store", "verify", str(scene / "wf.toml")]) == 1
-    assert "damaged: features/seg-" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "damaged: features/seg-" in out
+    # verify recomputes nothing: it leaves that to the next run (it said "; recomputed")
+    assert "; the next run that needs it recomputes it" in out and "; recomputed" not in out
+    # a path that does not exist is named so, not "no store/ in it"
+    assert main(["store", "verify", str(scene / "no-such-folder")]) == 2
+    assert "no such file or folder, expected a workspace" in capsys.readouterr().err

@@ -204,6 +204,9 @@ class Store:
         writes nothing).
     dry
         Write nothing: damaged objects are reported, not moved (a dry run).
+    then
+        What follows a damaged object's quarantine, in its event: a run recomputes it; ``store
+        verify`` leaves that to the next run that needs it (its events said "recomputed").
 
     Attributes
     ----------
@@ -211,9 +214,10 @@ class Store:
         The damaged or missing objects found so far, and what was done.
     """
 
-    def __init__(self, root: Path, *, dry: bool = False) -> None:
+    def __init__(self, root: Path, *, dry: bool = False, then: str = "recomputed") -> None:
         self.root = root
         self.dry = dry
+        self.then = then
         self.events: list[StoreEvent] = []
         self._stages: dict[str, _Stage] = {}
 
@@ -251,7 +255,9 @@ class Store:
         folder = self.stage_dir(stage)
         state = _Stage()
         if folder.exists() and not folder.is_dir():  # a file where the stage's folder belongs
-            self.events.append(quarantine(self.root, stage, folder, "not a folder", dry=self.dry))
+            self.events.append(
+                quarantine(self.root, stage, folder, "not a folder", dry=self.dry, then=self.then)
+            )
         if not folder.is_dir():
             return state
         index, problem = read_index(folder / INDEX_FILE)
@@ -278,7 +284,7 @@ class Store:
             segment, problem = self._read_segment(folder / name, listed.get(name))
             if segment is None:
                 self.events.append(quarantine(self.root, stage, folder / name, problem,
-                                              dry=self.dry))  # fmt: skip
+                                              dry=self.dry, then=self.then))  # fmt: skip
                 changed = True
                 continue
             changed = changed or name not in listed
@@ -445,7 +451,9 @@ class Store:
         problem = check_folder(target, manifest)
         if not problem:
             return True
-        self.events.append(quarantine(self.root, stage, target, problem, dry=self.dry))
+        self.events.append(
+            quarantine(self.root, stage, target, problem, dry=self.dry, then=self.then)
+        )
         if not self.dry:
             del state.sets[key]
             self._save(stage, state)

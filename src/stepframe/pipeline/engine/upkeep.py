@@ -99,6 +99,12 @@ def workspace_of(path: str | Path, stages: StageTable) -> Path:
         return load_workflow(given, stages).workspace
     if (given / "store").is_dir():
         return given
+    if not given.exists():
+        raise InputError(
+            "no such file or folder, expected a workspace (the folder holding store/ and lock) "
+            "or a workflow file",
+            given,
+        )
     raise InputError(
         "no store/ in it, expected a workspace (the folder holding store/ and lock) or a "
         "workflow file",
@@ -123,7 +129,7 @@ def upkeep(path: str | Path, stages: StageTable, action: str, *, wait: bool = Fa
     workspace = workspace_of(path, stages)
     check = StoreCheck(str(workspace), action)
     with workspace_lock(workspace, wait=wait):
-        store = Store(workspace / "store")
+        store = Store(workspace / "store", then="the next run that needs it recomputes it")
         store.prepare()
         if action == "verify":
             check.stages = store.verify()
