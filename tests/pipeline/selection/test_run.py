@@ -240,6 +240,12 @@ def test_options_round_trip_and_validation() -> None:
     ):
         with pytest.raises(InputError):
             SelectionOptions.from_dict(bad)
+    # a typo is named with its nearest option and its key (the workflow points at its line)
+    with pytest.raises(
+        InputError, match=r"unknown key 'rank_bye' \(did you mean 'rank_by'\?\)"
+    ) as caught:
+        SelectionOptions.from_dict({"n": 1, "rank_bye": "sa_t1_g"})
+    assert caught.value.key == "rank_bye"
     assert math.isclose(SelectionOptions().strong_motion_fraction, 0.3)
 
 

@@ -507,10 +507,21 @@ class SelectionOptions:
     def from_dict(cls, data: dict[str, Any], where: str = "selection options") -> SelectionOptions:
         """Inverse of :meth:`to_dict`, e.g. a ``[selection]`` TOML table; unknown keys are an
         error; ints are accepted where floats are expected."""
+        import difflib
+
         known = {f.name: f for f in fields(cls)}
         unknown = sorted(set(data) - set(known))
         if unknown:
-            raise InputError(f"{where}: unknown keys {unknown}, expected some of {sorted(known)}")
+            # each with its nearest name (the list of some 60 names said nothing of the typo)
+            named = []
+            for key in unknown:
+                close = difflib.get_close_matches(key, list(known), n=1, cutoff=0.6)
+                named.append(f"{key!r}" + (f" (did you mean {close[0]!r}?)" if close else ""))
+            raise InputError(
+                f"{where}: unknown key{'s' * (len(unknown) > 1)} {', '.join(named)}, expected "
+                "the options of docs/selection.md (`stepframe select --help` lists them)",
+                key=unknown[0],
+            )
         values = dict(data)
         if "exclude" in values:
             values["exclude"] = tuple(str(v) for v in values["exclude"])
