@@ -167,6 +167,16 @@ def test_workspace_under_a_file(folder: Path, capsys: pytest.CaptureFixture[str]
     assert "plain-file" in line and "not a folder" in line
 
 
+def test_workspace_that_is_a_file_names_the_key(
+    folder: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The workspace key naming an existing file: the error named the file, not the key's line."""
+    (folder / "plain-file").write_text("not a folder")
+    write_workflow(folder, 'workspace = "plain-file"\n' + FEATURES_WORKFLOW)
+    line = _fails(folder, capsys)
+    assert "wf.toml:1: workspace 'plain-file' exists and is not a folder" in line
+
+
 def test_workspace_the_system_refuses(folder: Path, capsys: pytest.CaptureFixture[str]) -> None:
     # /proc refuses new folders even to root: the error comes from creating the workspace
     write_workflow(folder, 'workspace = "/proc/stepframe-work"\n' + FEATURES_WORKFLOW)

@@ -325,6 +325,13 @@ def load_workflow(
     folder = file.parent
     if workspace is None:
         workspace = _inside(folder, top.get("workspace", DEFAULT_WORKSPACE), "", "workspace", lines)
+        if Path(workspace).exists() and not Path(workspace).is_dir():  # at the key's line
+            raise lines.error(
+                f"workspace {str(top.get('workspace'))!r} exists and is not a folder, expected "
+                "a folder (the workspace holds the cache, the lock and the outputs)",
+                "",
+                "workspace",
+            )
     records = _records(data.get("records"), folder, lines, stages.scene)
     frame, frame_source = _frame(data.get("frame"), folder, file, lines, stages.scene)
     wanted, outputs_folder, history = _outputs(
