@@ -78,6 +78,13 @@ def test_a_frame_says_whether_it_stepped_and_from_which_intensity(tmp_path: Path
     assert above.frame_stepping is not None and above.frame_stepping.stepped
     assert above.response_amplification_vs_fixed != 1.0
     assert above.to_dict()["frame_stepping"]["stepped"] is True
+    # The figure's curves are tracking oscillators; its point is the frame's own run, so named.
+    options = AmplifyOptions(
+        **PAPER_SITE, **TIMES, frame=str(frame_file), n_steps=400, n_frequencies=5
+    )  # fmt: skip
+    legend = amplify_study(options, figure=True).figure().axes[0].get_legend()
+    labels = [text.get_text() for text in legend.get_texts()]
+    assert any(label.startswith("frame-driven ω(t) = 2π/T(A), f_1 = ") for label in labels)
 
 
 def test_an_implausible_fit_is_degraded_and_says_why() -> None:

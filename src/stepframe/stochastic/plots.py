@@ -139,6 +139,7 @@ def amplification_figure(
     at_f0: float | None = None,
     lower_bound: bool = False,
     site: str | None = None,
+    point_name: str = "f0",
 ) -> Figure:
     """The spectral ratio of eq. 6.18 and both response amplifications against f0.
 
@@ -157,6 +158,9 @@ def amplification_figure(
         an arrow up.
     site
         Named in the title.
+    point_name
+        What the point is, in its legend entry (``"f0"``; a frame's run is not a tracking
+        oscillator of the curves: "frame-driven, f_1").
     """
     from matplotlib.figure import Figure
 
@@ -184,7 +188,8 @@ def amplification_figure(
     )
     if f0_hz is not None and at_f0 is not None:
         if lower_bound:
-            ax.plot([f0_hz], [at_f0], "o", mfc="white", mec="k", label=f"f0 = {f0_hz:.3g} Hz: ≥")
+            label = f"{point_name} = {f0_hz:.3g} Hz: ≥ {at_f0:.3g} (overturned)"
+            ax.plot([f0_hz], [at_f0], "o", mfc="white", mec="k", label=label)
             ax.annotate(
                 "",
                 xy=(f0_hz, at_f0),
@@ -193,7 +198,8 @@ def amplification_figure(
                 arrowprops={"arrowstyle": "<|-", "color": "k", "lw": 1.2},
             )
         else:
-            ax.plot([f0_hz], [at_f0], "o", color="k", label=f"f0 = {f0_hz:.3g} Hz")
+            label = f"{point_name} = {f0_hz:.3g} Hz: {at_f0:.3g}"
+            ax.plot([f0_hz], [at_f0], "o", color="k", label=label)
     keys = ("model_omega_p_rad_s", "model_omega_s_rad_s", "model_omega_r_rad_s")
     if all(key in curve.attrs for key in keys):
         from stepframe.stochastic.model import GroundMotionModel

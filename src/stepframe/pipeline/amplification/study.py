@@ -91,6 +91,8 @@ class AmplifyStudy:
             at_f0=result.response_amplification_vs_fixed,
             lower_bound=result.lower_bound,
             site=str(self.site.source.get("record") or "site from parameters"),
+            # the curves are tracking oscillators; the point, with a frame, is its own run
+            point_name="frame-driven ω(t) = 2π/T(A), f_1" if result.omega_path == "frame" else "f0",
         )
 
 
