@@ -217,6 +217,26 @@ def test_the_arrivals_report_shows_the_latest_run(tmp_path: Path) -> None:
     assert f"Records measured in the run of {numbers['run_utc']}" in html
 
 
+def test_a_run_that_only_removes_files_says_what_its_page_shows(tmp_path: Path) -> None:
+    """A junk file's failure was named beside the run that brought it; a run that only removes
+    it makes the page again for the folder as it is: the same run named, its failure gone, the
+    line saying it is the folder's (it read "Without a result none" beside the earlier run)."""
+    (tmp_path / "inbox").mkdir()
+    for path in sorted(PEER.glob("*.AT2")):
+        shutil.copy(path, tmp_path / "inbox" / path.name)
+    (tmp_path / "inbox" / "bad.txt").write_text("garbage\n")
+    outputs = _run(tmp_path)
+    numbers = json.loads((outputs / "arrivals_report_files" / "numbers.json").read_text())
+    assert numbers["without_result"] == [{"stage": "inventory", "item": "bad.txt"}]
+    named = numbers["run_utc"]
+    (tmp_path / "inbox" / "bad.txt").unlink()
+    outputs = _run(tmp_path)
+    numbers = json.loads((outputs / "arrivals_report_files" / "numbers.json").read_text())
+    assert (numbers["run_utc"], numbers["without_result"], numbers["runs"]) == (named, [], 1)
+    html = (outputs / "arrivals_report.html").read_text(encoding="utf-8")
+    assert "Without a result in the records folder" in html and "bad.txt" not in html
+
+
 NIGHTLY = ("measures", "rotd50", "arrivals_report", "waveforms")
 
 

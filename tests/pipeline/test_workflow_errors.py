@@ -99,6 +99,46 @@ def test_site_parameters_missing(folder: Path, capsys: pytest.CaptureFixture[str
     assert "wf.toml:1:" in line and "fs_hz missing" in line
 
 
+SITE_PARAMETERS = (
+    '[site]\nfrom = "parameters"\nfp_hz = 7.43\nfs_hz = 3.12\nfr_hz = 1.11\nxi_p = 0.096\n'
+    "xi_r = 0.655\nt_max_s = 5\nt_dur_s = 20\n"
+)
+
+
+@pytest.mark.parametrize(
+    ("table", "given", "line"),
+    [
+        ("", 'statistic = "mean"', '[site] statistic = "mean" with from = "parameters"'),
+        ("", "plausible_only = false", '[site] plausible_only = false with from = "parameters"'),
+        ("[amplification_report]\n", 'band = "delta"',
+         '[amplification_report] band = "delta" with [site] from = "parameters"'),
+        ("[amplification_report]\n", "band_samples = 100",
+         '[amplification_report] band_samples = 100 with [site] from = "parameters"'),
+        ("[amplification_report]\nmonte_carlo = 0\n", "seed = 5",
+         "[amplification_report] seed = 5 with monte_carlo = 0"),
+    ],
+)  # fmt: skip
+def test_a_site_option_that_does_nothing_is_refused_at_its_line(
+    folder: Path, capsys: pytest.CaptureFixture[str], table: str, given: str, line: str
+) -> None:
+    """Each ran and wrote the same site and report as without it; at its default value (or
+    with a site from records) it is accepted."""
+    outputs = "[outputs]\nsite = true\namplification_report = true\n"
+    text = SITE_PARAMETERS + table + given + "\n" + outputs
+    write_workflow(folder, text)
+    at = text.splitlines().index(given) + 1
+    assert f"wf.toml:{at}: {line}, expected" in _fails(folder, capsys)
+    defaults = {
+        'statistic = "mean"': 'statistic = "median"',
+        "plausible_only = false": "plausible_only = true",
+        'band = "delta"': 'band = "monte-carlo"',
+        "seed = 5": "seed = 1",
+    }
+    if given in defaults:
+        write_workflow(folder, text.replace(given, defaults[given]))
+        assert main(["run", str(folder / "wf.toml"), "--dry-run"]) == 0, capsys.readouterr().err
+
+
 def test_not_toml(folder: Path, capsys: pytest.CaptureFixture[str]) -> None:
     write_workflow(folder, "[outputs]\nfeatures = \n")
     line = _fails(folder, capsys)

@@ -12,6 +12,7 @@ import pandas as pd
 import pytest
 
 from stepframe.cli import main
+from stepframe.pipeline.amplification.analysis import AmplificationOptions
 from stepframe.pipeline.amplification.site import COMBINED, MEDIAN_SE_FACTOR, site_from_records
 from stepframe.pipeline.catalogue.fit_options import FitOptions
 from stepframe.pipeline.reports.document import data_folder_of
@@ -244,7 +245,8 @@ def test_cli_missing_parameter(tmp_path: Path, capsys: pytest.CaptureFixture[str
 @pytest.mark.parametrize(
     ("extra", "flag"),
     [(["--units", "g"], "--units g"), (["--t0", "start"], "--t0 start"),
-     (["--format", "at2"], "--format at2"), (["--band", "delta"], "--band delta")],
+     (["--format", "at2"], "--format at2"), (["--band", "delta"], "--band delta"),
+     (["--band-samples", "100"], "--band-samples 100")],
 )  # fmt: skip
 def test_cli_record_options_with_parameters_are_refused(
     extra: list[str], flag: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
@@ -264,6 +266,26 @@ def test_cli_record_options_with_parameters_are_refused(
         and err.count("\n") == 1
     )
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(
+    ("extra", "line"),
+    [(["--monte-carlo", "0", "--seed", "5"],
+      "--seed 5 with monte_carlo = 0, expected it only with Monte Carlo motions")],
+)  # fmt: skip
+def test_cli_options_that_do_nothing_are_refused(
+    extra: list[str], line: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The seed of no Monte Carlo motions (it ran and wrote the same page): one line, exit 2,
+    nothing written; at the default seed, or with motions, nothing refused."""
+    site = ["--fp-hz", "7.43", "--fs-hz", "3.12", "--fr-hz", "1.11", "--xi-p", "0.096",
+            "--xi-r", "0.655", "--t-max-s", "5", "--t-dur-s", "20"]  # fmt: skip
+    code = main(["report", "amplification", *site, *extra, "-o", str(tmp_path / "r.html")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.startswith(f"stepframe: error: {line}") and err.count("\n") == 1
+    assert list(tmp_path.iterdir()) == []
+    AmplificationOptions(monte_carlo=0, seed=1)  # the default seed: never refused
+    AmplificationOptions(monte_carlo=5, seed=5)
 
 
 def test_frame_section_draws_the_site_over_the_band(amplification_html: Path) -> None:

@@ -13,9 +13,11 @@ from stepframe.pipeline.selection.options import SelectionOptions, selection_opt
 
 def test_overrides_lay_over_the_file_and_the_defaults(tmp_path: Path) -> None:
     path = tmp_path / "sel.toml"
-    path.write_text('[selection]\nn = 4\nscale = "psa-at-t1"\nseed = 7\n')
+    path.write_text('[selection]\nn = 4\nscale = "psa-at-t1"\nconfirm = true\nseed = 7\n')
     options = selection_options(str(path), {"seed": 3, "magnitude_min": 6})
-    assert options == SelectionOptions(n=4, scale="psa-at-t1", seed=3, magnitude_min=6.0)
+    assert options == SelectionOptions(
+        n=4, scale="psa-at-t1", confirm=True, seed=3, magnitude_min=6.0
+    )
     assert selection_options(None, {"n": 2}) == SelectionOptions(n=2)
 
 

@@ -165,6 +165,10 @@ EC8 = {"target_ec8": "type1", "target_ground": "B", "target_ag_g": 0.3}
         ({"target_importance": 1.2}, EC8, "a Eurocode 8 target"),
         ({"distance_metric": "rjb"}, {"distance_max_km": 50.0}, "a distance filter"),
         ({"n_bootstrap": 50}, {"rank_by": "omega_p_over_s_sq"}, "a ranking by a fitted score"),
+        ({"scale_min": 0.5}, {"scale": "psa-at-t1"}, "a scaling policy"),
+        ({"scale_max": 2.0}, {"scale": "target-mse", **ASCE}, "a scaling policy"),
+        ({"seed": 5}, {"confirm": True}, "confirm = true (--confirm) or the bootstrap"),
+        ({"seed": 5}, {"rank_by": "omega_p_over_s_sq"}, "confirm = true (--confirm) or the"),
     ],
 )
 def test_an_option_that_does_nothing_is_an_error(
@@ -182,3 +186,6 @@ def test_an_option_that_does_nothing_is_an_error(
     SelectionOptions(n=3)  # every default: nothing refused
     # no bootstrap asked for, with a ranking that could not use one: fine
     SelectionOptions(n=3, n_bootstrap=0)
+    # a ranking by a fit without its bootstrap draws nothing to seed
+    with pytest.raises(InputError, match="seed = 5 does nothing here"):
+        SelectionOptions(n=3, rank_by="omega_p_over_s_sq", n_bootstrap=0, seed=5)

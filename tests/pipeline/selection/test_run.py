@@ -228,7 +228,8 @@ def test_options_round_trip_and_validation() -> None:
         scale="target-mse",
     )
     assert SelectionOptions.from_dict(options.to_dict()) == options
-    assert SelectionOptions.from_dict({"n": 2, "scale_max": 3}).scale_max == 3.0
+    scaled = {"n": 2, "scale": "psa-at-t1", "scale_max": 3}
+    assert SelectionOptions.from_dict(scaled).scale_max == 3.0
     for bad in (
         {"n": 0},
         {"n": 1, "rank_by": "nope"},

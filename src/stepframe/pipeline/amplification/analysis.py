@@ -258,19 +258,39 @@ class AmplificationOptions(AmplificationAnalysis):
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        if self.band_samples is not None and self.band != "monte-carlo":
-            from stepframe.errors import InputError
+        from stepframe.errors import InputError
 
+        if self.band_samples is not None and self.band != "monte-carlo":
             raise InputError(
                 f"band_samples = {self.band_samples} with band = {self.band!r}, expected band = "
-                "'monte-carlo' with it (the delta method draws no samples)",
+                "'monte-carlo' with it (only the Monte Carlo band draws samples)",
                 key="band_samples",
+            )
+        if self.seed != AmplificationOptions.__dataclass_fields__["seed"].default and (
+            self.report_monte_carlo == 0
+        ):
+            raise InputError(
+                f"seed = {self.seed} with monte_carlo = 0, expected it only with Monte Carlo "
+                "motions (it seeds them)",
+                key="seed",
             )
 
     @property
     def band_samples_or_default(self) -> int:
         """Parameter sets of a Monte Carlo band (:data:`BAND_SAMPLES` when not given)."""
         return BAND_SAMPLES if self.band_samples is None else self.band_samples
+
+
+def band_without_errors(options: AmplificationOptions) -> str | None:
+    """The band option given that a site from its parameters cannot use (it has no standard
+    errors, so no band): ``band`` (delta), ``band_samples``, or None. The one rule of
+    ``report amplification`` and a workflow's ``[amplification_report]``; ``band = "none"``
+    asks for what such a site has, and is accepted."""
+    if options.band == "delta":
+        return "band"
+    if options.band_samples is not None:
+        return "band_samples"
+    return None
 
 
 @dataclass(frozen=True)

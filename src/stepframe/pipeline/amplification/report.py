@@ -28,6 +28,7 @@ from stepframe.pipeline.amplification.analysis import (
     SITE_PARAMETERS,
     AmplificationOptions,
     AmplificationReportOptions,
+    band_without_errors,
 )
 from stepframe.pipeline.amplification.band import ParameterBand
 from stepframe.pipeline.amplification.frame_section import FramePart, frame_part
@@ -798,11 +799,13 @@ def _site_of(
         )  # fmt: skip
         return site, o.site_name or Path(o.records).resolve().name
     # what reads records, set where there are none: an error, not a silent no-op
+    band = band_without_errors(o)
     for flag, set_here in (
         (f"--t0 {o.t0}", o.t0 != "auto"),
         (f"--format {o.record_format}", o.record_format is not None),
         (f"--units {o.units}", o.units is not None),
-        ("--band delta", o.band == "delta"),
+        ("--band delta", band == "band"),
+        (f"--band-samples {o.band_samples}", band == "band_samples"),
     ):
         if set_here:
             raise InputError(

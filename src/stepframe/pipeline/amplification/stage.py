@@ -68,6 +68,15 @@ def _site_check(workflow: Any) -> None:
     combination = {k: params[k] for k in ("statistic", "plausible_only")}
     _checked(workflow, "site", SiteCombination, combination)
     if params["from"] == "parameters":
+        combination_defaults = SiteCombination()
+        for name in ("statistic", "plausible_only"):
+            if params[name] != getattr(combination_defaults, name):
+                raise workflow.lines.error(
+                    f'[site] {name} = {_toml(params[name])} with from = "parameters", expected '
+                    'it only with from = "records" (it combines the records\' fits)',
+                    "site",
+                    name,
+                )
         missing = [name for name in SITE_PARAMETERS if params[name] is None]
         if missing:
             raise workflow.lines.error(
@@ -99,6 +108,13 @@ def _site_check(workflow: Any) -> None:
             "site",
             "alpha_reading",
         )
+
+
+def _toml(value: Any) -> str:
+    """A table value as the workflow file writes it (``"mean"``, ``false``, ``5``)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    return f'"{value}"' if isinstance(value, str) else str(value)
 
 
 def _model_from_parameters(params: dict[str, Any]) -> Any:
@@ -292,7 +308,19 @@ def _report_options(workflow: Any) -> AmplificationOptions:
 
 
 def _amplification_report_check(workflow: Any) -> None:
+    from stepframe.pipeline.amplification.analysis import band_without_errors
+
     options = _report_options(workflow)
+    if workflow.tables.get("site", {}).get("from", "parameters") == "parameters":
+        key = band_without_errors(options)
+        if key is not None:
+            raise workflow.lines.error(
+                f"[amplification_report] {key} = {_toml(getattr(options, key))} with [site] "
+                'from = "parameters", expected it only with from = "records" (parameters have '
+                "no standard errors, so no band)",
+                "amplification_report",
+                key,
+            )
     if options.delta_star_m is not None and workflow.frame is None:
         raise workflow.lines.error(
             "[amplification_report] delta_star_m without a frame, expected a [frame] table",

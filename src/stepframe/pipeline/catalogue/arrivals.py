@@ -7,11 +7,14 @@ their intensity measures and spectra, their RotD50 and fitted parameters when th
 asked for too, and a line per earlier run with its count. Its size grows with what arrived in
 one run, not with the catalogue. It sees the records folder as it is now: with ``[outputs]
 history`` the output tables keep the files that left it (``present = false``), the page does
-not. The items of this run that have no result (a file that cannot be read, a component that
-cannot be measured) are named with their stage; why is in each output's ``.failures.csv``
-(with first and last seen times and a ``new`` mark when the workflow keeps a history). Its key
-is the keys of the rows it shows and of the items without a result: a run that brings nothing
-leaves the last summary in place, and the page names the run it describes.
+not. The items in the records folder that have no result (a file that cannot be read, a
+component that cannot be measured: those of the latest run and those still there from earlier
+runs) are named with their stage; why is in each output's ``.failures.csv`` (with first and last
+seen times and a ``new`` mark when the workflow keeps a history). Its key is the keys of the rows
+it shows and of the items without a result: a run that brings nothing leaves the last summary in
+place, and the page names the run it describes. A run that only removes files changes the folder
+it shows: the page is made again, still naming the latest run that measured something, without
+what left (its components, its items without a result).
 """
 
 from __future__ import annotations
@@ -30,7 +33,10 @@ if TYPE_CHECKING:
 
     from stepframe.pipeline.reports.document import Report, Section
 
-ARRIVALS_VERSION = 2
+# 3: the items without a result are the records folder's (they always were: the latest run's and
+# those left from earlier runs), said so; a run that only removed a failed file showed "none"
+# beside an earlier run's arrivals as if that run had had none
+ARRIVALS_VERSION = 3
 ARRIVALS_HTML = "arrivals_report.html"
 
 #: Spectra drawn per figure (more are in the table and its CSV).
@@ -62,8 +68,9 @@ def _upstream(workflow: Any) -> tuple[str, ...]:
 
 
 def without_result(context: Context) -> list[tuple[str, str]]:
-    """(stage, item) of this run's items that have no result, in the inventory and the stages
-    the page shows (an item whose file could not be read is named once, by the inventory)."""
+    """(stage, item) of the items in the records folder that have no result (this run's tasks:
+    every item there now), in the inventory and the stages the page shows (an item whose file
+    could not be read is named once, by the inventory)."""
     found: list[tuple[str, str]] = []
     for name in ("inventory", *_upstream(context.workflow)):
         table = context.tables.get(name)
@@ -172,7 +179,7 @@ class Arrivals:
     runs
         Components measured per run, latest first.
     failed
-        (stage, item) of the items of this run without a result.
+        (stage, item) of the items in the records folder without a result.
     """
 
     latest: str
@@ -221,7 +228,7 @@ def _summary(arrivals: Arrivals) -> list[tuple[str, str]]:
             f"{len(arrivals.measures)} components, measured over {len(arrivals.runs)} runs",
         ),
         (
-            "Without a result",
+            "Without a result in the records folder",
             _failed_line(arrivals.failed) if arrivals.failed else "none",
         ),
         (
@@ -345,7 +352,7 @@ def arrivals_report(
     features
         The ``features`` table, or None (its fits are joined on file and component).
     failed
-        (stage, item) of this run's items without a result (:func:`without_result`).
+        (stage, item) of the records folder's items without a result (:func:`without_result`).
     name
         The workflow's name, for the title.
     provenance

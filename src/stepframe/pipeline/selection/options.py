@@ -358,6 +358,13 @@ class SelectionOptions:
             ("distance_metric", self.distance_min_km is not None
              or self.distance_max_km is not None, "a distance filter (distance_min_km or "
              "distance_max_km)"),
+            ("scale_min", self.scale != "none", "a scaling policy (scale = 'psa-at-t1' or "
+             "'target-mse'): the records as recorded have scale factor 1"),
+            ("scale_max", self.scale != "none", "a scaling policy (scale = 'psa-at-t1' or "
+             "'target-mse'): the records as recorded have scale factor 1"),
+            ("seed", self.confirm or (self.n_bootstrap > 0 and ranks_by_fit(self.rank_by)),
+             "confirm = true (--confirm) or the bootstrap of a ranking by a fitted score "
+             f"({', '.join(FIT_TIERS)}; n_bootstrap > 0): it seeds their draws"),
             ("n_bootstrap", self.n_bootstrap == 0 or ranks_by_fit(self.rank_by),
              f"a ranking by a fitted score ({', '.join(FIT_TIERS)}): the bootstrap redraws "
              f"the fits, which {self.rank_by} does not read"),
