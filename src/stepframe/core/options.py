@@ -552,8 +552,16 @@ def options_from(args: argparse.Namespace, cls: type[T]) -> T:
         fields = {f.name: f for f in dataclasses.fields(cls)}  # type: ignore[arg-type]
         if error.key not in fields or not error.what.startswith(f"{error.key} = "):
             raise
-        flag = fields[error.key].metadata.get("flag") or "--" + error.key.replace("_", "-")
-        raise InputError(error.what.replace(f"{error.key} = ", f"{flag} ", 1)) from None
+        # every field the message names as ``name = value`` by its flag ("--seed 5 with
+        # --monte-carlo 0", not "--seed 5 with monte_carlo = 0")
+        import re
+
+        def flag_of(match: re.Match[str]) -> str:
+            field = fields[match.group(1)]
+            return (field.metadata.get("flag") or "--" + field.name.replace("_", "-")) + " "
+
+        names = "|".join(sorted(map(re.escape, fields), key=len, reverse=True))
+        raise InputError(re.sub(rf"\b({names}) = ", flag_of, error.what)) from None
 
 
 __all__ = [

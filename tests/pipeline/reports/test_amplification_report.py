@@ -271,7 +271,7 @@ def test_cli_record_options_with_parameters_are_refused(
 @pytest.mark.parametrize(
     ("extra", "line"),
     [(["--monte-carlo", "0", "--seed", "5"],
-      "--seed 5 with monte_carlo = 0, expected it only with Monte Carlo motions")],
+      "--seed 5 with --monte-carlo 0, expected it only with Monte Carlo motions")],
 )  # fmt: skip
 def test_cli_options_that_do_nothing_are_refused(
     extra: list[str], line: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
