@@ -109,15 +109,15 @@ def parse(path: Path, options: ReadOptions | None = None) -> FemaText:
             ) from exc
     incomplete = check_samples(len(values), npts, path, npts_line, options or ReadOptions())
     if pga is not None and incomplete is None:
-        text, line = pga
+        pga_text, pga_line = pga
         check_peak(
             np.asarray(values, dtype=np.float64),
-            _header.number(text, path, line, "PGA_g"),
+            _header.number(pga_text, path, pga_line, "PGA_g"),
             path,
             "PGA_g",
             units="g",
-            resolution=resolution_of(text),
-            line=line,
+            resolution=resolution_of(pga_text),
+            line=pga_line,
         )
     return FemaText(
         values_g=np.asarray(values, dtype=np.float64),
