@@ -311,3 +311,24 @@ def test_spectrum_plot_to_a_folder_is_refused_before_the_work(
     folder.mkdir()
     line = _one_error_line(capsys, "records", "spectrum", str(H1), "--plot", str(folder))
     assert f"{folder}: --plot target is a directory, expected a file name" in line
+
+
+@pytest.mark.parametrize(
+    ("periods", "item"), [("0.2,,1", "item 2 of 3"), ("0.2,1,", "item 3 of 3")]
+)
+def test_an_empty_item_of_a_number_list_is_refused(
+    capsys: pytest.CaptureFixture[str], periods: str, item: str
+) -> None:
+    assert main(["records", "spectrum", str(H1), "--periods-s", periods]) == 2
+    err = capsys.readouterr().err
+    assert f"argument --periods-s: {periods!r}: {item} is empty" in err
+    assert len(err.strip().splitlines()) == 1
+
+
+def test_units_help_lists_every_accepted_unit(capsys: pytest.CaptureFixture[str]) -> None:
+    from stepframe.records.units import ACCELERATION_UNITS_TO_M_S2
+
+    assert main(["records", "info", "--help"]) == 0
+    text = " ".join(capsys.readouterr().out.split())
+    assert "does not say: g, m/s2, cm/s2 (= gal), mm/s2, nm/s2" in text
+    assert all(unit in text for unit in ACCELERATION_UNITS_TO_M_S2)
