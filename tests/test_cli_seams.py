@@ -50,7 +50,8 @@ def test_features_folder_is_recursive_skips_non_records_and_refuses_zero(
     (empty / "README.md").write_text("nothing here")
     assert main(["stochastic", "features", str(empty), "-o", str(tmp_path / "g.csv")]) == 2
     err = capsys.readouterr().err
-    assert "0 components read" in err and "Traceback" not in err
+    assert "no record files in it, expected at least one record" in err
+    assert "Traceback" not in err and not (tmp_path / "g.failures.csv").exists()
 
 
 def test_fit_text_states_the_origin_and_explains_flags(capsys: pytest.CaptureFixture[str]) -> None:

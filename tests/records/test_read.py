@@ -247,10 +247,58 @@ def test_bad_date_reads_cleanly_with_warning(
     assert all(t.stats.npts > 0 and np.isfinite(t.data).all() for t in stream)
 
 
-def test_header_peak_disagreeing_warns(tmp_path: Path) -> None:
-    path = _edited(ESM, _replace(40, "0.300022", "0.400022"), tmp_path)
-    with pytest.warns(FormatWarning, match=r":40: PGA_CM/S\^2: header peak 0.00400022"):
+PEAK_EDITS = [
+    # One wording in every format, both values in the header's own unit.
+    (
+        ESM,
+        _replace(40, "0.300022", "30.0022"),
+        r":40: PGA_CM/S\^2: header peak 30.0022 cm/s2 but the data peak is 0.300022 cm/s2$",
+    ),
+    (
+        "dmg/CE58667.V2.gz",
+        _replace(18, "27.114", "2.7114"),
+        r":18: channel H1: header peak 2.7114 cm/s2 but the data peak is 27.11\d* cm/s2$",
+    ),
+    (
+        V2A,
+        _replace(14, "-41.6", "-4.16"),
+        r":14: component \S+: header peak -4.16 mm/s2 but the data peak is 41.6\d* mm/s2$",
+    ),
+    (
+        "knet/AOM0011801241951.EW.gz",
+        _replace(15, "4.078", "40.78"),
+        r": Max. Acc. \(gal\): header peak 40.78 gal but the data peak is 4.07\d* gal$",
+    ),
+]
+
+
+@pytest.mark.parametrize(("name", "edit", "pattern"), PEAK_EDITS)
+def test_header_peak_disagreeing_warns_in_the_header_unit(
+    tmp_path: Path, name: str, edit: Edit, pattern: str
+) -> None:
+    path = _edited(name, edit, tmp_path)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
         read(path)
+    peaks = [str(w.message) for w in caught if "header peak" in str(w.message)]
+    assert len(peaks) == 1 and __import__("re").search(pattern, peaks[0]), peaks
+
+
+def test_fema_text_pga_header_is_checked(tmp_path: Path) -> None:
+    values = np.array([0.1, -0.415783, 0.2, 0.05, 0.0])
+    header = "# RSN 1, component X/MUL009\n# NPTS= 5 DT= 0.01 SEC  PGA_g= {}\n"
+    good = tmp_path / "good.txt"
+    good.write_text(header.format("0.415783") + " ".join(f"{v:g}" for v in values) + "\n")
+    bad = tmp_path / "bad.txt"
+    bad.write_text(header.format("4.15783") + " ".join(f"{v:g}" for v in values) + "\n")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert read(good)[0].stats.npts == 5
+    with pytest.warns(
+        FormatWarning,
+        match=r"bad.txt:2: PGA_g: header peak 4.15783 g but the data peak is 0.415783 g$",
+    ):
+        read(bad)
 
 
 def test_cosmos_channel_not_acceleration_skipped_with_warning(tmp_path: Path) -> None:

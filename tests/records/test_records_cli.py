@@ -127,6 +127,58 @@ def test_bad_files_exit_2_without_traceback(tmp_path: Path) -> None:
         assert "Traceback" not in result.stderr and len(result.stderr.strip().splitlines()) == 1
 
 
+@pytest.mark.parametrize(
+    ("command", "label"),
+    [(("records", "catalog"), "catalog"), (("stochastic", "features"), "features")],
+)
+def test_batch_commands_agree_on_a_folder_without_a_usable_record(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], command: tuple[str, str], label: str
+) -> None:
+    # One rule for both batch commands: no usable record is an error (exit 2) whose line names
+    # the first failure and the failures file, which is written; an empty folder says so.
+    junk = tmp_path / "junk"
+    junk.mkdir()
+    (junk / "a.bin").write_bytes(bytes(range(256)) * 8)
+    (junk / "b.txt").write_bytes(b"")
+    out = tmp_path / "out.csv"
+    assert main([*command, str(junk), "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    failures = tmp_path / "out.failures.csv"
+    assert f"{label}: 2 items, 2 failed" in err
+    assert f"error: {junk}: 0 components read, 2 failures (the first: {junk / 'a.bin'}: " in err
+    assert f"all in {failures}), expected at least one record" in err
+    assert "see the messages above" not in err and "Traceback" not in err
+    rows = failures.read_text().splitlines()
+    assert rows[0] == "item,stage,error_type,message" and len(rows) == 3
+    assert not out.exists()
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    assert main([*command, str(empty), "-o", str(tmp_path / "e.csv")]) == 2
+    err = capsys.readouterr().err
+    assert f"error: {empty}: no record files in it, expected at least one record" in err
+    assert not (tmp_path / "e.failures.csv").exists()
+
+
+@pytest.mark.parametrize(
+    ("command", "label"),
+    [(("records", "catalog"), "catalog"), (("stochastic", "features"), "features")],
+)
+def test_batch_progress_line_counts_the_failures_file(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], command: tuple[str, str], label: str
+) -> None:
+    folder = tmp_path / "in"
+    folder.mkdir()
+    shutil.copy(H1, folder / "a.AT2")
+    shutil.copy(H1, folder / "b.AT2")  # the same bytes: read once, listed as a failure
+    (folder / "bad.AT2").write_text("not a record\n")
+    out = tmp_path / "out.csv"
+    assert main([*command, str(folder), "-o", str(out)]) == 0
+    err = capsys.readouterr().err
+    rows = (tmp_path / "out.failures.csv").read_text().splitlines()[1:]
+    assert len(rows) == 2 and any("SameContent" in row for row in rows)
+    assert f"{label}: 3 items, 2 failed" in err
+
+
 def test_catalog_cli(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     folder = tmp_path / "in"
     folder.mkdir()
@@ -259,3 +311,24 @@ def test_spectrum_plot_to_a_folder_is_refused_before_the_work(
     folder.mkdir()
     line = _one_error_line(capsys, "records", "spectrum", str(H1), "--plot", str(folder))
     assert f"{folder}: --plot target is a directory, expected a file name" in line
+
+
+@pytest.mark.parametrize(
+    ("periods", "item"), [("0.2,,1", "item 2 of 3"), ("0.2,1,", "item 3 of 3")]
+)
+def test_an_empty_item_of_a_number_list_is_refused(
+    capsys: pytest.CaptureFixture[str], periods: str, item: str
+) -> None:
+    assert main(["records", "spectrum", str(H1), "--periods-s", periods]) == 2
+    err = capsys.readouterr().err
+    assert f"argument --periods-s: {periods!r}: {item} is empty" in err
+    assert len(err.strip().splitlines()) == 1
+
+
+def test_units_help_lists_every_accepted_unit(capsys: pytest.CaptureFixture[str]) -> None:
+    from stepframe.records.units import ACCELERATION_UNITS_TO_M_S2
+
+    assert main(["records", "info", "--help"]) == 0
+    text = " ".join(capsys.readouterr().out.split())
+    assert "does not say: g, m/s2, cm/s2 (= gal), mm/s2, nm/s2" in text
+    assert all(unit in text for unit in ACCELERATION_UNITS_TO_M_S2)

@@ -318,6 +318,7 @@ def map_items(
     worth_s: float | None = None,
     units_of: Callable[[Item], int] | None = None,
     failures_in: Callable[[Result], int] | None = None,
+    settled_failures: int = 0,
 ) -> MapOutcome[Result]:
     """Apply ``function`` to every item, in parallel, recording failures instead of stopping.
 
@@ -355,6 +356,10 @@ def map_items(
         What the progress counts when an item holds several (a group of a stage's items): the
         units in an item (default 1), and the failed units inside a successful result (default
         none); a failed item counts all its units as failed.
+    settled_failures
+        Items the caller settled as failures before the map (files left out as copies of
+        another): the progress line counts them among its items and its failed, so that it
+        counts what the caller's failure table holds.
 
     Returns
     -------
@@ -381,6 +386,7 @@ def map_items(
             worth_s=worth_s,
             units_of=units_of,
             failures_in=failures_in,
+            settled_failures=settled_failures,
         ),
         key=lambda entry: entry[0],
     )
@@ -403,6 +409,7 @@ def iter_items(
     worth_s: float | None = None,
     units_of: Callable[[Item], int] | None = None,
     failures_in: Callable[[Result], int] | None = None,
+    settled_failures: int = 0,
 ) -> Iterator[tuple[int, bool, Any]]:
     """:func:`map_items` as its items finish: ``(index, True, result)`` or ``(index, False,
     Failure)`` in the order they complete, not the input order.
@@ -421,7 +428,8 @@ def iter_items(
     indexed = list(enumerate(items))
     label = progress if isinstance(progress, str) else (stage or "items")
     units = [1 if units_of is None else units_of(item) for item in items]
-    bar = _Progress(sum(units), label, bool(progress))
+    bar = _Progress(sum(units) + settled_failures, label, bool(progress))
+    bar.update(settled_failures, settled_failures)
 
     def counted(part: list[tuple[int, bool, Any]]) -> list[tuple[int, bool, Any]]:
         failed = 0

@@ -292,9 +292,15 @@ def positive_int(text: str) -> int:
 
 
 def float_list(text: str) -> list[float]:
-    """argparse type: comma-separated numbers (``0.01,0.2,1.0``)."""
+    """argparse type: comma-separated numbers (``0.01,0.2,1.0``); an empty item is refused."""
+    words = text.split(",")
+    for index, word in enumerate(words, start=1):
+        if not word.strip():
+            raise argparse.ArgumentTypeError(
+                f"{text!r}: item {index} of {len(words)} is empty, expected comma-separated numbers"
+            )
     try:
-        return [float(word) for word in text.split(",") if word.strip()]
+        return [float(word) for word in words]
     except ValueError:
         raise argparse.ArgumentTypeError(f"{text!r}, expected comma-separated numbers") from None
 

@@ -142,6 +142,42 @@ def failures_path(output: str | PathLike[str]) -> Path:
     return target.with_name(f"{target.stem}.failures.csv")
 
 
+def no_usable_record(
+    failures: pd.DataFrame, folder: str | PathLike[str] | None, output: str | PathLike[str]
+) -> InputError:
+    """The error of a batch over a folder that gave no usable record (the project's rule: an
+    error, one line, exit 2), after writing its failures, if any, to :func:`failures_path`.
+
+    An empty folder is "no record files"; one whose every file failed names the first failure
+    and where all of them were written (nothing else is written: no empty table).
+
+    Parameters
+    ----------
+    failures
+        The batch's :func:`failures_table`.
+    folder
+        The folder (or example) read, named in the message.
+    output
+        The batch's output, beside which the failures go.
+    """
+    from stepframe.core.io import CSV_FLOAT_FORMAT, atomic_write
+    from stepframe.core.text import spreadsheet_safe
+
+    where = None if folder is None else Path(folder)
+    if len(failures) == 0:
+        return InputError("no record files in it, expected at least one record", where)
+    target = failures_path(output)
+    with atomic_write(target) as stream:
+        spreadsheet_safe(failures).to_csv(stream, index=False, float_format=CSV_FLOAT_FORMAT)
+    item, message = str(failures.iloc[0]["item"]), str(failures.iloc[0]["message"])
+    first = message if message.startswith(item) else f"{item}: {message}"
+    return InputError(
+        f"0 components read, {len(failures)} failures (the first: {first}; all in {target}), "
+        "expected at least one record",
+        where,
+    )
+
+
 def check_status(status: str) -> Status:
     """``status`` if it is in :data:`STATUSES`; ValueError otherwise (a programming error)."""
     if status not in STATUSES:

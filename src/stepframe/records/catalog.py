@@ -29,6 +29,7 @@ from stepframe.core.results import (
     failures_path,
     failures_table,
     get_column_dictionary,
+    no_usable_record,
     set_column_dictionary,
 )
 from stepframe.core.text import spreadsheet_safe
@@ -352,6 +353,9 @@ def catalog(
         executor=executor,
         stage="read",
         progress="catalog" if progress is True else progress,
+        # the line counts what the failures table holds: copies and unmeasured components too
+        failures_in=lambda result: len(result[1]),
+        settled_failures=len(copies),
     )
     per_file: dict[int, list[Failure]] = {
         index: found for index, (_, found) in zip(outcome.indices, outcome.results, strict=True)
@@ -463,6 +467,8 @@ def catalog_to_file(
     outputs = check_output(out)
     if isinstance(source, str | PathLike):
         table, failures = catalog(source, exclude=outputs, **options)
+        if len(table) == 0:  # a folder with no usable record is an error (docs/cli.md)
+            raise no_usable_record(failures, source, out)
     else:
         table, failures = intensity_table(source), failures_table([])
     paths = write_catalog(table, failures, out)

@@ -17,6 +17,7 @@ from stepframe.core.options import Range, check_fields, option
 from stepframe.errors import InputError
 from stepframe.records.formats import format_names_help
 from stepframe.records.formats._header import MAX_DT_S, MIN_DT_S
+from stepframe.records.units import units_help
 
 if TYPE_CHECKING:
     from obspy import Stream
@@ -69,7 +70,7 @@ class RecordReadOptions:
     )
     units: str | None = option(
         None,
-        "units of the values if the file does not say: g, m/s2, cm/s2 (= gal), mm/s2",
+        f"units of the values if the file does not say: {units_help()}",
         metavar="UNIT",
     )
     dt_s: float | None = option(

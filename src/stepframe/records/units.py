@@ -47,6 +47,19 @@ _ALIASES = {
 }
 
 
+def units_help() -> str:
+    """The accepted unit names for a help text, from :data:`ACCELERATION_UNITS_TO_M_S2`
+    (``"g, m/s2, cm/s2 (= gal), mm/s2, nm/s2"``): a name with the factor of an earlier one is
+    given as its synonym."""
+    named: dict[float, list[str]] = {}
+    for name, factor in ACCELERATION_UNITS_TO_M_S2.items():
+        named.setdefault(factor, []).append(name)
+    return ", ".join(
+        names[0] + (f" (= {', '.join(names[1:])})" if len(names) > 1 else "")
+        for names in named.values()
+    )
+
+
 def normalize_units(units: str) -> str:
     """Canonical name of an acceleration unit (``"cm/sec/sec"`` → ``"cm/s2"``).
 

@@ -301,6 +301,9 @@ def catalog_features(
         stage="features",
         name_of=_item_name,
         progress="features" if progress is True else progress,
+        # the line counts what the failures table holds: the items' own failures and copies
+        failures_in=lambda entries: sum(isinstance(entry, Failure) for entry in entries),
+        settled_failures=len(copies),
     )
     produced = [entry for entries in outcome.results for entry in entries]
     rows = [entry for entry in produced if not isinstance(entry, Failure)]

@@ -173,6 +173,7 @@ def features_to_file(
     jobs, progress
         Worker processes, and a progress bar on stderr.
     """
+    from stepframe.core.results import no_usable_record
     from stepframe.core.tables import columns_path
 
     source = source or RecordSource()
@@ -193,11 +194,7 @@ def features_to_file(
         options_given = {k: v for k, v in source.read_kwargs().items() if v is not None}
         rows, failures = catalog_features(folder, record_options=options_given, **common)
     if len(rows) == 0:
-        raise InputError(
-            f"0 components read ({len(failures)} failures: see the messages above or run "
-            "`stepframe records catalog` on it), expected at least one record",
-            folder or source.example,
-        )
+        raise no_usable_record(failures, folder or source.example, output)
     table, failures_file = write_features(rows, failures, output)
     return FeaturesFiles(
         table, columns_path(table), failures_file, len(rows), int(rows["plausible"].sum()),

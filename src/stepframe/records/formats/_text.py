@@ -588,17 +588,24 @@ def check_peak(
     path: Path,
     what: str,
     *,
+    units: str,
     resolution: float | None = None,
     line: int | None = None,
 ) -> None:
-    """Warn when a header's stated peak disagrees with the data's peak (same units).
+    """Warn when a header's stated peak disagrees with the data's peak, both in ``units``.
+
+    Every format words it the same way, units stated: ``PGA_CM/S^2: header peak 30.0022 cm/s2
+    but the data peak is 0.300022 cm/s2``.
 
     Parameters
     ----------
     data
-        The series.
+        The series, in ``units``.
     stated
-        The header's peak (sign ignored); None skips the check.
+        The header's peak (sign ignored), in ``units``; None skips the check.
+    units
+        The header value's unit (an acceleration unit of :mod:`stepframe.records.units`, or
+        ``counts``), printed with both values.
     resolution
         The last printed digit of the header value (``".028"`` → 0.001): agreement is to half of
         it plus a relative 1e-6. None: agreement to a relative 5e-3.
@@ -611,7 +618,11 @@ def check_peak(
     else:
         tolerance = 0.5 * resolution + 1e-6 * abs(stated)
     if abs(peak - abs(stated)) > tolerance:
-        warn(f"{what}: header peak {stated:g} but the data peak is {peak:g}", path, line)
+        warn(
+            f"{what}: header peak {stated:g} {units} but the data peak is {peak:g} {units}",
+            path,
+            line,
+        )
 
 
 def resolution_of(text: str) -> float:

@@ -268,9 +268,9 @@ def read(path: Path, options: ReadOptions) -> Stream:
             dt_s = options.dt_s
         else:
             dt_s = _header.interval(dt_ms / 1000.0, path, channel.first_line + 1, "Real(62) / 1000")
-        if channel.incomplete is None:
-            check_peak(block.values, channel.real(64), path, f"channel {code}")
         units = _units(block, options, path)
+        if channel.incomplete is None:  # Real(64): the peak of the data, in the data's units
+            check_peak(block.values, channel.real(64), path, f"channel {code}", units=units)
         processing: list[dict[str, Any]] = []
         if units == "counts":
             if options.units is not None:

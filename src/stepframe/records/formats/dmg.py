@@ -44,7 +44,7 @@ from stepframe.records.formats._text import (
     resolve_units,
     warn,
 )
-from stepframe.records.units import factor_to_m_s2
+from stepframe.records.units import factor_to_m_s2, normalize_units
 
 if TYPE_CHECKING:
     from obspy import Stream, UTCDateTime
@@ -181,7 +181,7 @@ def _channel(
         peak = _V1_PEAK.search(line) if data_match.re is _V1_DATA else _V2_PEAK.search(line)
         if peak is not None and values.size == npts:
             try:
-                factor = factor_to_m_s2(peak[2].rstrip(",."))
+                peak_units = normalize_units(peak[2].rstrip(",."))
             except Exception:
                 warn(
                     f"peak units {peak[2]!r} not known, peak not checked", path, start + offset + 1
@@ -189,11 +189,12 @@ def _channel(
             else:
                 stated_peak = _header.number(peak[1], path, start + offset + 1, "peak")
                 check_peak(
-                    data_m_s2,
-                    stated_peak * factor,
+                    data_m_s2 / factor_to_m_s2(peak_units),
+                    stated_peak,
                     path,
                     f"channel {name}",
-                    resolution=resolution_of(peak[1]) * factor,
+                    units=peak_units,
+                    resolution=resolution_of(peak[1]),
                     line=start + offset + 1,
                 )
     return make_trace(

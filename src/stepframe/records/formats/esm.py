@@ -238,11 +238,12 @@ def read(path: Path, options: ReadOptions) -> Stream:
     pga_cm_s2 = header.optional("PGA_CM/S^2", -1e6, 1e6)
     if pga_cm_s2 is not None and incomplete is None:
         check_peak(
-            data_m_s2,
-            pga_cm_s2 * 0.01,
+            data_m_s2 / factor_to_m_s2("cm/s2"),
+            pga_cm_s2,
             path,
             "PGA_CM/S^2",
-            resolution=resolution_of(header.text("PGA_CM/S^2")) * 0.01,
+            units="cm/s2",
+            resolution=resolution_of(header.text("PGA_CM/S^2")),
             line=header.line("PGA_CM/S^2"),
         )
     magnitude_w = header.optional("MAGNITUDE_W", -5.0, 11.0)

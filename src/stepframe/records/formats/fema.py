@@ -16,13 +16,14 @@ import numpy as np
 
 from stepframe.errors import FormatError
 from stepframe.records.formats import SNIFF_BYTES, ReadOptions, RecordFormat, _header, register
-from stepframe.records.formats._text import check_samples
+from stepframe.records.formats._text import check_peak, check_samples, resolution_of
 from stepframe.records.units import factor_to_m_s2
 
 if TYPE_CHECKING:
     from obspy import Stream
 
 _NPTS_DT = re.compile(r"NPTS\s*=\s*(\S+)\s+DT\s*=\s*(\S+)\s*SEC", re.IGNORECASE)
+_PGA = re.compile(r"PGA_g\s*=\s*(\S+)")
 _RSN = re.compile(r"RSN\s+(\d+),\s*component\s+(\S+)")
 _EVENT = re.compile(r"Event:\s*(.*?);\s*Station:\s*(.*)$")
 _MAGNITUDE = re.compile(r"\bM(\d+(?:\.\d+)?)\s*$")
@@ -54,7 +55,7 @@ def sniff(head: bytes, path: Path) -> bool:
 
 
 def parse(path: Path, options: ReadOptions | None = None) -> FemaText:
-    """Parse a FEMA P695 text file, checking NPTS against the values.
+    """Parse a FEMA P695 text file, checking NPTS (and PGA_g, a warning) against the values.
 
     Parameters
     ----------
@@ -79,6 +80,7 @@ def parse(path: Path, options: ReadOptions | None = None) -> FemaText:
     component = event = station = ""
     magnitude: float | None = None
     n_header = 0
+    pga: tuple[str, int] | None = None
     for number, line in enumerate(lines, start=1):
         if not line.startswith("#"):
             break
@@ -87,6 +89,8 @@ def parse(path: Path, options: ReadOptions | None = None) -> FemaText:
             npts = _header.sample_count(match[1], path, number, "NPTS")
             npts_line = number
             dt_s = _header.interval(match[2], path, number, "DT")
+        if match := _PGA.search(line):
+            pga = (match[1], number)
         if match := _RSN.search(line):
             rsn, component = int(match[1]), match[2]
         if match := _EVENT.search(line):
@@ -104,6 +108,17 @@ def parse(path: Path, options: ReadOptions | None = None) -> FemaText:
                 f"non-numeric value in {line.strip()[:40]!r}, expected numbers", path, number
             ) from exc
     incomplete = check_samples(len(values), npts, path, npts_line, options or ReadOptions())
+    if pga is not None and incomplete is None:
+        pga_text, pga_line = pga
+        check_peak(
+            np.asarray(values, dtype=np.float64),
+            _header.number(pga_text, path, pga_line, "PGA_g"),
+            path,
+            "PGA_g",
+            units="g",
+            resolution=resolution_of(pga_text),
+            line=pga_line,
+        )
     return FemaText(
         values_g=np.asarray(values, dtype=np.float64),
         dt_s=dt_s,

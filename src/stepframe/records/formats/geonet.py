@@ -146,13 +146,13 @@ def _component(
     incomplete = check_samples(values.size, n_acc, path, count_line, options, what)
     data_m_s2 = values * scale * factor_to_m_s2(units)
     if peak_match is not None and incomplete is None:
-        factor = scale * factor_to_m_s2(units)
         check_peak(
-            data_m_s2,
-            _header.number(peak_match[1], path, peak_line, "peak acceleration") * factor,
+            values * scale,
+            _header.number(peak_match[1], path, peak_line, "peak acceleration") * scale,
             path,
             f"component {channel}",
-            resolution=resolution_of(peak_match[1]) * factor,
+            units=units,
+            resolution=resolution_of(peak_match[1]) * scale,
             line=peak_line,
         )
     # Velocity and displacement blocks of V2A files follow (10F8 too): not read, but counted,

@@ -211,7 +211,7 @@ def _nied(
     data_gal = data_gal - mean_gal
     accmax = trace.stats.knet.get("accmax") if hasattr(trace.stats, "knet") else None
     if accmax is not None and incomplete is None:
-        check_peak(data_gal, float(accmax), path, "Max. Acc. (gal)", resolution=0.001)
+        check_peak(data_gal, float(accmax), path, "Max. Acc. (gal)", units="gal", resolution=0.001)
     steps = [
         {"step": "nied_scale_factor", "gal_per_count": gal_per_count},
         {"step": "remove_mean", "mean_m_s2": mean_gal * 0.01, "reason": "NIED definition"},
