@@ -172,7 +172,8 @@ def no_usable_record(
     item, message = str(failures.iloc[0]["item"]), str(failures.iloc[0]["message"])
     first = message if message.startswith(item) else f"{item}: {message}"
     return InputError(
-        f"0 components read, {len(failures)} failures (the first: {first}; all in {target}), "
+        f"0 components read, {len(failures)} failure{'s' * (len(failures) != 1)} (the first: "
+        f"{first}; all in {target}), "
         "expected at least one record",
         where,
     )
