@@ -89,3 +89,14 @@ def test_column_count_changes(tmp_path: Path) -> None:
 def test_sniffed_as_text(tmp_path: Path) -> None:
     path = _write(tmp_path, "# my record\n0.0 0.1\n0.01 0.2\n0.02 -0.1\n")
     assert read(path, units="m/s2")[0].stats.stepframe.format == "text"
+
+
+def test_a_short_whole_file_is_sniffed_and_one_sample_refused(tmp_path: Path) -> None:
+    """The sniffer dropped the head's last line as possibly cut short even when the head is the
+    whole file ending in a line break: a one-line file was "format not recognised"."""
+    two = _write(tmp_path, "0.1\n0.2\n")
+    assert read(two, units="g", dt=0.01)[0].stats.npts == 2
+    one = tmp_path / "one.txt"
+    one.write_text("0.1\n")
+    with pytest.raises(FormatError, match="1 sample, expected an accelerogram of at least 2"):
+        read(one, units="g", dt=0.01)

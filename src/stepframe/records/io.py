@@ -427,6 +427,11 @@ def _check_plausible(stream: Stream, file: Path, max_abs_g: float | None) -> Non
         data = np.asarray(trace.data, dtype=np.float64)
         name = trace.stats.channel or trace.stats.station or "record"
         channel = f" (channel {name})" if len(stream) > 1 else ""
+        if data.size < 2:  # nothing can be measured of one sample (no step, no duration)
+            raise FormatError(
+                f"{data.size} sample{channel}, expected an accelerogram of at least 2 samples",
+                file,
+            )
         delta = float(trace.stats.delta)
         if not MIN_DT_S <= delta <= MAX_DT_S:
             raise FormatError(

@@ -50,7 +50,10 @@ def sniff(head: bytes, path: Path) -> bool:
         if b"\x00" in head:
             return False
         # The header may hold non-ASCII text (m/s², a station name); the numbers may not.
-        lines = head.decode("latin-1").splitlines()[:-1]  # the last line may be cut short
+        text = head.decode("latin-1")
+        lines = text.splitlines()
+        if not text.endswith(("\n", "\r")):
+            lines = lines[:-1]  # cut short by the head's size (a whole line ends in a break)
         rows = [r for r in (_numeric_row(x) for x in lines) if r is not None]
         if not rows:
             return False
