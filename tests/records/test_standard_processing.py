@@ -114,3 +114,24 @@ def test_every_output_of_a_counts_record_is_of_the_processed_copy(
     # the catalogue's PSA columns are of the copy its PGA is measured on (was: as read)
     assert row["psa_1s_g"] == pytest.approx(psa[0], rel=1e-9)
     assert row["pga_g"] == pytest.approx(np.max(np.abs(expected_trace.data)) / 9.80665, rel=0.01)
+
+
+def test_each_catalogue_row_has_its_own_components_warnings(tmp_path: Path) -> None:
+    """A three-channel file's rows each repeated all three channels' processing warnings; a
+    row has those that name it (and those that name no channel of the file)."""
+    import shutil
+
+    from stepframe.records.catalog import catalog
+
+    folder = tmp_path / "records"
+    folder.mkdir()
+    shutil.copy(MSEED, folder / MSEED.name)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        table, failures = catalog(folder, inventory=XML)
+    assert failures.empty and len(table) == 3
+    for row in table.itertuples():
+        own = f"CE.68150..{row.component}: made from raw counts"
+        assert own in row.warnings
+        others = [c for c in table["component"] if c != row.component]
+        assert not any(f"CE.68150..{c}:" in row.warnings for c in others)

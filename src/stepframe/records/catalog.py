@@ -250,6 +250,23 @@ class _ReadOptions:
     allow_short: bool = False
 
 
+def _names_of(trace: Any) -> tuple[str, ...]:
+    """How a warning names a component: its id, or its channel as a reader writes it."""
+    channel = str(trace.stats.channel)
+    return (trace.id, f"[{channel}]", f"channel {channel}", f"component {channel}")
+
+
+def _warnings_of(trace: Any, stream: Any, texts: list[str]) -> str:
+    """The warnings of one component: those naming it, and those naming no component of the
+    file (each row repeated every component's warnings before)."""
+    own = []
+    for text in texts:
+        named = [other for other in stream if any(n in text for n in _names_of(other))]
+        if not named or any(other is trace for other in named):
+            own.append(text)
+    return "; ".join(own)
+
+
 def _catalog_file(file: Path, options: _ReadOptions) -> tuple[list[dict[str, Any]], list[Failure]]:
     """The rows of one file's components, and the failures of components it could not measure.
 
@@ -273,12 +290,12 @@ def _catalog_file(file: Path, options: _ReadOptions) -> tuple[list[dict[str, Any
                 **dict(options.limits),  # type: ignore[arg-type]  # max_abs_g: float, max_bytes: int
             )
         )
-    warning_text = "; ".join(str(w.message).replace("\n", " ") for w in caught)
+    texts = [str(w.message).replace("\n", " ") for w in caught]
     rows: list[dict[str, Any]] = []
     failures: list[Failure] = []
     for trace in stream:
         try:
-            rows.append(trace_row(trace, str(file), warning_text))
+            rows.append(trace_row(trace, str(file), _warnings_of(trace, stream, texts)))
         except Exception as exc:  # one component must not stop the batch: record it, go on
             where = f"{file} [{trace.stats.channel}]"
             failures.append(Failure.from_exception(where, "measures", exc))
