@@ -96,7 +96,7 @@ def test_features_folder_takes_the_peak_limit(strong: Path, tmp_path: Path) -> N
     shutil.copy(strong, folder)
     words = ["stochastic", "features", str(folder), "--jobs", "1", "-o", str(tmp_path / "f.csv")]
     code, _, err = _run([*words, "--json"])
-    assert code == 2 and "0 components read (1 failures" in err  # its one record refused
+    assert code == 2 and "0 components read, 1 failure (the first: " in err  # its one refused
     code, out, err = _run([*words, "--max-abs-g", "200", "--json"])
     assert code == 0, err
     assert json.loads(out)["n_components"] == 1
