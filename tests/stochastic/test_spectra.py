@@ -194,3 +194,12 @@ def test_stft_floor_is_one_cycle_per_window(motion: tuple[np.ndarray, np.ndarray
     spec = evolutionary_spectrum(x, 0.01, window_s=4.0)
     np.testing.assert_allclose(spec["omega_floor"].values, 2 * math.pi / 4.0)
     assert spec["omega_floor"].attrs["units"] == "rad/s"
+
+
+def test_an_empty_wavelet_grid_is_one_line() -> None:
+    """omega_rad_s=[] was a numpy reduction error from deep in the transform."""
+    from stepframe.stochastic.spectra import evolutionary_spectrum
+
+    acc = np.sin(np.linspace(0.0, 60.0, 6001))
+    with pytest.raises(InputError, match=r"omega_rad_s of shape \(0,\), expected at least one"):
+        evolutionary_spectrum(acc, 0.01, "wavelet", omega_rad_s=[])

@@ -666,6 +666,8 @@ def record_features(
     ----------
     record_or_array
         ``obspy.Trace`` in m/s², or an array (then ``dt_s`` [s] is needed).
+    dt_s
+        Sampling interval [s] of an array; given with a Trace, it overrides the trace's.
     frequency
         ω_g estimator: a name of :data:`FREQUENCY_ESTIMATORS`
         (:data:`~stepframe.stochastic.methods.DEFAULT_FREQUENCY_METHOD`, ``"zero-crossing"``, by

@@ -267,7 +267,12 @@ def wavelet_power(
         omega = np.geomspace(low, 0.8 * nyquist, 96)
     else:
         omega = np.asarray(omega_rad_s, dtype=np.float64)
-        if omega.ndim != 1 or np.any(omega <= 0) or np.any(omega >= nyquist):
+        if omega.ndim != 1 or omega.size == 0 or not np.all(np.isfinite(omega)):
+            raise InputError(
+                f"omega_rad_s of shape {omega.shape}, expected at least one finite frequency "
+                "[rad/s]"
+            )
+        if np.any(omega <= 0) or np.any(omega >= nyquist):
             raise InputError(
                 f"omega_rad_s must be positive frequencies below Nyquist {nyquist:.4g} rad/s"
             )

@@ -684,6 +684,10 @@ def design_displacement(
 
     Parameters
     ----------
+    stepping_map
+        The map f(δ) of eq. 1.3 (:class:`SteppingMap`).
+    spectrum
+        The design spectrum (two-period or tabulated).
     method
         ``"closed-form"``: the stable fixed point among eqs. 2.9/2.14 (and δ_5*) whose period lies
         on its branch (two-period spectra only; microseconds). ``"iteration"``: the
@@ -691,6 +695,8 @@ def design_displacement(
         fixed point of the full map found by :func:`search_fixed_points` (any spectrum).
     delta0_m
         Start of the iteration [m] (default 5 % of 1/w).
+    max_iterations
+        Iteration limit of ``"iteration"``.
 
     Returns
     -------

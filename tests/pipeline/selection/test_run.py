@@ -212,6 +212,18 @@ def test_default_score_without_records_says_why(example_inputs: Any, example4: P
     )
 
 
+@pytest.mark.parametrize("column", ["dt_s", "duration_s", "omega_p_rad_s"])
+def test_a_table_without_a_needed_column_says_which(
+    column: str, example_inputs: Any, example4: PortalFrame
+) -> None:
+    """dt_s and duration_s were read by the memory estimate before the columns' check: a
+    pandas KeyError instead of the one line every other missing column gets."""
+    table = example_inputs[0].drop(columns=[column])
+    options = SelectionOptions(n=3, rank_by="band_coverage")
+    with pytest.raises(InputError, match=rf"features table lacks columns \['{column}'\]"):
+        select_records(table, example4, options, jobs=1)
+
+
 def test_a_filter_removing_everything(example_inputs: Any, example4: PortalFrame) -> None:
     options = SelectionOptions(n=1, magnitude_min=9.5, rank_by="band_coverage")
     with pytest.raises(InputError, match=r"every candidate was filtered out .*magnitude → 0"):

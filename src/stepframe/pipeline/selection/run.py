@@ -138,7 +138,9 @@ def _physics_item(item: PhysicsItem) -> tuple[float, float]:
 
 
 def _check_table(features: Any) -> None:
-    missing = [c for c in (*MODEL_COLUMNS, "file", "component", "plausible") if c not in features]
+    # dt_s and duration_s too: the memory estimate reads them first (a KeyError before)
+    wanted = (*MODEL_COLUMNS, "file", "component", "plausible", "dt_s", "duration_s")
+    missing = [c for c in wanted if c not in features]
     if missing:
         raise InputError(
             f"features table lacks columns {missing}, expected the table of "
