@@ -325,3 +325,22 @@ def test_a_workflows_report_lists_every_fit_as_the_command_lines(
     page = html.read_text(encoding="utf-8")
     assert page.count('alt="Time-frequency image of ') == 3
     assert str(tmp_path) not in page  # the files named inside the records folder
+
+
+def test_a_missing_output_folder_is_refused_before_any_work(
+    tmp_path: Path, paper_model: Any, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The report found a missing output folder after its curves (7-8 s of work)."""
+    from stepframe.errors import InputError
+    from stepframe.pipeline.amplification import report as module
+    from stepframe.pipeline.reports import collect_provenance
+
+    def no_work(*args: Any, **kwargs: Any) -> None:
+        raise AssertionError("the report was computed before its target was checked")
+
+    monkeypatch.setattr(module, "amplification_report", no_work)
+    target = tmp_path / "missing" / "r.html"
+    with pytest.raises(InputError, match="output folder does not exist"):
+        module.write_amplification_report(
+            paper_model, target, provenance=collect_provenance("pytest")
+        )

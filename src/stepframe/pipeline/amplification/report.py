@@ -41,6 +41,7 @@ from stepframe.pipeline.reports.document import (
     Report,
     Section,
     Table,
+    check_report_target,
     draw_figures,
     figure_from_matplotlib,
     write_report,
@@ -770,6 +771,7 @@ def write_amplification_report(
     pathlib.Path
         The HTML file.
     """
+    check_report_target(out_html)  # before the curves, not after them
     report = amplification_report(
         site, frame=frame, options=options, provenance=provenance, jobs=jobs, executor=executor
     )
@@ -859,6 +861,7 @@ def make_amplification_report(
     from stepframe.core.options import arguments_of
 
     o = options
+    check_report_target(out_html)  # before the records are fitted and the curves computed
     if o.frame is None and o.delta_star_m is not None:
         raise InputError("--delta-star-m without --frame, expected --frame FRAME.toml with it")
     portal = None
