@@ -69,7 +69,10 @@ class Oscillator:
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.xi0) and self.xi0 > 0):
-            raise InputError(f"--xi0 {self.xi0}, expected a damping fraction > 0 (e.g. 0.05)")
+            raise InputError(
+                f"oscillator damping xi0 = {self.xi0}, expected a fraction > 0 (e.g. 0.05; a "
+                "frame's oscillator takes its xi_1 unless xi0 is given)"
+            )
 
 
 def tracking_oscillator(f0_hz: float, xi0: float | None = None) -> Oscillator:
