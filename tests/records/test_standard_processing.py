@@ -135,3 +135,32 @@ def test_each_catalogue_row_has_its_own_components_warnings(tmp_path: Path) -> N
         assert own in row.warnings
         others = [c for c in table["component"] if c != row.component]
         assert not any(f"CE.68150..{c}:" in row.warnings for c in others)
+
+
+def test_a_selection_ranks_and_writes_out_raw_counts_after_the_standard_processing() -> None:
+    """A COSMOS V0 record (raw counts, a header calibration) as read is a constant -0.89 g of
+    sensor offset: a selection over a folder holding it ranked it first and wrote it out as a
+    chosen motion. Its samples, for the ranking (record pass) and the motions (read_samples),
+    are now the standard-processed record every other output measures."""
+    import pandas as pd
+
+    from stepframe.pipeline.selection import record_pass
+    from stepframe.pipeline.selection.samples import read_samples
+    from stepframe.records.io import read_measured
+    from stepframe.records.processing import measured, standard_processing
+
+    v0 = Path(__file__).resolve().parents[1] / "data" / "formats" / "cosmos" / "NP1795-n.305.v0c.gz"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        raw = read(v0)
+        processed = read_measured(v0)
+        table = pd.DataFrame({"file": [str(v0)], "component": [raw[0].stats.channel]})
+        samples, failures = read_samples(table, np.array([0]), None, None)
+        ranked = record_pass.read_samples(str(v0), raw[0].stats.channel, {}, {})
+    assert abs(raw[0].data.mean()) > 1.0  # m/s²: the offset, as read
+    expected = standard_processing(raw[0].copy()).data
+    np.testing.assert_array_equal(processed[0].data, expected)
+    assert failures == [] and np.array_equal(samples[0][0], expected)
+    assert np.array_equal(ranked[0], expected)
+    assert abs(expected.mean()) < 1e-3 * expected.std()
+    assert measured(processed[0]) is processed[0]  # high-passed: not processed twice

@@ -506,3 +506,14 @@ def _check_agreement(stream: Stream, options: ReadOptions, file: Path) -> None:
                 "expected them to agree (omit --dt-s)",
                 file,
             )
+
+
+def read_measured(path: str | PathLike[str], **options: Any) -> Stream:
+    """:func:`read`, then each trace as every output measures it: a record made from raw counts
+    after the standard processing (:func:`stepframe.records.processing.measured`, with its
+    warning). What a selection ranks, simulates and writes out, and what the workflow's stages
+    measure, come from here (a COSMOS V0 record, a constant -0.89 g of sensor offset as read,
+    was ranked first and written out as a chosen motion)."""
+    from stepframe.records.processing import measured_stream
+
+    return measured_stream(read(path, **options))

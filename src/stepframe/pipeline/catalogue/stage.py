@@ -26,15 +26,18 @@ from stepframe.pipeline.engine.same_content import NAME_SEPARATOR
 from stepframe.pipeline.engine.stage import Context, Param, Stage, Task, params_from_options
 from stepframe.pipeline.engine.store import KeyPrefix
 
-INVENTORY_VERSION = 1
+# 2: a record made from raw counts measured after the standard processing (records.io.
+# read_measured), as the commands measure it
+INVENTORY_VERSION = 2
 # 2: the fit's α_g reading and the example's lowest usable frequency enter the features;
 # 3: each estimator's own resolution floor (column omega_floor_rad_s, the plausibility check);
 # 4: t_max's envelope fit with the analytic Jacobian (the same minimum to within a millisecond:
 # recomputed rather than mixed with the finite-difference fit's values in one table);
 # 5: the STFT's spectral moments as one product with the trapezoid weights (equal to rounding:
 # fitted parameters within a relative 2e-11 on 400 components, docs/benchmarks.md, issue 29);
-# 6: a record read cut short (allow_short) flagged record_incomplete in its row
-FEATURES_VERSION = 6
+# 6: a record read cut short (allow_short) flagged record_incomplete in its row; 7: raw counts
+# after the standard processing (as the inventory's version 2)
+FEATURES_VERSION = 7
 
 #: Column dictionary of the inventory table: name → (unit, meaning).
 INVENTORY_COLUMNS: dict[str, tuple[str, str]] = {
@@ -163,12 +166,12 @@ LAST_READ_FILES = 64
 def read_record(path: str, options: dict[str, Any], sha: str) -> Any:
     """The record file at ``path`` (whose bytes hash to ``sha``) as a Stream, read once for the
     stages that follow each other on it."""
-    from stepframe.records import read
+    from stepframe.records.io import read_measured
 
     key = (path, repr(sorted(options.items())), sha)
     stream = _LAST_READ.pop(key, None)
-    if stream is None:
-        stream = read(path, **read_kwargs(options))
+    if stream is None:  # raw counts after the standard processing, as every output measures
+        stream = read_measured(path, **read_kwargs(options))
         while len(_LAST_READ) >= LAST_READ_FILES:
             _LAST_READ.pop(next(iter(_LAST_READ)))  # the least recently used
     _LAST_READ[key] = stream

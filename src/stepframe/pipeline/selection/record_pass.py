@@ -306,10 +306,10 @@ def read_samples(
         No trace of that channel in the file (or any error of the reader).
     """
     from stepframe.pipeline.catalogue.stage import read_kwargs
-    from stepframe.records import read
+    from stepframe.records.io import read_measured
 
-    if file not in cache:
-        cache[file] = read(file, **read_kwargs(dict(options)))
+    if file not in cache:  # raw counts after the standard processing, as every output
+        cache[file] = read_measured(file, **read_kwargs(dict(options)))
     return component_samples(cache[file], file, component)
 
 

@@ -137,9 +137,9 @@ def load_record(row: dict[str, Any], folder: Path) -> Any:
     candidates = [Path(file), folder / file]
     for path in candidates:
         if path.is_file():
-            from stepframe.records import read
+            from stepframe.records.io import read_measured
 
-            stream = read(path, component=component)
+            stream = read_measured(path, component=component)
             return stream[0]
     return _example_trace(file, component)
 

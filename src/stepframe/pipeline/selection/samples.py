@@ -38,10 +38,10 @@ def read_samples(
             if records is not None and (file, component) in records:
                 acc, dt = records[(file, component)]
             else:  # a file beside the mapping's records (a folder beside the example)
-                from stepframe.records import read
+                from stepframe.records.io import read_measured
 
-                if file not in cache:
-                    cache[file] = read(file, **dict(record_options or {}))
+                if file not in cache:  # raw counts after the standard processing, as measured
+                    cache[file] = read_measured(file, **dict(record_options or {}))
                 traces = [t for t in cache[file] if str(t.stats.channel) == component]
                 if not traces:
                     raise InputError(f"no channel {component!r} in the file", file)

@@ -35,8 +35,9 @@ from stepframe.pipeline.reports.provenance import workflow_provenance
 # simulation's ladder (it simulates nothing)
 SELECTION_VERSION = 10
 # 2: the peers and the ranking's simulations in the pass; 3: the exact integrator's chord-bound
-# fast path (the same runs to rounding: recomputed rather than mixed with the former kernel's)
-RESPONSES_VERSION = 3
+# fast path (the same runs to rounding: recomputed rather than mixed with the former kernel's);
+# 4: raw counts ranked and simulated after the standard processing (records.io.read_measured)
+RESPONSES_VERSION = 4
 # 2: the best records' accelerograms; 3: stated correlations; 4: the run's spectra and check,
 # the chosen set at its scale, chosen records marked, "not run"; 5: records by identity; 6: the
 # ranking's sections; 7: the ranking intensity in the summary box; 8: the frame from
