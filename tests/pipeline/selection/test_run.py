@@ -183,6 +183,33 @@ def test_write_and_read_back(run: Any, tmp_path: Path) -> None:
     assert back.summary["filters"] == result.summary["filters"]
 
 
+def test_a_rewritten_folder_is_this_runs_alone(
+    run: Any, example_inputs: Any, example4: PortalFrame, tmp_path: Path
+) -> None:
+    """A re-run into the same folder with fewer picks left the earlier run's motions beside a
+    manifest of the new ones, and the selection report made of the earlier run ("Selected 10
+    of 100" beside a selection of 2)."""
+    import pandas as pd
+
+    result, _ = run
+    folder = tmp_path / "out"
+    result.write(folder)
+    (folder / "selection_report.html").write_text("<html>the earlier run</html>")
+    (folder / "selection_report_files").mkdir()
+    (folder / "selection_report_files" / "numbers.json").write_text("{}")
+    earlier = sorted(p.name for p in (folder / "motions").iterdir())
+    assert len(earlier) == 2 * len(result.selection) + 1  # AT2, text, and the manifest
+    table, records, _ = example_inputs
+    options = SelectionOptions(n=2, rank_by="omega_p_over_s_sq", n_bootstrap=0)
+    fewer = select_records(table, example4, options, records=records, jobs=1)
+    fewer.write(folder)
+    manifest = pd.read_csv(folder / "motions" / "manifest.csv")
+    listed = {*manifest["at2_file"], *manifest["text_file"], "manifest.csv"}
+    assert len(manifest) == 2 and {p.name for p in (folder / "motions").iterdir()} == listed
+    assert not (folder / "selection_report.html").exists()
+    assert not (folder / "selection_report_files").exists()
+
+
 def test_too_many_asked_names_each_filter(example_inputs: Any, example4: PortalFrame) -> None:
     table = example_inputs[0]
     options = SelectionOptions(n=80, rank_by="band_coverage", require_plausible=True)

@@ -57,8 +57,10 @@ def scaled_g(motion: Motion) -> np.ndarray:
 
 
 def export_motions(motions: Sequence[Motion], folder: Path) -> dict[str, Path]:
-    """Write the chosen motions into ``folder / "motions"`` (atomically, file by file; the
-    manifest last).
+    """Write the chosen motions into ``folder / "motions"``, replacing the folder whole
+    (:func:`stepframe.core.io.staged_folder`: a reader sees the earlier motions or these, and
+    none of an earlier run is left beside them: a re-run with fewer picks left the earlier
+    run's 03_... to 10_... files beside a manifest of two).
 
     Parameters
     ----------
@@ -72,13 +74,21 @@ def export_motions(motions: Sequence[Motion], folder: Path) -> dict[str, Path]:
     dict
         ``manifest`` → its path (the files are listed in it).
     """
+    from stepframe.core.io import staged_folder
+
+    target = folder / MOTIONS_FOLDER
+    with staged_folder(target) as staging:
+        _write_motions(motions, staging)
+    return {"manifest": target / MANIFEST_FILE}
+
+
+def _write_motions(motions: Sequence[Motion], target: Path) -> None:
+    """The motions' AT2 and text files and the manifest, in ``target``."""
     import pandas as pd
 
     from stepframe.core.io import atomic_write, write_bytes
     from stepframe.pipeline.catalogue.example_files import at2_bytes
 
-    target = folder / MOTIONS_FOLDER
-    target.mkdir(parents=True, exist_ok=True)
     rows: list[dict[str, Any]] = []
     for k, motion in enumerate(motions):
         stem = f"{k + 1:02d}_{_safe(motion.record)}_{_safe(motion.component)}"
@@ -111,7 +121,5 @@ def export_motions(motions: Sequence[Motion], folder: Path) -> dict[str, Path]:
             }
         )
     manifest = pd.DataFrame(rows, columns=list(MANIFEST_COLUMNS))
-    path = target / MANIFEST_FILE
-    with atomic_write(path) as handle:
+    with atomic_write(target / MANIFEST_FILE) as handle:
         manifest.to_csv(handle, index=False, float_format="%.10g")
-    return {"manifest": path}

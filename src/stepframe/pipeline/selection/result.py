@@ -259,8 +259,14 @@ class SelectionResult:
     def _write_chosen(self, folder: Path, paths: dict[str, Path]) -> list[Any]:
         """``spectra.csv`` and ``motions/`` (when the run has them); their column
         dictionaries."""
+        import shutil
+
         from stepframe.core.io import atomic_write
-        from stepframe.pipeline.selection.export import MANIFEST_COLUMNS, export_motions
+        from stepframe.pipeline.selection.export import (
+            MANIFEST_COLUMNS,
+            MOTIONS_FOLDER,
+            export_motions,
+        )
 
         written = []
         if self.spectra is not None:
@@ -272,9 +278,13 @@ class SelectionResult:
             written.append(
                 _framed("spectra", {**SPECTRA_COLUMNS, **dict.fromkeys(names, SCALED_COLUMN)})
             )
+        elif (folder / SPECTRA_FILE).exists():  # an earlier run's, not this one's
+            (folder / SPECTRA_FILE).unlink()
         if self.motions:
             paths.update(export_motions(self.motions, folder))
             written.append(_framed("manifest", MANIFEST_COLUMNS))
+        elif (folder / MOTIONS_FOLDER).is_dir():
+            shutil.rmtree(folder / MOTIONS_FOLDER)
         return written
 
     def with_record_identity(
@@ -320,7 +330,9 @@ class SelectionResult:
         }
 
     def write(self, outdir: str | PathLike[str]) -> dict[str, Path]:
-        """Write the tables, their column dictionaries (``columns.csv``) and ``selection.json``.
+        """Write the tables, their column dictionaries (``columns.csv``) and ``selection.json``;
+        what an earlier run wrote into the folder and this one does not (its motions, spectra
+        and the selection report made of it) is removed, so the folder is this run's alone.
 
         Every file is written atomically (:func:`stepframe.core.io.atomic_write`); the JSON
         summary is written last, so a folder with a ``selection.json`` is complete.
@@ -336,6 +348,7 @@ class SelectionResult:
 
         folder = Path(outdir)
         folder.mkdir(parents=True, exist_ok=True)
+        _remove_stale_report(folder)
         paths: dict[str, Path] = {}
         dictionaries = []
         for name, table in self.tables().items():
@@ -539,3 +552,19 @@ def read_selection(outdir: str | PathLike[str]) -> SelectionResult:
         summary,
         spectra,
     )
+
+
+def _remove_stale_report(folder: Path) -> None:
+    """Remove the selection report an earlier run's folder holds (``stepframe report selection
+    DIR``'s default page and its numbers): it described that run ("Selected 2 of 100" beside a
+    selection of 3); `stepframe report selection DIR` makes it again for this one."""
+    import shutil
+
+    from stepframe.pipeline.selection.stage import SELECTION_REPORT_HTML
+
+    page = folder / SELECTION_REPORT_HTML
+    numbers = folder / f"{page.stem}_files"
+    if page.is_file():
+        page.unlink()
+    if numbers.is_dir():
+        shutil.rmtree(numbers)
