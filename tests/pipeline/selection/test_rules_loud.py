@@ -169,6 +169,8 @@ EC8 = {"target_ec8": "type1", "target_ground": "B", "target_ag_g": 0.3}
         ({"scale_max": 2.0}, {"scale": "target-mse", **ASCE}, "a scaling policy"),
         ({"seed": 5}, {"confirm": True}, "confirm = true (--confirm) or the bootstrap"),
         ({"seed": 5}, {"rank_by": "omega_p_over_s_sq"}, "confirm = true (--confirm) or the"),
+        ({"exclude_unmatched": "warn"}, {"exclude": ("RSN174",)}, "exclude entries"),
+        ({"pair_spectrum": "geomean"}, {"unit": "record"}, "unit = 'record' (--unit record)"),
     ],
 )
 def test_an_option_that_does_nothing_is_an_error(
@@ -189,3 +191,14 @@ def test_an_option_that_does_nothing_is_an_error(
     # a ranking by a fit without its bootstrap draws nothing to seed
     with pytest.raises(InputError, match="seed = 5 does nothing here"):
         SelectionOptions(n=3, rank_by="omega_p_over_s_sq", n_bootstrap=0, seed=5)
+
+
+def test_options_that_another_option_makes_idle_are_errors() -> None:
+    """x_star_fraction beside a given A_max, and exact_budget_s with no automatic prefilter,
+    ran and changed nothing (each recorded in the options as if used)."""
+    SelectionOptions(n=3, x_star_fraction=0.5)
+    with pytest.raises(InputError, match=r"x_star_fraction = 0\.5 does nothing here"):
+        SelectionOptions(n=3, x_star_fraction=0.5, a_max_m=0.25)
+    SelectionOptions(n=3, exact_budget_s=5.0)
+    with pytest.raises(InputError, match=r"exact_budget_s = 5\.0 does nothing here"):
+        SelectionOptions(n=3, exact_budget_s=5.0, prefilter="none")

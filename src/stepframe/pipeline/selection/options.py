@@ -368,6 +368,15 @@ class SelectionOptions:
             ("n_bootstrap", self.n_bootstrap == 0 or ranks_by_fit(self.rank_by),
              f"a ranking by a fitted score ({', '.join(FIT_TIERS)}): the bootstrap redraws "
              f"the fits, which {self.rank_by} does not read"),
+            ("x_star_fraction", self.a_max_m is None and self.design_displacement_m is None,
+             "no a_max_m and no design displacement: A_max is fraction·x* only without them"),
+            ("exclude_unmatched", bool(self.exclude), "exclude entries: it says what an entry "
+             "matching nothing does"),
+            ("exact_budget_s", self.rank_by == SIMULATED_RESPONSE and self.prefilter == "auto",
+             f"rank_by = {SIMULATED_RESPONSE!r} with prefilter = 'auto': the budget decides "
+             "whether the simulation is prefiltered"),
+            ("pair_spectrum", self.unit == "record", "unit = 'record' (--unit record): it makes "
+             "one spectrum of a record's two horizontals"),
         ]  # fmt: skip
         for name, applies, expected in needs:
             if given(name) and not applies:
