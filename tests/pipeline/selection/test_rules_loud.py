@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -202,3 +203,20 @@ def test_options_that_another_option_makes_idle_are_errors() -> None:
     SelectionOptions(n=3, exact_budget_s=5.0)
     with pytest.raises(InputError, match=r"exact_budget_s = 5\.0 does nothing here"):
         SelectionOptions(n=3, exact_budget_s=5.0, prefilter="none")
+
+
+def test_a_component_with_the_catalogue_alone_is_an_error(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--component picks a component of each file read; with the embedded catalogue alone no
+    file is read, and the run chose among all 100 components as if it had not been given."""
+    from stepframe.cli import main
+    from stepframe.structure.frame_file import FRAME_TEMPLATE
+
+    frame = tmp_path / "FRAME.toml"
+    frame.write_text(FRAME_TEMPLATE)
+    out = tmp_path / "picks"
+    words = ["select", "--frame", str(frame), "--example", "fema-p695", "-n", "2"]
+    assert main([*words, "--component", "MUL009", "-o", str(out)]) == 2
+    assert "--component MUL009 with the embedded catalogue alone" in capsys.readouterr().err
+    assert not out.exists()

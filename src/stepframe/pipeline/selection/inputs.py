@@ -397,6 +397,12 @@ def select_to_folder(
         raise InputError("exists and is not a directory, expected an output folder", folder)
     if jobs is not None and jobs < 1:
         raise InputError(f"--jobs {jobs}, expected ≥ 1")
+    if source.component is not None and not catalogue:  # it read nothing: no file is read
+        raise InputError(
+            f"--component {source.component} with the embedded catalogue alone, expected record "
+            "folders or files to pick a component of (the catalogue's components are all "
+            "candidates; leave one out with --exclude)"
+        )
     result = select_from_catalogue(
         frame,
         options,
