@@ -299,6 +299,11 @@ def test_prefilter_simulates_the_tiers_best_k(example_inputs: Any, example4: Por
     assert (ranking["method"], ranking["tier"], ranking["k"]) == ("prefilter", "n_p_band", 20)
     assert ranking["n_simulated"] == 20 and "prefiltered as asked" in ranking["text"]
     assert result.summary["tiers"] == []  # no exact ranking of every candidate to compare with
+    # the printed summary says so (it did not: each pick read "rank k of 100")
+    lines = result.summary_lines()
+    said = [line for line in lines if line.startswith("  prefiltered: ")]
+    assert said == [f"  prefiltered: {ranking['text']}; the others were not simulated and rank "
+                    "after them"]  # fmt: skip
 
 
 def test_the_plan_is_the_same_on_every_machine(monkeypatch: pytest.MonkeyPatch) -> None:

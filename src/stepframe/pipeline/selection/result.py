@@ -126,11 +126,24 @@ class SelectionResult:
             f"{math.tau / low:.3g} s); {summary.get('filter_summary', '')}",
             *self._input_lines(),
             f"chosen by {summary.get('rank_by')} ({self.status}: {self.message}):",
+            *self._prefilter_lines(),
             *self._chosen_lines(),
             *([tie] if (tie := tie_line(summary)) else []),
             *self._outcome_lines(),
         ]
         return lines + self._confirmation_lines()
+
+    def _prefilter_lines(self) -> list[str]:
+        """The prefilter, when one left candidates unsimulated (the summary did not say so: a
+        budget of 0.1 CPU s ranked the best 91 by n_p_band and left out five of the exact
+        ranking's top ten, each pick still "rank k of 100")."""
+        ranking = self.summary.get("ranking") or {}
+        if ranking.get("method") != "prefilter":
+            return []
+        return [
+            f"  prefiltered: {ranking.get('text', '')}; the others were not simulated and rank "
+            "after them"
+        ]
 
     def _confirmation_lines(self) -> list[str]:
         """The confirmation at its equal intensity (named, with the ranking's when that was
