@@ -220,3 +220,16 @@ def test_a_component_with_the_catalogue_alone_is_an_error(
     assert main([*words, "--component", "MUL009", "-o", str(out)]) == 2
     assert "--component MUL009 with the embedded catalogue alone" in capsys.readouterr().err
     assert not out.exists()
+
+
+def test_a_metadata_filter_says_how_many_lack_a_value(example4: PortalFrame) -> None:
+    """A candidate without a Vs30 fails the Vs30 filter: its report counts them; none with a
+    value is an error like a missing column (every candidate dropped as out of range, "vs30 →
+    0", when the metadata named the column otherwise)."""
+    table = _table(vs30_m_s=[400.0, np.nan, 250.0, np.nan, 760.0])
+    dropped, reports = _filter(table, example4, vs30_min_m_s=300.0, verticals=True)
+    assert [bool(d) for d in dropped] == [False, True, True, True, False]
+    rule = {r.name: r.rule for r in reports}["vs30"]
+    assert rule.endswith("(2 without a value)")
+    with pytest.raises(InputError, match="filter vs30 needs values in column 'vs30_m_s'"):
+        _filter(_table(vs30_m_s=[np.nan] * 5), example4, vs30_min_m_s=300.0, verticals=True)

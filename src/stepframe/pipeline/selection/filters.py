@@ -235,6 +235,7 @@ def _metadata_rules(table: Any, options: SelectionOptions) -> list[Rule]:
     for name, column, low, high, unit in ranges:
         if low is None and high is None:
             continue
+        missing = _missing_values(table, column, name)
 
         def in_range(
             column: str = column,
@@ -244,8 +245,26 @@ def _metadata_rules(table: Any, options: SelectionOptions) -> list[Rule]:
         ) -> Mask:
             return _between(_column(table, column, name), low, high)
 
-        rules.append((name, _range_text(column, low, high, unit), in_range))
+        text = _range_text(column, low, high, unit)
+        rules.append((name, text + (f" ({missing} without a value)" if missing else ""), in_range))
     return rules
+
+
+def _missing_values(table: Any, column: str, name: str) -> int:
+    """How many candidates have no value in ``column`` (they fail its filter, and the filter's
+    text says how many); none with a value at all is an error, like a missing column (a filter
+    on an empty column dropped every candidate as out of range: "vs30 → 0")."""
+    if column not in table.columns:
+        return 0  # the rule itself names the missing column
+    values = np.asarray(table[column], dtype=np.float64)
+    missing = int((~np.isfinite(values)).sum())
+    if values.size and missing == values.size:
+        raise InputError(
+            f"filter {name} needs values in column {column!r}, expected the metadata to give "
+            f"them (none of the {values.size} candidates has one: a --metadata CSV names it "
+            f"{column})"
+        )
+    return missing
 
 
 def _amplitude_rules(
