@@ -32,8 +32,9 @@ from stepframe.pipeline.reports.provenance import workflow_provenance
 # integrator's chord-bound fast path (its runs the same to rounding), the bootstrap's kernel; 9:
 # the ranking's ties (ranking_tie, ranking.tie), the confirmation's intensity and the chosen
 # scale's overturned counts in the medians; 10: a tier ranking's intensity without the
-# simulation's ladder (it simulates nothing)
-SELECTION_VERSION = 10
+# simulation's ladder (it simulates nothing); 11: a metadata filter's text counts the candidates
+# without a value
+SELECTION_VERSION = 11
 # 2: the peers and the ranking's simulations in the pass; 3: the exact integrator's chord-bound
 # fast path (the same runs to rounding: recomputed rather than mixed with the former kernel's);
 # 4: raw counts ranked and simulated after the standard processing (records.io.read_measured)
