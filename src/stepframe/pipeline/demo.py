@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from stepframe.pipeline.engine.runner import RunReport, run_workflow
-from stepframe.pipeline.selection.stage import SELECTION_REPORT_HTML
+from stepframe.pipeline.selection.result import SELECTION_REPORT_HTML
 from stepframe.pipeline.stages import shipped_stages
 
 if TYPE_CHECKING:

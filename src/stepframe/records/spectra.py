@@ -28,7 +28,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from stepframe.core.memory import check_memory
-from stepframe.core.validation import damping_fraction, finite_array, in_range, positive
+from stepframe.core.validation import damping_fraction, finite_array, in_range, non_negative
 from stepframe.errors import InputError
 from stepframe.records.integration import check_record
 from stepframe.records.units import STANDARD_GRAVITY_M_S2
@@ -194,10 +194,10 @@ def upsampling_factors(
 ) -> NDArray[np.int64]:
     """Integer factor per period so that each period spans at least ``points_per_period`` samples.
 
-    Capped at :data:`MAX_UPSAMPLING`; ``points_per_period`` finite and > 0 (0, a negative or NaN
-    value upsampled nothing, silently).
+    Capped at :data:`MAX_UPSAMPLING`; ``points_per_period`` 0 upsamples nothing (the record at
+    its own rate); a negative or NaN value is refused (it upsampled nothing, silently).
     """
-    positive("points_per_period", points_per_period)
+    non_negative("points_per_period", points_per_period)
     need = np.maximum(points_per_period * dt_s / period_s, 1.0)
     factors = np.ceil(need - 1e-9).astype(np.int64)
     return np.minimum(np.maximum(factors, 1), MAX_UPSAMPLING)

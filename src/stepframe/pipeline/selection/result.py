@@ -18,6 +18,10 @@ from stepframe.core.results import (
 )
 
 #: Output files of :meth:`SelectionResult.write` (table name → file name).
+#: The selection report's default page in a selection's folder (``stepframe report selection
+#: DIR``; the workflow's stage and the demo publish it under this name too).
+SELECTION_REPORT_HTML = "selection_report.html"
+
 TABLE_FILES = {
     "selection": "selection.csv",
     "candidates": "candidates.csv",
@@ -572,8 +576,6 @@ def _remove_stale_report(folder: Path) -> None:
     DIR``'s default page and its numbers): it described that run ("Selected 2 of 100" beside a
     selection of 3); `stepframe report selection DIR` makes it again for this one."""
     import shutil
-
-    from stepframe.pipeline.selection.stage import SELECTION_REPORT_HTML
 
     page = folder / SELECTION_REPORT_HTML
     numbers = folder / f"{page.stem}_files"

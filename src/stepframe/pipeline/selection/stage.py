@@ -24,6 +24,7 @@ from stepframe.pipeline.catalogue.stage import record_folder
 from stepframe.pipeline.engine.stage import Context, Stage, Task
 from stepframe.pipeline.engine.store import KeyPrefix, make_key
 from stepframe.pipeline.reports.provenance import workflow_provenance
+from stepframe.pipeline.selection.result import SELECTION_REPORT_HTML
 
 # 2: default rank_by substitute_demand_ratio; 3: records grouped, verticals left out, the
 # chosen set's spectra, code check, response and motions; 4: records by identity; 5: ranked by
@@ -46,7 +47,6 @@ RESPONSES_VERSION = 4
 # 10: its simulations by the integrator's chord-bound fast path (the same to rounding); 11: the
 # ranking's tie, the selected against the controls at both intensities
 SELECTION_REPORT_VERSION = 11
-SELECTION_REPORT_HTML = "selection_report.html"
 
 
 def _selection_options(workflow: Any) -> Any:
