@@ -11,7 +11,14 @@ import argparse
 from typing import TYPE_CHECKING
 
 from stepframe.commands import add_command, add_record_options
-from stepframe.core.options import REQUIRED, add_fields, add_options, fields_given, options_from
+from stepframe.core.options import (
+    REQUIRED,
+    add_fields,
+    add_options,
+    by_flags,
+    fields_given,
+    options_from,
+)
 from stepframe.pipeline.selection.options import SelectionOptions
 from stepframe.records.read_options import RecordSource
 
@@ -103,8 +110,8 @@ def options_from_args(args: argparse.Namespace) -> SelectionOptions:
         # a value the command line gave is named by its flag, as every command does
         if error.key not in values or not error.what.startswith(f"{error.key} = "):
             raise
-        flag = "--" + error.key.replace("_", "-")
-        raise InputError(error.what.replace(f"{error.key} = ", f"{flag} ", 1)) from None
+        flags = {key: "--" + key.replace("_", "-") for key in values}
+        raise InputError(by_flags(error.what, flags)) from None
 
 
 def run_select(args: argparse.Namespace) -> SelectionFolder:

@@ -21,7 +21,7 @@ from __future__ import annotations
 import argparse
 import functools
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import MISSING, dataclass, field
 from typing import Any, TypeVar
 
@@ -558,16 +558,23 @@ def options_from(args: argparse.Namespace, cls: type[T]) -> T:
         fields = {f.name: f for f in dataclasses.fields(cls)}  # type: ignore[arg-type]
         if error.key not in fields or not error.what.startswith(f"{error.key} = "):
             raise
-        # every field the message names as ``name = value`` by its flag ("--seed 5 with
-        # --monte-carlo 0", not "--seed 5 with monte_carlo = 0")
-        import re
+        flags = {
+            name: f.metadata.get("flag") or "--" + name.replace("_", "-")
+            for name, f in fields.items()
+        }
+        raise InputError(by_flags(error.what, flags)) from None
 
-        def flag_of(match: re.Match[str]) -> str:
-            field = fields[match.group(1)]
-            return (field.metadata.get("flag") or "--" + field.name.replace("_", "-")) + " "
 
-        names = "|".join(sorted(map(re.escape, fields), key=len, reverse=True))
-        raise InputError(re.sub(rf"\b({names}) = ", flag_of, error.what)) from None
+def by_flags(what: str, flags: Mapping[str, str]) -> str:
+    """``what`` with every ``name = value`` of a key of ``flags`` written as ``--flag value``: a
+    command-line error names each option it mentions by its flag ("--seed 5 with --monte-carlo
+    0", not "--seed 5 with monte_carlo = 0")."""
+    import re
+
+    if not flags:
+        return what
+    names = "|".join(sorted(map(re.escape, flags), key=len, reverse=True))
+    return re.sub(rf"\b({names}) = ", lambda match: flags[match.group(1)] + " ", what)
 
 
 __all__ = [
@@ -585,6 +592,7 @@ __all__ = [
     "add_fields",
     "add_options",
     "arguments_of",
+    "by_flags",
     "check_fields",
     "fields_given",
     "float_list",
