@@ -155,7 +155,7 @@ def component_row(
     try:
         features = record_features(
             data, dt_s, frequency=options.frequency, t0=options.t0, window_s=options.window_s,
-            fft=options.fft, omega_max_rad_s=options.omega_max_rad_s,
+            fft=options.fft, omega_max_rad_s=options.omega_max_rad_s, incomplete=incomplete,
         )  # fmt: skip
     except Exception as error:  # a batch never stops for one item: record the unexpected too
         raise _StageError("features", error) from error
@@ -180,7 +180,7 @@ def component_row(
     row["p_onset_s"] = features.p_onset_s if features.p_onset_s is not None else math.nan
     row["t0_source"] = features.t0_source
     row["p_pick_snr"] = math.nan if features.p_pick_snr is None else features.p_pick_snr
-    row["flags"] = ";".join((["record_incomplete"] if incomplete else []) + list(result.flags))
+    row["flags"] = ";".join(result.flags)
     reason = plausibility(row, features.usable_floor_rad_s, lowest_usable_hz)
     row["plausible"] = not reason
     row["implausible_reason"] = reason

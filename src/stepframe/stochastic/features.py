@@ -659,6 +659,7 @@ def record_features(
     omega_max_rad_s: float | None = None,
     fft: FftBackend = "scipy",
     peak_method: PeakMethod = "envelope",
+    incomplete: bool | None = None,
 ) -> RecordFeatures:
     """Features of one record (definitions and smoothing in the module docstring).
 
@@ -689,6 +690,9 @@ def record_features(
     peak_method
         t_max as the peak of a gamma envelope fitted to I_g (``"envelope"``, default:
         :func:`peak_time_by_envelope`) or the raw argmax of I_g (``"argmax"``).
+    incomplete
+        Whether the record was read cut short (flagged ``record_incomplete``); None: a Trace's
+        own mark (``stats.stepframe.incomplete``), an array's none.
 
     Raises
     ------
@@ -727,8 +731,10 @@ def record_features(
     flags: list[str] = []
     # A record read cut short (--allow-short) says so in every output made from it: its strong
     # motion's end, t_dur and the late ω_g(t) may lie in what is missing.
-    stats = getattr(record_or_array, "stats", None)
-    if stats is not None and stats.get("stepframe", {}).get("incomplete"):
+    if incomplete is None:
+        stats = getattr(record_or_array, "stats", None)
+        incomplete = stats is not None and bool(stats.get("stepframe", {}).get("incomplete"))
+    if incomplete:
         flags.append("record_incomplete")
     # The frames' spectral moments, a block of frames at a time: the PSD itself (frames ×
     # frequencies) is computed whole only for an estimator that asks for it.

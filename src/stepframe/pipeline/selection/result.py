@@ -577,8 +577,10 @@ def _remove_stale_report(folder: Path) -> None:
     selection of 3); `stepframe report selection DIR` makes it again for this one."""
     import shutil
 
+    from stepframe.pipeline.reports.document import data_folder_of
+
     page = folder / SELECTION_REPORT_HTML
-    numbers = folder / f"{page.stem}_files"
+    numbers = data_folder_of(page)
     if page.is_file():
         page.unlink()
     if numbers.is_dir():
