@@ -142,6 +142,18 @@ def failures_path(output: str | PathLike[str]) -> Path:
     return target.with_name(f"{target.stem}.failures.csv")
 
 
+def write_failures(failures: pd.DataFrame, output: str | PathLike[str]) -> Path:
+    """Write a batch's :func:`failures_table` beside its output (:func:`failures_path`),
+    atomically, its text cells spreadsheet-safe; the path written."""
+    from stepframe.core.io import CSV_FLOAT_FORMAT, atomic_write
+    from stepframe.core.text import spreadsheet_safe
+
+    target = failures_path(output)
+    with atomic_write(target) as stream:
+        spreadsheet_safe(failures).to_csv(stream, index=False, float_format=CSV_FLOAT_FORMAT)
+    return target
+
+
 def no_usable_record(
     failures: pd.DataFrame, folder: str | PathLike[str] | None, output: str | PathLike[str]
 ) -> InputError:
@@ -160,15 +172,10 @@ def no_usable_record(
     output
         The batch's output, beside which the failures go.
     """
-    from stepframe.core.io import CSV_FLOAT_FORMAT, atomic_write
-    from stepframe.core.text import spreadsheet_safe
-
     where = None if folder is None else Path(folder)
     if len(failures) == 0:
         return InputError("no record files in it, expected at least one record", where)
-    target = failures_path(output)
-    with atomic_write(target) as stream:
-        spreadsheet_safe(failures).to_csv(stream, index=False, float_format=CSV_FLOAT_FORMAT)
+    target = write_failures(failures, output)
     item, message = str(failures.iloc[0]["item"]), str(failures.iloc[0]["message"])
     first = message if message.startswith(item) else f"{item}: {message}"
     return InputError(

@@ -20,8 +20,7 @@ from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from stepframe.core.io import CSV_FLOAT_FORMAT, atomic_write
-from stepframe.core.results import failures_path, set_column_dictionary
+from stepframe.core.results import set_column_dictionary, write_failures
 from stepframe.core.tables import read_dataset, write_dataset, write_table
 from stepframe.errors import InputError
 from stepframe.pipeline.catalogue.fit_options import FitOptions
@@ -278,9 +277,7 @@ def write_features(
     """
     target = Path(output)
     write_table(table, target)
-    with atomic_write(failures_path(target)) as out:
-        failures.to_csv(out, index=False, float_format=CSV_FLOAT_FORMAT)
-    return target, failures_path(target)
+    return target, write_failures(failures, target)
 
 
 __all__ = [
