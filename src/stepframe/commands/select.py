@@ -110,8 +110,9 @@ def options_from_args(args: argparse.Namespace) -> SelectionOptions:
         # a value the command line gave is named by its flag, as every command does
         if error.key not in values or not error.what.startswith(f"{error.key} = "):
             raise
-        flags = {key: "--" + key.replace("_", "-") for key in values}
-        raise InputError(by_flags(error.what, flags)) from None
+        # the refused key only: the others a message names may have come from an options file
+        flag = "--" + error.key.replace("_", "-")
+        raise InputError(by_flags(error.what, {error.key: flag})) from None
 
 
 def run_select(args: argparse.Namespace) -> SelectionFolder:
