@@ -26,6 +26,19 @@ def test_hundred_components_with_unit_named_columns(catalogue: tuple[object, pd.
     assert set(get_column_dictionary(table)["column"]) == set(COLUMNS)
 
 
+def test_one_earthquake_has_one_name(catalogue: tuple[object, pd.DataFrame]) -> None:
+    # The source table names three mainshocks two ways ("Northridge" in the far-field set,
+    # "Northridge-01" in the near-field sets): one name per (NGA name without its "-NN",
+    # year, magnitude) now, and the traces carry it with the year.
+    stream, table = catalogue
+    base = table["event"].str.replace(r"-\d\d$", "", regex=True)
+    assert (table.groupby([base, table["year"], table["magnitude"]])["event"].nunique() == 1).all()
+    assert table["event"].nunique() == 19
+    northridge = table["rsn"].isin([953, 960, 1004, 1048, 1063, 1086])
+    assert set(table.loc[northridge, "event"]) == {"Northridge-01"}
+    assert stream[0].stats.stepframe.event == "Northridge-01 1994"  # type: ignore[index]
+
+
 def test_pga_npts_dt_match_metadata(catalogue: tuple[object, pd.DataFrame]) -> None:
     stream, table = catalogue
     for trace, row in zip(stream, table.itertuples(), strict=True):  # type: ignore[call-overload]

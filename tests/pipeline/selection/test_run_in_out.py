@@ -109,6 +109,21 @@ def test_report_agrees_with_the_run_and_says_not_run(records_run: tuple[Any, Pat
     np.testing.assert_allclose(drawn["target_g"], pd.read_csv(folder / "spectra.csv")["target_g"])
 
 
+def test_a_cap_per_event_counts_each_earthquake_once(
+    example_inputs: tuple[Any, Any, Any], example4: PortalFrame
+) -> None:
+    # The catalogue's 100 components record 19 earthquakes; the source table named Northridge
+    # 1994, Imperial Valley 1979 and Superstition Hills 1987 two ways each, and a cap of one per
+    # event chose 22 components, two of each of those three.
+    table, records, _ = example_inputs
+    options = SelectionOptions(n=22, max_per_event=1, rank_by="omega_p_over_s_sq", n_bootstrap=0)
+    result = select_records(table, example4, options, records=records, jobs=1)
+    assert len(result.selection) == 19 and result.status == "degraded"
+    assert "only 19 of 22" in result.message
+    years = result.selection["event"].str.rsplit(" ", n=1).str[-1]
+    assert not (years.isin(["1994", "1979", "1987"]) & years.duplicated()).any()
+
+
 def test_partial_metadata_caps_count_unknown_events_apart(
     example_inputs: tuple[Any, Any, Any], example4: PortalFrame
 ) -> None:
@@ -116,7 +131,7 @@ def test_partial_metadata_caps_count_unknown_events_apart(
     # counted as one event "nan", and a cap of 1 per event chose 3 of 7.
     table, records, _ = example_inputs
     table = table.copy()
-    known = table["event"].isin(["Northridge 1994", "Kobe, Japan 1995"])
+    known = table["event"].isin(["Northridge-01 1994", "Kobe, Japan 1995"])
     table.loc[~known, "event"] = None
     options = SelectionOptions(n=7, max_per_event=1, rank_by="omega_p_over_s_sq", n_bootstrap=0)
     result = select_records(table, example4, options, records=records, jobs=1)

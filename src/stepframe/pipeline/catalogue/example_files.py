@@ -61,13 +61,13 @@ def example_name(row: dict[str, Any]) -> str:
 def example_metadata(folder: Path) -> Any:
     """The example catalogue's metadata table with ``file`` = the component's AT2 file in
     ``folder`` (magnitude, distances, Vs30, ... for the selection filters)."""
-    from stepframe.records.examples import metadata
+    from stepframe.records.examples import event_labels, metadata
 
     table = metadata()
     rows: list[dict[str, Any]] = table.to_dict(orient="records")  # type: ignore[assignment]
     table = table.assign(
         file=[str(folder / example_name(row)) for row in rows],
-        event=table["event"].astype(str) + " " + table["year"].astype(str),
+        event=event_labels(table),
     )
     return table
 

@@ -163,7 +163,7 @@ def example_catalogue(
     failures : pandas.DataFrame
         Components whose features failed (item, stage, error_type, message).
     """
-    from stepframe.records.examples import fema_p695, file_name
+    from stepframe.records.examples import event_labels, fema_p695, file_name
     from stepframe.stochastic.catalog_features import catalog_features
 
     stream, metadata = fema_p695()
@@ -171,7 +171,7 @@ def example_catalogue(
     rows: list[dict[str, Any]] = metadata.to_dict(orient="records")  # type: ignore[assignment]
     meta = metadata.assign(
         file=[file_name(row) for row in rows],
-        event=metadata["event"].astype(str) + " " + metadata["year"].astype(str),
+        event=event_labels(metadata),
     )[["file", *EXAMPLE_METADATA]]
     records = {
         (str(trace.stats.stepframe.source_file), str(trace.stats.channel)): (
