@@ -22,7 +22,7 @@ def test_exported_files_read_back_to_the_scaled_samples(tmp_path: Path) -> None:
                "14383980", "Anaheim"),
         Motion("b/AOM0011801241951.NS.gz", "NS", "AOM001 1801241951", 0.35,
                rng.standard_normal(517) * 3.0, 0.01),
-        Motion("c/odd.txt", "H1", "c/odd.txt", 2.0, rng.standard_normal(300), 0.00390625),
+        Motion("../c/odd.v1", "H1", "../c/odd.v1", 2.0, rng.standard_normal(300), 0.00390625),
     ]  # fmt: skip
     paths = export_motions(motions, tmp_path)
     manifest = pd.read_csv(paths["manifest"])
@@ -41,7 +41,11 @@ def test_exported_files_read_back_to_the_scaled_samples(tmp_path: Path) -> None:
         # nothing but numbers, one a line: what OpenSees' timeSeries Path reads
         lines = (tmp_path / "motions" / row["text_file"]).read_text().splitlines()
         assert len(lines) == row["npts"] and all(len(line.split()) == 1 for line in lines)
-    assert manifest["at2_file"].tolist()[0] == "01_RSN8883_90.AT2"
+    # a record named by its path is named by its file's name (was 03_.._c_odd.v1_H1)
+    assert manifest["at2_file"].tolist() == [
+        "01_RSN8883_90.AT2", "02_AOM001_1801241951_NS.AT2", "03_odd.v1_H1.AT2"
+    ]  # fmt: skip
+    assert manifest["record"].tolist()[2] == "../c/odd.v1"
 
 
 def test_the_manifest_columns_are_documented() -> None:

@@ -2,8 +2,9 @@
 
 ``OUTDIR/motions/`` holds, for each chosen component in the chosen order (``NN`` its place):
 
-- ``NN_<record>_<component>.AT2``: a PEER AT2 file in g (ten significant digits, DT in its
-  shortest exact form), which ``stepframe`` and PEER's own tools read;
+- ``NN_<record>_<component>.AT2`` (the record's name without its folders): a PEER AT2 file in
+  g (ten significant digits, DT in its shortest exact form), which ``stepframe`` and PEER's own
+  tools read;
 - ``NN_<record>_<component>.txt``: the same samples in g, one per line and nothing else, so that
   an OpenSees ``timeSeries Path -dt DT -filePath FILE -factor g`` or a spreadsheet reads it
   directly (its DT is in the manifest);
@@ -18,7 +19,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Sequence
-from pathlib import Path
+from pathlib import Path, PurePath
 from typing import Any
 
 import numpy as np
@@ -91,7 +92,9 @@ def _write_motions(motions: Sequence[Motion], target: Path) -> None:
 
     rows: list[dict[str, Any]] = []
     for k, motion in enumerate(motions):
-        stem = f"{k + 1:02d}_{_safe(motion.record)}_{_safe(motion.component)}"
+        # The record's own name, not its path: a record named by its file, given as
+        # ../data/CICLC.v1, made 03_.._data_CICLC.v1_360.txt; the place NN keeps stems apart.
+        stem = f"{k + 1:02d}_{_safe(PurePath(motion.record).name)}_{_safe(motion.component)}"
         values = scaled_g(motion)
         data = at2_bytes(
             values,
