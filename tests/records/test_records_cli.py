@@ -141,6 +141,9 @@ def test_batch_commands_agree_on_a_folder_without_a_usable_record(
     (junk / "a.bin").write_bytes(bytes(range(256)) * 8)
     (junk / "b.txt").write_bytes(b"")
     out = tmp_path / "out.csv"
+    # an earlier run's table there: it stood beside this run's failures as if it were its result
+    out.write_text("file,component\nearlier.AT2,H1\n")
+    (tmp_path / "out.columns.csv").write_text("column,unit,meaning\n")
     assert main([*command, str(junk), "-o", str(out)]) == 2
     err = capsys.readouterr().err
     failures = tmp_path / "out.failures.csv"
@@ -150,7 +153,7 @@ def test_batch_commands_agree_on_a_folder_without_a_usable_record(
     assert "see the messages above" not in err and "Traceback" not in err
     rows = failures.read_text().splitlines()
     assert rows[0] == "item,stage,error_type,message" and len(rows) == 3
-    assert not out.exists()
+    assert not out.exists() and not (tmp_path / "out.columns.csv").exists()
     empty = tmp_path / "empty"
     empty.mkdir()
     assert main([*command, str(empty), "-o", str(tmp_path / "e.csv")]) == 2

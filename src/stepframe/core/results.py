@@ -161,7 +161,9 @@ def no_usable_record(
     error, one line, exit 2), after writing its failures, if any, to :func:`failures_path`.
 
     An empty folder is "no record files"; one whose every file failed names the first failure
-    and where all of them were written (nothing else is written: no empty table).
+    and where all of them were written (nothing else is written: no empty table), and an
+    earlier run's table and column dictionary beside them are removed: they would read as this
+    run's result next to its failures.
 
     Parameters
     ----------
@@ -176,6 +178,7 @@ def no_usable_record(
     if len(failures) == 0:
         return InputError("no record files in it, expected at least one record", where)
     target = write_failures(failures, output)
+    _remove_earlier_table(output)
     item, message = str(failures.iloc[0]["item"]), str(failures.iloc[0]["message"])
     first = message if message.startswith(item) else f"{item}: {message}"
     return InputError(
@@ -184,6 +187,18 @@ def no_usable_record(
         "expected at least one record",
         where,
     )
+
+
+def _remove_earlier_table(output: str | PathLike[str]) -> None:
+    """Remove the table ``output`` and its column dictionary if an earlier run wrote them (an
+    output folder is left alone: its results are the stage's to replace)."""
+    from stepframe.core.tables import columns_path
+
+    table = Path(output)
+    if table.suffix == "" or table.is_dir():
+        return
+    for path in (table, columns_path(table)):
+        path.unlink(missing_ok=True)
 
 
 def check_status(status: str) -> Status:
