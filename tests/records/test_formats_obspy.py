@@ -134,3 +134,21 @@ def test_velocity_seismometer_response_removed_to_acceleration(tmp_path: Path) -
     rms_ratio = np.sqrt(np.mean(ours[middle] ** 2) / np.mean(reference[middle] ** 2))
     assert rms_ratio == pytest.approx(1.0, abs=0.02)  # measured 1.003
     assert np.corrcoef(ours[middle], reference[middle])[0, 1] > 0.99  # measured 0.995
+
+
+def test_a_binary_file_obspy_guesses_as_win_is_not_called_a_win_file(tmp_path: Path) -> None:
+    # obspy's WIN check takes bytes 0, 1, 2, ... for WIN; the message blamed a WIN file that
+    # never was ("obspy could not read it as win"). A guess says it was one; a format the user
+    # named keeps the reader's own message.
+    junk = tmp_path / "a.bin"
+    junk.write_bytes(bytes(range(256)) * 8)
+    with pytest.raises(FormatError) as guessed:
+        read(junk)
+    assert guessed.value.what.startswith(
+        "obspy's check took it for WIN but its reader failed ([Errno 22] Invalid argument): a "
+        "damaged WIN file, or no record, expected FEMA P695 text, "
+    )
+    assert guessed.value.what.endswith("(give it with --format)")
+    with pytest.raises(FormatError) as named:
+        read(junk, format="win")
+    assert named.value.what == "obspy could not read it as win: [Errno 22] Invalid argument"

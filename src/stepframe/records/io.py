@@ -318,6 +318,9 @@ def _read_plain(file: Path, head: bytes, format: str | None, options: ReadOption
     )
     try:
         return fmt.read(file, options)
+    except FormatError as exc:
+        _raise_unless_guessed(exc, fmt, format, file)
+        raise
     except StepframeError:
         raise
     except MemoryError:
@@ -406,6 +409,25 @@ def format_by_name(format: str) -> RecordFormat:
         "or another obspy waveform format in lower case",
         key="format",
     )
+
+
+def _raise_unless_guessed(
+    error: FormatError, fmt: RecordFormat, given: str | None, file: Path
+) -> None:
+    """Say that the format was a guess when obspy fails on a format only its own check chose:
+    its checks take some files that are no record at all for one of its formats (a binary file
+    of bytes 0, 1, 2, ... for WIN), and "could not read it as win" alone blamed a WIN file that
+    never was. A format the user named keeps the reader's message."""
+    from stepframe.records.formats.obspy_formats import ObspyReadFailure
+
+    if given is None and isinstance(error, ObspyReadFailure):
+        name = fmt.name.upper()
+        raise FormatError(
+            f"obspy's check took it for {name} but its reader failed ({error.reason}): a damaged "
+            f"{name} file, or no record, expected {format_labels()} or an obspy waveform format "
+            "(give it with --format)",
+            file,
+        ) from None
 
 
 def _sniff(head: bytes, file: Path) -> RecordFormat:

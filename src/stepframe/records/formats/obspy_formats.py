@@ -24,6 +24,7 @@ from __future__ import annotations
 import io
 import re
 import warnings
+from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -87,6 +88,19 @@ _KIKNET_SUFFIX = re.compile(r"\.(EW|NS|UD)[12](\.gz)?$", re.I)
 _ACCELERATION_INPUT_UNITS = {"M/S**2", "M/S/S", "M/S2", "M/SEC**2", "M/S^2"}
 
 
+class ObspyReadFailure(FormatError):
+    """obspy raised while reading a file as ``name``, for ``reason`` (its message's first line).
+
+    When the format was obspy's own guess, the guess may be what was wrong: its WIN check takes
+    many binary files (bytes 0, 1, 2, ...) for WIN, and the reader then fails with ``[Errno 22]
+    Invalid argument``.
+    """
+
+    def __init__(self, name: str, reason: str, path: str | PathLike[str]) -> None:
+        self.format_name, self.reason = name, reason
+        super().__init__(f"obspy could not read it as {name}: {reason}", path)
+
+
 def _is_format(obspy_name: str, path: Path) -> bool:
     """obspy's own check of ``path`` for one format; False on any failure."""
     try:
@@ -135,7 +149,7 @@ def _obspy_read(path: Path, name: str, options: ReadOptions) -> tuple[Any, str |
             stream = obspy.read(source, format=obspy_name.upper())
     except Exception as exc:
         reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-        raise FormatError(f"obspy could not read it as {name}: {reason}", path) from None
+        raise ObspyReadFailure(name, reason, path) from None
     note = None
     for warning in caught:
         text = " ".join(str(warning.message).split())
