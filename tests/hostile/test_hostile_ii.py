@@ -147,6 +147,29 @@ def test_workflow_toml_past_the_parser(
     _one_line(cli(["run", str(path)]), 2, pattern)
 
 
+def test_a_file_name_that_is_not_utf8_is_skipped_with_one_warning(
+    cli: Callable[..., Any], tmp_path: Path
+) -> None:
+    """A name of Latin-1 bytes (caf\\xe9.AT2, from an old archive) was a traceback in every
+    batch (the table's writer cannot encode it); it is skipped with one warning naming it, and
+    the batch reads the rest (a UTF-8 name with a space and an umlaut among them)."""
+    folder = tmp_path / "in"
+    folder.mkdir()
+    os.link(RECORD, os.path.join(os.fsencode(folder), b"caf\xe9.AT2"))
+    (folder / "ok space \u00fc.AT2").write_bytes(RECORD.read_bytes())
+    warning = (
+        f"{folder}: 1 file(s) or folder(s) whose names are not UTF-8 skipped (first: "
+        "caf\\xe9.AT2), expected UTF-8 names: rename them (no table can name them)"
+    )
+    for command in (["records", "catalog"], ["stochastic", "features"]):
+        out = tmp_path / f"{command[0]}.csv"
+        run = cli([*command, str(folder), "-o", str(out), "--json"])
+        assert run.problem is None and run.status == 0, run.stderr
+        assert run.stderr.count(warning) == 1, run.stderr
+        table = out.read_text(encoding="utf-8")
+        assert "ok space \u00fc.AT2" in table and "caf" not in table
+
+
 def test_records_folder_links_fifos_and_loops(cli: Callable[..., Any], tmp_path: Path) -> None:
     """Links into /proc (/proc/self/mem, /proc/kcore) are skipped with one warning, a FIFO is
     skipped (reading it would block), a link back to the folder is walked once; a link to a

@@ -11,6 +11,8 @@ record files through :func:`walk_files`, so a folder is read the same way wherev
   or cannot be read) are skipped, and so are hidden files and folders (names starting with
   ``.``). A regular file of ``/proc`` or ``/sys`` given by name is refused
   (:func:`pseudo_file_system`): its size means nothing and reading it reads the kernel's memory.
+  A file or folder whose name is not UTF-8 (Latin-1 bytes from an old archive) is skipped with
+  one warning that counts them and names the first: no table can write its name.
 - **Symbolic links** are followed (a linked sub-folder of records, a linked file), except into
   ``/proc``, ``/sys`` or ``/dev`` (a link to ``/proc/self/mem`` or ``/proc/kcore`` is skipped
   with one warning that counts them); each real folder is walked once (a link back up the tree,
@@ -175,7 +177,14 @@ def walk_files(
     seen: set[tuple[int, int]] = set()
     info = os.stat(root)
     seen.add((info.st_dev, info.st_ino))
-    yield from _walk(root, (), glob, recursive, excluded, seen, outside)
+    not_utf8: list[str] = []
+    yield from _walk(root, (), glob, recursive, excluded, seen, outside, not_utf8)
+    if not_utf8:
+        warnings.warn(
+            f"{root}: {len(not_utf8)} file(s) or folder(s) whose names are not UTF-8 skipped "
+            f"(first: {not_utf8[0]}), expected UTF-8 names: rename them (no table can name them)",
+            stacklevel=2,
+        )
     if outside:
         warnings.warn(
             f"{root}: {len(outside)} symbolic link(s) into {', '.join(PSEUDO_ROOTS)} skipped "
@@ -192,6 +201,7 @@ def _walk(
     excluded: frozenset[str],
     seen: set[tuple[int, int]],
     outside: list[str],
+    not_utf8: list[str],
 ) -> Iterator[tuple[str, Path]]:
     excluded_names = {os.path.basename(path) for path in excluded}
     try:
@@ -204,6 +214,10 @@ def _walk(
     folders: list[tuple[str, Path]] = []
     for entry in entries:
         if entry.name.startswith("."):
+            continue
+        if not _utf8(entry.name):
+            shown = os.fsencode(entry.name).decode("utf-8", "backslashreplace")
+            not_utf8.append("/".join((*prefix, shown)))
             continue
         path = folder / entry.name
         kind = _kind(entry, outside)
@@ -225,7 +239,17 @@ def _walk(
         if (info.st_dev, info.st_ino) in seen:
             continue  # a loop, or a folder linked twice
         seen.add((info.st_dev, info.st_ino))
-        yield from _walk(path, (*prefix, name), glob, recursive, excluded, seen, outside)
+        yield from _walk(path, (*prefix, name), glob, recursive, excluded, seen, outside, not_utf8)
+
+
+def _utf8(name: str) -> bool:
+    """Whether a file name as the file system gave it is UTF-8: a name of other bytes (from a
+    Latin-1 archive) holds surrogates that no table can write, a traceback in every batch."""
+    try:
+        name.encode("utf-8")
+    except UnicodeEncodeError:
+        return False
+    return True
 
 
 def _kind(entry: os.DirEntry[str], outside: list[str]) -> str | None:
