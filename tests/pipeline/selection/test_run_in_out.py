@@ -181,3 +181,38 @@ def test_confirmation_section_marks_the_chosen_and_prints_the_run_medians(
             np.median(runs["peak_abs_x_m"])
         )
         assert table_csv["overturned"][place] == runs["overturned"].sum()
+
+
+def test_a_report_refuses_a_folder_edited_after_its_run(
+    example_inputs: tuple[Any, Any, Any], example4: PortalFrame, tmp_path: Path
+) -> None:
+    # A hand-shortened selection.csv made a report saying "Selected 2" above the summary's "of
+    # 3 components": selection.json now records each file's sha256 and the folder is checked.
+    from stepframe.errors import InputError
+    from stepframe.pipeline.engine.store import file_sha256
+    from stepframe.pipeline.selection.report_folder import read_selection_folder
+    from stepframe.pipeline.selection.result import read_selection
+
+    table, records, _ = example_inputs
+    options = SelectionOptions(n=3, rank_by="omega_p_over_s_sq", n_bootstrap=0)
+    folder = tmp_path / "out"
+    select_records(table, example4, options, records=records, jobs=1).write(folder)
+    recorded = json.loads((folder / "selection.json").read_text())["files_sha256"]
+    assert set(recorded) >= {"selection.csv", "candidates.csv", "columns.csv", "failures.csv"}
+    assert all(file_sha256(folder / name) == digest for name, digest in recorded.items())
+    assert len(read_selection_folder(folder).tables["selection"]) == 3
+    # read back and written again (without the motions, which read_selection does not read),
+    # the result records the files it wrote, not the first folder's
+    again = tmp_path / "again"
+    read_selection(folder).write(again)
+    rewritten = json.loads((again / "selection.json").read_text())["files_sha256"]
+    assert set(rewritten) == set(recorded) - {"motions/manifest.csv"}
+    assert all(file_sha256(again / name) == digest for name, digest in rewritten.items())
+    shortened = pd.read_csv(folder / "selection.csv").iloc[:2]
+    shortened.to_csv(folder / "selection.csv", index=False)
+    with pytest.raises(InputError) as changed:
+        read_selection_folder(folder)
+    assert changed.value.what.startswith("selection.csv was changed after the selection run")
+    (again / "candidates.csv").unlink()
+    with pytest.raises(InputError, match=r"candidates\.csv missing"):
+        read_selection_folder(again)

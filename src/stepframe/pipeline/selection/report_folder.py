@@ -136,6 +136,7 @@ def read_selection_folder(folder: str | PathLike[str]) -> SelectionOutputs:
         raise InputError("not valid JSON, expected the run's summary", summary_path, line) from None
     if not isinstance(summary, dict):
         raise InputError("not a JSON object, expected the run's summary", summary_path)
+    _check_unchanged(root, summary, summary_path)
     tables: dict[str, pd.DataFrame] = {}
     columns: dict[str, dict[str, str]] = {}
     files = [summary_path]
@@ -157,3 +158,32 @@ def read_selection_folder(folder: str | PathLike[str]) -> SelectionOutputs:
                 1,
             )
     return SelectionOutputs(root, summary, tables, columns, tuple(files))
+
+
+def _check_unchanged(root: Path, summary: dict[str, Any], summary_path: Path) -> None:
+    """Every file the run recorded in ``selection.json`` is there with the bytes it wrote: a
+    report of an edited ``selection.csv`` said "Selected 2" above "of 3 components" (the
+    summary's); a folder written before the run recorded them is read as it is."""
+    from stepframe.pipeline.engine.store import file_sha256
+    from stepframe.pipeline.selection.result import FILES_KEY
+
+    recorded = summary.get(FILES_KEY)
+    if recorded is None:
+        return
+    if not isinstance(recorded, dict):
+        raise InputError(f"{FILES_KEY} is not an object, expected file → sha256", summary_path)
+    for name, digest in recorded.items():
+        path = root / name
+        if not path.is_file():
+            raise InputError(
+                f"{name} is missing, expected every file the selection run wrote (run the "
+                "selection again)",
+                root,
+            )
+        if file_sha256(path) != digest:
+            raise InputError(
+                f"{name} was changed after the selection run wrote it (its sha256 is not the "
+                "one selection.json records), expected the run's own files: run the selection "
+                "again rather than editing its tables",
+                root,
+            )

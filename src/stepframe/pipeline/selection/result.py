@@ -383,15 +383,29 @@ class SelectionResult:
         with atomic_write(path) as handle:
             pd.concat(dictionaries, ignore_index=True).to_csv(handle, index=False)
         paths["columns"] = path
+        summary = self.to_dict()
+        summary[FILES_KEY] = written_files(folder, paths.values())
         path = folder / SUMMARY_FILE
         with atomic_write(path) as handle:
-            json.dump(self.to_dict(), handle, indent=2, allow_nan=False)
+            json.dump(summary, handle, indent=2, allow_nan=False)
             handle.write("\n")
         paths["summary"] = path
         return paths
 
 
 SPECTRA_FILE = "spectra.csv"
+#: ``selection.json``'s record of the files the run wrote: path in the folder → sha256, so a
+#: report made from the folder later is made of this run's files, not of hand-edited ones
+#: (:func:`stepframe.pipeline.selection.report_folder.read_selection_folder` checks them).
+FILES_KEY = "files_sha256"
+
+
+def written_files(folder: Path, paths: Any) -> dict[str, str]:
+    """Each written file's path relative to ``folder`` (POSIX) → its sha256 (of the motions,
+    their manifest)."""
+    from stepframe.pipeline.engine.store import file_sha256
+
+    return {Path(path).relative_to(folder).as_posix(): file_sha256(path) for path in sorted(paths)}
 
 
 def _framed(name: str, columns: dict[str, tuple[str, str]]) -> Any:
@@ -554,7 +568,8 @@ def read_selection(outdir: str | PathLike[str]) -> SelectionResult:
     band = summary.pop("band_rad_s")
     status = summary.pop("status")
     message = summary.pop("message")
-    for key in ("selected", "n_candidates", "n_filtered", "n_failures"):
+    # the folder's record of its files, not the result's (a write records them again)
+    for key in ("selected", "n_candidates", "n_filtered", "n_failures", FILES_KEY):
         summary.pop(key, None)
     if status not in STATUSES:
         raise InputError(f"status {status!r}, expected one of {sorted(STATUSES)}", summary_path)
