@@ -52,7 +52,7 @@ from stepframe.pipeline.engine.chain import (
     group_name,
     groups,
 )
-from stepframe.pipeline.engine.history import item_outputs
+from stepframe.pipeline.engine.history import failures_first_seen, item_outputs
 from stepframe.pipeline.engine.integrity import StorageError, StoreEvent
 from stepframe.pipeline.engine.lock import workspace_lock
 from stepframe.pipeline.engine.plan import check_forced, plan_stages
@@ -618,6 +618,9 @@ def _publish_outputs(
     prune: bool,
 ) -> None:
     folder = workflow.outputs_folder
+    with_history = [n for n in workflow.outputs if workflow.history and stages[n].kind == "item"]
+    failures_seen = failures_first_seen(store, with_history)
+    new_failures: set[tuple[str, str]] = set()
     for name in stages:
         if name not in workflow.outputs:  # an output turned off leaves nothing behind
             removed = withdraw_published(store, name, folder)
@@ -631,13 +634,17 @@ def _publish_outputs(
             continue
         folder.mkdir(parents=True, exist_ok=True)
         if stage.kind == "item":
-            made = item_outputs(name, workflow, stages, context, store, now=now, prune=prune)
+            made = item_outputs(
+                name, workflow, stages, context, store,
+                now=now, prune=prune, failures_seen=failures_seen,
+            )  # fmt: skip
             paths = publish_output_table(made.table, folder / f"{name}.parquet", store, name)
             failures_file = failures_path(folder / f"{name}.csv")
             _write_csv(made.failures, failures_file)
             paths.append(failures_file)
-            if made.new_failures is not None:
-                report.new_failures = (report.new_failures or 0) + made.new_failures
+            if made.new_failures is not None:  # each failure once, whatever outputs list it
+                new_failures |= made.new_failures
+                report.new_failures = len(new_failures)
         else:
             assert stage.publish is not None
             paths, problem = publish_set(stage.publish, folder, store, name, context.set_keys[name])
