@@ -684,6 +684,7 @@ def _dry_run(
         elif stage.kind == "item":
             assert stage.tasks is not None
             tasks = merge_same_key(stage.tasks(context))
+            context.item_tasks[name] = tasks  # as a run's: a whole-set key may name them
             report.duplicates += alias_lines(name, tasks)
             index = store.index(name)
             todo = [
