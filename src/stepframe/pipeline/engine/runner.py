@@ -136,8 +136,9 @@ class RunReport:
     store_events: list[StoreEvent] = field(default_factory=list)
     #: Failures this run found first (with ``[outputs] history``; else None).
     new_failures: int | None = None
-    #: Per output the workflow no longer asks for, what of it this run removed from the outputs
-    #: folder (names in it).
+    #: Per output the workflow no longer asks for, or that this run could not produce (then also
+    #: in :attr:`missing`), what an earlier run published of it that this run removed from the
+    #: outputs folder (names in it).
     removed: dict[str, list[str]] = field(default_factory=dict)
 
     @property
@@ -185,7 +186,10 @@ class RunReport:
         for name, reason in self.missing.items():
             lines.append(f"output {name} NOT produced: {reason}")
         for name, entries in self.removed.items():
-            lines.append(f"output {name} removed (no longer asked for): {', '.join(entries)}")
+            why = "no longer asked for"
+            if name in self.missing:
+                why = "an earlier run's, not produced by this one"
+            lines.append(f"output {name} removed ({why}): {', '.join(entries)}")
         return "\n".join(lines)
 
     def to_dict(self) -> dict[str, Any]:
@@ -631,6 +635,7 @@ def _publish_outputs(
         summary = next(s for s in report.stages if s.name == name)
         if summary.status != "ok":
             report.missing[name] = summary.message or summary.status
+            _withdraw_earlier(store, name, folder, report)
             continue
         folder.mkdir(parents=True, exist_ok=True)
         if stage.kind == "item":
@@ -650,9 +655,19 @@ def _publish_outputs(
             paths, problem = publish_set(stage.publish, folder, store, name, context.set_keys[name])
             if problem:  # never a damaged copy published as complete
                 report.missing[name] = problem
+                _withdraw_earlier(store, name, folder, report)
                 continue
         remember_published(store, name, folder, paths)
         report.outputs[name] = [str(p) for p in paths]
+
+
+def _withdraw_earlier(store: Store, name: str, folder: Path, report: RunReport) -> None:
+    """An output this run could not produce: what an earlier run published of it is removed
+    (a site model and report of 8 records stayed beside the features of the 3 left, which gave
+    no site, as if they were this run's), and named in the summary."""
+    removed = withdraw_published(store, name, folder)
+    if removed:
+        report.removed[name] = removed
 
 
 def _write_csv(table: pd.DataFrame, path: Path) -> None:
