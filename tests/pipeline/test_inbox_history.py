@@ -206,3 +206,25 @@ def test_a_failure_listed_by_several_outputs_is_one_new_failure(inbox: Path) -> 
     assert rotd50.at[0, "first_seen_utc"] == features.at[0, "first_seen_utc"]
     assert rotd50.at[0, "first_seen_utc"] < rotd50.at[0, "last_seen_utc"]
     assert [line["new_failures"] for line in _log(inbox)] == [1, 0]
+
+
+def test_a_dangling_link_and_a_loop_of_links_are_failed_items(inbox: Path) -> None:
+    # Before, a link whose target is gone (a share not mounted) ended the run at hashing
+    # ("stepframe: error: inbox/gone.AT2: No such file or directory", exit 2), and a loop of
+    # links was skipped without a word.
+    folder = inbox.parent / "inbox"
+    (folder / "damaged.AT2").unlink()
+    (folder / "gone.AT2").symlink_to(inbox.parent / "nowhere" / "gone.AT2")
+    (folder / "loop-a.AT2").symlink_to(folder / "loop-b.AT2")
+    (folder / "loop-b.AT2").symlink_to(folder / "loop-a.AT2")
+    report = _run(inbox)
+    features, failures = _outputs(inbox)
+    assert len(features) == 3 and report.new_failures == 3
+    assert failures[["item", "message"]].values.tolist() == [
+        ["gone.AT2", "read: gone.AT2: cannot read (No such file or directory), expected a file "
+         "this run can read"],
+        ["loop-a.AT2", "read: loop-a.AT2: cannot read (Too many levels of symbolic links), "
+         "expected a file this run can read"],
+        ["loop-b.AT2", "read: loop-b.AT2: cannot read (Too many levels of symbolic links), "
+         "expected a file this run can read"],
+    ]  # fmt: skip
