@@ -12,6 +12,8 @@ from __future__ import annotations
 import shutil
 from pathlib import Path
 
+import pandas as pd
+
 from stepframe.pipeline.catalogue.example_files import write_example_files
 from stepframe.pipeline.engine.runner import run_workflow
 from stepframe.pipeline.stages import shipped_stages
@@ -186,6 +188,17 @@ def test_an_output_a_rerun_cannot_produce_leaves_no_copy_of_an_earlier_run(
     shutil.copy(esm / "HI.ARS1..HNE.D.20190728.160908.C.ACC.ASC.gz", records)
     report = run_workflow(scene / "wf.toml", shipped_stages(), jobs=1)
     assert report.exit_code == 1 and sorted(report.missing) == ["amplification", "site"]
+    # why, as report amplification --records says it (the stage said only "(1 in the table)")
+    assert report.missing["site"] == (
+        "no component with fitted features passing the plausibility checks (1 in the table), "
+        "expected at least one for a site from records (HI.ARS1..HNE.D.20190728.160908.C.ACC."
+        "ASC.gz [HNE]: "
+        + pd.read_csv(scene / "stepframe-work" / "outputs" / "features.csv").at[
+            0, "implausible_reason"
+        ]
+        + ")"
+    )
+    assert "omega_not_decreasing" in report.missing["site"]
     assert report.removed == {
         "amplification": [
             "amplification.columns.csv", "amplification.csv", "amplification.nc",
