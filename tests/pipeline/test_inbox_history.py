@@ -228,3 +228,31 @@ def test_a_dangling_link_and_a_loop_of_links_are_failed_items(inbox: Path) -> No
         ["loop-b.AT2", "read: loop-b.AT2: cannot read (Too many levels of symbolic links), "
          "expected a file this run can read"],
     ]  # fmt: skip
+
+
+def test_a_run_where_every_file_fails_sees_its_failures_first(inbox: Path) -> None:
+    # Every record archived, one damaged file left: no features (exit 1). Before, that run
+    # wrote no history, so its failure was counted new by the next run that computed
+    # something (new_failures 0, then 1), or by none if the file left before it; and the
+    # earlier run's tables stayed published, every archived file still present = true.
+    folder = inbox.parent / "inbox"
+    _run(inbox)
+    (inbox.parent / "archive").mkdir()
+    for path in folder.glob("RSN*.AT2"):
+        shutil.move(path, inbox.parent / "archive" / path.name)
+    (folder / "damaged.AT2").unlink()
+    (folder / "junk.AT2").write_text("PEER NGA STRONG MOTION DATABASE\njunk\n")
+    failed = run_workflow(inbox, shipped_stages(), jobs=1)
+    assert failed.exit_code == 1 and failed.new_failures == 1
+    outputs = inbox.parent / "stepframe-work" / "outputs"
+    assert not (outputs / "features.csv").exists()
+    assert _log(inbox)[-1]["new_failures"] == 1
+
+    shutil.move(inbox.parent / "archive" / path.name, folder / path.name)  # one comes back
+    again = _run(inbox)
+    features, failures = _outputs(inbox)
+    assert again.new_failures == 0
+    assert len(features) == 3 and features["present"].sum() == 1
+    junk = failures.set_index("item").loc["junk.AT2"]
+    assert (bool(junk["present"]), bool(junk["new"])) == (True, False)
+    assert junk["first_seen_utc"] == _log(inbox)[-2]["started_utc"] < junk["last_seen_utc"]

@@ -125,22 +125,64 @@ def item_outputs(
         (:func:`failures_first_seen`): a failure one of them saw is not new to this one.
     """
     table = context.tables[name]
-    failed = _current_failures(name, workflow, stages, context, store)
     if not workflow.history:
+        failed = _current_failures(name, workflow, stages, context, store)
         plain = table.drop(columns=[KEY_COLUMN])
         plain.attrs = dict(table.attrs)
         return ItemOutputs(plain, failures_table([f for _, _, f in failed]), None)
+    history = _seen_now(name, workflow, stages, context, store, table, now, prune, failures_seen)
+    return ItemOutputs(
+        _table_with_history(table, history, name, store),
+        _failures_with_history(history, now),
+        _new_failures(history, now),
+    )
+
+
+def history_without_output(
+    name: str,
+    workflow: Workflow,
+    stages: StageTable,
+    context: Context,
+    store: Store,
+    *,
+    now: str,
+    prune: bool,
+    failures_seen: dict[tuple[str, str], str] | None = None,
+) -> frozenset[tuple[str, str]]:
+    """The history of a per-item output this run could not produce (every file failed),
+    brought up to date with this run's failures, which it returns as :attr:`ItemOutputs.
+    new_failures`: they are new in this run, the one that found them (they were new in the
+    next run that produced the output, or never if the file left before it)."""
+    import pandas as pd
+
+    empty = pd.DataFrame(columns=[KEY_COLUMN])
+    history = _seen_now(name, workflow, stages, context, store, empty, now, prune, failures_seen)
+    return _new_failures(history, now)
+
+
+def _seen_now(
+    name: str,
+    workflow: Workflow,
+    stages: StageTable,
+    context: Context,
+    store: Store,
+    table: pd.DataFrame,
+    now: str,
+    prune: bool,
+    failures_seen: dict[tuple[str, str], str] | None,
+) -> pd.DataFrame:
+    """The output's history with this run's items (``table``) and failures, written."""
+    failed = _current_failures(name, workflow, stages, context, store)
     history = _updated(
         _read(store, name), name, context, table, failed, now, prune, failures_seen or {}
     )
     store.write_file(name, HISTORY_FILE, _parquet(history))
-    failures = _failures_with_history(history, now)
+    return history
+
+
+def _new_failures(history: pd.DataFrame, now: str) -> frozenset[tuple[str, str]]:
     new = history[(history["kind"] == "failure") & (history["first_seen_utc"] == now)]
-    return ItemOutputs(
-        _table_with_history(table, history, name, store),
-        failures,
-        frozenset(zip(map(str, new["stage"]), map(str, new[KEY_COLUMN]), strict=True)),
-    )
+    return frozenset(zip(map(str, new["stage"]), map(str, new[KEY_COLUMN]), strict=True))
 
 
 def _read(store: Store, name: str) -> pd.DataFrame:

@@ -52,7 +52,11 @@ from stepframe.pipeline.engine.chain import (
     group_name,
     groups,
 )
-from stepframe.pipeline.engine.history import failures_first_seen, item_outputs
+from stepframe.pipeline.engine.history import (
+    failures_first_seen,
+    history_without_output,
+    item_outputs,
+)
 from stepframe.pipeline.engine.integrity import StorageError, StoreEvent
 from stepframe.pipeline.engine.lock import workspace_lock
 from stepframe.pipeline.engine.plan import check_forced, plan_stages
@@ -636,6 +640,12 @@ def _publish_outputs(
         if summary.status != "ok":
             report.missing[name] = summary.message or summary.status
             _withdraw_earlier(store, name, folder, report)
+            if workflow.history and stage.kind == "item":  # its failures are seen now
+                new_failures |= history_without_output(
+                    name, workflow, stages, context, store,
+                    now=now, prune=prune, failures_seen=failures_seen,
+                )  # fmt: skip
+                report.new_failures = len(new_failures)
             continue
         folder.mkdir(parents=True, exist_ok=True)
         if stage.kind == "item":
