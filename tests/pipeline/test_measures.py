@@ -297,3 +297,43 @@ def test_the_inbox_keeps_what_it_saw_in_the_nightly_outputs(tmp_path: Path) -> N
     assert len(sets()) == 2 and not set(sets()) & set(first_sets)
     # RSN 8883 lost a component: its pair stays in the table, absent
     assert rotd50.set_index("record")["present"].to_dict() == {"RSN8883": False, "RSN953": True}
+
+
+def test_a_dry_run_after_a_run_with_a_failure_finds_the_report_cached(tmp_path: Path) -> None:
+    """The arrivals report's key names the items without a result; the dry run did not know
+    the tasks, so after any run with a failed file it said "arrivals_report 1 to compute"
+    where the run itself took the page from the store."""
+    (tmp_path / "inbox").mkdir()
+    for path in sorted(PEER.glob("*.AT2")):
+        shutil.copy(path, tmp_path / "inbox" / path.name)
+    (tmp_path / "inbox" / "bad.txt").write_text("garbage\n")
+    _run(tmp_path)
+    plan = run_workflow(tmp_path / "wf.toml", shipped_stages(), jobs=1, dry_run=True)
+    again = run_workflow(tmp_path / "wf.toml", shipped_stages(), jobs=1)
+    assert [(s.name, s.computed, s.cached) for s in plan.stages] == [
+        (s.name, s.computed, s.cached) for s in again.stages
+    ]
+    assert {s.name: s.computed for s in plan.stages} == dict.fromkeys(
+        ("inventory", "measures", "rotd50", "waveforms", "arrivals_report"), 0
+    )
+
+
+def test_the_arrivals_report_agrees_with_the_measures_of_a_forced_run(tmp_path: Path) -> None:
+    """--force measures measures every component again: their processed_utc is that run's.
+    Before, the page was taken from the store (its key names the measures' keys, unchanged)
+    and still showed the earlier run's two arrivals and two runs beside a measures table
+    whose every row had the forced run's time."""
+    (tmp_path / "inbox").mkdir()
+    for path in sorted(PEER.glob("*.AT2")):
+        shutil.copy(path, tmp_path / "inbox" / path.name)
+    _run(tmp_path)
+    write_example_files(tmp_path / "inbox", count=2)
+    _run(tmp_path)
+    report = run_workflow(tmp_path / "wf.toml", shipped_stages(), jobs=1, force=["measures"])
+    assert report.exit_code == 0
+    outputs = tmp_path / "stepframe-work" / "outputs"
+    measures = pd.read_parquet(outputs / "measures.parquet")
+    numbers = json.loads((outputs / "arrivals_report_files" / "numbers.json").read_text())
+    assert measures["processed_utc"].nunique() == 1
+    assert numbers["run_utc"] == measures["processed_utc"].iat[0]
+    assert (numbers["components"], numbers["runs"]) == (4, 1)

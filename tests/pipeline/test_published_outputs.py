@@ -12,6 +12,8 @@ from __future__ import annotations
 import shutil
 from pathlib import Path
 
+import pandas as pd
+
 from stepframe.pipeline.catalogue.example_files import write_example_files
 from stepframe.pipeline.engine.runner import run_workflow
 from stepframe.pipeline.stages import shipped_stages
@@ -148,3 +150,70 @@ def test_the_report_states_the_alpha_reading_its_site_used(tmp_path: Path) -> No
     assert json.loads(outputs["site_model.json"])["ground_motion_model"]["alpha_reading"] == "paper"
     page = outputs["amplification_report.html"].decode()
     assert "eq-6-11" not in page and "alpha_reading&#34;: &#34;paper&#34;" in page
+
+
+SITE_FROM_RECORDS = """\
+[records]
+folder = "records"
+
+[site]
+from = "records"
+
+[amplification]
+n_frequencies = 6
+n_steps = 400
+
+[outputs]
+features = true
+site = true
+amplification = true
+"""
+
+
+def test_an_output_a_rerun_cannot_produce_leaves_no_copy_of_an_earlier_run(
+    tmp_path: Path,
+) -> None:
+    """Records archived until none left fits plausibly: the site (and its curve) cannot be
+    made. Before, the earlier run's site_model.json and amplification.* stayed in the outputs
+    folder beside this run's features, as if this run had made them from the records now
+    there; now they are removed and named, and the folder is what a fresh workspace gives."""
+    scene = _scene(tmp_path / "scene", records=4)
+    first = _run(scene, SITE_FROM_RECORDS)
+    assert {"site_model.json", "amplification.nc"} <= set(first)
+
+    esm = Path(__file__).parents[1] / "data" / "formats" / "esm"
+    records = scene / "records"
+    for path in records.iterdir():
+        path.unlink()
+    shutil.copy(esm / "HI.ARS1..HNE.D.20190728.160908.C.ACC.ASC.gz", records)
+    report = run_workflow(scene / "wf.toml", shipped_stages(), jobs=1)
+    assert report.exit_code == 1 and sorted(report.missing) == ["amplification", "site"]
+    # why, as report amplification --records says it (the stage said only "(1 in the table)")
+    assert report.missing["site"] == (
+        "no component with fitted features passing the plausibility checks (1 in the table), "
+        "expected at least one for a site from records (HI.ARS1..HNE.D.20190728.160908.C.ACC."
+        "ASC.gz [HNE]: "
+        + pd.read_csv(scene / "stepframe-work" / "outputs" / "features.csv").at[
+            0, "implausible_reason"
+        ]
+        + ")"
+    )
+    assert "omega_not_decreasing" in report.missing["site"]
+    assert report.removed == {
+        "amplification": [
+            "amplification.columns.csv", "amplification.csv", "amplification.nc",
+            "amplification.parquet",
+        ],
+        "site": ["site_model.columns.csv", "site_model.csv", "site_model.json",
+                 "site_model.parquet"],
+    }  # fmt: skip
+    assert "output site removed (an earlier run's, not produced by this one)" in report.describe()
+    left = tree(scene / "stepframe-work" / "outputs")
+    assert sorted(left) == [
+        "features.columns.csv", "features.csv", "features.failures.csv", "features.parquet",
+    ]  # fmt: skip
+    fresh = _scene(tmp_path / "fresh")
+    shutil.copytree(records, fresh / "records")
+    write_workflow(fresh, SITE_FROM_RECORDS)
+    assert run_workflow(fresh / "wf.toml", shipped_stages(), jobs=1).exit_code == 1
+    assert left == tree(fresh / "stepframe-work" / "outputs")

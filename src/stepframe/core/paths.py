@@ -16,8 +16,8 @@ record files through :func:`walk_files`, so a folder is read the same way wherev
 - **Symbolic links** are followed (a linked sub-folder of records, a linked file), except into
   ``/proc``, ``/sys`` or ``/dev`` (a link to ``/proc/self/mem`` or ``/proc/kcore`` is skipped
   with one warning that counts them); each real folder is walked once (a link back up the tree,
-  a loop, or a folder linked twice is not entered again). A dangling link is listed, so that
-  reading it reports it.
+  a loop, or a folder linked twice is not entered again). A dangling link, or a loop of links,
+  is listed, so that reading it reports it.
 - **A glob** (:func:`check_glob`) is a relative pattern of names, matched against each file's
   path inside the folder as :meth:`pathlib.Path.rglob` matches (``*.AT2``, ``sub/*.AT2``,
   ``**/RSN*``; ``**`` only as a whole part): an absolute glob, one with a ``..`` part, one with
@@ -265,8 +265,8 @@ def _kind(entry: os.DirEntry[str], outside: list[str]) -> str | None:
                 return None
             try:
                 mode = os.stat(target).st_mode
-            except FileNotFoundError:
-                return "file"  # dangling: read() names it as a failure of the batch
+            except OSError:  # dangling, or a loop of links: read() names it as a failure
+                return "file"
             return "folder" if stat.S_ISDIR(mode) else "file" if stat.S_ISREG(mode) else None
         if entry.is_dir(follow_symlinks=False):
             return "folder"

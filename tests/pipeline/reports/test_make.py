@@ -42,6 +42,8 @@ def test_command_line_round_trips_through_the_shell() -> None:
             {"parameters": SITE | {"t_max_s": 5, "t_dur_s": 20}, "delta_star_m": 0.2},
             "--delta-star-m without --frame",
         ),
+        # before, accepted and read by nothing: the same report as without it
+        ({"parameters": TIMED, "peak_intensity_m_s2": 3.0}, "--peak-intensity-m-s2 without"),
     ],
 )
 def test_bad_inputs_fail_before_anything_is_written(

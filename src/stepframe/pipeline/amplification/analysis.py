@@ -164,8 +164,8 @@ class AmplificationAnalysis:
     seed: int = option(1, "Monte Carlo seed (default 1)", kind="int", valid=SEEDS)
     peak_intensity_m_s2: float | None = option(
         None,
-        "peak I_g [m/s²] of a frame-driven run (default: the records', else 1); matters only "
-        "for a frame",
+        "peak I_g [m/s²] of a frame-driven run (default: the records', else 1); only with a "
+        "frame (an error without)",
         kind="positive",
         metavar="I",
         valid=Range(0, 100, low_open=True),  # ten times the largest records' RMS

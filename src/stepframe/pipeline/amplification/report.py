@@ -864,6 +864,11 @@ def make_amplification_report(
     check_report_target(out_html)  # before the records are fitted and the curves computed
     if o.frame is None and o.delta_star_m is not None:
         raise InputError("--delta-star-m without --frame, expected --frame FRAME.toml with it")
+    if o.frame is None and o.peak_intensity_m_s2 is not None:  # as stochastic amplify's
+        raise InputError(
+            "--peak-intensity-m-s2 without --frame, expected --frame FRAME.toml with it (it "
+            "scales the frame-driven run; the response ratios do not depend on it)"
+        )
     portal = None
     if o.frame is not None:
         from stepframe.pipeline.amplification.frame_section import check_design_displacement

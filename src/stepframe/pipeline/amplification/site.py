@@ -202,6 +202,7 @@ def site_from_features(
             "no component with fitted features"
             + " passing the plausibility checks" * plausible_only
             + f" ({len(features)} in the table), expected at least one for a site from records"
+            + implausible_detail(features)
         )
     values: dict[str, float] = {}
     stderr: dict[str, float] = {}
@@ -227,6 +228,31 @@ def site_from_features(
     }
     site = SiteModel(model, values["max_intensity_m_s2"], source, stderr)
     return CombinedSite(site, stderr, used)
+
+
+#: Components whose reasons an error names (the rest counted): a workflow's catalogue may hold
+#: thousands, and the message is one line of its summary and run log.
+MAX_REASONS = 10
+
+
+def implausible_detail(features: pd.DataFrame) -> str:
+    """Why each component of ``features`` that fails the plausibility checks fails them, as the
+    tail of a one-line error (" (FILE [COMPONENT]: reason; ...)"), or "" for none: the same
+    words for ``report amplification --records`` and a workflow's ``site`` stage (which said
+    only "(3 in the table)")."""
+    if "plausible" not in features or "implausible_reason" not in features:
+        return ""
+    flagged = features[~features["plausible"].astype(bool)]
+    reasons = [
+        f"{file} [{component}]: {reason}"
+        for file, component, reason in zip(
+            flagged["file"], flagged["component"], flagged["implausible_reason"], strict=True
+        )
+    ]
+    if len(reasons) > MAX_REASONS:
+        more = len(reasons) - MAX_REASONS
+        reasons = [*reasons[:MAX_REASONS], f"and {more} more (the features table says why)"]
+    return f" ({'; '.join(reasons)})" if reasons else ""
 
 
 @dataclass(frozen=True)
@@ -340,11 +366,9 @@ def site_from_records(
             alpha_reading=opts.alpha_reading,
             name=root.name,
         )
-    except InputError as error:
-        reasons = [f"{row.file} [{row.component}]: {row.implausible_reason}"
-                   for row in table.itertuples() if not row.plausible]  # fmt: skip
-        reasons += [f"{row.item}: {row.message}" for row in failures.itertuples()]
-        detail = f" ({'; '.join(reasons)})" if reasons else ""
+    except InputError as error:  # the fits' reasons are in it; the files that gave none too
+        reasons = [f"{row.item}: {row.message}" for row in failures.itertuples()]
+        detail = f" (not fitted: {'; '.join(reasons)})" if reasons else ""
         raise InputError(f"{error.what}{detail}", root) from None
     return SiteFromRecords(combined, table, failures, root, opts, read_options)
 

@@ -88,6 +88,14 @@ def _key(context: Context) -> str:
         for name in _upstream(context.workflow)
         for key in sorted(map(str, context.tables[name]["_key"]))
     ]
+    # and when each was measured: the page shows the rows of the latest run that measured
+    # something, which a run recomputing them (--force measures) changes without a new key
+    for name in ("measures", "rotd50"):
+        table = context.tables.get(name)
+        if table is not None and "processed_utc" in table:
+            keys += sorted(
+                f"{k}@{t}" for k, t in zip(table["_key"], table["processed_utc"], strict=True)
+            )
     keys += sorted(f"{stage}:{item}" for stage, item in without_result(context))
     params = {"measures": vars(measure_options(context.workflow)), "name": context.workflow.name}
     return make_key("arrivals_report", ARRIVALS_VERSION, params, *keys)

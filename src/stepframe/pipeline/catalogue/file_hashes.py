@@ -88,11 +88,36 @@ def file_hashes(
     list of str
         One hash per path, in order.
     """
+    hashes = readable_hashes(paths, cache, update=update, threads=threads, executor=executor)
+    for sha in hashes:
+        if isinstance(sha, OSError):
+            raise sha
+    return [str(sha) for sha in hashes]
+
+
+def readable_hashes(
+    paths: Sequence[Path],
+    cache: Path | None = None,
+    *,
+    update: bool = False,
+    threads: int = 1,
+    executor: Executor | None = None,
+) -> list[str | OSError]:
+    """:func:`file_hashes`, with the error of each file that could not be read (no permission,
+    gone since it was listed) in its place instead of raised: one such file of an inbox is a
+    failed item of the run, not the end of the run. Such a file is never remembered."""
     known = _read_cache(cache) if cache is not None else {}
     names = [absolute_name(path) for path in paths]
-    identities = [_identity(os.stat(path)) for path in paths]
-    hashes: list[str | None] = []
-    for name, identity in zip(names, identities, strict=True):
+    identities: list[Identity | None] = []
+    hashes: list[str | OSError | None] = []
+    for name, path in zip(names, paths, strict=True):
+        try:
+            identity: Identity | None = _identity(os.stat(path))
+        except OSError as error:  # gone since the folder was listed
+            identities.append(None)
+            hashes.append(error)
+            continue
+        identities.append(identity)
         entry = known.get(name)
         hashes.append(entry[1] if entry is not None and entry[0] == identity else None)
     missing = [i for i, sha in enumerate(hashes) if sha is None]
@@ -101,35 +126,42 @@ def file_hashes(
     fresh = _hashed([Path(names[i]) for i in missing], threads, executor)
     for i, sha in zip(missing, fresh, strict=True):
         hashes[i] = sha
-    result = [str(sha) for sha in hashes]
+    result = [sha for sha in hashes if sha is not None]
     if update and cache is not None and (missing or len(known) != len(names)):
-        _write_cache(cache, names, identities, result, started_ns - int(RACY_S * 1e9))
+        readable = [i for i, sha in enumerate(result) if isinstance(sha, str)]
+        _write_cache(
+            cache,
+            [names[i] for i in readable],
+            [identity for i in readable if (identity := identities[i]) is not None],
+            [str(result[i]) for i in readable],
+            started_ns - int(RACY_S * 1e9),
+        )
     return result
 
 
-def _hashed(paths: list[Path], threads: int, executor: Executor | None) -> list[str]:
-    """The sha256 of each file, on the executor's workers or in threads of this process.
-
-    Raises
-    ------
-    OSError
-        A file could not be read (the same error wherever it was hashed).
-    """
+def _hashed(paths: list[Path], threads: int, executor: Executor | None) -> list[str | OSError]:
+    """The sha256 of each file, on the executor's workers or in threads of this process; a
+    file that could not be read gives its OSError (the same error wherever it was hashed)."""
     if executor is None:
         with ThreadPoolExecutor(max_workers=max(1, threads)) as pool:
-            return list(pool.map(file_sha256, paths))
+            return list(pool.map(_sha256_or_oserror, paths))
     from stepframe.core.execution import map_items
 
     outcome = map_items(_sha256_or_error, paths, executor=executor, stage="inventory")
     if outcome.failures:  # not an OSError (those come back as values): a worker failed
         first = outcome.failures[0]
         raise RuntimeError(f"hashing {first.item}: {first.error_type}: {first.message}")
-    hashes = []
+    hashes: list[str | OSError] = []
     for path, sha in zip(paths, outcome.results, strict=True):
-        if isinstance(sha, tuple):
-            raise OSError(sha[0], sha[1], str(path))
-        hashes.append(sha)
+        hashes.append(OSError(sha[0], sha[1], str(path)) if isinstance(sha, tuple) else sha)
     return hashes
+
+
+def _sha256_or_oserror(path: Path) -> str | OSError:
+    try:
+        return file_sha256(path)
+    except OSError as error:
+        return error
 
 
 def _sha256_or_error(path: Path) -> str | tuple[int, str]:

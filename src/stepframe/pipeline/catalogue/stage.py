@@ -77,6 +77,9 @@ def record_folder(context: Context) -> Path:
     return workflow.records.folder
 
 
+#: What stands for the content of a file that could not be read, in its key and payload.
+UNREADABLE = "unreadable"
+
 #: Key of the records' (path, sha256) list the inventory's prepare step keeps for its tasks.
 _CONTENTS = "inventory.record_contents"
 
@@ -94,9 +97,10 @@ def _prepare_inventory(context: Context) -> None:
         context.memo[_CONTENTS] = _record_contents(context, update=True)
 
 
-def _record_contents(context: Context, *, update: bool = False) -> list[tuple[Path, str]]:
-    """Each record file with the sha256 of its bytes (the example's hashed in memory); the
-    folder listing's warnings are given by the first such call of a run."""
+def _record_contents(context: Context, *, update: bool = False) -> list[tuple[Path, str | OSError]]:
+    """Each record file with the sha256 of its bytes (the example's hashed in memory), or the
+    error that kept it from being read (no permission, gone since the listing); the folder
+    listing's warnings are given by the first such call of a run."""
     workflow = context.workflow
     assert workflow.records is not None
     if workflow.records.example is not None:
@@ -107,11 +111,11 @@ def _record_contents(context: Context, *, update: bool = False) -> list[tuple[Pa
         folder = record_folder(context)
         return [(folder / name, hashlib.sha256(data).hexdigest()) for name, data in example_files()]
     from stepframe.core.execution import default_jobs
-    from stepframe.pipeline.catalogue.file_hashes import CACHE_NAME, file_hashes
+    from stepframe.pipeline.catalogue.file_hashes import CACHE_NAME, readable_hashes
 
     paths = workflow.record_files()
     threads = context.jobs or default_jobs()
-    hashes = file_hashes(
+    hashes = readable_hashes(
         paths,
         workflow.workspace / CACHE_NAME,
         update=update,
@@ -123,17 +127,32 @@ def _record_contents(context: Context, *, update: bool = False) -> list[tuple[Pa
 
 def _inventory_tasks(context: Context) -> list[Task]:
     """One task per distinct content: files with the same bytes are one item, named by the first
-    (in sorted order) with the others in its ``duplicates`` column and the run's summary."""
+    (in sorted order) with the others in its ``duplicates`` column and the run's summary. A file
+    that could not be read is an item of its own, keyed by its name (it has no content to key
+    it by), whose reading fails with the reason: a failure of the run, listed, never the end
+    of it; once readable it is keyed by its content as any other."""
     folder = record_folder(context)
     options = _record_options(context)
     names: dict[str, list[Path]] = {}
     contents = context.memo.pop(_CONTENTS, None)
     if contents is None:  # a dry run (no prepare), or the embedded example
         contents = _record_contents(context)
-    for path, sha in contents:
-        names.setdefault(sha, []).append(path)
     tasks = []
+    unreadable = []
     prefix = KeyPrefix("inventory", INVENTORY_VERSION, options)
+    for path, sha in contents:
+        if isinstance(sha, str):
+            names.setdefault(sha, []).append(path)
+            continue
+        name = relative_name(path, folder)
+        unreadable.append(
+            Task(
+                key=prefix.key(UNREADABLE, name),
+                name=name,
+                payload=(absolute_name(path), options, name, UNREADABLE),
+                context={"file": name, "duplicates": "", "content_sha256": ""},
+            )
+        )
     for sha, paths in names.items():
         key = prefix.key(sha)
         first, *others = [relative_name(path, folder) for path in paths]
@@ -151,6 +170,8 @@ def _inventory_tasks(context: Context) -> list[Task]:
                 aliases=tuple(others),
             )
         )
+    if unreadable:  # in the listing's order, as the others
+        tasks = sorted([*tasks, *unreadable], key=lambda task: task.name)
     return tasks
 
 
@@ -183,6 +204,16 @@ def read_components(payload: tuple[str, dict[str, Any], str, str]) -> list[dict[
     import numpy as np
 
     path, options, name, sha = payload
+    if sha == UNREADABLE:  # not read when hashed: its reason, as a read gives it now
+        try:
+            with open(path, "rb"):
+                pass
+        except OSError as error:
+            reason = error.strerror or type(error).__name__
+            raise ItemFailure(
+                f"read: {name}: cannot read ({reason}), expected a file this run can read"
+            ) from None
+        raise ItemFailure(f"read: {name}: could not be read when listed, expected at the next run")
     try:
         stream = read_record(path, options, sha)
     except Exception as error:  # a reader may raise anything on a foreign file: recorded

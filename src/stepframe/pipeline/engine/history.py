@@ -46,12 +46,32 @@ NEW_COLUMN = ("new", "first found by this run")
 
 @dataclass(frozen=True)
 class ItemOutputs:
-    """What a per-item stage publishes: its table, its failures table, and how many failures
-    this run found first (None without a history)."""
+    """What a per-item stage publishes: its table, its failures table, and the failures this
+    run found first, each as (stage, key) (None without a history)."""
 
     table: pd.DataFrame
     failures: pd.DataFrame
-    new_failures: int | None
+    new_failures: frozenset[tuple[str, str]] | None
+
+
+def failures_first_seen(store: Store, names: list[str]) -> dict[tuple[str, str], str]:
+    """When each failure, as (stage, key), was first seen by any of the outputs ``names``.
+
+    A file that cannot be read is a failure of the inventory in the failures table of every
+    output computed from it, and each output keeps its own history: a failure is new to a run
+    only if no output saw it before (else one damaged file counted as 3 new failures with
+    ``features``, ``measures`` and ``rotd50``, and an output turned on later marked every old
+    failure new again)."""
+    seen: dict[tuple[str, str], str] = {}
+    for name in names:
+        history = _read(store, name)
+        failed = history[history["kind"] == "failure"]
+        for key, stage, first in zip(
+            failed[KEY_COLUMN], failed["stage"], failed["first_seen_utc"], strict=True
+        ):
+            identity = (str(stage), str(key))
+            seen[identity] = min(seen.get(identity, str(first)), str(first))
+    return seen
 
 
 def item_stages(name: str, workflow: Workflow, stages: StageTable) -> list[str]:
@@ -90,6 +110,7 @@ def item_outputs(
     *,
     now: str,
     prune: bool,
+    failures_seen: dict[tuple[str, str], str] | None = None,
 ) -> ItemOutputs:
     """The table and failures table of the per-item stage ``name`` (see the module docstring).
 
@@ -99,21 +120,69 @@ def item_outputs(
         The run's start (UTC, ISO 8601): its seen time.
     prune
         Drop from the history the items and failures this run did not find.
+    failures_seen
+        When the outputs published with this one first saw each failure
+        (:func:`failures_first_seen`): a failure one of them saw is not new to this one.
     """
     table = context.tables[name]
-    failed = _current_failures(name, workflow, stages, context, store)
     if not workflow.history:
+        failed = _current_failures(name, workflow, stages, context, store)
         plain = table.drop(columns=[KEY_COLUMN])
         plain.attrs = dict(table.attrs)
         return ItemOutputs(plain, failures_table([f for _, _, f in failed]), None)
-    history = _updated(_read(store, name), name, context, table, failed, now, prune)
-    store.write_file(name, HISTORY_FILE, _parquet(history))
-    failures = _failures_with_history(history, now)
+    history = _seen_now(name, workflow, stages, context, store, table, now, prune, failures_seen)
     return ItemOutputs(
         _table_with_history(table, history, name, store),
-        failures,
-        int(failures["new"].sum()),
+        _failures_with_history(history, now),
+        _new_failures(history, now),
     )
+
+
+def history_without_output(
+    name: str,
+    workflow: Workflow,
+    stages: StageTable,
+    context: Context,
+    store: Store,
+    *,
+    now: str,
+    prune: bool,
+    failures_seen: dict[tuple[str, str], str] | None = None,
+) -> frozenset[tuple[str, str]]:
+    """The history of a per-item output this run could not produce (every file failed),
+    brought up to date with this run's failures, which it returns as :attr:`ItemOutputs.
+    new_failures`: they are new in this run, the one that found them (they were new in the
+    next run that produced the output, or never if the file left before it)."""
+    import pandas as pd
+
+    empty = pd.DataFrame(columns=[KEY_COLUMN])
+    history = _seen_now(name, workflow, stages, context, store, empty, now, prune, failures_seen)
+    return _new_failures(history, now)
+
+
+def _seen_now(
+    name: str,
+    workflow: Workflow,
+    stages: StageTable,
+    context: Context,
+    store: Store,
+    table: pd.DataFrame,
+    now: str,
+    prune: bool,
+    failures_seen: dict[tuple[str, str], str] | None,
+) -> pd.DataFrame:
+    """The output's history with this run's items (``table``) and failures, written."""
+    failed = _current_failures(name, workflow, stages, context, store)
+    history = _updated(
+        _read(store, name), name, context, table, failed, now, prune, failures_seen or {}
+    )
+    store.write_file(name, HISTORY_FILE, _parquet(history))
+    return history
+
+
+def _new_failures(history: pd.DataFrame, now: str) -> frozenset[tuple[str, str]]:
+    new = history[(history["kind"] == "failure") & (history["first_seen_utc"] == now)]
+    return frozenset(zip(map(str, new["stage"]), map(str, new[KEY_COLUMN]), strict=True))
 
 
 def _read(store: Store, name: str) -> pd.DataFrame:
@@ -139,8 +208,10 @@ def _updated(
     failed: list[tuple[str, str, Failure]],
     now: str,
     prune: bool,
+    failures_seen: dict[tuple[str, str], str],
 ) -> pd.DataFrame:
-    """The history with this run's items and failures seen ``now``."""
+    """The history with this run's items and failures seen ``now`` (a failure another output
+    saw first keeps its first time)."""
     import pandas as pd
 
     with_rows = set(table[KEY_COLUMN])
@@ -165,7 +236,11 @@ def _updated(
     identity = [KEY_COLUMN, "stage", "kind"]
     first_seen = history.set_index(identity)["first_seen_utc"].to_dict()
     now_table["first_seen_utc"] = [
-        first_seen.get(tuple(row), now) for row in now_table[identity].itertuples(index=False)
+        first_seen.get(
+            (key, stage, kind),
+            failures_seen.get((stage, key), now) if kind == "failure" else now,
+        )
+        for key, stage, kind in now_table[identity].itertuples(index=False)
     ]
     now_table["last_seen_utc"] = now
     if prune or history.empty:

@@ -52,7 +52,11 @@ from stepframe.pipeline.engine.chain import (
     group_name,
     groups,
 )
-from stepframe.pipeline.engine.history import item_outputs
+from stepframe.pipeline.engine.history import (
+    failures_first_seen,
+    history_without_output,
+    item_outputs,
+)
 from stepframe.pipeline.engine.integrity import StorageError, StoreEvent
 from stepframe.pipeline.engine.lock import workspace_lock
 from stepframe.pipeline.engine.plan import check_forced, plan_stages
@@ -136,8 +140,9 @@ class RunReport:
     store_events: list[StoreEvent] = field(default_factory=list)
     #: Failures this run found first (with ``[outputs] history``; else None).
     new_failures: int | None = None
-    #: Per output the workflow no longer asks for, what of it this run removed from the outputs
-    #: folder (names in it).
+    #: Per output the workflow no longer asks for, or that this run could not produce (then also
+    #: in :attr:`missing`), what an earlier run published of it that this run removed from the
+    #: outputs folder (names in it).
     removed: dict[str, list[str]] = field(default_factory=dict)
 
     @property
@@ -185,7 +190,10 @@ class RunReport:
         for name, reason in self.missing.items():
             lines.append(f"output {name} NOT produced: {reason}")
         for name, entries in self.removed.items():
-            lines.append(f"output {name} removed (no longer asked for): {', '.join(entries)}")
+            why = "no longer asked for"
+            if name in self.missing:
+                why = "an earlier run's, not produced by this one"
+            lines.append(f"output {name} removed ({why}): {', '.join(entries)}")
         return "\n".join(lines)
 
     def to_dict(self) -> dict[str, Any]:
@@ -618,6 +626,9 @@ def _publish_outputs(
     prune: bool,
 ) -> None:
     folder = workflow.outputs_folder
+    with_history = [n for n in workflow.outputs if workflow.history and stages[n].kind == "item"]
+    failures_seen = failures_first_seen(store, with_history)
+    new_failures: set[tuple[str, str]] = set()
     for name in stages:
         if name not in workflow.outputs:  # an output turned off leaves nothing behind
             removed = withdraw_published(store, name, folder)
@@ -628,24 +639,45 @@ def _publish_outputs(
         summary = next(s for s in report.stages if s.name == name)
         if summary.status != "ok":
             report.missing[name] = summary.message or summary.status
+            _withdraw_earlier(store, name, folder, report)
+            if workflow.history and stage.kind == "item":  # its failures are seen now
+                new_failures |= history_without_output(
+                    name, workflow, stages, context, store,
+                    now=now, prune=prune, failures_seen=failures_seen,
+                )  # fmt: skip
+                report.new_failures = len(new_failures)
             continue
         folder.mkdir(parents=True, exist_ok=True)
         if stage.kind == "item":
-            made = item_outputs(name, workflow, stages, context, store, now=now, prune=prune)
+            made = item_outputs(
+                name, workflow, stages, context, store,
+                now=now, prune=prune, failures_seen=failures_seen,
+            )  # fmt: skip
             paths = publish_output_table(made.table, folder / f"{name}.parquet", store, name)
             failures_file = failures_path(folder / f"{name}.csv")
             _write_csv(made.failures, failures_file)
             paths.append(failures_file)
-            if made.new_failures is not None:
-                report.new_failures = (report.new_failures or 0) + made.new_failures
+            if made.new_failures is not None:  # each failure once, whatever outputs list it
+                new_failures |= made.new_failures
+                report.new_failures = len(new_failures)
         else:
             assert stage.publish is not None
             paths, problem = publish_set(stage.publish, folder, store, name, context.set_keys[name])
             if problem:  # never a damaged copy published as complete
                 report.missing[name] = problem
+                _withdraw_earlier(store, name, folder, report)
                 continue
         remember_published(store, name, folder, paths)
         report.outputs[name] = [str(p) for p in paths]
+
+
+def _withdraw_earlier(store: Store, name: str, folder: Path, report: RunReport) -> None:
+    """An output this run could not produce: what an earlier run published of it is removed
+    (a site model and report of 8 records stayed beside the features of the 3 left, which gave
+    no site, as if they were this run's), and named in the summary."""
+    removed = withdraw_published(store, name, folder)
+    if removed:
+        report.removed[name] = removed
 
 
 def _write_csv(table: pd.DataFrame, path: Path) -> None:
@@ -677,6 +709,7 @@ def _dry_run(
         elif stage.kind == "item":
             assert stage.tasks is not None
             tasks = merge_same_key(stage.tasks(context))
+            context.item_tasks[name] = tasks  # as a run's: a whole-set key may name them
             report.duplicates += alias_lines(name, tasks)
             index = store.index(name)
             todo = [
