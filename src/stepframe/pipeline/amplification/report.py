@@ -605,10 +605,12 @@ def _site_statement(
     }
     if isinstance(site, SiteFromRecords):
         used = site.combined.site.source["n_components"]
-        source = f"{len(site.features)} record components, {used} used"
+        count = len(site.features)
+        source = f"{count} record component{'s' * (count != 1)}, {used} used"
         numbers["site_statistic"] = site.combined.site.source["statistic"]
     elif isinstance(site, SiteModel) and site.stderr:
-        source = f"the workflow's records, {site.source.get('n_components', 0)} components used"
+        used = site.source.get("n_components", 0)
+        source = f"the workflow's records, {used} component{'s' * (used != 1)} used"
         numbers["site_statistic"] = site.source.get("statistic")
     else:
         source = "given parameters"
