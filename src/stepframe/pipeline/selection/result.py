@@ -394,6 +394,27 @@ class SelectionResult:
 SPECTRA_FILE = "spectra.csv"
 
 
+def written_lines(folder: Path, label: str = "outputs") -> list[str]:
+    """The lines naming what a selection's output folder holds, read from the folder.
+
+    ``label`` starts the first line (``select`` says ``outputs``, the demo ``tables``); the
+    files are those :meth:`SelectionResult.write` writes, in its order, each named only when
+    it is there (``spectra.csv`` and ``motions/`` come only with a run that has them), so
+    the text names what the run wrote and nothing else.
+    """
+    from stepframe.pipeline.selection.export import MANIFEST_FILE, MOTIONS_FOLDER
+
+    names = [*TABLE_FILES.values(), COLUMNS_FILE, SPECTRA_FILE, SUMMARY_FILE]
+    present = [name for name in names if (folder / name).is_file()]
+    lines = [f"{label}: {folder}/ ({', '.join(present)})"]
+    if (folder / MOTIONS_FOLDER / MANIFEST_FILE).is_file():
+        lines.append(
+            f"the chosen motions, scaled: {folder / MOTIONS_FOLDER}/ ({MANIFEST_FILE}, "
+            "one AT2 and one one-column text file per component)"
+        )
+    return lines
+
+
 def _framed(name: str, columns: dict[str, tuple[str, str]]) -> Any:
     table = column_dictionary(columns)
     table.insert(0, "table", name)
