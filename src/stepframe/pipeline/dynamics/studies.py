@@ -496,7 +496,8 @@ class IdaOptions:
     )
     resolution_g: float = option(
         0.01,
-        "width of each traced outcome change [g] (default 0.01)",
+        "width of each traced outcome change [g of PGA] (default 0.01; with --pulse, in units "
+        "of the static uplift acceleration γ₁/P₂)",
         kind="positive",
         metavar="D",
         valid=Range(0, 10, low_open=True),
