@@ -96,7 +96,7 @@ def test_tabulated_spectrum_uses_search(tmp_path: Path, capsys: pytest.CaptureFi
     ("extra", "message"),
     [
         (["--height-m", "-3"], "--height-m -3.0, expected in (0, 300]"),
-        (["--xi", "0.1"], "expected exactly one of beta, xi or c_r"),
+        (["--xi", "0.1"], "--beta, --xi given, expected exactly one of --beta, --xi or --c-r"),
         (["--plot", "out.txt"], "expected .png, .pdf or .svg"),
         (["--template"], "--template with --weight-super-n, --weight-col-n"),
     ],
@@ -113,6 +113,24 @@ def test_bad_input_is_one_line_exit_2(
     lines = captured.err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("stepframe: error: ")
     assert message in lines[0]
+
+
+def test_two_damping_options_are_named_as_options(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--c-r and --beta over a file whose [damping] has beta only: the error blamed the file
+    ('pier.toml [damping]: ... found ['beta', 'c_r']'), which holds one of them."""
+    path = tmp_path / "pier.toml"
+    assert main(["structure", "design", "--template"]) == 0
+    path.write_text(capsys.readouterr().out)
+    assert main(["structure", "design", "--input", str(path), "--c-r", "0.9", "--beta", "0.8"]) == 2
+    assert capsys.readouterr().err == (
+        "stepframe: error: --beta, --c-r given, expected exactly one of --beta, --xi or --c-r "
+        "(it replaces the whole [damping] of the input)\n"
+    )
+    # one of them replaces the file's [damping] (beta = 1.0 in the template): β from C_r
+    data = run_json(["structure", "design", "--input", str(path), "--c-r", "0.9"], capsys)
+    assert data["inputs"]["xi"] == pytest.approx(0.48 * (1 - 0.9**2))  # eq. 4.17
 
 
 def test_unknown_toml_key_names_file_and_key(

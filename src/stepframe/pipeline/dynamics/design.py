@@ -282,6 +282,12 @@ def merged_design_input(
                 base.pop(twin, None)
         data["spectrum"] = base | spectrum
     damping = {k: v for k, v in given.items() if k in DAMPING_KEYS}
+    if len(damping) > 1:  # named as given, not as a file's [damping] they never were in
+        flags = ", ".join("--" + key.replace("_", "-") for key in damping)
+        raise InputError(
+            f"{flags} given, expected exactly one of --beta, --xi or --c-r (it replaces the "
+            "whole [damping] of the input)"
+        )
     if damping:
         data["damping"] = damping
     if damping_method is not None:
