@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import tomllib
 from pathlib import Path
 
@@ -197,3 +198,19 @@ def test_help_shows_worked_example(capsys: pytest.CaptureFixture[str]) -> None:
 def test_pier_and_map_options_together_is_an_error(capsys: pytest.CaptureFixture[str]) -> None:
     assert main([*EXAMPLE_2, "--w-per-m", "0.1", "--lambda-2-sqrt-m", "0.3"]) == 2
     assert "expected one" in capsys.readouterr().err
+
+
+def test_an_iteration_that_does_not_converge_says_it_once(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """The help's Table 1 example stops at --max-iterations 19: its line read 'no convergence
+    in 19 iterations after 19 steps'; a converged one still counts its steps."""
+    table_1 = ["structure", "design", "--w-per-m", "0.136737", "--lambda-2-sqrt-m", "0.381964",
+               "--sds-g", "1.038", "--sd1-g", "0.456", "--beta", "0.8", "--delta0-m", "0.00254",
+               "--branch", "long"]  # fmt: skip
+    assert main([*table_1, "--max-iterations", "19"]) == 0
+    (line,) = [x for x in capsys.readouterr().out.splitlines() if x.startswith("iteration from")]
+    assert line.startswith("iteration from delta0 = 0.00254 m: no convergence in 19 iterations, ")
+    assert main(table_1) == 0
+    (line,) = [x for x in capsys.readouterr().out.splitlines() if x.startswith("iteration from")]
+    assert re.match(r"iteration from delta0 = 0\.00254 m: converged after \d+ steps, ", line)

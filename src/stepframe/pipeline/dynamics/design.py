@@ -497,10 +497,11 @@ def _describe(run: DesignRun, trace_rows: bool) -> str:
                     f"{row.period_s:10.6f}  {row.branch}"
                 )
         lines.extend(f"  note: {note}" for note in trace.notes)
+        # "no convergence in 19 iterations" counts its steps already
+        steps = "" if trace.status == "not_converged" else f" after {len(trace.rows) - 1} steps"
         lines.append(
-            f"iteration from delta0 = {first.delta_m:.6g} m: {trace.message} after "
-            f"{len(trace.rows) - 1} steps, delta = {trace.delta_m:.6g} m, "
-            f"T = {trace.period_s:.6g} s"
+            f"iteration from delta0 = {first.delta_m:.6g} m: {trace.message}{steps}, "
+            f"delta = {trace.delta_m:.6g} m, T = {trace.period_s:.6g} s"
         )
     if design.delta_m is None:
         lines.append(f"design ({design.method}): {design.message}")
