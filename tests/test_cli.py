@@ -210,6 +210,13 @@ def test_demo_summary_text(demo_run: tuple[dict[str, object], Path]) -> None:
     assert [s.computed for s in again.run.stages] == [0, 0, 0, 0, 0]
     lines = again.describe().splitlines()
     assert lines[0].startswith("band: 0.654 to 6.46 rad/s (T 0.973 to 9.61 s); 100 candidates")
+    # the tables line names every file of the run's selection folder, motions/ on a line of its own
+    (tables,) = [line for line in lines if line.startswith("tables: ")]
+    written = sorted(p.name for p in (out / "selection").iterdir() if p.is_file())
+    assert sorted(tables.partition(" (")[2].rstrip(")").split(", ")) == written
+    assert "spectra.csv" in written and (out / "selection" / "motions" / "manifest.csv").is_file()
+    motions = f"the chosen motions, scaled: {out / 'selection' / 'motions'}/ (manifest.csv, "
+    assert lines[lines.index(tables) + 1].startswith(motions)
     assert sum(1 for line in lines if line.startswith("  ") and ". RSN" in line) == 10
     # The confirmation names its intensity (here the ranking's own), then ρ and the medians.
     start = lines.index(

@@ -152,6 +152,22 @@ def test_copy_into_a_file_is_refused(tmp_path: Path, capsys: pytest.CaptureFixtu
     assert sorted(tmp_path.iterdir()) == [blocker]
 
 
+def test_copy_with_an_option_of_a_run_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--copy runs nothing: 'stepframe run site-amplification --copy DIR --dry-run' copied and
+    dropped --dry-run (and any other option of a run) without a word."""
+    target = tmp_path / "copy"
+    assert main(["run", "site-amplification", "--copy", str(target), "--dry-run"]) == 2
+    assert _one_line(capsys) == (
+        "stepframe: error: --copy with --dry-run, expected --copy alone (it copies the workflow "
+        "and runs nothing: run the copy with them)"
+    )
+    assert main(["run", "inbox", "--copy", str(target), "--jobs", "2", "--force", "features"]) == 2
+    assert "--copy with --jobs, --force, expected --copy alone" in _one_line(capsys)
+    assert not target.exists()
+
+
 def test_a_shipped_run_writes_in_the_current_folder(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:

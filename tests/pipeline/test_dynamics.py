@@ -73,6 +73,33 @@ def test_frame_or_block_is_housners_block_and_refuses_three_numbers() -> None:
         frame_or_block(None, [0.25, 1.0, 2.0])
 
 
+def test_bifurcation_text_says_which_values_it_shows() -> None:
+    """200 values printed 20 rows (one in 10, not the last) under a header saying '200 values':
+    the header now says which are shown, and the last value is among them."""
+    import xarray as xr
+
+    from stepframe.pipeline.dynamics.studies import BifurcationSweep
+
+    values = np.linspace(0.05, 0.5, 200)
+    points = [
+        {"amplitude_g": v, "overturned_fraction": 0.5, "stopped": 0, "periods_found": [1]}
+        for v in values
+    ]
+    sweep = BifurcationSweep("amplitude_g", 7.854, None, values, 50, 100, xr.Dataset(), points)
+    lines = sweep.describe().splitlines()
+    assert lines[0] == (
+        "200 values × 50 initial states × 100 periods at ω = 7.854 rad/s "
+        "(one value in 10 shown, and the last; --json or --plot: all)"
+    )
+    shown = [float(line.split()[0]) for line in lines[1:]]
+    assert shown == pytest.approx([*values[::10], 0.5], rel=5e-4)
+    few = BifurcationSweep(
+        "amplitude_g", 7.854, None, values[:3], 50, 100, xr.Dataset(), points[:3]
+    )
+    assert few.describe().splitlines()[0].endswith("at ω = 7.854 rad/s")
+    assert len(few.describe().splitlines()) == 4
+
+
 def test_bifurcation_points_recount_the_dataset() -> None:
     block = frame_or_block(None, BLOCK)
     options = BifurcationOptions(16.0, (0.1, 0.3, 3), initial=4, periods=30, jobs=1)

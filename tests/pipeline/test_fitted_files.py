@@ -30,6 +30,9 @@ def test_fit_file_equals_the_fit_and_its_netcdf_reads_back(data_dir: Path, tmp_p
         dataset["omega_g_fit"].values, record.fitted.model.omega_g(record.features.time_s)
     )
     assert dataset.attrs["spectrum_method"] == "stft"
+    # the text says where the NetCDF went, as a figure's "plot written to" does
+    assert fitted.describe() == f"{record.describe()}\nPSD and features written to {out}"
+    assert fit_file(stream, FitOptions(), file=str(path)).describe() == record.describe()
     with pytest.raises(InputError, match="output folder does not exist"):
         fit_file(stream, FitOptions(), file="x", out=tmp_path / "missing" / "x.nc")
 

@@ -117,6 +117,18 @@ def test_missing_dt(tmp_path: Path) -> None:
     assert ":4:" in message and "no DT" in message
 
 
+def test_missing_dt_is_named_without_format(tmp_path: Path) -> None:
+    """A PEER file whose NPTS line lost its DT is sniffed as AT2 and refused by line and cause
+    (docs/reading-records.md), not "format not recognised" as it was when the format was sniffed."""
+    lines = H1.read_text().splitlines()
+    path = _rewrite(tmp_path, [*lines[:3], "NPTS=  16396,"])
+    with pytest.raises(FormatError) as info:
+        read(path)
+    assert str(info.value) == (
+        f"{path}:4: NPTS line 'NPTS=  16396,' has no DT, expected 'NPTS= n, DT= dt SEC'"
+    )
+
+
 def test_non_numeric_dt(tmp_path: Path) -> None:
     lines = H1.read_text().splitlines()
     message = _error(_rewrite(tmp_path, [*lines[:3], "NPTS=  16396, DT=   0.0x5 SEC"]))

@@ -335,3 +335,14 @@ def test_units_help_lists_every_accepted_unit(capsys: pytest.CaptureFixture[str]
     text = " ".join(capsys.readouterr().out.split())
     assert "does not say: g, m/s2, cm/s2 (= gal), mm/s2, nm/s2" in text
     assert all(unit in text for unit in ACCELERATION_UNITS_TO_M_S2)
+
+
+def test_info_text_of_a_record_without_a_channel_name(capsys: pytest.CaptureFixture[str]) -> None:
+    """A plain-text record has a station (its file's stem) but no channel: the line reads
+    'acc.txt acc: 16396 samples ...', not 'acc.txt acc : ...' with a blank name before the colon."""
+    acc = Path(__file__).parents[1] / "data" / "formats" / "text" / "acc.txt"
+    words = ["--format", "text", "--units", "gal", "--dt-s", "0.005", str(acc)]
+    assert main(["records", "info", *words]) == 0
+    assert capsys.readouterr().out.startswith(f"{acc} acc: 16396 samples at 0.005 s, units gal,")
+    assert main(["stochastic", "fit", *words]) == 0
+    assert capsys.readouterr().out.splitlines()[0] == f"{acc}:"

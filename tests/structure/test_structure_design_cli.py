@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import tomllib
 from pathlib import Path
 
@@ -96,7 +97,7 @@ def test_tabulated_spectrum_uses_search(tmp_path: Path, capsys: pytest.CaptureFi
     ("extra", "message"),
     [
         (["--height-m", "-3"], "--height-m -3.0, expected in (0, 300]"),
-        (["--xi", "0.1"], "expected exactly one of beta, xi or c_r"),
+        (["--xi", "0.1"], "--beta, --xi given, expected exactly one of --beta, --xi or --c-r"),
         (["--plot", "out.txt"], "expected .png, .pdf or .svg"),
         (["--template"], "--template with --weight-super-n, --weight-col-n"),
     ],
@@ -113,6 +114,24 @@ def test_bad_input_is_one_line_exit_2(
     lines = captured.err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("stepframe: error: ")
     assert message in lines[0]
+
+
+def test_two_damping_options_are_named_as_options(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--c-r and --beta over a file whose [damping] has beta only: the error blamed the file
+    ('pier.toml [damping]: ... found ['beta', 'c_r']'), which holds one of them."""
+    path = tmp_path / "pier.toml"
+    assert main(["structure", "design", "--template"]) == 0
+    path.write_text(capsys.readouterr().out)
+    assert main(["structure", "design", "--input", str(path), "--c-r", "0.9", "--beta", "0.8"]) == 2
+    assert capsys.readouterr().err == (
+        "stepframe: error: --beta, --c-r given, expected exactly one of --beta, --xi or --c-r "
+        "(it replaces the whole [damping] of the input)\n"
+    )
+    # one of them replaces the file's [damping] (beta = 1.0 in the template): β from C_r
+    data = run_json(["structure", "design", "--input", str(path), "--c-r", "0.9"], capsys)
+    assert data["inputs"]["xi"] == pytest.approx(0.48 * (1 - 0.9**2))  # eq. 4.17
 
 
 def test_unknown_toml_key_names_file_and_key(
@@ -179,3 +198,19 @@ def test_help_shows_worked_example(capsys: pytest.CaptureFixture[str]) -> None:
 def test_pier_and_map_options_together_is_an_error(capsys: pytest.CaptureFixture[str]) -> None:
     assert main([*EXAMPLE_2, "--w-per-m", "0.1", "--lambda-2-sqrt-m", "0.3"]) == 2
     assert "expected one" in capsys.readouterr().err
+
+
+def test_an_iteration_that_does_not_converge_says_it_once(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """The help's Table 1 example stops at --max-iterations 19: its line read 'no convergence
+    in 19 iterations after 19 steps'; a converged one still counts its steps."""
+    table_1 = ["structure", "design", "--w-per-m", "0.136737", "--lambda-2-sqrt-m", "0.381964",
+               "--sds-g", "1.038", "--sd1-g", "0.456", "--beta", "0.8", "--delta0-m", "0.00254",
+               "--branch", "long"]  # fmt: skip
+    assert main([*table_1, "--max-iterations", "19"]) == 0
+    (line,) = [x for x in capsys.readouterr().out.splitlines() if x.startswith("iteration from")]
+    assert line.startswith("iteration from delta0 = 0.00254 m: no convergence in 19 iterations, ")
+    assert main(table_1) == 0
+    (line,) = [x for x in capsys.readouterr().out.splitlines() if x.startswith("iteration from")]
+    assert re.match(r"iteration from delta0 = 0\.00254 m: converged after \d+ steps, ", line)

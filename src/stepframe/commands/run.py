@@ -86,15 +86,17 @@ def run_workflow(args: argparse.Namespace) -> CommandResult | RunReport:
     from stepframe.pipeline.engine.workflow import workflow_template
     from stepframe.pipeline.stages import shipped_stages
 
+    # the options of a run, given: with --template or --copy nothing runs, so they are errors
+    run_flags = [
+        "--" + name.replace("_", "-")
+        for name, value in fields_given(args, RunOptions).items()
+        if value != []  # --force's default: no stage named
+    ]
     if args.template:
         # printed alone: a workflow or an option beside it would be ignored (nothing runs)
         given = [f"WORKFLOW {args.workflow}"] if args.workflow is not None else []
         given += ["--copy"] if args.copy is not None else []
-        given += [
-            "--" + name.replace("_", "-")
-            for name, value in fields_given(args, RunOptions).items()
-            if value != []  # --force's default: no stage named
-        ]
+        given += run_flags
         if given:
             raise InputError(
                 f"--template with {', '.join(given)}, expected --template alone (it prints a "
@@ -105,6 +107,11 @@ def run_workflow(args: argparse.Namespace) -> CommandResult | RunReport:
     if args.workflow is None:
         raise InputError("no workflow given, expected stepframe run WORKFLOW.toml or a name")
     if args.copy is not None:
+        if run_flags:
+            raise InputError(
+                f"--copy with {', '.join(run_flags)}, expected --copy alone (it copies the "
+                "workflow and runs nothing: run the copy with them)"
+            )
         copied = copy_workflow(args.workflow, args.copy)
         return CommandResult(data={"copied": copied}, text="\n".join(map(str, copied)))
     progress = not getattr(args, "json", False)

@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from stepframe.pipeline.engine.runner import RunReport, run_workflow
-from stepframe.pipeline.selection.result import SELECTION_REPORT_HTML
+from stepframe.pipeline.selection.result import SELECTION_REPORT_HTML, written_lines
 from stepframe.pipeline.stages import shipped_stages
 
 if TYPE_CHECKING:
@@ -87,8 +87,7 @@ class DemoRun:
                 # a damaged stored object was quarantined and recomputed: say so, as `run` does
                 *(f"store: {event.line()}" for event in self.run.store_events),
                 f"report: {self.report_html}",
-                f"tables: {self.folder / 'selection'}/ (selection.csv, candidates.csv, "
-                "confirmation.csv, failures.csv, columns.csv, selection.json)",
+                *written_lines(self.folder / "selection", "tables"),
                 f"features: {self.folder / 'features.csv'}",
                 f"workflow: {self.run.workflow} (computed/cached: {stages})",
             ]

@@ -238,3 +238,47 @@ def test_the_paths_note_names_the_default_ranking(selection_html: Path) -> None:
     assert SelectionOptions().rank_by == "simulated_response"
     assert "it simulates the frame under each candidate (simulated_response;" in page
     assert "default score (substitute_demand_ratio)" not in page
+
+
+def test_a_selection_of_every_candidate_is_reported(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """docs/selection.md's run on a folder (the two RSN 8883 horizontals, -n 2, --confirm)
+    chooses every candidate: no rest and no controls, whose medians the summary leaves out.
+    `stepframe report selection` on its folder was a KeyError traceback (exit 1); the page now
+    says there is no other candidate, and the numbers of an empty group are not run."""
+    import shutil
+
+    data = Path(__file__).resolve().parents[2] / "data" / "peer_nga_west2"
+    records = tmp_path / "records"
+    records.mkdir()
+    for path in data.glob("*.AT2"):
+        shutil.copy(path, records)
+    assert main(["structure", "frame-template"]) == 0
+    (tmp_path / "FRAME.toml").write_text(capsys.readouterr().out)
+    out = tmp_path / "picks"
+    words = ["select", "--frame", str(tmp_path / "FRAME.toml"), str(records), "-n", "2"]
+    assert main([*words, "--confirm", "-o", str(out)]) == 0
+    # its text: why ρ is undefined (2 pairs, below confirm.MIN_PAIRS = 4; the two peaks differ),
+    # and no controls rather than "0 controls not run m"
+    text = capsys.readouterr().out
+    assert (
+        "Spearman(simulated_response, peak_drift) undefined (fewer than 4 candidates), n = 2"
+        in (text)
+    )
+    assert (
+        "selected 0.0" in text
+        and "m (0 overturn), no controls (every candidate was selected)" in (text)
+    )
+    assert "not run m" not in text
+    summary = json.loads((out / "selection.json").read_text())
+    versus = summary["ranking"]["chosen_vs_rest"]
+    assert (versus["n_chosen"], versus["n_rest"]) == (2, 0) and "peak_x_m_rest" not in versus
+    assert main(["report", "selection", str(out)]) == 0
+    html = (out / "selection_report.html").read_text()
+    assert "no other candidate (every candidate was chosen)" in html
+    table = pd.read_csv(out / "selection_report_files" / "chosen_vs_rest.csv")
+    rest = table[table["group"] == "the rest"].iloc[0]
+    assert rest["candidates"] == 0 and np.isnan(rest["median_peak_x_m"])
+    chosen = table[table["group"] == "chosen"].iloc[0]
+    assert chosen["median_peak_x_m"] == pytest.approx(versus["peak_x_m_chosen"])

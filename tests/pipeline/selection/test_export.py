@@ -53,3 +53,26 @@ def test_the_manifest_columns_are_documented() -> None:
     documented = set(re.findall(r"^\| `([a-z_0-9]+)` \|", text, flags=re.MULTILINE))
     assert set(MANIFEST_COLUMNS) <= documented
     assert "timeSeries Path" in text
+
+
+def test_the_written_lines_name_what_the_folder_holds(tmp_path: Path) -> None:
+    """`select` and `demo` name the files their run wrote: spectra.csv and motions/ only when
+    they are there (the demo's line named five tables and selection.json, leaving out the
+    spectra.csv and motions/ its run had written)."""
+    from stepframe.pipeline.selection.result import written_lines
+
+    for name in ("selection.csv", "candidates.csv", "confirmation.csv", "failures.csv",
+                 "columns.csv", "selection.json"):  # fmt: skip
+        (tmp_path / name).write_text("x\n")
+    tables = (
+        f"{tmp_path}/ (selection.csv, candidates.csv, confirmation.csv, failures.csv, columns.csv"
+    )
+    assert written_lines(tmp_path, "tables") == [f"tables: {tables}, selection.json)"]
+    (tmp_path / "spectra.csv").write_text("x\n")
+    rng = np.random.default_rng(1)
+    export_motions([Motion("r.AT2", "90", "r", 1.0, rng.standard_normal(10), 0.01)], tmp_path)
+    assert written_lines(tmp_path) == [
+        f"outputs: {tables}, spectra.csv, selection.json)",
+        f"the chosen motions, scaled: {tmp_path}/motions/ (manifest.csv, one AT2 and one "
+        "one-column text file per component)",
+    ]

@@ -95,7 +95,7 @@ class FittedRecord:
 
 def _describe(result: dict[str, Any]) -> str:
     """A fitted record as text: the parameters with their standard errors, and flags."""
-    lines = [f"{result['file']} {result['component']}:"]
+    lines = [" ".join(str(result[key]) for key in ("file", "component") if result[key]) + ":"]
     keys = (*FIT_KEYS, "omega_c_rad_s") if result.get("omega_c_rad_s") is not None else FIT_KEYS
     for key in keys:
         se = result.get(f"{key}_stderr")

@@ -53,19 +53,24 @@ class FittedFile:
         One :class:`~stepframe.pipeline.catalogue.fitted.FittedRecord` per component.
     trace, spectrum
         The one component and its evolutionary PSD (None unless asked for).
+    out
+        The NetCDF file written (``fit_file(..., out=...)``; None when none was).
     """
 
     records: list[FittedRecord]
     trace: Trace | None = None
     spectrum: xr.DataArray | None = None
+    out: Path | None = None
 
     def to_dict(self) -> list[dict[str, Any]]:
         """One object per component, whatever the file holds (docs/cli.md)."""
         return [record.to_dict() for record in self.records]
 
     def describe(self) -> str:
-        """Each component's parameters, a blank line between components."""
-        return "\n\n".join(record.describe() for record in self.records)
+        """Each component's parameters, a blank line between components, then the NetCDF file
+        written, if any (as a figure's ``plot written to``)."""
+        text = "\n\n".join(record.describe() for record in self.records)
+        return text if self.out is None else f"{text}\nPSD and features written to {self.out}"
 
     def figure(self) -> Figure:
         """The record, I_g(t) and the PSD with ω_g(t) and the fitted curve."""
@@ -121,7 +126,7 @@ def fit_file(
     psd = record_spectrum(stream[0], records[0], spectrum_method)
     if out is not None:
         write_fitted(fitted_dataset(psd, records[0]), out)
-    return FittedFile(records, stream[0], psd)
+    return FittedFile(records, stream[0], psd, None if out is None else Path(out))
 
 
 @dataclass(frozen=True)

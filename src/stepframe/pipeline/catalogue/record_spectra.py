@@ -56,7 +56,9 @@ def record_info(traces: Sequence[Trace], file: str | PathLike[str] = "") -> list
 def info_text(rows: Sequence[Mapping[str, Any]]) -> str:
     """:func:`record_info` rows as text, one line per component."""
     return "\n".join(
-        f"{r['file']} {r['station']} {r['component']}: {r['npts']} samples at {r['dt_s']} s, "
+        # a plain-text record has no channel name: "acc.txt acc:", not "acc.txt acc :"
+        " ".join(str(r[key]) for key in ("file", "station", "component") if r[key])
+        + f": {r['npts']} samples at {r['dt_s']} s, "
         f"units {r['units_in']}, PGA {r['pga_g']:.4g} g, PGV {r['pgv_m_s']:.4g} m/s, "
         f"PGD {r['pgd_m']:.4g} m, Arias {r['arias_m_s']:.4g} m/s, D5-95 {r['d5_95_s']:.4g} s"
         + (f", INCOMPLETE ({r['incomplete']})" if r.get("incomplete") else "")

@@ -282,6 +282,12 @@ def merged_design_input(
                 base.pop(twin, None)
         data["spectrum"] = base | spectrum
     damping = {k: v for k, v in given.items() if k in DAMPING_KEYS}
+    if len(damping) > 1:  # named as given, not as a file's [damping] they never were in
+        flags = ", ".join("--" + key.replace("_", "-") for key in damping)
+        raise InputError(
+            f"{flags} given, expected exactly one of --beta, --xi or --c-r (it replaces the "
+            "whole [damping] of the input)"
+        )
     if damping:
         data["damping"] = damping
     if damping_method is not None:
@@ -491,10 +497,11 @@ def _describe(run: DesignRun, trace_rows: bool) -> str:
                     f"{row.period_s:10.6f}  {row.branch}"
                 )
         lines.extend(f"  note: {note}" for note in trace.notes)
+        # "no convergence in 19 iterations" counts its steps already
+        steps = "" if trace.status == "not_converged" else f" after {len(trace.rows) - 1} steps"
         lines.append(
-            f"iteration from delta0 = {first.delta_m:.6g} m: {trace.message} after "
-            f"{len(trace.rows) - 1} steps, delta = {trace.delta_m:.6g} m, "
-            f"T = {trace.period_s:.6g} s"
+            f"iteration from delta0 = {first.delta_m:.6g} m: {trace.message}{steps}, "
+            f"delta = {trace.delta_m:.6g} m, T = {trace.period_s:.6g} s"
         )
     if design.delta_m is None:
         lines.append(f"design ({design.method}): {design.message}")

@@ -343,17 +343,25 @@ class BifurcationSweep:
         }
 
     def describe(self) -> str:
-        """A header line and at most about 20 values."""
+        """A header line and at most about 20 values: every k-th and the last, the header
+        saying which when not all are shown."""
         n = len(self.points)
         if self.sweep == "amplitude_g":
             unit, fixed = "g", f"ω = {self.omega_rad_s:g} rad/s"
         else:
             unit, fixed = "rad/s", f"A = {self.amplitude_g:g} g"
-        lines = [f"{n} values × {self.initial} initial states × {self.periods} periods at {fixed}"]
+        step = max(1, n // 20)
+        shown = list(range(0, n, step))
+        if shown and shown[-1] != n - 1:
+            shown.append(n - 1)
+        header = f"{n} values × {self.initial} initial states × {self.periods} periods at {fixed}"
+        if step > 1:
+            header += f" (one value in {step} shown, and the last; --json or --plot: all)"
+        lines = [header]
         lines += [
             f"  {r[self.sweep]:.4g} {unit}: overturn {r['overturned_fraction']:.2f}, "
             f"periods {r['periods_found'] or '-'}"
-            for r in self.points[:: max(1, n // 20)]
+            for r in (self.points[i] for i in shown)
         ]
         return "\n".join(lines)
 
@@ -496,7 +504,8 @@ class IdaOptions:
     )
     resolution_g: float = option(
         0.01,
-        "width of each traced outcome change [g] (default 0.01)",
+        "width of each traced outcome change [g of PGA] (default 0.01; with --pulse, in units "
+        "of the static uplift acceleration γ₁/P₂)",
         kind="positive",
         metavar="D",
         valid=Range(0, 10, low_open=True),

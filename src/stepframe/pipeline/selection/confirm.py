@@ -31,6 +31,8 @@ OVERTURN_RATIO_RANGE = (0.5, 4.0)
 #: Onset ratios scanned for overturning (log-spaced, 1.0 is the 6th).
 SCAN_LEVELS = np.geomspace(OVERTURN_RATIO_RANGE[0], OVERTURN_RATIO_RANGE[1], 16)
 N_RESAMPLES = 1000
+#: Fewest pairs a rank correlation (ρ, Δρ, the efficiency) is computed from; fewer give NaN.
+MIN_PAIRS = 4
 
 
 @dataclass(frozen=True)
@@ -163,13 +165,13 @@ def spearman_interval(
 ) -> tuple[float, float, float, int]:
     """Spearman's ρ of finite pairs, its percentile bootstrap interval, and the pair count.
 
-    NaN values (in either) are left out; ±inf are kept (ranked at the ends). Fewer than 4 pairs
-    or a constant variable give NaN.
+    NaN values (in either) are left out; ±inf are kept (ranked at the ends). Fewer than
+    :data:`MIN_PAIRS` pairs or a constant variable give NaN.
     """
     keep = ~(np.isnan(x) | np.isnan(y))
     xs, ys = x[keep], y[keep]
     n = int(xs.size)
-    if n < 4:
+    if n < MIN_PAIRS:
         return math.nan, math.nan, math.nan, n
     value = float(_rank_rho(xs, ys))
     rng = np.random.default_rng(seed)
@@ -205,7 +207,7 @@ def paired_delta_rho(
     keep = ~(np.isnan(x) | np.isnan(reference) | np.isnan(y))
     xs, rs, ys = x[keep], reference[keep], y[keep]
     n = int(xs.size)
-    if n < 4 or np.ptp(xs) == 0 or np.ptp(rs) == 0 or np.ptp(ys) == 0:
+    if n < MIN_PAIRS or np.ptp(xs) == 0 or np.ptp(rs) == 0 or np.ptp(ys) == 0:
         return math.nan, math.nan, math.nan, n
     value = float(_rank_rho(xs, ys) - _rank_rho(rs, ys))
     rng = np.random.default_rng(seed)
@@ -232,7 +234,7 @@ def efficiency(measure: Floats, response: Floats) -> tuple[float, int]:
     keep = np.isfinite(m) & np.isfinite(r) & (m > 0) & (r > 0)
     n = int(keep.sum())
     x, y = np.log(m[keep]), np.log(r[keep])
-    if n < 4 or np.ptp(x) < 1e-9:
+    if n < MIN_PAIRS or np.ptp(x) < 1e-9:
         # a measure that does not vary (S_a(T_1) at equal S_a(T_1)) explains nothing
         return math.nan, n
     slope, intercept = np.polyfit(x, y, 1)

@@ -370,18 +370,10 @@ class SelectionFolder:
 
     def describe(self) -> str:
         """The run's summary lines and where its outputs are."""
+        from stepframe.pipeline.selection.result import written_lines
+
         folder = self.paths["selection"].parent
-        lines = [
-            *self.result.summary_lines(),
-            f"outputs: {folder}/ (selection.csv, candidates.csv, confirmation.csv, "
-            "failures.csv, columns.csv, spectra.csv, selection.json)",
-        ]
-        if "manifest" in self.paths:
-            lines.append(
-                f"the chosen motions, scaled: {self.paths['manifest'].parent}/ (manifest.csv, "
-                "one AT2 and one one-column text file per component)"
-            )
-        return "\n".join(lines)
+        return "\n".join([*self.result.summary_lines(), *written_lines(folder)])
 
 
 def select_to_folder(

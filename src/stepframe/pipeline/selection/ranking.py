@@ -303,13 +303,20 @@ def ranking_lines(summary: dict[str, Any]) -> list[str]:
 
         # Which intensity, said on the line: the chosen set's own scale is another.
         level = intensity_level(str(intensity.get("text") or ""))
+        # every candidate chosen: no rest, and no median of it (absent from the summary)
+        rest = (
+            f"the other {versus['n_rest']} candidates "
+            f"{_number(versus.get('peak_x_m_rest'), '.3g')} m ({versus['overturned_rest']} "
+            "overturn)"
+            if versus.get("n_rest")
+            else "no other candidate (every candidate was chosen)"
+        )
         lines.append(
             "at the ranking intensity"
             + (f" ({level})" if level else "")
             + ": the chosen reach a median peak |x| of "
             f"{_number(versus['peak_x_m_chosen'], '.3g')} m ({versus['overturned_chosen']} of "
-            f"{versus['n_chosen']} overturn), the other {versus['n_rest']} candidates "
-            f"{_number(versus['peak_x_m_rest'], '.3g')} m ({versus['overturned_rest']} overturn)"
+            f"{versus['n_chosen']} overturn), {rest}"
         )
     rank_by = summary.get("rank_by")
     entries = [e for e in summary.get("correlations") or [] if isinstance(e, dict)]

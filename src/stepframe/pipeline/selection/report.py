@@ -290,9 +290,10 @@ def _confirmation(
         y = table[response].to_numpy(float)[ok]
     if stated.get("equal_psa_t1_peak_x_m_selected") is not None and response == "peak_abs_x_m":
         # the numbers the command printed (selected against the controls)
+        # a median of no control (every candidate chosen) is absent from the summary: NaN
         medians = {
             "selected": float(stated["equal_psa_t1_peak_x_m_selected"]),
-            "controls": float(stated["equal_psa_t1_peak_x_m_control"]),
+            "controls": float(stated.get("equal_psa_t1_peak_x_m_control", math.nan)),
         }
     numbers = {
         "score": score,
@@ -397,7 +398,7 @@ def _medians_rows(
                 {
                     "group": group,
                     "at": "chosen scale",
-                    column: _or_not_run(stated[f"chosen_scale_peak_x_m_{name}"]),
+                    column: _or_not_run(stated.get(f"chosen_scale_peak_x_m_{name}")),
                     "overturned": stated[f"chosen_scale_overturned_{name}"],
                 }
             )
@@ -551,8 +552,11 @@ def scores_section(outputs: SelectionOutputs, candidates: pd.DataFrame, rank_by:
                         {
                             "group": group,
                             "candidates": versus[f"n_{key}"],
-                            "median_simulated_response_m": versus[f"simulated_response_m_{key}"],
-                            "median_peak_x_m": versus[f"peak_x_m_{key}"],
+                            # a group of none (every candidate chosen) has no median: empty
+                            "median_simulated_response_m": versus.get(
+                                f"simulated_response_m_{key}"
+                            ),
+                            "median_peak_x_m": versus.get(f"peak_x_m_{key}"),
                             "overturned": versus[f"overturned_{key}"],
                         }
                         for group, key in (("chosen", "chosen"), ("the rest", "rest"))

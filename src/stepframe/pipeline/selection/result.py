@@ -155,13 +155,20 @@ class SelectionResult:
         at the chosen scale."""
         summary = self.summary
         medians = summary.get("medians") or {}
+        from stepframe.pipeline.selection.confirm import MIN_PAIRS
+
         rhos = [
             f"  Spearman({entry['score']}, {entry['response']}) = "
             f"{_number(entry.get('spearman'), '.2f')} [{_number(entry.get('low'), '.2f')}, "
             f"{_number(entry.get('high'), '.2f')}], n = {entry['n']}"
             if isinstance(entry.get("spearman"), int | float) and math.isfinite(entry["spearman"])
-            else f"  Spearman({entry['score']}, {entry['response']}) undefined (the same value "
-            f"for every candidate, in the score or the response), n = {entry['n']}"
+            else f"  Spearman({entry['score']}, {entry['response']}) undefined ("
+            + (
+                f"fewer than {MIN_PAIRS} candidates"
+                if entry["n"] < MIN_PAIRS
+                else "the same value for every candidate, in the score or the response"
+            )
+            + f"), n = {entry['n']}"
             for entry in summary.get("correlations", [])
             if entry["score"] == summary.get("rank_by")
         ]
@@ -174,17 +181,18 @@ class SelectionResult:
             lines.append(
                 f"  median peak |x|: the {medians['n_selected']} selected "
                 f"{_peak_text(medians, 'equal_psa_t1', 'selected')}, "
-                f"{medians['n_control']} controls {_peak_text(medians, 'equal_psa_t1', 'control')}"
+                + _controls_text(medians, "equal_psa_t1")
             )
         if "chosen_scale_overturned_selected" in medians:
             from stepframe.pipeline.selection.chosen import scale_phrase
 
             rule = scale_phrase(str(summary.get("scale_rule") or "as recorded"))
             selected = _peak_text(medians, "chosen_scale", "selected")
+            controls = _controls_text(medians, "chosen_scale")
             lines.append(
                 f"confirmation at the chosen scale ({rule}): median peak |x| of the "
-                f"{medians['n_selected']} selected {selected}, of {medians['n_control']} "
-                f"controls {_peak_text(medians, 'chosen_scale', 'control')}"
+                f"{medians['n_selected']} selected {selected}, "
+                + (controls if not medians.get("n_control") else f"of {controls}")
             )
         return lines
 
@@ -408,6 +416,27 @@ def written_files(folder: Path, paths: Any) -> dict[str, str]:
     return {Path(path).relative_to(folder).as_posix(): file_sha256(path) for path in sorted(paths)}
 
 
+def written_lines(folder: Path, label: str = "outputs") -> list[str]:
+    """The lines naming what a selection's output folder holds, read from the folder.
+
+    ``label`` starts the first line (``select`` says ``outputs``, the demo ``tables``); the
+    files are those :meth:`SelectionResult.write` writes, in its order, each named only when
+    it is there (``spectra.csv`` and ``motions/`` come only with a run that has them), so
+    the text names what the run wrote and nothing else.
+    """
+    from stepframe.pipeline.selection.export import MANIFEST_FILE, MOTIONS_FOLDER
+
+    names = [*TABLE_FILES.values(), COLUMNS_FILE, SPECTRA_FILE, SUMMARY_FILE]
+    present = [name for name in names if (folder / name).is_file()]
+    lines = [f"{label}: {folder}/ ({', '.join(present)})"]
+    if (folder / MOTIONS_FOLDER / MANIFEST_FILE).is_file():
+        lines.append(
+            f"the chosen motions, scaled: {folder / MOTIONS_FOLDER}/ ({MANIFEST_FILE}, "
+            "one AT2 and one one-column text file per component)"
+        )
+    return lines
+
+
 def _framed(name: str, columns: dict[str, tuple[str, str]]) -> Any:
     table = column_dictionary(columns)
     table.insert(0, "table", name)
@@ -440,6 +469,14 @@ def _peak_text(medians: dict[str, Any], case: str, group: str) -> str:
     peak = _number(medians.get(f"{case}_peak_x_m_{group}"), ".3g")
     overturned = medians.get(f"{case}_overturned_{group}")
     return f"{peak} m" + ("" if overturned is None else f" ({overturned} overturn)")
+
+
+def _controls_text(medians: dict[str, Any], case: str) -> str:
+    """ "10 controls 0.191 m (3 overturn)", or, when every candidate was selected, that there
+    is none (not "0 controls not run m")."""
+    if not medians.get("n_control"):
+        return "no controls (every candidate was selected)"
+    return f"{medians['n_control']} controls {_peak_text(medians, case, 'control')}"
 
 
 def _number(value: Any, spec: str) -> str:

@@ -41,12 +41,22 @@ _MAX_HEADER = 6
 
 
 def sniff(head: bytes, path: Path) -> bool:
-    """True if one of the first lines is an AT2 ``NPTS, DT`` line (either style)."""
+    """True if one of the first lines is an AT2 ``NPTS, DT`` line (either style), or if the
+    header is PEER's (line 3 ``ACCELERATION TIME SERIES ...``, line 4 naming NPTS) with an
+    NPTS line the reader refuses by line and cause (no DT, say) rather than leaving the file
+    unrecognised."""
     try:
         lines = head.decode("latin-1").splitlines()[:_MAX_HEADER]
         if not lines or lines[0].lstrip().startswith("#"):
             return False
-        return any(_NEW_STYLE.search(x) or _OLD_STYLE.search(x) for x in lines)
+        if any(_NEW_STYLE.search(x) or _OLD_STYLE.search(x) for x in lines):
+            return True
+        return (
+            len(lines) > 3
+            and _QUANTITY.match(lines[2]) is not None
+            and "TIME SERIES" in lines[2].upper()
+            and "NPTS" in lines[3].upper()
+        )
     except Exception:  # a sniffer never raises
         return False
 
