@@ -107,6 +107,32 @@ def test_a_report_rerun_without_its_frame_keeps_no_number_of_the_frame(tmp_path:
     assert _run(scene, plain) == fresh
 
 
+def test_two_workflows_in_one_workspace_keep_each_others_outputs(tmp_path: Path) -> None:
+    """The shipped workflows share ./stepframe-work: running the site workflow, then a features
+    workflow beside it, removed the site's model and amplification ("no longer asked for"),
+    which the features workflow never asked for. Turned off in its own workflow, an output
+    still goes."""
+    scene = _scene(tmp_path / "scene", records=2)
+    site_text = SITE.format(report="", frame="", report_on="false")
+    site = write_workflow(scene, site_text, "site.toml")
+    assert run_workflow(site, shipped_stages(), jobs=1).exit_code == 0
+    features = write_workflow(
+        scene, '[records]\nfolder = "records"\n\n[outputs]\nfeatures = true\n', "features.toml"
+    )
+    report = run_workflow(features, shipped_stages(), jobs=1)
+    assert report.exit_code == 0 and report.removed == {}, report.describe()
+    outputs = tree(scene / "stepframe-work" / "outputs")
+    assert {"site_model.json", "amplification.nc", "features.csv"} <= set(outputs)
+    # the site workflow itself turning amplification off removes it, and leaves the features
+    off = site_text.replace("amplification = true", "amplification = false")
+    site.write_text(off.replace("[amplification]\nn_frequencies = 6\nn_steps = 400\n", ""))
+    report = run_workflow(site, shipped_stages(), jobs=1)
+    assert report.exit_code == 0, report.describe()
+    assert set(report.removed) == {"amplification"}
+    left = set(tree(scene / "stepframe-work" / "outputs"))
+    assert "amplification.nc" not in left and {"site_model.json", "features.csv"} <= left
+
+
 def test_a_selection_rerun_with_fewer_records_keeps_only_its_own_files(tmp_path: Path) -> None:
     """n = 4 with confirmation and measures, then n = 3 without either: ``selection/`` holds
     the second run's files only (no confirmation rows, no file of a fourth record) and the

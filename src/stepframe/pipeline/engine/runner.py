@@ -631,7 +631,7 @@ def _publish_outputs(
     new_failures: set[tuple[str, str]] = set()
     for name in stages:
         if name not in workflow.outputs:  # an output turned off leaves nothing behind
-            removed = withdraw_published(store, name, folder)
+            removed = withdraw_published(store, name, folder, only_of=workflow.path)
             if removed:
                 report.removed[name] = removed
     for name in workflow.outputs:
@@ -667,7 +667,7 @@ def _publish_outputs(
                 report.missing[name] = problem
                 _withdraw_earlier(store, name, folder, report)
                 continue
-        remember_published(store, name, folder, paths)
+        remember_published(store, name, folder, paths, workflow.path)
         report.outputs[name] = [str(p) for p in paths]
 
 

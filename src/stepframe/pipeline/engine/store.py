@@ -789,10 +789,12 @@ def publish_set(
 PUBLISHED_NAMES = "published-names.json"
 
 
-def remember_published(store: Store, stage: str, outputs: Path, paths: Iterable[Path]) -> None:
+def remember_published(
+    store: Store, stage: str, outputs: Path, paths: Iterable[Path], workflow: Path
+) -> None:
     """Remember the entries of ``outputs`` (its files and folders, one level down) that the
-    publication of ``stage`` wrote as ``paths`` (the store file is written only when that
-    changes: a no-op re-run writes nothing)."""
+    publication of ``stage`` by the workflow file ``workflow`` wrote as ``paths`` (the store
+    file is written only when that changes: a no-op re-run writes nothing)."""
     root = outputs.absolute()
     names = sorted(
         {
@@ -801,17 +803,24 @@ def remember_published(store: Store, stage: str, outputs: Path, paths: Iterable[
             if path.absolute().is_relative_to(root) and path.absolute() != root
         }
     )
-    record = canonical_json({"outputs": str(root), "names": names}).encode()
-    if store.read_file(stage, PUBLISHED_NAMES) != record:
-        store.write_file(stage, PUBLISHED_NAMES, record)
+    publisher = str(workflow.absolute())
+    record = canonical_json({"outputs": str(root), "names": names, "workflow": publisher})
+    if store.read_file(stage, PUBLISHED_NAMES) != record.encode():
+        store.write_file(stage, PUBLISHED_NAMES, record.encode())
 
 
-def withdraw_published(store: Store, stage: str, outputs: Path) -> list[str]:
+def withdraw_published(
+    store: Store, stage: str, outputs: Path, *, only_of: Path | None = None
+) -> list[str]:
     """Remove from ``outputs`` what the last publication of ``stage`` put there (an output the
-    workflow no longer asks for: its files, and its folders whole), and forget it.
+    workflow no longer asks for, or one this run could not produce: its files, and its folders
+    whole), and forget it.
 
     Only the entries :func:`remember_published` recorded for this outputs folder are touched:
-    a file of the user's beside the outputs is never removed.
+    a file of the user's beside the outputs is never removed. With ``only_of`` (a workflow
+    file), only what that workflow published: the shipped workflows share one workspace, and a
+    run of ``selection`` removed the site and amplification outputs ``site-amplification`` had
+    published there, which it never asks for ("no longer asked for" is one workflow's word).
 
     Returns
     -------
@@ -825,6 +834,8 @@ def withdraw_published(store: Store, stage: str, outputs: Path) -> list[str]:
     root = outputs.absolute()
     if record.get("outputs") != str(root) or not record.get("names"):
         return []
+    if only_of is not None and record.get("workflow") != str(only_of.absolute()):
+        return []
     removed = []
     for name in record["names"]:
         entry = root / name
@@ -835,6 +846,8 @@ def withdraw_published(store: Store, stage: str, outputs: Path) -> list[str]:
         else:
             continue
         removed.append(name)
-    forgotten = canonical_json({"outputs": str(root), "names": []})
+    forgotten = canonical_json(
+        {"outputs": str(root), "names": [], "workflow": record.get("workflow")}
+    )
     store.write_file(stage, PUBLISHED_NAMES, forgotten.encode())
     return removed
