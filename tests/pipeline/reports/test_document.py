@@ -234,3 +234,16 @@ def test_a_report_made_by_a_workflow_says_where_its_records_are(arrivals_html: P
     assert "the records are those the workflow below names" in page
     assert "<h3>Workflow wf.toml</h3>" in page
     html5lib.HTMLParser(strict=True).parse(page)  # still valid HTML5
+
+
+def test_a_workflow_report_names_the_command_that_makes_it(tmp_path: Path) -> None:
+    # A shipped workflow is run by its name: the page said "stepframe run
+    # site-amplification.toml", a file the user does not have; a workflow file by its name.
+    from stepframe.pipeline.engine.shipped import SHIPPED_DIR
+    from stepframe.pipeline.reports.provenance import workflow_provenance
+
+    shipped = workflow_provenance(SHIPPED_DIR / "site-amplification.toml", {})
+    assert shipped.command == "stepframe run site-amplification"
+    own = tmp_path / "my-site.toml"
+    own.write_text((SHIPPED_DIR / "site-amplification.toml").read_text())
+    assert workflow_provenance(own, {}).command == "stepframe run my-site.toml"

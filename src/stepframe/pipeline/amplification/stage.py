@@ -285,8 +285,9 @@ AMPLIFICATION_STAGE = Stage(
 # from the parameters' standard errors, the frame's stepping and δ* against x_c and x*; 4: the
 # frame's simulations by the integrator's chord-bound fast path (the same to rounding); 5: the
 # provenance's alpha_reading is the site's (it stated the options' default, eq-6-11); 6: a site
-# from records lists every fit and draws each record's ω_g(t), as the command line's report
-AMPLIFICATION_REPORT_VERSION = 6
+# from records lists every fit and draws each record's ω_g(t), as the command line's report;
+# 7: a shipped workflow's provenance names it as it is run (not a file "NAME.toml")
+AMPLIFICATION_REPORT_VERSION = 7
 AMPLIFICATION_REPORT_HTML = "amplification_report.html"
 
 #: The ``[amplification_report]`` table: the report's own choices (its curve follows

@@ -35,8 +35,9 @@ if TYPE_CHECKING:
 
 # 3: the items without a result are the records folder's (they always were: the latest run's and
 # those left from earlier runs), said so; a run that only removed a failed file showed "none"
-# beside an earlier run's arrivals as if that run had had none
-ARRIVALS_VERSION = 3
+# beside an earlier run's arrivals as if that run had had none; 4: a shipped workflow's
+# provenance names it as it is run
+ARRIVALS_VERSION = 4
 ARRIVALS_HTML = "arrivals_report.html"
 
 #: Spectra drawn per figure (more are in the table and its CSV).

@@ -143,10 +143,16 @@ IN_THE_RUN_LOG = "see the workspace's run log (runs.jsonl)"
 
 def workflow_provenance(workflow: str | PathLike[str], parameters: Mapping[str, Any]) -> Provenance:
     """Provenance of a report made by a workflow's stage: ``stepframe run WORKFLOW`` (by the
-    file's name: not where it happens to be), the workflow's text and the stage's parameters;
-    the time of writing is in the run log."""
+    file's name: not where it happens to be; a shipped workflow by the name it is run by,
+    ``stepframe run site-amplification``, there being no such file to give), the workflow's
+    text and the stage's parameters; the time of writing is in the run log."""
+    from stepframe.pipeline.engine.shipped import is_shipped
+
     name = Path(workflow).name
-    made = collect_provenance(["stepframe", "run", name], parameters=parameters, workflow=workflow)
+    command = Path(workflow).stem if is_shipped(Path(workflow)) else name
+    made = collect_provenance(
+        ["stepframe", "run", command], parameters=parameters, workflow=workflow
+    )
     text = made.workflow[1] if made.workflow is not None else ""
     return dataclasses.replace(made, workflow=(name, text), created_utc=IN_THE_RUN_LOG)
 
