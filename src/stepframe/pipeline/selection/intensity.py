@@ -23,9 +23,9 @@ from numpy.typing import NDArray
 
 from stepframe.errors import InputError
 from stepframe.pipeline.selection.names import SIMULATED_RESPONSE
+from stepframe.records.units import STANDARD_GRAVITY_M_S2
 
 Floats = NDArray[np.float64]
-STANDARD_GRAVITY_M_S2 = 9.80665
 
 
 @dataclass(frozen=True)

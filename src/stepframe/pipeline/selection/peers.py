@@ -42,6 +42,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from stepframe.records.units import STANDARD_GRAVITY_M_S2
+
 Floats = NDArray[np.float64]
 
 #: Periods in each average (Sa_avg, N_p), equally spaced between the range's ends.
@@ -51,7 +53,6 @@ LONGEST_PERIOD_S = 10.0
 #: FIV3's window αT_1 and cut-off β/T_1 (Dávalos and Miranda 2019's recommended values).
 FIV_ALPHA = 0.7
 FIV_BETA = 0.85
-STANDARD_GRAVITY_M_S2 = 9.80665
 
 
 @dataclass(frozen=True)

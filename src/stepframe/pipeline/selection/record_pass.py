@@ -44,8 +44,9 @@ from stepframe.pipeline.selection.intensity import RankingIntensity, ranking_int
 from stepframe.pipeline.selection.names import FIT_TIERS, SIMULATED_RESPONSE
 from stepframe.pipeline.selection.options import SelectionOptions
 from stepframe.pipeline.selection.peers import PeerPeriods, spectra_and_peers
-from stepframe.pipeline.selection.spectral import G_M_S2, misfit_periods_s
+from stepframe.pipeline.selection.spectral import misfit_periods_s
 from stepframe.pipeline.selection.substitute import SubstituteLevels, substitute_levels
+from stepframe.records.units import STANDARD_GRAVITY_M_S2
 
 Floats = NDArray[np.float64]
 Samples = tuple[Floats, float]
@@ -391,7 +392,7 @@ def _ranked(outcomes: list[Outcome], samples: dict[int, Samples], spec: PassSpec
     for k in samples:
         sd_5 = outcomes[k].sd_5
         assert sd_5 is not None
-        psa_t1_g = (omega_sq * sd_5)[0] / G_M_S2
+        psa_t1_g = (omega_sq * sd_5)[0] / STANDARD_GRAVITY_M_S2
         base = spec.base_scale(psa_t1_g, outcomes[k].sd_t1_m)
         if math.isfinite(base):
             bases[k] = base

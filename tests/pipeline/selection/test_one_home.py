@@ -1,0 +1,43 @@
+"""One computation, one home: each computation the selection shares with another part of the
+package is checked against an independent computation (a closed form, a second method or a
+published value), not merely against its other caller."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from stepframe.records.spectra import response_spectrum
+from stepframe.records.units import STANDARD_GRAVITY_M_S2
+from stepframe.structure.frame import PortalFrame
+
+# The paper's Example 3 frame (test_parts.py's), with ξ_1 = 5 %.
+FRAME = PortalFrame(6.4581, 0.6445, 1.1884, 1.268, 0.1387, 0.05, 0.0, 0.19, 0.95)
+
+
+def _record() -> tuple[np.ndarray, float]:
+    """A decaying two-tone motion [m/s²], 20 s at 100 Hz."""
+    dt = 0.01
+    t = np.arange(2000) * dt
+    acc = np.exp(-0.2 * t) * (2.0 * np.sin(2 * np.pi * 1.1 * t) + np.sin(2 * np.pi * 0.37 * t))
+    return acc, dt
+
+
+def test_standard_gravity_is_the_cgpm_value_everywhere_the_selection_converts_g() -> None:
+    """9.80665 m/s² (CGPM 1901, exact); the selection's target in g, its PSA(T_1) in g and the
+    peers' S_a in g all divide by it (they had three private copies, and the IDA a literal)."""
+    from stepframe.pipeline.selection.options import SelectionOptions
+    from stepframe.pipeline.selection.peers import PeerPeriods, record_peers
+    from stepframe.pipeline.selection.spectral import target_spectrum
+
+    assert STANDARD_GRAVITY_M_S2 == 9.80665
+    target = target_spectrum(SelectionOptions(target_s_ds_g=1.0, target_s_d1_g=0.6))
+    assert target is not None
+    # ASCE 7-22 two-period: S_a = S_D1/T between T_s and T_L, in m/s² with standard gravity
+    assert math.isclose(target.sa_m_s2(2.0), 0.3 * 9.80665, rel_tol=1e-12)
+    acc, dt = _record()
+    period_1 = 2 * math.pi / FRAME.omega_1_rad_s
+    peers = record_peers(acc, dt, PeerPeriods(period_1, 3.0))
+    psa_g = response_spectrum(acc, dt, [period_1], 0.05).psa_m_s2[0] / 9.80665
+    assert math.isclose(peers["sa_t1_g"], psa_g, rel_tol=1e-9)
