@@ -41,3 +41,30 @@ def test_standard_gravity_is_the_cgpm_value_everywhere_the_selection_converts_g(
     peers = record_peers(acc, dt, PeerPeriods(period_1, 3.0))
     psa_g = response_spectrum(acc, dt, [period_1], 0.05).psa_m_s2[0] / 9.80665
     assert math.isclose(peers["sa_t1_g"], psa_g, rel_tol=1e-9)
+
+
+def test_equal_intensity_puts_the_scaled_records_linear_peak_at_r_times_the_onset() -> None:
+    """The equal-intensity scale (one home, intensity.equal_intensity_scales, which the ranking
+    and the confirmation both call) checked on the scaled record itself: its own SD(T_1, ξ_1),
+    computed again by the Nigam-Jennings spectrum, times P_1 is r·x_c, and its PSA(T_1, ξ_1) is
+    r times the onset PSA ω_1²x_c/P_1 (6.4581²·0.19/1.1884 m/s² = 0.6800 g, by hand)."""
+    from stepframe.pipeline.selection.intensity import (
+        RankingIntensity,
+        equal_intensity_scales,
+        onset_psa_t1_g,
+    )
+
+    onset_g = 6.4581**2 * 0.19 / 1.1884 / 9.80665
+    assert math.isclose(onset_psa_t1_g(FRAME), onset_g, rel_tol=1e-12)
+    assert math.isclose(onset_g, 0.67995, abs_tol=5e-5)
+    acc, dt = _record()
+    period_1 = 2 * math.pi / FRAME.omega_1_rad_s
+    sd = response_spectrum(acc, dt, [period_1], FRAME.xi_1).sd_m
+    for ratio in (0.5, 1.0, 2.5):
+        scale = float(equal_intensity_scales(sd, FRAME, ratio)[0])
+        scaled = response_spectrum(scale * acc, dt, [period_1], FRAME.xi_1)
+        assert math.isclose(FRAME.p_1 * scaled.sd_m[0], ratio * FRAME.x_c_m, rel_tol=1e-9)
+        assert math.isclose(scaled.psa_g[0], ratio * onset_g, rel_tol=1e-9)
+        ranking = RankingIntensity("equal-psa-t1", "none", ratio, None, onset_g, ())
+        base = ranking.base_scales(FRAME, sd, np.array([np.nan]), np.ones(1))
+        assert base[0] == scale

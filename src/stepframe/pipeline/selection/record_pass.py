@@ -40,7 +40,11 @@ from stepframe.core.results import Failure
 from stepframe.errors import InputError
 from stepframe.pipeline.selection import confirm as confirmation
 from stepframe.pipeline.selection.band import FrameBand, frame_band
-from stepframe.pipeline.selection.intensity import RankingIntensity, ranking_intensity
+from stepframe.pipeline.selection.intensity import (
+    RankingIntensity,
+    equal_intensity_scales,
+    ranking_intensity,
+)
 from stepframe.pipeline.selection.names import FIT_TIERS, SIMULATED_RESPONSE
 from stepframe.pipeline.selection.options import SelectionOptions
 from stepframe.pipeline.selection.peers import PeerPeriods, spectra_and_peers
@@ -431,7 +435,7 @@ def _confirmed(outcomes: list[Outcome], samples: dict[int, Samples], spec: PassS
         return np.zeros(len(outcomes))
     records = [samples[k] for k in runs]
     sd = np.array([outcomes[k].sd_t1_m for k in runs])
-    scales = confirmation.equal_intensity_scales(sd, spec.frame, spec.onset_ratio)
+    scales = equal_intensity_scales(sd, spec.frame, spec.onset_ratio)
     start = time.perf_counter()
     run = confirmation.run_batch(spec.frame, records, scales)
     seconds = time.perf_counter() - start
