@@ -68,3 +68,27 @@ def test_equal_intensity_puts_the_scaled_records_linear_peak_at_r_times_the_onse
         ranking = RankingIntensity("equal-psa-t1", "none", ratio, None, onset_g, ())
         base = ranking.base_scales(FRAME, sd, np.array([np.nan]), np.ones(1))
         assert base[0] == scale
+
+
+def test_band_levels_lie_on_the_period_amplitude_law_at_log_spaced_frequencies() -> None:
+    """The band's levels (one home, band.band_levels, read by the physics scores' frame_band and
+    the substitute structure): the forward law T(A_k) (quarter periods in closed form, not the
+    bisection that found A_k) gives back 2π/ω_k, ω_k log-spaced from ω_1 to ω(0.8 x*), and the
+    ends are x_c and A_max."""
+    from stepframe.pipeline.selection.band import frame_band
+    from stepframe.pipeline.selection.substitute import substitute_levels
+    from stepframe.structure.period_amplitude import period_amplitude
+
+    band = frame_band(FRAME, n_levels=7)
+    amplitudes, omegas = band.level_amplitudes_m, band.level_omegas_rad_s
+    assert amplitudes[0] == FRAME.x_c_m and amplitudes[-1] == 0.8 * FRAME.x_star_m
+    ratios = omegas[1:] / omegas[:-1]
+    np.testing.assert_allclose(ratios, ratios[0], rtol=1e-12)
+    assert math.isclose(omegas[0], 6.4581, rel_tol=1e-12)
+    period_low = period_amplitude(FRAME, 0.8 * FRAME.x_star_m)
+    assert math.isclose(omegas[-1], 2 * math.pi / period_low, rel_tol=1e-12)
+    inner = period_amplitude(FRAME, amplitudes[1:-1])
+    np.testing.assert_allclose(inner, 2 * math.pi / omegas[1:-1], rtol=1e-9)
+    levels = substitute_levels(band, 7)
+    np.testing.assert_array_equal(levels.amplitudes_m, amplitudes)
+    np.testing.assert_allclose(levels.periods_s, 2 * math.pi / omegas, rtol=1e-9)
