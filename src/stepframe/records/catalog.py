@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from stepframe.core.execution import map_items
-from stepframe.core.io import CSV_FLOAT_FORMAT, atomic_write
+from stepframe.core.io import CSV_FLOAT_FORMAT, atomic_write, columns_path, file_sha256
 from stepframe.core.jsonable import to_jsonable
 from stepframe.core.results import (
     Failure,
@@ -168,21 +168,15 @@ def distinct_contents(files: Iterable[Path]) -> tuple[list[Path], list[tuple[Pat
     their content key; this is the same rule for the commands that read files directly. Files
     are compared by SHA-256; a file that cannot be opened is kept, for its reader to report.
     """
-    import hashlib
-
     first: dict[str, Path] = {}
     kept: list[Path] = []
     same: list[tuple[Path, Path]] = []
     for path in files:
-        digest = hashlib.sha256()
         try:
-            with open(path, "rb") as handle:
-                for block in iter(lambda: handle.read(1 << 20), b""):
-                    digest.update(block)
+            key = file_sha256(path)
         except OSError:
             kept.append(path)
             continue
-        key = digest.hexdigest()
         if key in first:
             same.append((path, first[key]))
         else:
@@ -397,7 +391,7 @@ def output_paths(out: str | PathLike[str]) -> tuple[Path, Path, Path]:
     target = Path(out)
     return (
         target,
-        target.with_name(f"{target.stem}.columns.csv"),
+        columns_path(target),
         failures_path(target),
     )
 

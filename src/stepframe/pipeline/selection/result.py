@@ -403,7 +403,7 @@ FILES_KEY = "files_sha256"
 def written_files(folder: Path, paths: Any) -> dict[str, str]:
     """Each written file's path relative to ``folder`` (POSIX) → its sha256 (of the motions,
     their manifest)."""
-    from stepframe.pipeline.engine.store import file_sha256
+    from stepframe.core.io import file_sha256
 
     return {Path(path).relative_to(folder).as_posix(): file_sha256(path) for path in sorted(paths)}
 
