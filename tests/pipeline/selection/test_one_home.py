@@ -92,3 +92,30 @@ def test_band_levels_lie_on_the_period_amplitude_law_at_log_spaced_frequencies()
     levels = substitute_levels(band, 7)
     np.testing.assert_array_equal(levels.amplitudes_m, amplitudes)
     np.testing.assert_allclose(levels.periods_s, 2 * math.pi / omegas, rtol=1e-9)
+
+
+def test_fiv3_integrates_the_filtered_record_as_an_independent_trapezoid_does() -> None:
+    """FIV3's window integral now reads the record velocity of records.integration (it had its
+    own cumulative trapezoid): checked against FIV3 written out with scipy's
+    cumulative_trapezoid, and the velocity of a linear-in-time acceleration against its closed
+    form (exact for a record linear between samples)."""
+    from scipy.integrate import cumulative_trapezoid
+    from scipy.signal import butter, find_peaks, lfilter
+
+    from stepframe.pipeline.selection.peers import FIV_ALPHA, FIV_BETA, fiv3_m_s
+    from stepframe.records.integration import velocity_m_s
+
+    t = np.arange(101) * 0.01
+    np.testing.assert_allclose(velocity_m_s(3.0 * t, 0.01), 1.5 * t**2, rtol=1e-12, atol=1e-15)
+    acc, dt = _record()
+    period = 1.2
+    b, a = butter(2, FIV_BETA / period, fs=1.0 / dt)
+    velocity = cumulative_trapezoid(lfilter(b, a, acc), dx=dt, initial=0.0)
+    time = np.arange(acc.size) * dt
+    starts = time[time + FIV_ALPHA * period <= time[-1]]
+    fiv = np.interp(starts + FIV_ALPHA * period, time, velocity) - velocity[: starts.size]
+    peaks = np.sort(fiv[find_peaks(fiv)[0]])[::-1][:3]
+    troughs = np.sort(fiv[find_peaks(-fiv)[0]])[:3]
+    expected = max(np.sum(peaks), abs(np.sum(troughs)))
+    assert math.isclose(fiv3_m_s(acc, dt, period), expected, rel_tol=1e-10)
+    assert math.isnan(fiv3_m_s(acc[:5], dt, period))  # shorter than the window

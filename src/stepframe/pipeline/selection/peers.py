@@ -127,18 +127,18 @@ def fiv3_m_s(acc_m_s2: Floats, dt_s: float, period_s: float) -> float:
     """
     from scipy.signal import find_peaks, lfilter
 
+    from stepframe.records.integration import velocity_m_s
+
     acc = np.asarray(acc_m_s2, dtype=np.float64)
-    nyquist_hz = 0.5 / dt_s
-    cutoff_hz = min(FIV_BETA / period_s, 0.99 * nyquist_hz)
-    b, a = _low_pass(cutoff_hz, 1.0 / dt_s)
-    filtered = lfilter(b, a, acc)
     time_s = np.arange(acc.size) * dt_s
-    velocity = np.zeros(acc.size)
-    np.cumsum(0.5 * dt_s * (filtered[1:] + filtered[:-1]), out=velocity[1:])
     window_s = FIV_ALPHA * period_s
     starts = time_s[time_s + window_s <= time_s[-1]]
     if starts.size < 3:
         return math.nan
+    nyquist_hz = 0.5 / dt_s
+    cutoff_hz = min(FIV_BETA / period_s, 0.99 * nyquist_hz)
+    b, a = _low_pass(cutoff_hz, 1.0 / dt_s)
+    velocity = velocity_m_s(lfilter(b, a, acc), dt_s)
     fiv = np.interp(starts + window_s, time_s, velocity) - velocity[: starts.size]
     peaks = np.sort(fiv[find_peaks(fiv)[0]])[::-1][:3]
     troughs = np.sort(fiv[find_peaks(-fiv)[0]])[:3]
