@@ -444,9 +444,9 @@ def _peak_text(medians: dict[str, Any], case: str, group: str) -> str:
 
 def _number(value: Any, spec: str) -> str:
     """A number for people: "not run" instead of NaN or None."""
-    if value is None or (isinstance(value, float) and not math.isfinite(value)):
-        return "not run"
-    return format(value, spec)
+    from stepframe.core.text import number_text
+
+    return number_text(value, spec, "not run")
 
 
 def _score_text(row: Any, rank_by: str) -> str:

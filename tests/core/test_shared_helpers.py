@@ -1,4 +1,5 @@
-"""The package's one file hash and the one place of a table's column dictionary."""
+"""The package's one file hash, the one place of a table's column dictionary and the one
+formatter of numbers for people."""
 
 from __future__ import annotations
 
@@ -31,3 +32,21 @@ def test_file_sha256_gives_the_published_digest_and_hashlibs_on_large_files(
 def test_the_column_dictionary_sits_beside_its_table() -> None:
     assert columns_path("out/catalog.csv") == Path("out/catalog.columns.csv")
     assert columns_path(Path("features")) == Path("features.columns.csv")
+
+
+def test_numbers_for_people_never_print_nan() -> None:
+    """The selection's summary lines had two formatters: result's printed "not run" for NaN,
+    ranking's printed "nan" (a Spearman ρ of constant values, a median of no records)."""
+    import math
+
+    import numpy as np
+
+    from stepframe.core.text import number_text
+
+    assert number_text(0.123456, ".2f") == "0.12"
+    assert number_text(np.float64(2.0 / 3.0), ".3g") == "0.667"
+    assert number_text(np.float32(0.5), ".1f") == "0.5"
+    assert number_text(7, ".3g") == "7"
+    for missing in (None, math.nan, np.nan, math.inf, "text"):
+        assert number_text(missing, ".2f") == "—"
+        assert number_text(missing, ".2f", "not run") == "not run"
