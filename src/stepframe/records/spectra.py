@@ -368,6 +368,14 @@ def _frequency_domain_peaks(
     return out
 
 
+def pseudo_acceleration_m_s2(period_s: ArrayLike, sd_m: ArrayLike) -> NDArray[np.float64]:
+    """PSA = ω²·SD [m/s²], ω = 2π/T, of peak displacements ``sd_m`` [m] at periods ``period_s``
+    [s] (broadcast together): the one conversion of :func:`response_spectrum`, the RotD spectra
+    and the selection's PSA(T_1) and peers."""
+    omega = 2 * np.pi / np.asarray(period_s, dtype=np.float64)
+    return np.asarray(omega * omega * np.asarray(sd_m, dtype=np.float64))
+
+
 def response_spectrum(
     acc_m_s2: ArrayLike,
     dt_s: float,
@@ -405,4 +413,6 @@ def response_spectrum(
         acc_m_s2, dt_s, periods, damping, method=method, points_per_period=points_per_period
     )
     omega = 2 * np.pi / periods
-    return ResponseSpectrum(periods, float(damping), sd, omega * sd, omega * omega * sd)
+    return ResponseSpectrum(
+        periods, float(damping), sd, omega * sd, pseudo_acceleration_m_s2(periods, sd)
+    )

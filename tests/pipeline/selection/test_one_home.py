@@ -119,3 +119,24 @@ def test_fiv3_integrates_the_filtered_record_as_an_independent_trapezoid_does() 
     expected = max(np.sum(peaks), abs(np.sum(troughs)))
     assert math.isclose(fiv3_m_s(acc, dt, period), expected, rel_tol=1e-10)
     assert math.isnan(fiv3_m_s(acc[:5], dt, period))  # shorter than the window
+
+
+def test_the_selections_psa_is_the_step_responses_overshoot() -> None:
+    """PSA = ω²SD has one home (records.spectra.pseudo_acceleration_m_s2: the response spectrum,
+    RotD, the peers and the selection's PSA(T_1) each wrote it out): a step a0 in ground
+    acceleration gives PSA = a0·(1 + exp(-πζ/√(1-ζ²))) at every period (the step response's
+    first overshoot), read through the peers' S_a(T_1), Sa_avg and the home itself."""
+    from stepframe.pipeline.selection.peers import PeerPeriods, record_peers
+    from stepframe.records.spectra import peak_displacements_m, pseudo_acceleration_m_s2
+
+    a0, dt = 2.5, 0.0005
+    acc = np.full(40001, a0)
+    overshoot_g = a0 * (1 + math.exp(-math.pi * 0.05 / math.sqrt(1 - 0.05**2))) / 9.80665
+    peers = record_peers(acc, dt, PeerPeriods(0.5, 1.5))
+    assert math.isclose(peers["sa_t1_g"], overshoot_g, rel_tol=3e-4)
+    assert math.isclose(peers["sa_avg_g"], overshoot_g, rel_tol=3e-4)
+    periods = np.array([0.5, 1.0, 2.0])
+    sd = peak_displacements_m(acc, dt, periods, 0.05)
+    psa = pseudo_acceleration_m_s2(periods, sd) / 9.80665
+    np.testing.assert_allclose(psa, overshoot_g, rtol=3e-4)
+    assert math.isclose(float(pseudo_acceleration_m_s2(2 * math.pi, 0.25)), 0.25, rel_tol=1e-15)

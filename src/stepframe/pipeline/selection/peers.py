@@ -185,12 +185,12 @@ def peer_values(sa_m_s2: Floats, pga_m_s2: float, pgv_m_s: float, fiv3: float) -
 def record_peers(acc_m_s2: Floats, dt_s: float, periods: PeerPeriods) -> dict[str, float]:
     """Every peer of one record (one spectrum call at :attr:`PeerPeriods.all`, 5 % damping)."""
     from stepframe.records.integration import velocity_m_s
-    from stepframe.records.spectra import peak_displacements_m
+    from stepframe.records.spectra import peak_displacements_m, pseudo_acceleration_m_s2
 
     acc = np.asarray(acc_m_s2, dtype=np.float64)
     all_periods = periods.all
     sd = peak_displacements_m(acc, dt_s, all_periods, 0.05)
-    sa = (2.0 * math.pi / all_periods) ** 2 * sd
+    sa = pseudo_acceleration_m_s2(all_periods, sd)
     pga = float(np.max(np.abs(acc)))
     pgv = float(np.max(np.abs(velocity_m_s(acc, dt_s))))
     return peer_values(sa, pga, pgv, fiv3_m_s(acc, dt_s, periods.period_1_s))

@@ -391,12 +391,14 @@ def _ranked(outcomes: list[Outcome], samples: dict[int, Samples], spec: PassSpec
 
     if spec.intensity is None:
         return np.zeros(len(outcomes))
-    omega_sq = (2.0 * math.pi / spec.groups[0][0]) ** 2  # PSA(T_1) as the selection table has it
+    from stepframe.records.spectra import pseudo_acceleration_m_s2
+
     bases = {}
     for k in samples:
         sd_5 = outcomes[k].sd_5
         assert sd_5 is not None
-        psa_t1_g = (omega_sq * sd_5)[0] / STANDARD_GRAVITY_M_S2
+        # PSA(T_1) as the selection table has it (run.py)
+        psa_t1_g = pseudo_acceleration_m_s2(spec.groups[0][0], sd_5)[0] / STANDARD_GRAVITY_M_S2
         base = spec.base_scale(psa_t1_g, outcomes[k].sd_t1_m)
         if math.isfinite(base):
             bases[k] = base

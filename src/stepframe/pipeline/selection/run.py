@@ -343,7 +343,8 @@ def _spectra(
         name_of=record_pass.item_name,
     )
     results += [entry for entries in computed.results for entry in entries]
-    omega_sq = (2.0 * math.pi / spec.groups[0][0]) ** 2
+    from stepframe.records.spectra import pseudo_acceleration_m_s2
+
     psa_t1 = np.full(len(table), np.nan)
     peer_values = {name: np.full(len(table), np.nan) for name in PEERS}
     lost: dict[str, list[Failure]] = {"samples": [], "spectra": []}
@@ -354,7 +355,7 @@ def _spectra(
             dropped_by[result.row] = f"{result.failure.stage}_failed"
             continue
         assert result.sd_5 is not None and result.peers is not None
-        values = omega_sq * result.sd_5
+        values = pseudo_acceleration_m_s2(spec.groups[0][0], result.sd_5)
         psa_t1[result.row] = values[0] / STANDARD_GRAVITY_M_S2
         psa[result.row] = values[1:]
         sd_t1[result.row] = result.sd_t1_m
