@@ -297,3 +297,13 @@ def test_the_inbox_keeps_what_it_saw_in_the_nightly_outputs(tmp_path: Path) -> N
     assert len(sets()) == 2 and not set(sets()) & set(first_sets)
     # RSN 8883 lost a component: its pair stays in the table, absent
     assert rotd50.set_index("record")["present"].to_dict() == {"RSN8883": False, "RSN953": True}
+
+
+def test_the_catalogue_and_the_measures_name_a_psa_column_alike() -> None:
+    """One name per PSA column (records.spectra.psa_column), the one docs/workflows.md gives
+    (``psa_0.01s_g`` to ``psa_10s_g``): ``records catalog`` wrote PSA(0.2 s) as ``psa_0p2s_g``
+    where the measures stage writes ``psa_0.2s_g``."""
+    from stepframe.records.catalog import COLUMNS
+
+    assert psa_column(0.01) == "psa_0.01s_g" and psa_column(10.0) == "psa_10s_g"
+    assert [c for c in COLUMNS if c.startswith("psa_")] == ["psa_0.2s_g", "psa_1s_g"]

@@ -368,6 +368,12 @@ def _frequency_domain_peaks(
     return out
 
 
+def psa_column(period_s: float) -> str:
+    """The table column of the PSA [g] at one period, ``psa_0.2s_g``, ``psa_10s_g``: the one name
+    of the records catalogue's and the measures stage's columns (docs/workflows.md)."""
+    return f"psa_{period_s:g}s_g"
+
+
 def pseudo_acceleration_m_s2(period_s: ArrayLike, sd_m: ArrayLike) -> NDArray[np.float64]:
     """PSA = ω²·SD [m/s²], ω = 2π/T, of peak displacements ``sd_m`` [m] at periods ``period_s``
     [s] (broadcast together): the one conversion of :func:`response_spectrum`, the RotD spectra
