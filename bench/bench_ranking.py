@@ -51,8 +51,8 @@ def motions(n: int, seed: int) -> list[tuple[np.ndarray, float]]:
 
 def rank(frame: Any, records: list[tuple[np.ndarray, float]], onset: bool) -> Any:
     """The default exact ranking of ``records`` (the spectrum at T_1 first when at the onset)."""
-    from stepframe.pipeline.selection.confirm import equal_intensity_scales
     from stepframe.pipeline.selection.exact import simulated_response
+    from stepframe.pipeline.selection.intensity import equal_intensity_scales
     from stepframe.records.spectra import peak_displacements_m
 
     if onset:
@@ -93,7 +93,7 @@ def main() -> None:
         )
         base = np.ones(len(sample))
         if onset:
-            from stepframe.pipeline.selection.confirm import equal_intensity_scales
+            from stepframe.pipeline.selection.intensity import equal_intensity_scales
             from stepframe.records.spectra import peak_displacements_m
 
             t1 = 2 * math.pi / frame.omega_1_rad_s

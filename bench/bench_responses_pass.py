@@ -76,6 +76,7 @@ def _cpu(function: Any) -> tuple[Any, float]:
 def one_core(files: list[Path], workflow: Path) -> dict[str, float]:
     """CPU seconds per component of each part of the pass (module docstring, part 1)."""
     from stepframe.pipeline.selection import confirm, exact, record_pass
+    from stepframe.pipeline.selection.intensity import equal_intensity_scales
     from stepframe.pipeline.selection.options import SelectionOptions
     from stepframe.pipeline.selection.peers import spectra_and_peers
     from stepframe.records import read
@@ -110,14 +111,14 @@ def one_core(files: list[Path], workflow: Path) -> dict[str, float]:
 
     def equal() -> None:
         for g in groups:
-            scales = confirm.equal_intensity_scales(sd_t1[g], frame, spec.onset_ratio)
+            scales = equal_intensity_scales(sd_t1[g], frame, spec.onset_ratio)
             confirm.run_batch(frame, [records[i] for i in g], scales)
 
     def scan(rounds: bool) -> np.ndarray:
         out = []
         for g in groups:
             subset = [records[i] for i in g]
-            onset = confirm.equal_intensity_scales(sd_t1[g], frame, 1.0)
+            onset = equal_intensity_scales(sd_t1[g], frame, 1.0)
             if rounds:
                 out.append(confirm.overturn_factors(frame, subset, onset, confirm.SCAN_LEVELS))
             else:  # as it was: every record at every level, then the bisection
@@ -164,6 +165,7 @@ def before_after(
     :data:`bench_features.FORMER` and now, interleaved; their results checked equal bit for
     bit (module docstring, part 1)."""
     from stepframe.pipeline.selection import confirm, exact, peers
+    from stepframe.pipeline.selection.intensity import equal_intensity_scales
 
     former_exact = bench_features.former_module("former_exact", "pipeline/selection/exact.py")
     former_peers = bench_features.former_module("former_peers", "pipeline/selection/peers.py")
@@ -179,7 +181,7 @@ def before_after(
                 frame, [records[i] for i in g], base[g], spec.ladder) for g in groups],
             "scan": lambda: [confirm.overturn_factors(
                 frame, [records[i] for i in g],
-                confirm.equal_intensity_scales(sd_t1[g], frame, 1.0), confirm.SCAN_LEVELS)
+                equal_intensity_scales(sd_t1[g], frame, 1.0), confirm.SCAN_LEVELS)
                 for g in groups],
         }  # fmt: skip
 

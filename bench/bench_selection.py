@@ -62,8 +62,9 @@ def main() -> None:
     from stepframe.pipeline.selection import SelectionOptions, select_records
     from stepframe.pipeline.selection import scores as sc
     from stepframe.pipeline.selection.band import frame_band
-    from stepframe.pipeline.selection.confirm import equal_intensity_scales, run_batch
+    from stepframe.pipeline.selection.confirm import run_batch
     from stepframe.pipeline.selection.inputs import example_catalogue
+    from stepframe.pipeline.selection.intensity import equal_intensity_scales
     from stepframe.pipeline.selection.path import model_of_row, strong_motion_paths
     from stepframe.records.spectra import response_spectrum
     from stepframe.stochastic.amplification import spectral_ratio_eq_6_18

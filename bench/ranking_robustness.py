@@ -145,7 +145,7 @@ def rho_samples(x: np.ndarray, y: np.ndarray, seed: int) -> tuple[float, np.ndar
 
 
 def study(frame_names: list[str], jobs: int | None) -> list[dict[str, Any]]:
-    from stepframe.pipeline.selection.confirm import equal_intensity_scales
+    from stepframe.pipeline.selection.intensity import equal_intensity_scales
 
     family = frame_family()
     cats = catalogues(jobs)

@@ -45,8 +45,8 @@ def cost_table(frame: Any) -> list[tuple[str, float, str]]:
 
     from stepframe.pipeline.selection import scores as sc
     from stepframe.pipeline.selection.band import frame_band
-    from stepframe.pipeline.selection.confirm import equal_intensity_scales
     from stepframe.pipeline.selection.exact import simulated_response
+    from stepframe.pipeline.selection.intensity import equal_intensity_scales
     from stepframe.pipeline.selection.path import strong_motion_paths
     from stepframe.pipeline.selection.peers import PeerPeriods, fiv3_m_s, record_peers
     from stepframe.pipeline.selection.substitute import substitute_levels
@@ -157,8 +157,8 @@ def cost_table(frame: Any) -> list[tuple[str, float, str]]:
 
 
 def agreement_rows(jobs: int | None) -> list[dict[str, Any]]:
-    from stepframe.pipeline.selection.confirm import equal_intensity_scales
     from stepframe.pipeline.selection.exact import ranking_order
+    from stepframe.pipeline.selection.intensity import equal_intensity_scales
     from stepframe.pipeline.selection.names import TIERS
     from stepframe.pipeline.selection.tiers import agreement, tier_values
 

@@ -337,3 +337,13 @@ def test_the_arrivals_report_agrees_with_the_measures_of_a_forced_run(tmp_path: 
     assert measures["processed_utc"].nunique() == 1
     assert numbers["run_utc"] == measures["processed_utc"].iat[0]
     assert (numbers["components"], numbers["runs"]) == (4, 1)
+
+
+def test_the_catalogue_and_the_measures_name_a_psa_column_alike() -> None:
+    """One name per PSA column (records.spectra.psa_column), the one docs/workflows.md gives
+    (``psa_0.01s_g`` to ``psa_10s_g``): ``records catalog`` wrote PSA(0.2 s) as ``psa_0p2s_g``
+    where the measures stage writes ``psa_0.2s_g``."""
+    from stepframe.records.catalog import COLUMNS
+
+    assert psa_column(0.01) == "psa_0.01s_g" and psa_column(10.0) == "psa_10s_g"
+    assert [c for c in COLUMNS if c.startswith("psa_")] == ["psa_0.2s_g", "psa_1s_g"]

@@ -82,7 +82,7 @@ def test_two_folders_give_the_same_bytes(two_runs: tuple[Path, Path]) -> None:
 
 
 def test_the_selection_names_each_record_by_its_identity(two_runs: tuple[Path, Path]) -> None:
-    from stepframe.pipeline.engine.store import file_sha256
+    from stepframe.core.io import file_sha256
 
     first, _ = two_runs
     selection = first / "stepframe-work" / "outputs" / "selection"

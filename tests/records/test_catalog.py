@@ -62,7 +62,7 @@ def test_catalog_rows_failures_and_values(folder: Path) -> None:
     for key in ("pga_g", "pgv_m_s", "pgd_m", "arias_m_s", "d5_95_s", "cav_m_s"):
         assert row[key] == pytest.approx(expected[key], rel=1e-12)
     psa = response_spectrum(trace.data, 0.005, [0.2, 1.0]).psa_g
-    assert row["psa_0p2s_g"] == pytest.approx(psa[0]) and row["psa_1s_g"] == pytest.approx(psa[1])
+    assert row["psa_0.2s_g"] == pytest.approx(psa[0]) and row["psa_1s_g"] == pytest.approx(psa[1])
     assert (row["component"], row["units_in"], row["npts"], row["format"]) == (
         "360",
         "g",

@@ -135,3 +135,19 @@ def test_pgv_of_a_csmip_v2_record_matches_its_header(data_dir) -> None:  # type:
         pgv_cm_s, at_s = stated[trace.stats.channel]
         assert vel[k] == pytest.approx(pgv_cm_s, rel=2e-3)
         assert k * trace.stats.delta == pytest.approx(at_s, abs=1e-9)
+
+
+def test_durations_of_a_steady_record_are_fractions_of_its_length() -> None:
+    """D5-75 and D5-95 are read from the Husid curve in one place (arias_times_s): a record of
+    constant |a| (a square wave at the samples, so a² is constant over every step) has a
+    straight Husid curve, and the durations are exactly 0.70 and 0.90 of its length."""
+    from stepframe.records.intensity import arias_times_s, cumulative_arias_m_s
+
+    dt = 0.01
+    acc = np.full(1001, 0.3)  # 10 s
+    measures = intensity_measures(acc, dt)
+    assert measures["d5_75_s"] == pytest.approx(7.0, abs=1e-9)
+    assert measures["d5_95_s"] == pytest.approx(9.0, abs=1e-9)
+    assert significant_duration_s(acc, dt) == pytest.approx(9.0, abs=1e-9)
+    times = arias_times_s(cumulative_arias_m_s(acc, dt), dt, [0.0, 0.5, 1.0])
+    np.testing.assert_allclose(times, [0.0, 5.0, 10.0], atol=1e-9)

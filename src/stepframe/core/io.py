@@ -35,6 +35,28 @@ TEMPORARY_SUFFIX = ".tmp"
 CSV_FLOAT_FORMAT = "%.15g"
 
 
+#: Bytes read at a time when hashing a file.
+_HASH_BLOCK = 1 << 20
+
+
+def file_sha256(path: str | PathLike[str]) -> str:
+    """SHA-256 of a file's bytes (hex), read in 1 MiB blocks: the one file hash of the package
+    (a store key, a copy found by content, a report's provenance, a selection's written files)."""
+    import hashlib
+
+    digest = hashlib.sha256()
+    with open(path, "rb") as handle:
+        while block := handle.read(_HASH_BLOCK):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def columns_path(path: str | PathLike[str]) -> Path:
+    """``X.columns.csv`` beside ``X.csv``: where a table's column dictionary is written."""
+    target = Path(path)
+    return target.with_name(f"{target.stem}.columns.csv")
+
+
 def _umask() -> int:
     # os.umask can only be read by setting it; set it back at once.
     mask = os.umask(0)

@@ -192,7 +192,7 @@ def no_usable_record(
 def _remove_earlier_table(output: str | PathLike[str]) -> None:
     """Remove the table ``output`` and its column dictionary if an earlier run wrote them (an
     output folder is left alone: its results are the stage's to replace)."""
-    from stepframe.core.tables import columns_path
+    from stepframe.core.io import columns_path
 
     table = Path(output)
     if table.suffix == "" or table.is_dir():

@@ -15,7 +15,7 @@ from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from stepframe.core.io import CSV_FLOAT_FORMAT, atomic_write
+from stepframe.core.io import CSV_FLOAT_FORMAT, atomic_write, columns_path
 from stepframe.core.results import get_column_dictionary, set_column_dictionary
 from stepframe.errors import InputError
 
@@ -25,12 +25,6 @@ if TYPE_CHECKING:
 
 #: Columns of a column dictionary as written (``dtype`` is added on writing).
 DICTIONARY_COLUMNS = ("column", "unit", "meaning")
-
-
-def columns_path(path: str | PathLike[str]) -> Path:
-    """``X.columns.csv`` beside ``X.csv``."""
-    target = Path(path)
-    return target.with_name(f"{target.stem}.columns.csv")
 
 
 def column_dictionary(table: pd.DataFrame) -> pd.DataFrame:

@@ -5,6 +5,7 @@ an ANSI escape sequence in a station name recolours or rewrites the user's termi
 into a CSV, a cell starting with ``=``, ``+``, ``-`` or ``@`` is run as a formula by spreadsheet
 programs (CSV injection). :func:`terminal_safe` escapes control characters; :func:`spreadsheet_safe`
 prefixes such cells with a single quote, as the OWASP guidance on CSV injection recommends.
+A number printed for people goes through :func:`number_text`, which never prints ``nan``.
 """
 
 from __future__ import annotations
@@ -21,6 +22,21 @@ _CONTROL = re.compile(r"[\x00-\x08\x0b-\x1f\x7f-\x9f]")
 #: First characters a spreadsheet reads as the start of a formula (OWASP: = + - @, and the tab
 #: and carriage return that some programs strip before looking).
 _FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
+
+
+def number_text(value: Any, spec: str, missing: str = "—") -> str:
+    """A number for people in the format ``spec``; ``missing`` for what is not a finite number
+    (None, NaN, ±inf, text), where Python would print ``nan`` or ``None``."""
+    import math
+
+    if not isinstance(value, int | float):
+        try:  # numpy scalars
+            value = float(value)
+        except (TypeError, ValueError):
+            return missing
+    if not math.isfinite(value):
+        return missing
+    return format(float(value), spec)
 
 
 def terminal_safe(text: str) -> str:

@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from stepframe.core.execution import map_items
-from stepframe.core.io import CSV_FLOAT_FORMAT, atomic_write
+from stepframe.core.io import CSV_FLOAT_FORMAT, atomic_write, columns_path, file_sha256
 from stepframe.core.jsonable import to_jsonable
 from stepframe.core.results import (
     Failure,
@@ -36,6 +36,7 @@ from stepframe.core.text import spreadsheet_safe
 from stepframe.errors import InputError
 from stepframe.records.intensity import MEASURES, trace_intensity_measures
 from stepframe.records.processing import measured
+from stepframe.records.spectra import psa_column
 from stepframe.records.units import STANDARD_GRAVITY_M_S2
 
 if TYPE_CHECKING:
@@ -70,10 +71,6 @@ _METADATA: dict[str, tuple[str, str]] = {
 }
 
 
-def _psa_column(period_s: float) -> str:
-    return f"psa_{period_s:g}s_g".replace(".", "p")
-
-
 def column_dictionary() -> pd.DataFrame:
     """The catalogue's columns: ``column``, ``unit``, ``meaning``."""
     import pandas as pd
@@ -82,7 +79,7 @@ def column_dictionary() -> pd.DataFrame:
     rows += [(name, unit, meaning) for name, (unit, meaning) in MEASURES.items()]
     rows += [
         (
-            _psa_column(period),
+            psa_column(period),
             "g",
             f"pseudo-spectral acceleration at T = {period:g} s, {CATALOG_DAMPING:.0%} damping",
         )
@@ -95,7 +92,7 @@ def column_dictionary() -> pd.DataFrame:
 COLUMNS: list[str] = [
     *_METADATA,
     *MEASURES,
-    *(_psa_column(period) for period in CATALOG_PERIODS_S),
+    *(psa_column(period) for period in CATALOG_PERIODS_S),
     "warnings",
 ]
 
@@ -125,7 +122,7 @@ def trace_row(trace: Trace, file: str = "", warning_text: str = "") -> dict[str,
     row.update(trace_intensity_measures(trace))
     psa = response_spectrum(trace.data, dt, CATALOG_PERIODS_S, CATALOG_DAMPING).psa_m_s2
     for period, value in zip(CATALOG_PERIODS_S, psa, strict=True):
-        row[_psa_column(period)] = float(value) / STANDARD_GRAVITY_M_S2
+        row[psa_column(period)] = float(value) / STANDARD_GRAVITY_M_S2
     row["warnings"] = warning_text
     return row
 
@@ -168,21 +165,15 @@ def distinct_contents(files: Iterable[Path]) -> tuple[list[Path], list[tuple[Pat
     their content key; this is the same rule for the commands that read files directly. Files
     are compared by SHA-256; a file that cannot be opened is kept, for its reader to report.
     """
-    import hashlib
-
     first: dict[str, Path] = {}
     kept: list[Path] = []
     same: list[tuple[Path, Path]] = []
     for path in files:
-        digest = hashlib.sha256()
         try:
-            with open(path, "rb") as handle:
-                for block in iter(lambda: handle.read(1 << 20), b""):
-                    digest.update(block)
+            key = file_sha256(path)
         except OSError:
             kept.append(path)
             continue
-        key = digest.hexdigest()
         if key in first:
             same.append((path, first[key]))
         else:
@@ -397,7 +388,7 @@ def output_paths(out: str | PathLike[str]) -> tuple[Path, Path, Path]:
     target = Path(out)
     return (
         target,
-        target.with_name(f"{target.stem}.columns.csv"),
+        columns_path(target),
         failures_path(target),
     )
 

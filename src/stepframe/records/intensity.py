@@ -59,6 +59,16 @@ def arias_intensity_m_s(acc_m_s2: ArrayLike, dt_s: float) -> float:
     return float(cumulative_arias_m_s(acc_m_s2, dt_s)[-1])
 
 
+def arias_times_s(
+    husid_m_s: NDArray[np.float64], dt_s: float, fractions: ArrayLike
+) -> NDArray[np.float64]:
+    """Times [s] at which the Husid curve (:func:`cumulative_arias_m_s`) reaches each fraction of
+    its total, interpolated linearly between samples: the one reading of D5-75 and D5-95."""
+    time = np.arange(husid_m_s.size) * dt_s
+    targets = np.asarray(fractions, dtype=np.float64) * husid_m_s[-1]
+    return np.asarray(np.interp(targets, husid_m_s, time), dtype=np.float64)
+
+
 def significant_duration_s(
     acc_m_s2: ArrayLike, dt_s: float, start: float = 0.05, end: float = 0.95
 ) -> float:
@@ -73,8 +83,7 @@ def significant_duration_s(
     total = husid[-1]
     if not total > 0.0:
         raise InputError("record is all zeros, expected a record with some motion")
-    time = np.arange(husid.size) * dt_s
-    t_start, t_end = np.interp([start * total, end * total], husid, time)
+    t_start, t_end = arias_times_s(husid, dt_s, [start, end])
     return float(t_end - t_start)
 
 
@@ -130,10 +139,8 @@ def intensity_measures(acc_m_s2: ArrayLike, dt_s: float) -> dict[str, float]:
     husid = cumulative_arias_m_s(acc, dt_s)
     total = float(husid[-1])
     if total > 0.0:
-        time = np.arange(acc.size) * dt_s
-        t5, t75, t95 = np.interp(np.array([0.05, 0.75, 0.95]) * total, husid, time)
+        t5, t75, t95 = arias_times_s(husid, dt_s, [0.05, 0.75, 0.95])
         d5_75, d5_95 = float(t75 - t5), float(t95 - t5)
-        del time
     else:
         d5_75 = d5_95 = math.nan
     del husid

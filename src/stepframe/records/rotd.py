@@ -26,6 +26,7 @@ from stepframe.records.spectra import (
     check_damping,
     check_periods,
     displacement_histories_m,
+    pseudo_acceleration_m_s2,
     upsampling_factors,
 )
 from stepframe.records.units import STANDARD_GRAVITY_M_S2
@@ -132,15 +133,13 @@ def rotd_spectrum(
         u2 = displacement_histories_m(acc2, dt_s, periods[index], zeta, int(factor))
         for k, j in enumerate(index):
             sd[j] = rotated_peaks(u1[:, k], u2[:, k], angles)
-    omega2 = (2 * np.pi / periods) ** 2
-    psa = sd * omega2[:, None]
+    psa = pseudo_acceleration_m_s2(periods[:, None], sd)
     psa1 = psa[:, 0]
     # θ = 90° is h2 when the step divides 90; otherwise compute it from the histories' peaks.
     from stepframe.records.spectra import peak_displacements_m
 
-    psa2 = omega2 * peak_displacements_m(
-        acc2, dt_s, periods, zeta, points_per_period=points_per_period
-    )
+    sd2 = peak_displacements_m(acc2, dt_s, periods, zeta, points_per_period=points_per_period)
+    psa2 = pseudo_acceleration_m_s2(periods, sd2)
     return RotDSpectrum(
         period_s=periods,
         damping=zeta,

@@ -368,6 +368,20 @@ def _frequency_domain_peaks(
     return out
 
 
+def psa_column(period_s: float) -> str:
+    """The table column of the PSA [g] at one period, ``psa_0.2s_g``, ``psa_10s_g``: the one name
+    of the records catalogue's and the measures stage's columns (docs/workflows.md)."""
+    return f"psa_{period_s:g}s_g"
+
+
+def pseudo_acceleration_m_s2(period_s: ArrayLike, sd_m: ArrayLike) -> NDArray[np.float64]:
+    """PSA = ω²·SD [m/s²], ω = 2π/T, of peak displacements ``sd_m`` [m] at periods ``period_s``
+    [s] (broadcast together): the one conversion of :func:`response_spectrum`, the RotD spectra
+    and the selection's PSA(T_1) and peers."""
+    omega = 2 * np.pi / np.asarray(period_s, dtype=np.float64)
+    return np.asarray(omega * omega * np.asarray(sd_m, dtype=np.float64))
+
+
 def response_spectrum(
     acc_m_s2: ArrayLike,
     dt_s: float,
@@ -405,4 +419,6 @@ def response_spectrum(
         acc_m_s2, dt_s, periods, damping, method=method, points_per_period=points_per_period
     )
     omega = 2 * np.pi / periods
-    return ResponseSpectrum(periods, float(damping), sd, omega * sd, omega * omega * sd)
+    return ResponseSpectrum(
+        periods, float(damping), sd, omega * sd, pseudo_acceleration_m_s2(periods, sd)
+    )

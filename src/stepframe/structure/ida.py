@@ -352,11 +352,12 @@ def ida_records(
         Free vibration after each record [s] (as in
         :func:`~stepframe.structure.simulator.simulate`).
     """
+    from stepframe.records.units import STANDARD_GRAVITY_M_S2
     from stepframe.structure.simulator import simulate_batch
 
     recs = [(np.asarray(a, dtype=float), float(dt)) for a, dt in records]
     if intensity_of is None:
-        base = [float(np.max(np.abs(a))) / 9.80665 for a, _dt in recs]
+        base = [float(np.max(np.abs(a))) / STANDARD_GRAVITY_M_S2 for a, _dt in recs]
     else:
         base = [float(intensity_of(a, dt)) for a, dt in recs]
     for j, b in enumerate(base):

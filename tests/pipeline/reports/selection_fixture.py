@@ -16,10 +16,14 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from stepframe.pipeline.selection.options import SelectionOptions
+from stepframe.pipeline.selection.spectral import target_record
 from stepframe.records.examples import fema_p695
+from stepframe.records.units import STANDARD_GRAVITY_M_S2
 from stepframe.stochastic.features import record_features
 from stepframe.stochastic.fit import fit_model
 from stepframe.stochastic.model import MODEL_FIELDS
+from stepframe.structure.code_spectra import Asce7TwoPeriod
 from stepframe.structure.frame_file import frame_template, read_frame_file
 from stepframe.structure.period_amplitude import period_amplitude
 
@@ -111,7 +115,11 @@ def make_selection_folder(
         "frame_name": "Example 4 frame",
         "a_max_m": a_max,
         "scale": "none",
-        "target_spectrum": {"s_ds_g": 1.0, "s_d1_g": 0.6},
+        "target": target_record(
+            Asce7TwoPeriod(1.0, 0.6, None, STANDARD_GRAVITY_M_S2),
+            SelectionOptions(target_s_ds_g=1.0, target_s_d1_g=0.6),
+            np.geomspace(0.05, 10.0, 60),
+        ),
         "selected": selection[["file", "component", "rank", "scale_factor"]].to_dict("records"),
     }
     (folder / "selection.json").write_text(json.dumps(summary, indent=2), encoding="utf-8")

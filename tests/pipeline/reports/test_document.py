@@ -14,6 +14,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from stepframe.core.io import file_sha256
 from stepframe.errors import InputError
 from stepframe.pipeline.reports import collect_provenance
 from stepframe.pipeline.reports.document import (
@@ -25,7 +26,6 @@ from stepframe.pipeline.reports.document import (
     format_value,
     write_report,
 )
-from stepframe.pipeline.reports.provenance import sha256_of
 
 REPORTS = ["amplification_html", "records_amplification_html", "selection_html"]
 
@@ -152,7 +152,7 @@ def test_provenance_hashes_inputs(tmp_path: Path) -> None:
     names = [Path(name).name for name, _ in provenance.inputs]
     assert names == ["a.txt", "b.bin"]
     assert provenance.inputs[0][1] == hashlib.sha256(b"stepframe\n").hexdigest()
-    assert provenance.inputs[1][1] == sha256_of(tmp_path / "sub" / "b.bin")
+    assert provenance.inputs[1][1] == file_sha256(tmp_path / "sub" / "b.bin")
     assert provenance.command == "stepframe report"
     assert provenance.versions["stepframe"] and provenance.versions["numpy"]
     assert provenance.cpu_count >= 1

@@ -14,8 +14,9 @@ from stepframe.errors import InputError
 from stepframe.pipeline.selection import SelectionOptions
 from stepframe.pipeline.selection.band import frame_band
 from stepframe.pipeline.selection.choose import Units, choose, objective, percentile_scores
-from stepframe.pipeline.selection.confirm import equal_intensity_scales, spearman_interval
+from stepframe.pipeline.selection.confirm import spearman_interval
 from stepframe.pipeline.selection.filters import apply_filters
+from stepframe.pipeline.selection.intensity import equal_intensity_scales
 from stepframe.pipeline.selection.path import strong_motion_paths
 from stepframe.pipeline.selection.spectral import read_target_csv, scale_factors, spectral_misfit
 from stepframe.structure.frame import PortalFrame

@@ -188,8 +188,8 @@ def test_a_report_refuses_a_folder_edited_after_its_run(
 ) -> None:
     # A hand-shortened selection.csv made a report saying "Selected 2" above the summary's "of
     # 3 components": selection.json now records each file's sha256 and the folder is checked.
+    from stepframe.core.io import file_sha256
     from stepframe.errors import InputError
-    from stepframe.pipeline.engine.store import file_sha256
     from stepframe.pipeline.selection.report_folder import read_selection_folder
     from stepframe.pipeline.selection.result import read_selection
 

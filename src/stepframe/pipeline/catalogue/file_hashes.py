@@ -1,7 +1,7 @@
 """The sha256 of each record file, hashed once: later runs reuse it while the file is unchanged.
 
 The store keys everything by the content of the record files
-(:func:`stepframe.pipeline.engine.store.file_sha256`), which means reading every byte of every
+(:func:`stepframe.core.io.file_sha256`), which means reading every byte of every
 file at every run: 4-5 GB for a catalogue the size of NGA-West2, several seconds even from the
 page cache. A file whose identity is unchanged since it was hashed (device, inode, size,
 modification and status-change times in nanoseconds, as ``git`` and ``make`` judge a file) keeps
@@ -25,9 +25,8 @@ from collections.abc import Sequence
 from concurrent.futures import Executor, ThreadPoolExecutor
 from pathlib import Path
 
-from stepframe.core.io import atomic_write
+from stepframe.core.io import atomic_write, file_sha256
 from stepframe.core.paths import absolute_name
-from stepframe.pipeline.engine.store import file_sha256
 
 #: The workspace file that remembers the hashes.
 CACHE_NAME = "record-hashes.parquet"

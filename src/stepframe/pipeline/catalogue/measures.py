@@ -66,8 +66,12 @@ Processing = Literal["auto", "standard", "none"]
 
 
 def psa_column(period_s: float) -> str:
-    """The column of the PSA [g] at one period: ``psa_0.01s_g``, ``psa_10s_g``."""
-    return f"psa_{period_s:g}s_g"
+    """The column of the PSA [g] at one period: ``psa_0.01s_g``, ``psa_10s_g``
+    (:func:`stepframe.records.spectra.psa_column`, imported here when called: this module stays
+    light at import)."""
+    from stepframe.records.spectra import psa_column as column
+
+    return column(period_s)
 
 
 @dataclass(frozen=True)

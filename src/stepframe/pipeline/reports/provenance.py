@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import dataclasses
 import datetime as _dt
-import hashlib
 import os
 import platform
 import sys
@@ -20,17 +19,10 @@ from os import PathLike
 from pathlib import Path
 from typing import Any
 
+from stepframe.core.io import file_sha256
+
 #: Distributions whose versions change the numbers or the figures of a report.
 DEPENDENCIES = ("numpy", "scipy", "pandas", "xarray", "matplotlib", "obspy", "numba", "jinja2")
-
-
-def sha256_of(path: str | PathLike[str]) -> str:
-    """Hex SHA-256 of a file's bytes (read in 1 MiB blocks)."""
-    digest = hashlib.sha256()
-    with open(path, "rb") as handle:
-        for block in iter(lambda: handle.read(1 << 20), b""):
-            digest.update(block)
-    return digest.hexdigest()
 
 
 def _version(name: str) -> str:
@@ -126,7 +118,7 @@ def collect_provenance(
         text = (str(workflow), Path(workflow).read_text(encoding="utf-8"))
     return Provenance(
         command=command,
-        inputs=tuple((str(p), sha256_of(p)) for p in files),
+        inputs=tuple((str(p), file_sha256(p)) for p in files),
         parameters=dict(parameters or {}),
         workflow=text,
         created_utc=_dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat(),

@@ -89,6 +89,25 @@ class FrameBand:
         return 2.0 * math.pi / float(period_amplitude(self.frame, amplitude))
 
 
+def band_levels(
+    frame: PortalFrame, omega_1_rad_s: float, omega_low_rad_s: float, a_max_m: float, n_levels: int
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``n_levels`` amplitudes from x_c to A_max whose frequencies ω(A) are equally spaced in
+    ln ω from ω_1 down to ω(A_max), and those frequencies: ``(amplitudes [m], omegas [rad/s])``.
+
+    The inner amplitudes invert the period-amplitude law (:func:`amplitude_for_period`); the
+    ends are x_c and A_max themselves. The one home of the band's levels: the physics scores'
+    (:func:`frame_band`) and the substitute structure's
+    (:func:`stepframe.pipeline.selection.substitute.substitute_levels`).
+    """
+    omegas = np.exp(np.linspace(math.log(omega_1_rad_s), math.log(omega_low_rad_s), n_levels))
+    amplitudes = np.empty(n_levels)
+    amplitudes[0] = frame.x_c_m
+    amplitudes[1:-1] = amplitude_for_period(frame, 2.0 * math.pi / omegas[1:-1])
+    amplitudes[-1] = a_max_m
+    return amplitudes, omegas
+
+
 def frame_band(
     frame: PortalFrame,
     *,
@@ -145,11 +164,7 @@ def frame_band(
         )
     omega_1 = frame.omega_1_rad_s
     omega_low = 2.0 * math.pi / float(period_amplitude(frame, a_max))
-    omegas = np.exp(np.linspace(math.log(omega_1), math.log(omega_low), n_levels))
-    amplitudes = np.empty(n_levels)
-    amplitudes[0] = frame.x_c_m
-    amplitudes[1:-1] = amplitude_for_period(frame, 2.0 * math.pi / omegas[1:-1])
-    amplitudes[-1] = a_max
+    amplitudes, omegas = band_levels(frame, omega_1, omega_low, a_max, n_levels)
     return FrameBand(
         omega_1, omega_low, a_max, source, frame.x_c_m, frame.x_star_m, amplitudes, omegas, frame
     )

@@ -27,12 +27,12 @@ from stepframe.pipeline.selection.code_check import check_periods_s, check_suite
 from stepframe.pipeline.selection.options import SelectionOptions
 from stepframe.pipeline.selection.set_spectra import SET_PERIODS_S, set_spectra
 from stepframe.pipeline.selection.spectral import (
-    G_M_S2,
     Target,
     describe_target,
     target_code,
     target_record,
 )
+from stepframe.records.units import STANDARD_GRAVITY_M_S2
 
 Floats = NDArray[np.float64]
 Samples = tuple[Floats, float]
@@ -107,7 +107,7 @@ def scale_rule(options: SelectionOptions, target: Target | None, period_1_s: flo
         if target is None:
             level = "the candidates' median PSA(T_1)"
         else:
-            at_t1 = target.sa_m_s2(period_1_s) / G_M_S2
+            at_t1 = target.sa_m_s2(period_1_s) / STANDARD_GRAVITY_M_S2
             level = f"the target's PSA(T_1 = {period_1_s:.3g} s) = {at_t1:.3g} g"
         return f"psa-at-t1: {what} scaled to {level}, factors clipped to [{low:g}, {high:g}]"
     return (
@@ -288,7 +288,7 @@ def chosen_set(
     warnings += list(spectra.notes)
     columns: dict[str, Any] = {"period_s": grid}
     if target is not None:
-        target_g = np.array([target.sa_m_s2(float(t)) for t in grid]) / G_M_S2
+        target_g = np.array([target.sa_m_s2(float(t)) for t in grid]) / STANDARD_GRAVITY_M_S2
         columns["target_g"] = target_g
         summary["target"] = target_record(target, options, grid)
         summary["set_misfit"] = _set_misfit(spectra.psa_g, grid, target_g, misfit_periods_s)

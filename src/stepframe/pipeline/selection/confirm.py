@@ -26,6 +26,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from stepframe.pipeline.selection.intensity import equal_intensity_scales
+
 Floats = NDArray[np.float64]
 OVERTURN_RATIO_RANGE = (0.5, 4.0)
 #: Onset ratios scanned for overturning (log-spaced, 1.0 is the 6th).
@@ -52,12 +54,6 @@ def run_batch(frame: Any, records: list[tuple[Floats, float]], scales: Floats) -
     seconds = time.perf_counter() - start
     samples = sum(acc.size for acc, _ in records)
     return Simulated(table, samples / seconds if seconds > 0 else math.inf)
-
-
-def equal_intensity_scales(sd_t1_m: Floats, frame: Any, onset_ratio: float) -> Floats:
-    """Scale factors giving P_1·SD(T_1) = onset_ratio · x_c for each record."""
-    with np.errstate(divide="ignore"):
-        return np.asarray(onset_ratio * frame.x_c_m / (frame.p_1 * sd_t1_m))
 
 
 def overturn_onset_ratios(

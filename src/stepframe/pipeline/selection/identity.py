@@ -19,8 +19,8 @@ import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from stepframe.core.io import file_sha256
 from stepframe.errors import InputError
-from stepframe.pipeline.engine.store import file_sha256
 
 if TYPE_CHECKING:
     from stepframe.pipeline.selection.result import SelectionResult

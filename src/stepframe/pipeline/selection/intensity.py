@@ -23,9 +23,9 @@ from numpy.typing import NDArray
 
 from stepframe.errors import InputError
 from stepframe.pipeline.selection.names import SIMULATED_RESPONSE
+from stepframe.records.units import STANDARD_GRAVITY_M_S2
 
 Floats = NDArray[np.float64]
-STANDARD_GRAVITY_M_S2 = 9.80665
 
 
 @dataclass(frozen=True)
@@ -109,12 +109,30 @@ class RankingIntensity:
             if self.kind == "as-used":
                 return np.asarray(scale_factor, dtype=np.float64)
             if self.onset_ratio is not None:
-                return np.asarray(
-                    self.onset_ratio * frame.x_c_m / (frame.p_1 * np.asarray(sd_t1_xi1_m)),
-                    dtype=np.float64,
-                )
+                return equal_intensity_scales(sd_t1_xi1_m, frame, self.onset_ratio)
             assert self.psa_t1_g is not None
             return np.asarray(self.psa_t1_g / np.asarray(psa_t1_g), dtype=np.float64)
+
+
+def equal_intensity_scales(sd_t1_m: Floats, frame: Any, onset_ratio: float) -> Floats:
+    """Scale factors s giving P_1·SD(T_1, ξ_1)·s = ``onset_ratio``·x_c for each record: the
+    linear frame's peak at ``onset_ratio`` times the onset of stepping (the ranking's and the
+    confirmation's equal intensity; a record with SD = 0 gets an infinite scale).
+
+    Parameters
+    ----------
+    sd_t1_m
+        SD(T_1, ξ_1) of each record, unscaled [m].
+    frame
+        The frame (P_1, x_c).
+    onset_ratio
+        The multiple of the onset of stepping [-].
+    """
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.asarray(
+            onset_ratio * frame.x_c_m / (frame.p_1 * np.asarray(sd_t1_m, dtype=np.float64)),
+            dtype=np.float64,
+        )
 
 
 def equal_psa_level(onset_ratio: float, onset_psa_t1_g: float) -> str:
@@ -141,8 +159,10 @@ def intensity_level(text: str) -> str:
 
 
 def onset_psa_t1_g(frame: Any) -> float:
-    """PSA(T_1, ξ_1) at which the linear frame's peak P_1·SD reaches x_c [g]."""
-    return float(frame.omega_1_rad_s**2 * frame.x_c_m / frame.p_1 / STANDARD_GRAVITY_M_S2)
+    """PSA(T_1, ξ_1) at which the linear frame's peak P_1·SD reaches x_c [g]: the frame's static
+    uplift acceleration ω_1²x_c/P_1 (:attr:`~stepframe.structure.frame.PortalFrame.
+    uplift_acceleration_m_s2`) in g."""
+    return float(frame.uplift_acceleration_m_s2 / STANDARD_GRAVITY_M_S2)
 
 
 def ranking_intensity(options: Any, frame: Any, ladder: tuple[float, ...]) -> RankingIntensity:

@@ -42,6 +42,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from stepframe.records.units import STANDARD_GRAVITY_M_S2
+
 Floats = NDArray[np.float64]
 
 #: Periods in each average (Sa_avg, N_p), equally spaced between the range's ends.
@@ -51,7 +53,6 @@ LONGEST_PERIOD_S = 10.0
 #: FIV3's window αT_1 and cut-off β/T_1 (Dávalos and Miranda 2019's recommended values).
 FIV_ALPHA = 0.7
 FIV_BETA = 0.85
-STANDARD_GRAVITY_M_S2 = 9.80665
 
 
 @dataclass(frozen=True)
@@ -126,18 +127,18 @@ def fiv3_m_s(acc_m_s2: Floats, dt_s: float, period_s: float) -> float:
     """
     from scipy.signal import find_peaks, lfilter
 
+    from stepframe.records.integration import velocity_m_s
+
     acc = np.asarray(acc_m_s2, dtype=np.float64)
-    nyquist_hz = 0.5 / dt_s
-    cutoff_hz = min(FIV_BETA / period_s, 0.99 * nyquist_hz)
-    b, a = _low_pass(cutoff_hz, 1.0 / dt_s)
-    filtered = lfilter(b, a, acc)
     time_s = np.arange(acc.size) * dt_s
-    velocity = np.zeros(acc.size)
-    np.cumsum(0.5 * dt_s * (filtered[1:] + filtered[:-1]), out=velocity[1:])
     window_s = FIV_ALPHA * period_s
     starts = time_s[time_s + window_s <= time_s[-1]]
     if starts.size < 3:
         return math.nan
+    nyquist_hz = 0.5 / dt_s
+    cutoff_hz = min(FIV_BETA / period_s, 0.99 * nyquist_hz)
+    b, a = _low_pass(cutoff_hz, 1.0 / dt_s)
+    velocity = velocity_m_s(lfilter(b, a, acc), dt_s)
     fiv = np.interp(starts + window_s, time_s, velocity) - velocity[: starts.size]
     peaks = np.sort(fiv[find_peaks(fiv)[0]])[::-1][:3]
     troughs = np.sort(fiv[find_peaks(-fiv)[0]])[:3]
@@ -184,12 +185,12 @@ def peer_values(sa_m_s2: Floats, pga_m_s2: float, pgv_m_s: float, fiv3: float) -
 def record_peers(acc_m_s2: Floats, dt_s: float, periods: PeerPeriods) -> dict[str, float]:
     """Every peer of one record (one spectrum call at :attr:`PeerPeriods.all`, 5 % damping)."""
     from stepframe.records.integration import velocity_m_s
-    from stepframe.records.spectra import peak_displacements_m
+    from stepframe.records.spectra import peak_displacements_m, pseudo_acceleration_m_s2
 
     acc = np.asarray(acc_m_s2, dtype=np.float64)
     all_periods = periods.all
     sd = peak_displacements_m(acc, dt_s, all_periods, 0.05)
-    sa = (2.0 * math.pi / all_periods) ** 2 * sd
+    sa = pseudo_acceleration_m_s2(all_periods, sd)
     pga = float(np.max(np.abs(acc)))
     pgv = float(np.max(np.abs(velocity_m_s(acc, dt_s))))
     return peer_values(sa, pga, pgv, fiv3_m_s(acc, dt_s, periods.period_1_s))

@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from stepframe.core.results import Failure
+from stepframe.core.text import number_text
 from stepframe.errors import InputError
 from stepframe.pipeline.selection.choose import percentile_scores
 from stepframe.pipeline.selection.exact import (
@@ -253,7 +254,7 @@ def _failure(table: Any, row: int, message: str) -> Failure:
 
 
 def _number(value: Any, digits: str = ".2f") -> str:
-    return format(float(value), digits) if isinstance(value, int | float) else "—"
+    return number_text(value, digits)
 
 
 def tie_line(summary: dict[str, Any]) -> str | None:

@@ -40,12 +40,17 @@ from stepframe.core.results import Failure
 from stepframe.errors import InputError
 from stepframe.pipeline.selection import confirm as confirmation
 from stepframe.pipeline.selection.band import FrameBand, frame_band
-from stepframe.pipeline.selection.intensity import RankingIntensity, ranking_intensity
+from stepframe.pipeline.selection.intensity import (
+    RankingIntensity,
+    equal_intensity_scales,
+    ranking_intensity,
+)
 from stepframe.pipeline.selection.names import FIT_TIERS, SIMULATED_RESPONSE
 from stepframe.pipeline.selection.options import SelectionOptions
 from stepframe.pipeline.selection.peers import PeerPeriods, spectra_and_peers
-from stepframe.pipeline.selection.spectral import G_M_S2, misfit_periods_s
+from stepframe.pipeline.selection.spectral import misfit_periods_s
 from stepframe.pipeline.selection.substitute import SubstituteLevels, substitute_levels
+from stepframe.records.units import STANDARD_GRAVITY_M_S2
 
 Floats = NDArray[np.float64]
 Samples = tuple[Floats, float]
@@ -386,12 +391,14 @@ def _ranked(outcomes: list[Outcome], samples: dict[int, Samples], spec: PassSpec
 
     if spec.intensity is None:
         return np.zeros(len(outcomes))
-    omega_sq = (2.0 * math.pi / spec.groups[0][0]) ** 2  # PSA(T_1) as the selection table has it
+    from stepframe.records.spectra import pseudo_acceleration_m_s2
+
     bases = {}
     for k in samples:
         sd_5 = outcomes[k].sd_5
         assert sd_5 is not None
-        psa_t1_g = (omega_sq * sd_5)[0] / G_M_S2
+        # PSA(T_1) as the selection table has it (run.py)
+        psa_t1_g = pseudo_acceleration_m_s2(spec.groups[0][0], sd_5)[0] / STANDARD_GRAVITY_M_S2
         base = spec.base_scale(psa_t1_g, outcomes[k].sd_t1_m)
         if math.isfinite(base):
             bases[k] = base
@@ -430,7 +437,7 @@ def _confirmed(outcomes: list[Outcome], samples: dict[int, Samples], spec: PassS
         return np.zeros(len(outcomes))
     records = [samples[k] for k in runs]
     sd = np.array([outcomes[k].sd_t1_m for k in runs])
-    scales = confirmation.equal_intensity_scales(sd, spec.frame, spec.onset_ratio)
+    scales = equal_intensity_scales(sd, spec.frame, spec.onset_ratio)
     start = time.perf_counter()
     run = confirmation.run_batch(spec.frame, records, scales)
     seconds = time.perf_counter() - start

@@ -169,17 +169,13 @@ def _examples_cache(loader: Callable[[], Any]) -> Any:
 
 
 def _target(summary: dict[str, Any]) -> tuple[Any, Any] | None:
-    data = summary.get("target_spectrum")
-    if not isinstance(data, dict):
+    """The run's target spectrum as the selection stored it, ``(periods [s], PSA [g])``
+    (``selection.json`` ``target``, :func:`stepframe.pipeline.selection.spectral.target_record`:
+    the numbers the run scaled and checked against), or None without one."""
+    data = summary.get("target")
+    if not isinstance(data, dict) or "periods_s" not in data or "sa_g" not in data:
         return None
-    from stepframe.structure.design_spectrum import spectrum_from_dict
-
-    # values given in g are converted with the design spectrum's g (9.81, the paper's): the same
-    # g back to g, so a target of S_D1 = 0.6 g plots as 0.6/T g
-    g = float(summary.get("g_m_s2", 9.81))
-    spectrum = spectrum_from_dict(data, g_m_s2=g, where="selection.json target_spectrum")
-    sa = np.array([spectrum.sa_m_s2(float(t)) for t in SPECTRUM_PERIODS_S])
-    return SPECTRUM_PERIODS_S, sa / g
+    return np.asarray(data["periods_s"], dtype=float), np.asarray(data["sa_g"], dtype=float)
 
 
 def _strong_window(row: dict[str, Any], model: GroundMotionModel) -> tuple[float, float]:
@@ -1080,6 +1076,9 @@ def _spectra_items(
     from stepframe.records.spectra import response_spectrum
 
     damping = float(summary.get("damping", 0.05))
+    target = _target(summary)
+    # the spectra on the target's periods, where it has one (the run's own grid)
+    periods = SPECTRUM_PERIODS_S if target is None else target[0]
     spectra = []
     used = []
     scales = []
@@ -1090,19 +1089,18 @@ def _spectra_items(
             missing.append(name)
             continue
         scale = _scale_of(row)
-        result = response_spectrum(trace.data, trace.stats.delta, SPECTRUM_PERIODS_S, damping)
+        result = response_spectrum(trace.data, trace.stats.delta, periods, damping)
         spectra.append(result.psa_g * scale)
         used.append(name)
         scales.append(scale)
     if not spectra:
         return [Note("None of the selected records' files could be found: no spectra drawn.")]
     psa = np.vstack(spectra)
-    target = _target(summary)
     items: list[Figure | Table | Note | FigureJob] = [
         FigureJob(
             partial(
                 figures.spectra_figure,
-                SPECTRUM_PERIODS_S,
+                periods,
                 psa,
                 used,
                 target=target,
@@ -1112,7 +1110,8 @@ def _spectra_items(
             key="spectra",
             title="Scaled spectra against the target",
             alt=(
-                f"Pseudo-spectral acceleration of {len(used)} scaled records from 0.05 to 10 s "
+                f"Pseudo-spectral acceleration of {len(used)} scaled records from "
+                f"{periods[0]:.3g} to {periods[-1]:.3g} s "
                 "with their median and ±σ" + (" and the target spectrum" if target else "")
             ),
             how_to_read=(
@@ -1135,11 +1134,11 @@ def _spectra_items(
         ),
     ]
     logs = np.log(psa)
-    sigma = np.std(logs, axis=0, ddof=1) if len(used) > 1 else np.zeros(SPECTRUM_PERIODS_S.size)
+    sigma = np.std(logs, axis=0, ddof=1) if len(used) > 1 else np.zeros(periods.size)
     median = np.exp(np.median(logs, axis=0))
     statistics = pd.DataFrame(
         {
-            "period_s": SPECTRUM_PERIODS_S,
+            "period_s": periods,
             "median_psa_g": median,
             "minus_sigma_psa_g": median * np.exp(-sigma),
             "plus_sigma_psa_g": median * np.exp(sigma),
@@ -1165,7 +1164,7 @@ def _spectra_items(
         )
     )
     table = pd.DataFrame(psa.T, columns=used)
-    table.insert(0, "period_s", SPECTRUM_PERIODS_S)
+    table.insert(0, "period_s", periods)
     items.append(
         Table(
             "spectra",

@@ -164,7 +164,7 @@ def _check_unchanged(root: Path, summary: dict[str, Any], summary_path: Path) ->
     """Every file the run recorded in ``selection.json`` is there with the bytes it wrote: a
     report of an edited ``selection.csv`` said "Selected 2" above "of 3 components" (the
     summary's); a folder written before the run recorded them is read as it is."""
-    from stepframe.pipeline.engine.store import file_sha256
+    from stepframe.core.io import file_sha256
     from stepframe.pipeline.selection.result import FILES_KEY
 
     recorded = summary.get(FILES_KEY)

@@ -411,7 +411,7 @@ FILES_KEY = "files_sha256"
 def written_files(folder: Path, paths: Any) -> dict[str, str]:
     """Each written file's path relative to ``folder`` (POSIX) → its sha256 (of the motions,
     their manifest)."""
-    from stepframe.pipeline.engine.store import file_sha256
+    from stepframe.core.io import file_sha256
 
     return {Path(path).relative_to(folder).as_posix(): file_sha256(path) for path in sorted(paths)}
 
@@ -481,9 +481,9 @@ def _controls_text(medians: dict[str, Any], case: str) -> str:
 
 def _number(value: Any, spec: str) -> str:
     """A number for people: "not run" instead of NaN or None."""
-    if value is None or (isinstance(value, float) and not math.isfinite(value)):
-        return "not run"
-    return format(value, spec)
+    from stepframe.core.text import number_text
+
+    return number_text(value, spec, "not run")
 
 
 def _score_text(row: Any, rank_by: str) -> str:

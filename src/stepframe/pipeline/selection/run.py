@@ -43,7 +43,6 @@ from stepframe.pipeline.selection.ranking import RANKING_COLUMNS, Ranking, rank_
 from stepframe.pipeline.selection.result import SelectionResult, column_dictionary
 from stepframe.pipeline.selection.samples import read_samples as _read_samples
 from stepframe.pipeline.selection.spectral import (
-    G_M_S2,
     record_scales,
     scale_factors,
     spectral_misfit,
@@ -54,6 +53,7 @@ from stepframe.pipeline.selection.substitute import (
     predicted_overturn_ratio,
     substitute_demand_ratio,
 )
+from stepframe.records.units import STANDARD_GRAVITY_M_S2
 from stepframe.structure.frame import PortalFrame
 
 Floats = NDArray[np.float64]
@@ -343,7 +343,8 @@ def _spectra(
         name_of=record_pass.item_name,
     )
     results += [entry for entries in computed.results for entry in entries]
-    omega_sq = (2.0 * math.pi / spec.groups[0][0]) ** 2
+    from stepframe.records.spectra import pseudo_acceleration_m_s2
+
     psa_t1 = np.full(len(table), np.nan)
     peer_values = {name: np.full(len(table), np.nan) for name in PEERS}
     lost: dict[str, list[Failure]] = {"samples": [], "spectra": []}
@@ -354,8 +355,8 @@ def _spectra(
             dropped_by[result.row] = f"{result.failure.stage}_failed"
             continue
         assert result.sd_5 is not None and result.peers is not None
-        values = omega_sq * result.sd_5
-        psa_t1[result.row] = values[0] / G_M_S2
+        values = pseudo_acceleration_m_s2(spec.groups[0][0], result.sd_5)
+        psa_t1[result.row] = values[0] / STANDARD_GRAVITY_M_S2
         psa[result.row] = values[1:]
         sd_t1[result.row] = result.sd_t1_m
         if result.sd_levels is not None:
@@ -578,7 +579,7 @@ def rank_and_scale(
     choice matches (None without a target) and the ranking."""
     table, band = candidates.table, candidates.band
     psa = spectra.psa
-    psa_t1 = table["psa_t1_g"].to_numpy() * G_M_S2
+    psa_t1 = table["psa_t1_g"].to_numpy() * STANDARD_GRAVITY_M_S2
     target_t1 = None if target is None else target.sa_m_s2(band.period_1_s)
     target_psa = None if target is None else target_values(target, spectra.periods_s)
     scales, clipped = scale_factors(

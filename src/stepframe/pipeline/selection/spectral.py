@@ -24,14 +24,13 @@ from numpy.typing import NDArray
 from stepframe.errors import InputError
 from stepframe.pipeline.selection.band import FrameBand
 from stepframe.pipeline.selection.options import SelectionOptions
+from stepframe.records.units import STANDARD_GRAVITY_M_S2
 from stepframe.structure.code_spectra import Asce7TwoPeriod, Ec8Elastic
 from stepframe.structure.design_spectrum import TabulatedSpectrum, point_problem
 
 Target = Asce7TwoPeriod | Ec8Elastic | TabulatedSpectrum
 
 Floats = NDArray[np.float64]
-#: Standard gravity for target spectra and PGA given in g [m/s²].
-G_M_S2 = 9.80665
 N_PERIODS = 12
 LONGEST_PERIOD_S = 10.0
 
@@ -73,7 +72,7 @@ def read_target_csv(path: str | Path) -> TabulatedSpectrum:
                 f"period_s = {row[0].strip()}, sa_g = {row[1].strip()}, {problem}", source, number
             )
         periods.append(period)
-        values.append(value * G_M_S2)
+        values.append(value * STANDARD_GRAVITY_M_S2)
     try:
         return TabulatedSpectrum(tuple(periods), tuple(values))
     except InputError as error:
@@ -88,7 +87,10 @@ def target_spectrum(options: SelectionOptions) -> Target | None:
         return read_target_csv(options.target_csv)
     if options.target_s_ds_g is not None and options.target_s_d1_g is not None:
         return Asce7TwoPeriod(
-            options.target_s_ds_g, options.target_s_d1_g, options.target_t_l_s, G_M_S2
+            options.target_s_ds_g,
+            options.target_s_d1_g,
+            options.target_t_l_s,
+            STANDARD_GRAVITY_M_S2,
         )
     if (
         options.target_ec8 is not None
@@ -101,7 +103,7 @@ def target_spectrum(options: SelectionOptions) -> Target | None:
             options.target_ag_g,
             options.target_importance,
             options.target_damping,
-            G_M_S2,
+            STANDARD_GRAVITY_M_S2,
         )
     return None
 
@@ -136,7 +138,7 @@ def target_record(target: Target, options: SelectionOptions, periods_s: Floats) 
         "code": target_code(options),
         "describe": describe_target(target, options),
         "periods_s": [float(t) for t in periods_s],
-        "sa_g": [target.sa_m_s2(float(t)) / G_M_S2 for t in periods_s],
+        "sa_g": [target.sa_m_s2(float(t)) / STANDARD_GRAVITY_M_S2 for t in periods_s],
     }
 
 

@@ -45,8 +45,9 @@ RESPONSES_VERSION = 4
 # ranking's sections; 7: the ranking intensity in the summary box; 8: the frame from
 # selection.json (the moving-resonance section runs); 9: that section at the ranking intensity;
 # 10: its simulations by the integrator's chord-bound fast path (the same to rounding); 11: the
-# ranking's tie, the selected against the controls at both intensities; 12: a shipped
-# workflow's provenance names it as it is run
+# ranking's tie, the selected against the controls at both intensities; 12: the target as the
+# selection stored it where the report recomputes the spectra, "—" for a ρ that is not a number,
+# and a shipped workflow's provenance names it as it is run
 SELECTION_REPORT_VERSION = 12
 
 

@@ -30,9 +30,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from stepframe.pipeline.selection.band import FrameBand
+from stepframe.pipeline.selection.band import FrameBand, band_levels
 from stepframe.structure.frame import PortalFrame
-from stepframe.structure.period_amplitude import amplitude_for_period, quarter_periods_s
+from stepframe.structure.period_amplitude import quarter_periods_s
 
 Floats = NDArray[np.float64]
 #: Backbone levels of the substitute structure: equally spaced in ln ω over the band.
@@ -140,13 +140,9 @@ class SubstituteLevels:
 def substitute_levels(band: FrameBand, n_levels: int = N_SUBSTITUTE_LEVELS) -> SubstituteLevels:
     """The substitute structure at ``n_levels`` amplitudes from x_c to the band's A_max."""
     frame = band.frame
-    omegas = np.exp(
-        np.linspace(math.log(band.omega_1_rad_s), math.log(band.omega_low_rad_s), n_levels)
+    amplitudes, _ = band_levels(
+        frame, band.omega_1_rad_s, band.omega_low_rad_s, band.a_max_m, n_levels
     )
-    amplitudes = np.empty(n_levels)
-    amplitudes[0] = frame.x_c_m
-    amplitudes[1:-1] = amplitude_for_period(frame, 2.0 * math.pi / omegas[1:-1])
-    amplitudes[-1] = band.a_max_m
     t1, t2 = quarter_periods_s(frame, amplitudes)
     periods = 4.0 * (t1 + t2)
     periods[0] = band.period_1_s  # A = x_c: the linear frame exactly

@@ -226,11 +226,12 @@ def _nied(
     accmax = trace.stats.knet.get("accmax") if hasattr(trace.stats, "knet") else None
     if accmax is not None and incomplete is None:
         check_peak(data_gal, float(accmax), path, "Max. Acc. (gal)", units="gal", resolution=0.001)
+    m_s2_per_gal = factor_to_m_s2("gal")
     steps = [
         {"step": "nied_scale_factor", "gal_per_count": gal_per_count},
-        {"step": "remove_mean", "mean_m_s2": mean_gal * 0.01, "reason": "NIED definition"},
+        {"step": "remove_mean", "mean_m_s2": mean_gal * m_s2_per_gal, "reason": "NIED definition"},
     ]
-    return data_gal * 0.01, "gal", steps, incomplete
+    return data_gal * m_s2_per_gal, "gal", steps, incomplete
 
 
 def _inventory(trace: Trace, inventory: Any, inventory_path: str) -> tuple[np.ndarray, list[Any]]:
