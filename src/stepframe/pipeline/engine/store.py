@@ -71,16 +71,6 @@ if TYPE_CHECKING:
     import pandas as pd
 
 KEY_COLUMN = "_key"
-_HASH_BLOCK = 1 << 20
-
-
-def file_sha256(path: str | os.PathLike[str]) -> str:
-    """sha256 of a file's bytes (hex)."""
-    digest = hashlib.sha256()
-    with open(path, "rb") as handle:
-        while block := handle.read(_HASH_BLOCK):
-            digest.update(block)
-    return digest.hexdigest()
 
 
 def canonical_json(value: Any) -> str:
