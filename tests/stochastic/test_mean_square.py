@@ -95,6 +95,49 @@ def test_filtered_input_stationary_variance_covariance_and_scalar(f_hz: float, x
         assert result.omega_path == "constant"
 
 
+@pytest.mark.parametrize("w", [1e3, 1e4, 1e5])
+def test_stiff_oscillator_on_a_coarse_grid_reaches_the_stationary_value(w: float) -> None:
+    """ω h = 10-1000 (a stiff structure on a 0.01 s grid): the covariance step is exact for
+    frozen coefficients and eq. 6.4 exact in the stationary limit, whatever h. Before, the
+    4-point coupling quadrature gave 3.75 times the variance at ω = 1e4 rad/s and eq. 6.4's
+    3-point rule 0.93 (0.0004 at 1e5)."""
+    xi0 = 0.05
+    t = np.linspace(0.0, 2.0, 201)
+    expected = _stationary_by_quadrature(w, xi0 * w, 20.0, 2.0)
+    assert expected * w**4 == pytest.approx(1.0, rel=1e-3)  # quasi-static: E[y²]/ω⁴
+    for method in ("covariance", "scalar"):
+        result = mean_square_response(STEADY, w, xi0, method=method, time_s=t, envelope=_unit)
+        # scaled by ω⁴: approx's default abs = 1e-12 would pass any variance of order 1/ω⁴
+        assert result.mean_square_m2[0, -1] * w**4 == pytest.approx(expected * w**4, rel=1e-9)
+
+
+@pytest.mark.parametrize(("w", "xi0"), [(300.0, 0.01), (1e3, 0.05), (2e3, 1.5)])
+def test_covariance_transient_of_a_stiff_oscillator_is_the_matrix_exponential(
+    w: float, xi0: float
+) -> None:
+    """Frozen coefficients from rest on a 0.01 s grid (ω h = 3-20): E[x²](t) against
+    P(t) = e^{At}(P_0 - P_∞)e^{Aᵀt} + P_∞ of the 4-state system by scipy's expm and Lyapunov
+    solver. Before, the 4-point coupling block was up to 9 % wrong in the transient."""
+    from scipy import linalg
+
+    wg, a, b = 20.0, 2.0, xi0 * w
+    t = np.linspace(0.0, 1.0, 101)
+    result = mean_square_response(STEADY, w, xi0, time_s=t, envelope=_unit)
+    system = np.array(
+        [[0, 1, 0, 0], [-(wg**2), -2 * a, 0, 0], [0, 0, 0, 1], [-1, 0, -(w**2), -2 * b]]
+    )
+    noise = np.zeros((4, 4))
+    noise[1, 1] = 4 * a * wg**2
+    p_inf = linalg.solve_continuous_lyapunov(system, -noise)
+    p_0 = np.diag([1.0, wg**2, 0.0, 0.0])
+    expected = [
+        (phi @ (p_0 - p_inf) @ phi.T + p_inf)[2, 2]
+        for phi in (linalg.expm(system * time) for time in t)
+    ]
+    np.testing.assert_allclose(result.mean_square_m2[0] * w**4, np.multiply(expected, w**4),
+                               rtol=1e-8, atol=0)  # fmt: skip
+
+
 def test_overdamped_oscillator_covariance_reaches_the_stationary_value() -> None:
     w, xi0 = 8.0, 1.5
     t = np.linspace(0.0, 30.0, 1501)
