@@ -392,6 +392,28 @@ def test_bad_arguments_raise_input_errors() -> None:
         mean_square_response(SITE, 10.0, 0.05, method="monte-carlo", time_s=grid, n_realisations=1)
 
 
+def test_monte_carlo_step_that_cannot_apply_or_is_too_coarse_is_refused() -> None:
+    """mc_dt_s above the grid's step was silently the grid's step (0.05, 0.1 and 0.5 s gave the
+    same numbers), and at max(ω, ω_p)·h = 2.3 E[x²] came out 17 % low with a 95 % band that
+    excluded the exact value, marked ok."""
+    grid = np.linspace(0.0, 10.0, 201)  # step 0.05 s
+    w = 2 * math.pi * 3.12
+    mc = {"method": "monte-carlo", "time_s": grid, "n_realisations": 4, "seed": 1}
+    with pytest.raises(InputError, match=r"mc_dt_s = 0\.5 s is coarser than the analysis grid's"):
+        mean_square_response(SITE, w, 0.05, mc_dt_s=0.5, **mc)  # type: ignore[arg-type]
+    with pytest.raises(
+        InputError, match=r"max\(omega, omega_p\)·mc_dt_s = 2\.33 rad, expected ≤ 1"
+    ):
+        mean_square_response(SITE, w, 0.05, mc_dt_s=0.05, **mc)  # type: ignore[arg-type]
+    # at the limit it runs; a fine grid with the default step (coarser than the grid) too
+    limit = 1.0 / SITE.omega_p_rad_s
+    assert mean_square_response(SITE, w, 0.05, mc_dt_s=limit, **mc).status == "ok"  # type: ignore[arg-type]
+    fine = np.linspace(0.0, 0.2, 201)  # step 0.001 s < 0.1/ω_p
+    result = mean_square_response(SITE, w, 0.05, method="monte-carlo", time_s=fine,
+                                  n_realisations=4, seed=1, envelope=_unit)  # fmt: skip
+    assert np.all(np.isfinite(result.mean_square_m2))
+
+
 def test_an_envelope_between_the_grid_times_is_refused() -> None:
     """t_max 1 ms before t_dur: the envelope's exponent, ln 0.1 / (ln r + 1 - r) with r =
     t_dur/t_max, is about 2·10⁹, a pulse of some 2 ms that no time of a 0.01-s grid samples at
