@@ -11,7 +11,8 @@ from scipy.integrate import cumulative_trapezoid
 
 from stepframe.errors import InputError
 from stepframe.stochastic.envelope import default_envelope
-from stepframe.stochastic.features import record_features, vanmarcke_q
+from stepframe.stochastic.features import clipped_plateaus, record_features, vanmarcke_q
+from stepframe.stochastic.flags import implausible
 from stepframe.stochastic.model import GroundMotionModel
 from stepframe.stochastic.spectra import evolutionary_spectrum, mean_square
 from stepframe.stochastic.synthetic import synthetic_motions
@@ -114,6 +115,28 @@ def test_degraded_results_are_flagged() -> None:
     assert "duration_truncated" in record_features(rising, 0.01).flags
     near_nyquist = np.sin(2 * math.pi * 40.0 * t) * np.hanning(t.size)  # 40 Hz at dt 0.01
     assert "band_limited" in record_features(near_nyquist, 0.01).flags
+
+
+def test_a_clipped_record_is_flagged_and_not_plausible() -> None:
+    """A synthetic eq. 6.12 motion clipped at 1/14 of its peak (an instrument at full scale)
+    fitted ξ_p = 0.71 for 0.096 with no flag; the same motion unclipped, or with only its one
+    largest sample repeated (a tie, not a plateau), is not flagged."""
+    model = GroundMotionModel.from_hz(7.43, 3.12, 1.11, 0.096, 0.655, t_max_s=5.0, t_dur_s=20.0)
+    _, acc = synthetic_motions(model, duration_s=40.0, dt_s=0.005, seed=3)
+    motion = acc[0]
+    limit = float(np.max(np.abs(motion))) / 14
+    clipped = record_features(np.clip(motion, -limit, limit), 0.005)
+    assert "record_clipped" in clipped.flags
+    assert implausible(clipped.flags) == ["record_clipped"]
+    assert "record_clipped" not in record_features(motion, 0.005).flags
+    tie = motion.copy()
+    k = int(np.argmax(tie))
+    tie[k + 1] = tie[k]  # two equal samples at the maximum: rounding, not clipping
+    assert clipped_plateaus(tie) == 0
+    plateau = motion.copy()
+    plateau[k - 1 : k + 2] = plateau[k]  # one plateau of 3: one cycle, not yet a clipped record
+    assert clipped_plateaus(plateau) == 1
+    assert "record_clipped" not in record_features(plateau, 0.005).flags
 
 
 def test_bad_input() -> None:

@@ -16,6 +16,12 @@ FLAGS: dict[str, tuple[bool, str]] = {
         "the record was read cut short (--allow-short): what is missing may hold the end of the "
         "strong motion (t_dur) and the late omega_g(t)",
     ),
+    "record_clipped": (
+        True,
+        "the record holds its largest or smallest value over several samples on two or more "
+        "cycles (clipped at the instrument's full scale): I_g(t) and omega_g(t) are those of the "
+        "clipped signal",
+    ),
     "envelope_fit_failed": (
         False,
         "the gamma envelope did not fit I_g(t): t_max is the raw argmax of I_g, no standard error",
