@@ -101,6 +101,12 @@ def clipped_plateaus(data: NDArray[np.float64]) -> int:
     return count
 
 
+#: Longest smoothing window, in units of t_max, whose I_g(t) still places the peak: beyond it the
+#: window smears the rise, t_max and t_dur come out late and the Jacobian standard error of t_max
+#: shrinks as the bias grows (synthetic eq. 6.12 records, t_max = 5 s, 30 seeds: truth within
+#: 2 SE in 97 % at a 10-s window, 67 % at 20 s, 37 % at 30 s, where t_max was 6.0 ± 0.37 s).
+WINDOW_PER_T_MAX = 2.0
+
 TimeOrigin = Literal["auto", "start", "p-pick"]
 TIME_ORIGINS: tuple[TimeOrigin, ...] = ("auto", "start", "p-pick")
 PeakMethod = Literal["envelope", "argmax"]
@@ -822,6 +828,9 @@ def record_features(
     if t_max <= 0:
         t_max = hop
         flags.append("peak_at_origin")
+    elif window_s > WINDOW_PER_T_MAX * t_max:
+        flags.append("window_long")
+        t_peak_se = None  # it would not cover the window's bias (WINDOW_PER_T_MAX)
     above = np.flatnonzero(intensity >= threshold * peak)
     t_dur = float(time_s[above[-1]]) - t0_s
     if above[-1] == time_s.size - 1:

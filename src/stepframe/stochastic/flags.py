@@ -26,6 +26,11 @@ FLAGS: dict[str, tuple[bool, str]] = {
         False,
         "the gamma envelope did not fit I_g(t): t_max is the raw argmax of I_g, no standard error",
     ),
+    "window_long": (
+        False,
+        "the smoothing window is over twice t_max: I_g(t) is smeared, t_max and t_dur come out "
+        "late, and t_max has no standard error (it would not cover the bias)",
+    ),
     "p_pick_failed": (
         False,
         "no reliable P onset (t0='p-pick' asked): the record start is the time origin",
