@@ -2,7 +2,8 @@
 
 A flag marks a degraded result. Flags whose value is a bound, a floor or a clip rather than an
 estimate make a fit *not plausible* (:func:`implausible`): the number printed is where the
-search stopped, not what the record says. The others are caveats a reader should see.
+search stopped, not what the record says; so does ``record_clipped``, whose record no longer
+says what the ground did. The others are caveats a reader should see.
 """
 
 from __future__ import annotations
