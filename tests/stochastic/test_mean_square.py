@@ -414,6 +414,16 @@ def test_monte_carlo_step_that_cannot_apply_or_is_too_coarse_is_refused() -> Non
     assert np.all(np.isfinite(result.mean_square_m2))
 
 
+def test_a_grid_that_misses_the_motion_is_refused_for_what_it_is() -> None:
+    """A grid over 0-0.2 s (the peak is at 5 s) was refused with "t_dur - t_max = 15 s: more
+    time steps, or a t_max further from t_dur", advice that does not apply."""
+    with pytest.raises(
+        InputError,
+        match=r"time_s runs from 0 to 0\.2 s, which misses the envelope.s peak at t0 \+ t_max = 5",
+    ):
+        mean_square_response(SITE, 10.0, 0.05, time_s=np.linspace(0.0, 0.2, 201))
+
+
 def test_an_envelope_between_the_grid_times_is_refused() -> None:
     """t_max 1 ms before t_dur: the envelope's exponent, ln 0.1 / (ln r + 1 - r) with r =
     t_dur/t_max, is about 2·10⁹, a pulse of some 2 ms that no time of a 0.01-s grid samples at

@@ -604,6 +604,13 @@ def _check_envelope_resolved(
     from stepframe.stochastic.envelope import DEFAULT_DURATION_THRESHOLD
 
     strong = int(np.count_nonzero(values >= DEFAULT_DURATION_THRESHOLD * peak_intensity))
+    peak_time = model.t0_s + model.t_max_s
+    if strong < MIN_STRONG_MOTION_SAMPLES and not grid[0] <= peak_time <= grid[-1]:
+        raise InputError(
+            f"time_s runs from {grid[0]:g} to {grid[-1]:g} s, which misses the envelope's peak at "
+            f"t0 + t_max = {peak_time:g} s, expected a grid over the strong motion (default "
+            f"0 to t0 + 2 t_dur = {model.t0_s + 2 * model.t_dur_s:g} s)"
+        )
     if strong < MIN_STRONG_MOTION_SAMPLES:
         step = float(grid[1] - grid[0])
         raise InputError(
