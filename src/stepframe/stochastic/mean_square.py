@@ -19,7 +19,7 @@ frequency at the start of the analysis) and ``y`` the unit-variance eq. 6.12 pro
     ``P_{k+1} = Φ (P_k - P_∞) Φᵀ + P_∞`` with Φ = exp(A h) (closed-form 2×2 blocks; the coupling
     block by 4-point Gauss-Legendre) and P_∞ the closed-form stationary covariance of the frozen
     system. Exact for constant coefficients whatever h (a step where ω h, ω_g h, β h/2 or
-    α_g h/2 exceeds 1 is split into equal substeps, as the 4-point rule cannot integrate the
+    α_g h/2 exceeds 2 is split into equal substeps, as the 4-point rule cannot integrate the
     coupling block over several oscillator periods); O(h²) in the time variation of the
     coefficients (6e-7 relative at 4,000 steps over 40 s for the paper's site; see
     bench/bench_mean_square.py). Cost: a numba kernel, O(n_osc · n_steps), about 0.2-0.35 µs per
@@ -325,9 +325,11 @@ def _advance(
 #: (a decay, e^{-2βs}, is far easier for the rule than an oscillation: the broadband ξ = 3 site,
 #: 2αh = 2.8, was within 1.2e-10 unsplit). Beyond it a frozen
 #: step is split into equal substeps (exact composition of the same frozen system). Unsplit, the
-#: block's error was 1e-7 at a phase of 2, the peak σ_x² 1.5 % low at ω h = 12.6 (200 Hz on the
-#: default 0.01 s grid of the paper's site) and 3.75 times too high at ω h = 100.
-MAX_STEP_PHASE = 1.0
+#: block's error was 1e-7 at a phase of 2 (far below the O(h²) error of the frozen coefficients
+#: on such a grid; the site band's coarse grids, four steps a period, keep their phase π/2), the
+#: peak σ_x² 1.5 % low at ω h = 12.6 (200 Hz on the default 0.01 s grid of the paper's site) and
+#: 3.75 times too high at ω h = 100.
+MAX_STEP_PHASE = 2.0
 
 
 @njit(cache=True)
