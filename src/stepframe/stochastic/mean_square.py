@@ -449,22 +449,21 @@ def _covariance_run(
     out = np.zeros((n_osc, n_steps + 1))
     u0 = np.empty(n_nodes)
     u1 = np.empty(n_nodes)
-    filter_rate = max(np.max(wg_mid), 0.5 * np.max(a_mid))
     for i in range(n_osc):
         state = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
         b = beta[i]
-        n_sub = _substeps(max(np.max(omega_mid[i]), 0.5 * b, filter_rate), h)
-        if n_sub > 1:  # a step too coarse for the coupling quadrature: split every step
-            for k in range(n_steps):
-                state = _split_step(state, omega_mid[i, k], b, wg_mid[k], a_mid[k], ig_mid[k],
-                                    pff[k, 0], pff[k, 1], pff[k, 2], h, n_sub, nodes,
-                                    weights)  # fmt: skip
-                out[i, k + 1] = state[4]
-            continue
         last_w = math.nan
         o00 = o01 = o10 = o11 = 0.0
         for k in range(n_steps):
             w = omega_mid[i, k]
+            # a step too coarse for the coupling quadrature is split (the rule of
+            # _covariance_step, step by step, so that a frame's run and a fixed one agree)
+            n_sub = _substeps(max(w, wg_mid[k], 0.5 * b, 0.5 * a_mid[k]), h)
+            if n_sub > 1:
+                state = _split_step(state, w, b, wg_mid[k], a_mid[k], ig_mid[k], pff[k, 0],
+                                    pff[k, 1], pff[k, 2], h, n_sub, nodes, weights)  # fmt: skip
+                out[i, k + 1] = state[4]
+                continue
             if w != last_w:
                 w2 = w * w
                 o00, o01, o10, o11 = _propagator(w2, b, h)
