@@ -18,6 +18,7 @@ from stepframe.stochastic.amplification import (
     spectral_ratio_eq_6_18,
     stationary_rms,
 )
+from stepframe.stochastic.mean_square import FrameDriven
 from stepframe.stochastic.model import GroundMotionModel
 
 
@@ -87,6 +88,18 @@ def test_response_amplification_is_one_without_frequency_shift() -> None:
     result = response_amplification(steady, 2 * np.pi * np.array([2.0, 5.0]), 0.05)
     np.testing.assert_allclose(result.vs_fixed, 1.0, rtol=1e-3)
     assert result.omega_path == "tracking" and result.alpha_reading == "eq-6-11"
+
+
+def test_frequencies_beside_a_frame_are_an_error_not_ignored() -> None:
+    """With a frame, ω_0 is 2π/T(0): frequencies given too were silently dropped, and the
+    result was the frame's whatever ω_0 asked for."""
+    frame = FrameDriven(lambda amplitude: 1.0)
+    grid = np.linspace(0.0, 40.0, 401)
+    with pytest.raises(InputError, match="omega_0_rad_s and frame both given"):
+        response_amplification(_site(), [2 * np.pi * 5.0], 0.05, frame=frame, time_s=grid)
+    alone = response_amplification(_site(), None, 0.05, frame=frame, time_s=grid)
+    assert alone.omega_0_rad_s[0] == pytest.approx(2 * np.pi)
+    np.testing.assert_allclose(alone.vs_fixed, 1.0, rtol=1e-10)  # a constant period
 
 
 def test_slow_envelope_reaches_the_stationary_rms() -> None:

@@ -11,7 +11,8 @@ from scipy.integrate import cumulative_trapezoid
 
 from stepframe.errors import InputError
 from stepframe.stochastic.envelope import default_envelope
-from stepframe.stochastic.features import record_features, vanmarcke_q
+from stepframe.stochastic.features import clipped_plateaus, record_features, vanmarcke_q
+from stepframe.stochastic.flags import implausible
 from stepframe.stochastic.model import GroundMotionModel
 from stepframe.stochastic.spectra import evolutionary_spectrum, mean_square
 from stepframe.stochastic.synthetic import synthetic_motions
@@ -116,6 +117,41 @@ def test_degraded_results_are_flagged() -> None:
     assert "band_limited" in record_features(near_nyquist, 0.01).flags
 
 
+def test_a_clipped_record_is_flagged_and_not_plausible() -> None:
+    """A synthetic eq. 6.12 motion clipped at 1/14 of its peak (an instrument at full scale)
+    fitted ξ_p = 0.71 for 0.096 with no flag; the same motion unclipped, or with only its one
+    largest sample repeated (a tie, not a plateau), is not flagged."""
+    model = GroundMotionModel.from_hz(7.43, 3.12, 1.11, 0.096, 0.655, t_max_s=5.0, t_dur_s=20.0)
+    _, acc = synthetic_motions(model, duration_s=40.0, dt_s=0.005, seed=3)
+    motion = acc[0]
+    limit = float(np.max(np.abs(motion))) / 14
+    clipped = record_features(np.clip(motion, -limit, limit), 0.005)
+    assert "record_clipped" in clipped.flags
+    assert implausible(clipped.flags) == ["record_clipped"]
+    assert "record_clipped" not in record_features(motion, 0.005).flags
+    tie = motion.copy()
+    k = int(np.argmax(tie))
+    tie[k + 1] = tie[k]  # two equal samples at the maximum: rounding, not clipping
+    assert clipped_plateaus(tie) == 0
+    plateau = motion.copy()
+    plateau[k - 1 : k + 2] = plateau[k]  # one plateau of 3: one cycle, not yet a clipped record
+    assert clipped_plateaus(plateau) == 1
+    assert "record_clipped" not in record_features(plateau, 0.005).flags
+
+
+def test_a_window_long_against_t_max_is_flagged_without_a_t_max_error() -> None:
+    """A 30-s window on t_max = 5 s gave t_max ≈ 6.0 ± 0.37 s (truth within 2 SE in 37 % of
+    synthetic records) with no flag; at twice t_max and below the SE is kept."""
+    model = GroundMotionModel.from_hz(7.43, 3.12, 1.11, 0.096, 0.655, t_max_s=5.0, t_dur_s=20.0)
+    _, acc = synthetic_motions(model, duration_s=40.0, dt_s=0.005, seed=5)
+    long = record_features(acc[0], 0.005, window_s=30.0, t0="start")
+    assert "window_long" in long.flags and long.t_max_stderr_s is None
+    assert implausible(long.flags) == []  # a caveat: the numbers are estimates, biased late
+    usual = record_features(acc[0], 0.005, window_s=2.0, t0="start")
+    assert "window_long" not in usual.flags
+    assert usual.t_max_stderr_s is not None and usual.t_max_stderr_s > 0
+
+
 def test_bad_input() -> None:
     x = np.sin(np.arange(0, 20, 0.01))
     with pytest.raises(InputError, match="Nyquist"):
@@ -188,6 +224,10 @@ def test_envelope_peak_time_recovers_a_known_gamma_envelope_and_the_finite_diffe
     t_max, se = found
     assert abs(t_max - 12.0) < 0.1
     assert 0.0 < se < 1.0
+    # the frames the fit uses: a window around those at ≥ 5 % of the peak (ENVELOPE_SPAN)
+    above = np.flatnonzero(intensity >= 0.05 * intensity.max())
+    span = (time_s >= time_s[above[0]] - 2.0) & (time_s <= time_s[above[-1]] + 2.0)
+    time_s, intensity = time_s[span], intensity[span]
     stride = max(1, time_s.size // 200)
     envelope = _GammaEnvelope(time_s[::stride], intensity[::stride])
     peak = float(intensity.max())
@@ -203,6 +243,20 @@ def test_envelope_peak_time_recovers_a_known_gamma_envelope_and_the_finite_diffe
         xtol=1e-6,
     )
     assert abs(former.x[0] + former.x[1] - t_max) < 1e-3
+
+
+def test_envelope_fit_does_not_depend_on_the_quiet_record_around_the_motion() -> None:
+    """A 40-s synthetic record with its own quiet coda continued to 400 s gave t_max 2.74 ±
+    0.16 s for 4.56 ± 0.93 s (the ~200 frames kept were 2 s apart, and the coda's near-zero
+    residuals shrank s²); appending silence must change neither t_max nor its SE."""
+    model = GroundMotionModel.from_hz(7.43, 3.12, 1.11, 0.096, 0.655, t_max_s=5.0, t_dur_s=20.0)
+    _, acc = synthetic_motions(model, duration_s=40.0, dt_s=0.005, seed=3)
+    short = record_features(acc[0], 0.005, t0="start")
+    padded = record_features(np.concatenate([acc[0], np.zeros(72_000)]), 0.005, t0="start")
+    assert short.t_max_stderr_s is not None and padded.t_max_stderr_s is not None
+    assert padded.t_max_s == pytest.approx(short.t_max_s, abs=1e-6)
+    assert padded.t_max_stderr_s == pytest.approx(short.t_max_stderr_s, rel=1e-6)
+    assert short.t_max_s == pytest.approx(5.0, abs=2 * short.t_max_stderr_s)
 
 
 def test_smooth_at_is_the_kernel_average_inside_the_series() -> None:

