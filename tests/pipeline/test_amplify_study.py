@@ -108,3 +108,17 @@ def test_an_implausible_fit_is_degraded_and_says_why() -> None:
     plain = amplify_study(AmplifyOptions(record=str(good), f0_hz=2.0, n_steps=400)).result
     assert isinstance(plain, AmplificationResult)
     assert implausible(plain.inputs["flags"]) == [] and plain.status == "ok"
+
+
+def test_an_implausible_fit_is_explained_by_its_own_flags() -> None:
+    # A clipped record's fit said its parameters were "where the search stopped", which is the
+    # reason of a bound, not of clipping: each flag's meaning is given instead.
+    from types import SimpleNamespace
+
+    from stepframe.pipeline.amplification.amplify import _implausible_fit
+    from stepframe.stochastic.flags import meaning
+
+    site = SimpleNamespace(source={"flags": ["record_clipped"], "record": "a.AT2"})
+    message = _implausible_fit(site)  # type: ignore[arg-type]
+    assert message.startswith("the fit to a.AT2 is not plausible (record_clipped: ")
+    assert meaning("record_clipped") in message and "search stopped" not in message

@@ -289,7 +289,7 @@ def amplify(
 def _implausible_fit(site: SiteModel) -> str:
     """Why the site's fit to a record is not plausible ("" when it is, or when the site was
     given by its parameters): the flags that make its parameters a bound, not an estimate."""
-    from stepframe.stochastic.flags import implausible
+    from stepframe.stochastic.flags import describe, implausible
 
     flags = implausible(site.source.get("flags", ()))
     if not flags:
@@ -297,9 +297,8 @@ def _implausible_fit(site: SiteModel) -> str:
     component = site.source.get("component")
     where = f"{site.source.get('record')}" + (f" [{component}]" if component else "")
     return (
-        f"the fit to {where} is not plausible ({', '.join(flags)}): its parameters are where the "
-        "search stopped, not the record's, so these amplifications are not the site's "
-        "(`stepframe stochastic fit` says why)"
+        f"the fit to {where} is not plausible ({'; '.join(describe(flags))}), so these "
+        "amplifications are not the site's (`stepframe stochastic fit` says more)"
     )
 
 

@@ -31,8 +31,9 @@ from stepframe.pipeline.engine.store import make_key, write_output_table
 from stepframe.pipeline.reports.provenance import workflow_provenance
 
 # 2: site_from_features (one combination with the report); 3: the combined standard errors;
-# 4: combined in value order (the same bytes whatever the files' order)
-SITE_VERSION = 4
+# 4: combined in value order (the same bytes whatever the files' order);
+# 5: the fits' t_max around the motion, clipped records not plausible (features version 8)
+SITE_VERSION = 5
 AMPLIFICATION_VERSION = 1
 
 #: The ``[site]`` table: where the site comes from, and the options of ``report amplification``

@@ -36,8 +36,10 @@ INVENTORY_VERSION = 2
 # 5: the STFT's spectral moments as one product with the trapezoid weights (equal to rounding:
 # fitted parameters within a relative 2e-11 on 400 components, docs/benchmarks.md, issue 29);
 # 6: a record read cut short (allow_short) flagged record_incomplete in its row; 7: raw counts
-# after the standard processing (as the inventory's version 2)
-FEATURES_VERSION = 7
+# after the standard processing (as the inventory's version 2); 8: record_clipped and
+# window_long flags, t_max's envelope fitted to the frames around the motion only (a record's
+# quiet coda moved it: 4.56 s, and 2.74 s with 360 s of coda appended)
+FEATURES_VERSION = 8
 
 #: Column dictionary of the inventory table: name → (unit, meaning).
 INVENTORY_COLUMNS: dict[str, tuple[str, str]] = {
