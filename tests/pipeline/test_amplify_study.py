@@ -122,3 +122,29 @@ def test_an_implausible_fit_is_explained_by_its_own_flags() -> None:
     message = _implausible_fit(site)  # type: ignore[arg-type]
     assert message.startswith("the fit to a.AT2 is not plausible (record_clipped: ")
     assert meaning("record_clipped") in message and "search stopped" not in message
+
+
+def test_the_monte_carlo_check_is_drawn_where_it_is_printed() -> None:
+    # --monte-carlo N --plot printed the check and drew nothing of it: it is now a point with
+    # its 95 % interval at f0, the numbers of the result's monte_carlo.
+    options = AmplifyOptions(
+        **PAPER_SITE, **TIMES, f0_hz=3.12, alpha_reading="paper", n_steps=400,
+        n_frequencies=5, monte_carlo=20, seed=3,
+    )  # fmt: skip
+    study = amplify_study(options, figure=True)
+    check = study.result.monte_carlo  # type: ignore[union-attr]
+    assert check is not None
+    axes = study.figure().axes[0]
+    labels = [text.get_text() for text in axes.get_legend().get_texts()]
+    drawn = [label for label in labels if label.startswith("Monte Carlo check, N = 20 motions")]
+    assert drawn == [
+        f"Monte Carlo check, N = 20 motions: {check.response_amplification_vs_fixed:.3g} "
+        "(95 % interval)"
+    ]
+    (bars,) = axes.containers
+    low, high = check.response_amplification_vs_fixed_band
+    segment = bars.lines[2][0].get_segments()[0]
+    assert segment[0][0] == pytest.approx(3.12) and (segment[0][1], segment[1][1]) == (
+        pytest.approx(low),
+        pytest.approx(high),
+    )

@@ -140,6 +140,7 @@ def amplification_figure(
     lower_bound: bool = False,
     site: str | None = None,
     point_name: str = "f0",
+    monte_carlo: tuple[float, tuple[float, float], int] | None = None,
 ) -> Figure:
     """The spectral ratio of eq. 6.18 and both response amplifications against f0.
 
@@ -161,6 +162,9 @@ def amplification_figure(
     point_name
         What the point is, in its legend entry (``"f0"``; a frame's run is not a tracking
         oscillator of the curves: "frame-driven, f_1").
+    monte_carlo
+        ``(amplification vs fixed, (low, high) 95 % interval, N)`` of the Monte Carlo check at
+        ``f0_hz`` (synthetic motions), drawn beside the point with its interval.
     """
     from matplotlib.figure import Figure
 
@@ -200,6 +204,14 @@ def amplification_figure(
         else:
             label = f"{point_name} = {f0_hz:.3g} Hz: {at_f0:.3g}"
             ax.plot([f0_hz], [at_f0], "o", color="k", label=label)
+    if monte_carlo is not None and f0_hz is not None:
+        value, (low, high), count = monte_carlo
+        ax.errorbar(
+            # a hollow square around the covariance's point at the same f0: both stay visible
+            [f0_hz], [value], yerr=[[max(value - low, 0.0)], [max(high - value, 0.0)]], fmt="s",
+            color="0.3", ms=7, mfc="none", capsize=5, zorder=3,
+            label=f"Monte Carlo check, N = {count} motions: {value:.3g} (95 % interval)",
+        )  # fmt: skip
     keys = ("model_omega_p_rad_s", "model_omega_s_rad_s", "model_omega_r_rad_s")
     if all(key in curve.attrs for key in keys):
         from stepframe.stochastic.model import GroundMotionModel

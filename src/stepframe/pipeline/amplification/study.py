@@ -82,6 +82,12 @@ class AmplifyStudy:
             raise InputError("a figure without the envelope's times, expected both times")
         options = self.options
         frequencies = np.geomspace(options.f_min_hz, options.f_max_hz, options.n_frequencies)
+        check = result.monte_carlo
+        monte_carlo = None
+        if check is not None:  # --monte-carlo N: drawn, not only printed
+            band = check.response_amplification_vs_fixed_band
+            interval = (float(band[0]), float(band[1]))
+            monte_carlo = (check.response_amplification_vs_fixed, interval, check.n_realisations)
         curve = amplification_curve(
             self.site, frequencies, self.oscillator.xi0, n_steps=options.n_steps
         )
@@ -93,6 +99,7 @@ class AmplifyStudy:
             site=str(self.site.source.get("record") or "site from parameters"),
             # the curves are tracking oscillators; the point, with a frame, is its own run
             point_name="frame-driven ω(t) = 2π/T(A), f_1" if result.omega_path == "frame" else "f0",
+            monte_carlo=monte_carlo,
         )
 
 
