@@ -591,8 +591,11 @@ def analysis_grid(
 
 EnvelopeFn = Callable[[Floats], ArrayLike]
 #: Fewest samples of the analysis grid within the default envelope's strong motion (I_g at or
-#: above :data:`~stepframe.stochastic.envelope.DEFAULT_DURATION_THRESHOLD` of its peak).
-MIN_STRONG_MOTION_SAMPLES = 2
+#: above :data:`~stepframe.stochastic.envelope.DEFAULT_DURATION_THRESHOLD` of its peak). The
+#: paper's site on the default 4,000 steps has 1,961. At 100 Hz, against 32,000 steps, the
+#: amplification vs fixed is 3.8 % off with 30 samples, 2.1 % with 40, 0.9 % with 60 and 0.5 %
+#: with 80; with 2 (t_max = 19.99 s, t_dur = 20 s) it read 16.4 for a converged 6.67, status ok.
+MIN_STRONG_MOTION_SAMPLES = 64
 
 
 def _check_envelope_resolved(
