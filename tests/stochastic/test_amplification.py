@@ -160,6 +160,11 @@ def test_adjusted_fixed_point_scales_with_the_root_of_a_mean_square_ratio() -> N
     assert response == pytest.approx(delta * ratio, rel=1e-12)
     with pytest.raises(InputError, match="needs omega_0_rad_s"):
         adjusted_fixed_point(delta, site, factor="eq-6-18")
+    # an input the factor does not read is refused, not ignored
+    with pytest.raises(InputError, match="does not read omega_0_rad_s or xi0, expected neither"):
+        adjusted_fixed_point(delta, site, omega_0_rad_s=2.0, xi0=0.05)
+    with pytest.raises(InputError, match="'eq-6-18' does not read xi0, expected only omega_0"):
+        adjusted_fixed_point(delta, site, factor="eq-6-18", omega_0_rad_s=2.0, xi0=0.05)
     with pytest.raises(InputError, match="delta_star_m"):
         adjusted_fixed_point(-1.0, site)
     with pytest.raises(InputError, match="factor"):

@@ -253,16 +253,20 @@ def _adjusted_design(
 
     assert opts.delta_star_m is not None
     adjusted: list[dict[str, Any]] = []
-    for factor, meaning in (
-        ("eq-6-19-last", "√((ω_p/ω_s)²) · δ*"),
-        ("eq-6-19-first", "√(eq. 6.19 first) · δ*"),
-        ("eq-6-18", "√(eq. 6.18 at ω_1) · δ*"),
-        ("response-vs-fixed", "response amplification at ω_1 (covariance) · δ*"),
+    xi0 = frame.xi_1 if frame.xi_1 > 0 else opts.xi0_or_default
+    # each factor with what it reads: the site alone, ω_1, or ω_1 and the damping
+    for factor, meaning, inputs in (
+        ("eq-6-19-last", "√((ω_p/ω_s)²) · δ*", {}),
+        ("eq-6-19-first", "√(eq. 6.19 first) · δ*", {}),
+        ("eq-6-18", "√(eq. 6.18 at ω_1) · δ*", {"omega_0_rad_s": frame.omega_1_rad_s}),
+        (
+            "response-vs-fixed",
+            "response amplification at ω_1 (covariance) · δ*",
+            {"omega_0_rad_s": frame.omega_1_rad_s, "xi0": xi0},
+        ),
     ):
         value = adjusted_fixed_point(
-            opts.delta_star_m, model, factor=factor,  # type: ignore[arg-type]
-            omega_0_rad_s=frame.omega_1_rad_s,
-            xi0=frame.xi_1 if frame.xi_1 > 0 else opts.xi0_or_default,
+            opts.delta_star_m, model, factor=factor, **inputs  # type: ignore[arg-type]
         )  # fmt: skip
         adjusted.append({"factor": factor, "rule": meaning, "adjusted_delta_m": value})
     by: dict[str, float] = {str(row["factor"]): float(row["adjusted_delta_m"]) for row in adjusted}
