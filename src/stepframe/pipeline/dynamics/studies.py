@@ -6,8 +6,9 @@ call and returns a result with ``to_dict()`` (JSON-ready), ``describe()`` (text 
 ``figure()`` (a matplotlib Figure from :mod:`stepframe.structure.dynamics_plots`). The commands
 ``stepframe structure harmonic | bifurcation | ida`` are these functions plus option parsing.
 
-Amplitudes and PGAs are in g with g = 9.81 m/s² (:data:`G_M_S2`), as in the paper's worked
-examples; the structure functions take m/s².
+Harmonic amplitudes are in g with g = 9.81 m/s² (:data:`G_M_S2`), as in the paper's worked
+examples; an IDA's PGAs are the records' own, in standard gravity (9.80665 m/s²,
+:func:`stepframe.structure.ida.ida_records`); the structure functions take m/s².
 """
 
 from __future__ import annotations
