@@ -136,3 +136,31 @@ def test_second_run_exits_3_naming_the_holder_or_waits(two_workspaces: tuple[Pat
     assert waited_report["outputs"] == first_report["outputs"]
     assert lock.read_text() == ""  # released and emptied
     assert os.path.exists(lock)
+
+
+def test_an_interrupted_run_leaves_its_line_in_the_run_log(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Ctrl-C in the middle of a run (here in the features stage, after the inventory) left no
+    line in runs.jsonl: the log of a scheduled run did not say it had run at all."""
+    from stepframe.pipeline.engine import runner
+    from stepframe.pipeline.stages import shipped_stages
+
+    write_example_files(tmp_path / "records", count=2)
+    workflow = write_workflow(tmp_path, FEATURES_WORKFLOW)
+    finished = runner._run_items
+
+    def interrupted(stage: object, *args: object) -> None:
+        if getattr(stage, "name", "") == "features":
+            raise KeyboardInterrupt
+        finished(stage, *args)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(runner, "_run_items", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        runner.run_workflow(workflow, shipped_stages(), jobs=1)
+    (line,) = [
+        json.loads(text)
+        for text in (tmp_path / "stepframe-work" / "runs.jsonl").read_text().splitlines()
+    ]
+    assert line["interrupted"] is True and line["exit_code"] == 130
+    assert list(line["stages"]) == ["inventory"] and line["outputs"] == []

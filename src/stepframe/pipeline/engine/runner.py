@@ -366,22 +366,30 @@ def run_workflow(
         context = Context(workflow, {}, {}, {}, {}, execution.jobs, execution.executor, progress,
                           started_utc=started_utc)  # fmt: skip
         batch = batch_items or max(DEFAULT_BATCH_ITEMS, BATCH_ITEMS_PER_WORKER * execution.jobs)
-        for name in planned:
-            stage = stages[name]
-            summary = StageSummary(name, stage.kind)
-            start = time.perf_counter()
-            blocked = [u for u in stage.upstream(workflow) if not _available(context, u)]
-            if blocked:
-                summary.status = "skipped"
-                summary.message = f"upstream stage {blocked[0]} has no result"
-            elif stage.kind == "item":
-                followers = followers_of(stage, planned, stages, context, forced)
-                _run_items(stage, context, store, execution, summary, report, forced,
-                           retry_failed, batch, followers)  # fmt: skip
-            else:
-                _run_set(stage, context, store, summary, name in forced)
-            summary.seconds = round(time.perf_counter() - start, 3)
-            report.stages.append(summary)
+        try:
+            for name in planned:
+                stage = stages[name]
+                summary = StageSummary(name, stage.kind)
+                start = time.perf_counter()
+                blocked = [u for u in stage.upstream(workflow) if not _available(context, u)]
+                if blocked:
+                    summary.status = "skipped"
+                    summary.message = f"upstream stage {blocked[0]} has no result"
+                elif stage.kind == "item":
+                    followers = followers_of(stage, planned, stages, context, forced)
+                    _run_items(stage, context, store, execution, summary, report, forced,
+                               retry_failed, batch, followers)  # fmt: skip
+                else:
+                    _run_set(stage, context, store, summary, name in forced)
+                summary.seconds = round(time.perf_counter() - start, 3)
+                report.stages.append(summary)
+        except KeyboardInterrupt:
+            # A scheduled run stopped by Ctrl-C (or its scheduler's SIGINT) left no line: the
+            # log says it ran, which stages finished, and that nothing was published.
+            seconds = time.perf_counter() - started
+            line = run_line(report, started_utc, seconds, context.facts)
+            append_run(workflow.workspace, {**line, "exit_code": 130, "interrupted": True})
+            raise
         _finish(workflow, stages, planned, context, report, store, prune, started, started_utc)
     return report
 
