@@ -516,3 +516,29 @@ def test_numbers_to_the_end_of_no_lines() -> None:
     assert values.size == 0 and values.dtype == np.float64 and next_line == 1
     values, next_line = numbers(["header", "", "  "], 1, Path("f.txt"))
     assert values.size == 0 and next_line == 3
+
+
+@pytest.mark.parametrize("kind", ["zip-stored", "zip-deflated", "tar", "tar.gz"])
+def test_an_archive_is_named_not_read_as_its_member(tmp_path: Path, kind: str) -> None:
+    # A stored zip or a tar of an AT2 file holds the file's text after its member's header:
+    # it read as "binary content (NUL bytes), expected PEER AT2 text" (a deflated zip as
+    # "format not recognised"); it is named, with what to do.
+    import tarfile
+    import zipfile
+
+    source = Path(__file__).parents[1] / "data" / "peer_nga_west2" / "RSN8883_14383980_13849090.AT2"
+    path = tmp_path / f"records.{kind}"
+    if kind.startswith("zip"):
+        method = zipfile.ZIP_STORED if kind == "zip-stored" else zipfile.ZIP_DEFLATED
+        with zipfile.ZipFile(path, "w", compression=method) as archive:
+            archive.write(source, source.name)
+        named = "a zip archive"
+    else:
+        with tarfile.open(path, "w:gz" if kind == "tar.gz" else "w") as archive:
+            archive.add(source, source.name)
+        named = "a tar archive"
+    with pytest.raises(InputError) as error:
+        read(path)
+    assert error.value.what == (
+        f"{named}, expected a record file (unpack it: records are read one file each, plain or .gz)"
+    )

@@ -305,9 +305,38 @@ def _read_bytes(
     return stream
 
 
+#: Archives by their magic bytes (offset, bytes, name): their members' names and text could
+#: pass a text format's check (a stored zip of an AT2 file read as "binary content, expected PEER
+#: AT2 text"), so they are named before any format is tried.
+ARCHIVES = (
+    (0, b"PK\x03\x04", "a zip archive"),
+    (0, b"PK\x05\x06", "an empty zip archive"),
+    (257, b"ustar", "a tar archive"),
+    (0, b"7z\xbc\xaf\x27\x1c", "a 7-Zip archive"),
+    (0, b"Rar!\x1a\x07", "a RAR archive"),
+    (0, b"BZh", "a bzip2 file"),
+    (0, b"\xfd7zXZ\x00", "an xz file"),
+)
+
+
+def archive_kind(head: bytes) -> str | None:
+    """What archive the first bytes of a file show, or None."""
+    for offset, magic, name in ARCHIVES:
+        if head[offset : offset + len(magic)] == magic:
+            return name
+    return None
+
+
 def _read_plain(file: Path, head: bytes, format: str | None, options: ReadOptions) -> Stream:
     if not head:
         raise InputError("empty file, expected an accelerogram", file)
+    archive = archive_kind(head)
+    if archive is not None:
+        raise InputError(
+            f"{archive}, expected a record file (unpack it: records are read one file each, "
+            "plain or .gz)",
+            file,
+        )
     fmt = format_by_name(format) if format is not None else _sniff(head, file)
     size = file.stat().st_size
     text = fmt.name in registered_formats()
