@@ -367,22 +367,8 @@ def run_workflow(
                           started_utc=started_utc)  # fmt: skip
         batch = batch_items or max(DEFAULT_BATCH_ITEMS, BATCH_ITEMS_PER_WORKER * execution.jobs)
         try:
-            for name in planned:
-                stage = stages[name]
-                summary = StageSummary(name, stage.kind)
-                start = time.perf_counter()
-                blocked = [u for u in stage.upstream(workflow) if not _available(context, u)]
-                if blocked:
-                    summary.status = "skipped"
-                    summary.message = f"upstream stage {blocked[0]} has no result"
-                elif stage.kind == "item":
-                    followers = followers_of(stage, planned, stages, context, forced)
-                    _run_items(stage, context, store, execution, summary, report, forced,
-                               retry_failed, batch, followers)  # fmt: skip
-                else:
-                    _run_set(stage, context, store, summary, name in forced)
-                summary.seconds = round(time.perf_counter() - start, 3)
-                report.stages.append(summary)
+            _run_stages(stages, planned, context, store, execution, report, forced,
+                        retry_failed, batch)  # fmt: skip
         except KeyboardInterrupt:
             # A scheduled run stopped by Ctrl-C (or its scheduler's SIGINT) left no line: the
             # log says it ran, which stages finished, and that nothing was published.
@@ -392,6 +378,38 @@ def run_workflow(
             raise
         _finish(workflow, stages, planned, context, report, store, prune, started, started_utc)
     return report
+
+
+def _run_stages(
+    stages: StageTable,
+    planned: list[str],
+    context: Context,
+    store: Store,
+    execution: Execution,
+    report: RunReport,
+    forced: list[str],
+    retry_failed: bool,
+    batch: int,
+) -> None:
+    """Run the planned stages in order, each summarised in ``report`` (a stage whose upstream
+    has no result is skipped, saying which)."""
+    workflow = context.workflow
+    for name in planned:
+        stage = stages[name]
+        summary = StageSummary(name, stage.kind)
+        start = time.perf_counter()
+        blocked = [u for u in stage.upstream(workflow) if not _available(context, u)]
+        if blocked:
+            summary.status = "skipped"
+            summary.message = f"upstream stage {blocked[0]} has no result"
+        elif stage.kind == "item":
+            followers = followers_of(stage, planned, stages, context, forced)
+            _run_items(stage, context, store, execution, summary, report, forced,
+                       retry_failed, batch, followers)  # fmt: skip
+        else:
+            _run_set(stage, context, store, summary, name in forced)
+        summary.seconds = round(time.perf_counter() - start, 3)
+        report.stages.append(summary)
 
 
 def _finish(
