@@ -372,18 +372,17 @@ def adjusted_fixed_point(
     if not (math.isfinite(delta_star_m) and delta_star_m > 0):
         raise InputError(f"delta_star_m = {delta_star_m}, expected a positive displacement [m]")
     # What each factor reads; anything else given would be ignored (an error, not a no-op).
-    reads = {"eq-6-19-last": (), "eq-6-19-first": (), "eq-6-18": ("omega_0_rad_s",)}
+    reads = {"eq-6-19-last": (), "eq-6-19-first": (), "eq-6-18": ("omega_0_rad_s",),
+             "response-vs-fixed": ("omega_0_rad_s", "xi0")}  # fmt: skip
     given = {"omega_0_rad_s": omega_0_rad_s, "xi0": xi0}
-    if factor in reads:
-        unused = [
-            name for name, value in given.items() if value is not None and name not in reads[factor]
-        ]
-        if unused:
-            raise InputError(
-                f"factor = {factor!r} does not read {' or '.join(unused)}, expected "
-                f"{'only omega_0_rad_s' if reads[factor] else 'neither'} (the eq. 6.19 factors "
-                "are the site's alone)"
-            )
+    unused = [name for name, value in given.items() if value is not None]
+    unused = [name for name in unused if name not in reads.get(factor, given)]
+    if unused:
+        raise InputError(
+            f"factor = {factor!r} does not read {' or '.join(unused)}, expected "
+            f"{'only omega_0_rad_s' if reads[factor] else 'neither'} (eq. 6.19 reads the site "
+            "alone, eq. 6.18 the site at omega_0_rad_s)"
+        )
     if factor == "eq-6-19-last":
         return math.sqrt(approx_eq_6_19_last(model)) * delta_star_m
     if factor == "eq-6-19-first":
