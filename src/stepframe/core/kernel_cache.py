@@ -135,11 +135,6 @@ ENTRY_POINTS: tuple[EntryPoint, ...] = (
     ),
     EntryPoint(
         "stepframe.structure._frequency_kernel",
-        "fill_half_cycles",
-        (("i1[:]", "i8[:]", "f8[:]", "f8", "f8[:]"),),
-    ),
-    EntryPoint(
-        "stepframe.structure._frequency_kernel",
         "interval_work",
         (("f8[:]", "f8[:]", "i1[:]", "f8[:]", "f8", "f8", "f8"),),
     ),
@@ -175,8 +170,13 @@ ENTRY_POINTS: tuple[EntryPoint, ...] = (
     ),
     EntryPoint(
         "stepframe.pipeline.dynamics._resonance_kernel",
-        "index_sums",
-        (("f8[:]", "f8[:]", "i1[:]", "f8[:]", "f8[:]", "i8[:]", *("f8",) * 3, *_SPECTRUM),),
+        "resonance_sums",
+        (("f8[:]", "f8[:]", "i1[:]", "f8[:]", *("f8",) * 3, "b1", "f8[:]", *_SPECTRUM),),
+    ),
+    EntryPoint(
+        "stepframe.structure._frequency_kernel",
+        "swing_frequencies",
+        (("f8[:]", "f8[:]", "i1[:]", "f8", "i8[:]", "f8[:]", "b1", "b1", *("f8",) * 4),),
     ),
     EntryPoint(
         "stepframe.pipeline.selection._bootstrap_kernel",

@@ -301,6 +301,48 @@ def swing_law(
 
 
 @njit(cache=True)
+def swing_frequencies(
+    x_m: NDArray[np.float64],
+    v_m_s: NDArray[np.float64],
+    phase: NDArray[np.int8],
+    dt_s: float,
+    crossings: NDArray[np.int64],
+    crossing_times_s: NDArray[np.float64],
+    law_everywhere: bool,
+    overturns: bool,
+    omega_1: float,
+    omega_2: float,
+    x_c_m: float,
+    x_star_m: float,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """ω_f(t), A(t) and the law's 2π/T(A(t)) at every sample
+    (:func:`stepframe.structure.frame_frequency.swing_frequency_rad_s`, which calls this):
+    the law (:func:`swing_law`) everywhere, or with ``law_everywhere`` False only before the
+    first and after the last of two or more zero crossings (NaN between), and each measured
+    half-cycle's frequency between the crossings (:func:`fill_half_cycles`)."""
+    n = x_m.size
+    if law_everywhere or crossings.size < 2:
+        samples = np.arange(n)
+    else:
+        head, tail_start = crossings[0] + 1, crossings[crossings.size - 1] + 1
+        samples = np.empty(head + n - tail_start, dtype=np.int64)
+        samples[:head] = np.arange(head)
+        samples[head:] = np.arange(tail_start, n)
+    amplitude = np.full(n, np.nan)
+    law = np.full(n, np.nan)
+    found_amplitude, found_law = swing_law(
+        x_m, v_m_s, dt_s, samples, overturns, omega_1, omega_2, x_c_m, x_star_m
+    )
+    for k in range(samples.size):
+        amplitude[samples[k]] = found_amplitude[k]
+        law[samples[k]] = found_law[k]
+    omega = law.copy()
+    if crossings.size >= 2:
+        fill_half_cycles(phase, crossings, crossing_times_s, omega_1, omega)
+    return omega, amplitude, law
+
+
+@njit(cache=True)
 def potentials(
     y_m: NDArray[np.float64], omega_1: float, omega_2: float, x_c_m: float, x_star_m: float
 ) -> NDArray[np.float64]:

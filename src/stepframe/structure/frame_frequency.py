@@ -116,10 +116,10 @@ def potential(y_m: Floats, backbone: ModelBackbone) -> Floats:
     from stepframe.structure._frequency_kernel import potentials
 
     y = np.asarray(y_m, dtype=np.float64)
-    return np.asarray(potentials(y.ravel(), *_constants(backbone))).reshape(y.shape)
+    return np.asarray(potentials(y.ravel(), *backbone_constants(backbone))).reshape(y.shape)
 
 
-def _constants(backbone: ModelBackbone) -> tuple[float, float, float, float]:
+def backbone_constants(backbone: ModelBackbone) -> tuple[float, float, float, float]:
     """ω₁, ω₂, x_c and x* of the backbone, the kernels' arguments."""
     return (backbone.omega_1_rad_s, backbone.omega_2_rad_s, backbone.x_c_m, backbone.x_star_m)
 
@@ -135,7 +135,7 @@ def energy_amplitude_m(x_m: Floats, v_m_s: Floats, backbone: ModelBackbone) -> F
     from stepframe.structure._frequency_kernel import energy_amplitudes
 
     x, v = np.broadcast_arrays(np.asarray(x_m, dtype=np.float64), np.asarray(v_m_s, np.float64))
-    flat = energy_amplitudes(np.ravel(x), np.ravel(v), *_constants(backbone))
+    flat = energy_amplitudes(np.ravel(x), np.ravel(v), *backbone_constants(backbone))
     return np.asarray(flat).reshape(x.shape)
 
 
@@ -188,7 +188,7 @@ def swing_amplitude_m(
     samples = np.arange(x_m.size) if at is None else np.asarray(at, dtype=np.intp)
     amplitude, _ = swing_law(
         np.ascontiguousarray(x_m, dtype=np.float64), np.ascontiguousarray(v_m_s, dtype=np.float64),
-        float(dt_s), samples.astype(np.int64), bool(overturns), *_constants(backbone),
+        float(dt_s), samples.astype(np.int64), bool(overturns), *backbone_constants(backbone),
     )  # fmt: skip
     return np.asarray(amplitude)
 
@@ -198,7 +198,7 @@ def frequency_rad_s(amplitude_m: Floats, backbone: ModelBackbone) -> Floats:
     from stepframe.structure._frequency_kernel import law_frequencies
 
     a = np.asarray(amplitude_m, dtype=np.float64)
-    return np.asarray(law_frequencies(a.ravel(), *_constants(backbone))).reshape(a.shape)
+    return np.asarray(law_frequencies(a.ravel(), *backbone_constants(backbone))).reshape(a.shape)
 
 
 def zero_crossings(
@@ -242,23 +242,16 @@ def swing_frequency_rad_s(
         :func:`zero_crossings` of this history when the caller has them already (the index
         cuts the response into half-cycles at the same crossings); found here otherwise.
     """
-    from stepframe.structure._frequency_kernel import fill_half_cycles, swing_law
+    from stepframe.structure._frequency_kernel import swing_frequencies
 
     i, z = zero_crossings(x_m, v_m_s, dt_s) if crossings is None else crossings
-    samples = np.arange(x_m.size)
-    if not law_everywhere and i.size >= 2:
-        samples = np.concatenate((samples[: i[0] + 1], samples[i[-1] + 1 :]))
-    amplitude = np.full(x_m.size, np.nan)
-    omega = np.full(x_m.size, np.nan)
-    amplitude[samples], omega[samples] = swing_law(
+    omega, amplitude, law = swing_frequencies(
         np.ascontiguousarray(x_m, dtype=np.float64), np.ascontiguousarray(v_m_s, dtype=np.float64),
-        float(dt_s), samples.astype(np.int64), bool(overturns), *_constants(backbone),
+        np.ascontiguousarray(phase, dtype=np.int8), float(dt_s), np.asarray(i, dtype=np.int64),
+        np.asarray(z, dtype=np.float64), bool(law_everywhere), bool(overturns),
+        *backbone_constants(backbone),
     )  # fmt: skip
-    law = omega.copy()
-    if i.size >= 2:
-        phases = np.ascontiguousarray(phase, dtype=np.int8)
-        fill_half_cycles(phases, i.astype(np.int64), z, float(backbone.omega_1_rad_s), omega)
-    return np.asarray(omega), amplitude, law
+    return np.asarray(omega), np.asarray(amplitude), np.asarray(law)
 
 
 def interval_work(

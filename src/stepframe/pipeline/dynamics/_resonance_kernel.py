@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from stepframe.core.jit import njit
-from stepframe.structure._frequency_kernel import interval_work
+from stepframe.structure._frequency_kernel import interval_work, swing_frequencies, zero_crossings
 
 
 @njit(cache=True)
@@ -64,32 +64,52 @@ def closeness_many(
     t0, frame_dt = frame_times_s[0], frame_times_s[1] - frame_times_s[0]
     near = np.empty(time_s.size)
     ridge = np.empty(time_s.size)
-    last_omega, band_pos = math.nan, 0.0
+    last_omega, last_row = math.nan, -1
+    col, w_frac, low, high = 0, 0.0, 0.0, 0.0
     for i in range(time_s.size):
         position = min(max((time_s[i] - t0) / frame_dt, 0.0), n_frames - 1.0)
         row = min(int(position), n_frames - 2)
-        t_frac = position - row
         omega_f = omega_f_rad_s[i]
-        if omega_f != last_omega:  # ω_f is constant over a measured half-cycle: log it once
-            log_omega = math.log(omega_f) if omega_f > 0.0 else -math.inf
-            band_pos = (min(max(log_omega, log_low), log_high) - log_low) / log_step
-            last_omega = omega_f
-        col = min(int(band_pos), n_bands - 2)
-        w_frac = band_pos - col
-        # The cells are filled here, not in a helper: a compiled function called with arrays
-        # costs some 50 ns of reference counting per call, more than the whole sample's work.
-        for f in range(row, row + 2):
-            for b in range(col, col + 2):
-                if ratio[f, b] < 0.0:
-                    best = psd[f, b]
-                    for c in range(max(0, b - reach), min(n_bands, b + reach + 1)):
-                        best = max(best, psd[f, c])
-                    ratio[f, b] = best / (peak[f] if peak[f] > 0.0 else 1.0)
-        low = ratio[row, col] * (1 - w_frac) + ratio[row, col + 1] * w_frac
-        high = ratio[row + 1, col] * (1 - w_frac) + ratio[row + 1, col + 1] * w_frac
+        # ω_f is constant over a measured half-cycle and the samples run through each frame
+        # interval in turn: the two ends of the interpolation in time change only with them.
+        if omega_f != last_omega or row != last_row:
+            if omega_f != last_omega:
+                log_omega = math.log(omega_f) if omega_f > 0.0 else -math.inf
+                band_pos = (min(max(log_omega, log_low), log_high) - log_low) / log_step
+                col = min(int(band_pos), n_bands - 2)
+                w_frac = band_pos - col
+                last_omega = omega_f
+            # The cells are filled here, not in a helper: a compiled function called with
+            # arrays costs some 50 ns of reference counting per call.
+            for f in range(row, row + 2):
+                for b in range(col, col + 2):
+                    if ratio[f, b] < 0.0:
+                        best = psd[f, b]
+                        for c in range(max(0, b - reach), min(n_bands, b + reach + 1)):
+                            best = max(best, psd[f, c])
+                        ratio[f, b] = best / (peak[f] if peak[f] > 0.0 else 1.0)
+            low = ratio[row, col] * (1 - w_frac) + ratio[row, col + 1] * w_frac
+            high = ratio[row + 1, col] * (1 - w_frac) + ratio[row + 1, col + 1] * w_frac
+            last_row = row
+        t_frac = position - row
         near[i] = low * (1 - t_frac) + high * t_frac
         ridge[i] = omega_rad_s[ridge_band[round(position)]]
     return near, ridge
+
+
+@njit(cache=True)
+def _half_cycle_end(
+    crossings: NDArray[np.int64], first: int, start: int, n: int
+) -> tuple[int, int]:
+    """The last sample of the half-cycle that begins at ``start`` (the next start after it, a
+    crossing's next sample, or n - 1), and the index of that crossing; the search begins at
+    crossing ``first`` (the crossings ascend, so each is passed once)."""
+    k = first
+    while k < crossings.size and crossings[k] + 1 <= start:
+        k += 1
+    if k < crossings.size:
+        return int(min(crossings[k] + 1, n - 1)), k
+    return n - 1, k
 
 
 @njit(cache=True)
@@ -129,55 +149,89 @@ def index_sums(
     near, ridge = closeness_many(psd, frame_times_s, omega_rad_s, reach, times, omega_f_rad_s)
     work = interval_work(x_m, v_m_s, phase, ground_acc_m_s2, dt_s, p_1, p_2)
     depth_span = math.log(band_high_rad_s / band_low_rad_s) - near_ln
-    # d and the ridge's offset at each sample, computed once (each is read by two intervals).
-    depth = np.empty(n)
-    offset_sq = np.empty(n)
+    sums = np.zeros(9)
     lowest = math.inf
+    # d and the ridge's offset at a sample change only with ω_f (constant over a measured
+    # half-cycle) and the ridge (constant over a frame): the logs are taken when they change.
     last_omega, last_ridge = math.nan, math.nan
+    sample_depth = sample_offset = inside = 0.0
+    previous_depth = previous_offset = 0.0
+    start = 0
+    cycle_work = near_sum = depth_sum = offset_sum = 0.0
+    stepped = False
+    end, next_crossing = _half_cycle_end(crossings, 0, 0, n)
     for i in range(n):
         omega_f = omega_f_rad_s[i]
         lowest = min(lowest, omega_f)
-        if omega_f != last_omega:  # constant over a measured half-cycle: the logs once
+        if omega_f != last_omega:
             drop = math.log(band_high_rad_s / max(omega_f, 1e-300))
             sample_depth = min(max((drop - near_ln) / depth_span, 0.0), 1.0)
             inside = min(max(omega_f, band_low_rad_s), band_high_rad_s)
             last_omega, last_ridge = omega_f, math.nan
-        if ridge[i] != last_ridge:  # and the ridge over a frame
+        if ridge[i] != last_ridge:
             sample_offset = math.log(ridge[i] / inside) ** 2
             last_ridge = ridge[i]
-        depth[i] = sample_depth
-        offset_sq[i] = sample_offset
-
-    sums = np.zeros(9)
+        if i > start:  # the interval [i - 1, i] of the half-cycle that began at start
+            cycle_work += work[i - 1]
+            near_sum += 0.5 * (near[i - 1] + near[i])
+            depth_sum += 0.5 * (previous_depth + sample_depth)
+            offset_sum += 0.5 * (previous_offset + sample_offset)
+            stepped = stepped or phase[i - 1] != 0 or phase[i] != 0
+        if i == end and start < n - 1:
+            count = end - start
+            pumped = max(cycle_work, 0.0)
+            moved = depth_sum / count * pumped
+            cycle_near = near_sum / count
+            sums[0] += moved * cycle_near
+            sums[1] += moved
+            sums[2] += pumped
+            sums[3] += pumped * cycle_near
+            sums[4] += moved * (offset_sum / count)
+            sums[5] += 1.0
+            sums[6] += 1.0 if stepped else 0.0
+            sums[7] += cycle_work
+            start = end
+            end, next_crossing = _half_cycle_end(crossings, next_crossing, start, n)
+            cycle_work = near_sum = depth_sum = offset_sum = 0.0
+            stepped = False
+        previous_depth, previous_offset = sample_depth, sample_offset
     sums[8] = lowest
-    start, next_crossing = 0, 0
-    while start < n - 1:
-        # The half-cycle ends at the next start after this one (crossing + 1), or at n - 1.
-        while next_crossing < crossings.size and crossings[next_crossing] + 1 <= start:
-            next_crossing += 1
-        end = n - 1
-        if next_crossing < crossings.size:
-            end = min(crossings[next_crossing] + 1, n - 1)
-        cycle_work = 0.0
-        near_sum = depth_sum = offset_sum = 0.0
-        stepped = False
-        for j in range(start, end):
-            cycle_work += work[j]
-            near_sum += 0.5 * (near[j] + near[j + 1])
-            depth_sum += 0.5 * (depth[j] + depth[j + 1])
-            offset_sum += 0.5 * (offset_sq[j] + offset_sq[j + 1])
-            stepped = stepped or phase[j] != 0 or phase[j + 1] != 0
-        count = end - start
-        pumped = max(cycle_work, 0.0)
-        moved = depth_sum / count * pumped
-        cycle_near = near_sum / count
-        sums[0] += moved * cycle_near
-        sums[1] += moved
-        sums[2] += pumped
-        sums[3] += pumped * cycle_near
-        sums[4] += moved * (offset_sum / count)
-        sums[5] += 1.0
-        sums[6] += 1.0 if stepped else 0.0
-        sums[7] += cycle_work
-        start = end
     return sums
+
+
+@njit(cache=True)
+def resonance_sums(
+    x_m: NDArray[np.float64],
+    v_m_s: NDArray[np.float64],
+    phase: NDArray[np.int8],
+    record_acc_m_s2: NDArray[np.float64],
+    dt_s: float,
+    p_1: float,
+    p_2: float,
+    overturns: bool,
+    backbone: NDArray[np.float64],
+    psd: NDArray[np.float64],
+    frame_times_s: NDArray[np.float64],
+    omega_rad_s: NDArray[np.float64],
+    reach: int,
+    band_low_rad_s: float,
+    band_high_rad_s: float,
+    near_ln: float,
+) -> NDArray[np.float64]:
+    """:func:`index_sums` from the history of motion alone, in one call: its zero crossings,
+    ω_f (:func:`~stepframe.structure._frequency_kernel.swing_frequencies`, the law only where
+    ω_f needs it), and the ground acceleration the frame felt (the scaled record, then zeros).
+    ``backbone`` is (ω₁, ω₂, x_c, x*)."""
+    n = x_m.size
+    crossings, crossing_times = zero_crossings(x_m, v_m_s, dt_s)
+    omega_f = swing_frequencies(
+        x_m, v_m_s, phase, dt_s, crossings, crossing_times, False, overturns,
+        backbone[0], backbone[1], backbone[2], backbone[3],
+    )[0]  # fmt: skip
+    felt = np.zeros(n)
+    shared = min(n, record_acc_m_s2.size)
+    felt[:shared] = record_acc_m_s2[:shared]
+    return index_sums(
+        x_m, v_m_s, phase, felt, omega_f, crossings, dt_s, p_1, p_2, psd, frame_times_s,
+        omega_rad_s, reach, band_low_rad_s, band_high_rad_s, near_ln,
+    )  # fmt: skip

@@ -299,33 +299,33 @@ def resonance_index(
     band_rad_s
         The band (low, high) [rad/s] the spectrum covers.
     """
-    from stepframe.pipeline.dynamics._resonance_kernel import index_sums
+    from stepframe.pipeline.dynamics._resonance_kernel import resonance_sums
     from stepframe.structure.frame_frequency import (
-        felt_ground_acc,
-        motion_frequency,
+        backbone_constants,
+        backbone_of,
         motion_samples,
-        zero_crossings,
     )
 
     band = (float(band_rad_s[0]), float(band_rad_s[1]))
     if result.summary.status != "ok":
         return _failed(band, f"simulation {result.summary.status}: {result.summary.message}")
     raw, model = result.raw, result.model
-    if not raw.hist_x.size or model is None:
+    if not raw.hist_x.size or model is None or result.ground_acc_m_s2 is None:
         return _failed(band, "no history, expected a simulation with record_history=True")
     n = motion_samples(result)
     if n < 2:
         return _failed(band, "fewer than two samples of motion before overturning")
-    x, v, phase = raw.hist_x[:n], raw.hist_v[:n], raw.hist_p[:n]
-    # The half-cycles of ω_f and of the index are cut at the same crossings: found once.
-    found = zero_crossings(x, v, result.dt_s)
-    omega_f = motion_frequency(result, law_everywhere=False, crossings=found)[0]
-    crossings = found[0]
     arrays = _checked(spectrum)
-    sums = index_sums(
-        x, v, phase, felt_ground_acc(result)[:n], omega_f, crossings.astype(np.int64),
-        result.dt_s, float(model.p_1), float(model.p_2), arrays.psd, arrays.time_s,
-        arrays.omega_rad_s, _reach(arrays.omega_rad_s), band[0], band[1], NEAR_LN,
+    backbone = np.array(backbone_constants(backbone_of(model)))
+    # One compiled call: the crossings, ω_f, the work and the sums (docs/benchmarks.md: the
+    # calls one by one, each with its arguments checked and its arrays made, cost more than
+    # the arithmetic on a short record).
+    sums = resonance_sums(
+        raw.hist_x[:n], raw.hist_v[:n], raw.hist_p[:n],
+        np.asarray(result.ground_acc_m_s2, dtype=np.float64), result.dt_s, float(model.p_1),
+        float(model.p_2), bool(result.summary.overturned), backbone, arrays.psd,
+        arrays.time_s, arrays.omega_rad_s, _reach(arrays.omega_rad_s), band[0], band[1],
+        NEAR_LN,
     )  # fmt: skip
     near_moved, moved, pumped, near_pumped, offset_moved = (float(value) for value in sums[:5])
     index = near_moved / moved if moved > 0 else math.nan
