@@ -1,6 +1,6 @@
 """The moving-resonance index on motions whose frequency path is known: a chirp that leads the
 frame down its backbone, one that runs the other way, a sine at ω_1; the closeness against the
-Morlet spectrum of a tone; the picture."""
+resonator bank's gain for a tone; the picture."""
 
 from __future__ import annotations
 
@@ -20,6 +20,7 @@ from stepframe.pipeline.dynamics.resonance import (
     moving_resonance,
     resonance_index,
 )
+from stepframe.pipeline.dynamics.resonator_bank import window_rate
 from stepframe.pipeline.selection.band import frame_band
 from stepframe.structure.frame import PortalFrame
 from stepframe.structure.frame_file import FRAME_TEMPLATE, frame_from_mapping
@@ -89,27 +90,34 @@ def test_a_sine_at_omega_1_scores_in_between(indices: dict[str, float]) -> None:
     assert indices["stationary share"] <= 0.01
 
 
-def test_closeness_of_a_tone_follows_the_morlet_band_power() -> None:
-    # A tone at ω₀ has the Morlet density S_j ∝ exp(-q²(1 - ω₀/ω_j)²)/ω_j; the closeness at ω_f
-    # is that of the band nearest ω₀ within a third of an octave of ω_f.
-    omega_0, q, band = 3.0, 6.0, (0.5, 6.0)
+def test_closeness_of_a_tone_follows_the_banks_gain() -> None:
+    # A tone A sin(ω₀t) reaches band j through the window's gain 2s/(s² + (ω₀ - ω_j)²) (and
+    # its mirror at -ω₀ through 2s/(s² + (ω₀ + ω_j)²)), so away from the motion's ends S_j has
+    # the mean s_j A²(g₊² + g₋²)/(8π) and swings by 2g₋/g₊ about it at 2ω₀ (averaged out over
+    # 400 frames; 1 % for the linear interpolation between samples and the decimation, and
+    # 1e-5 of the peak for the tone's abrupt ends, 40 s away). The closeness reads the largest
+    # of these within a third of an octave of each band, interpolated in ln ω at ω_f: to 3 %.
+    omega_0, band = 3.0, (0.5, 6.0)
     t = np.arange(0, 120, 0.01)
     spectrum = band_spectrum(np.sin(omega_0 * t), 0.01, band)
-    frames = spectrum["time"].values
+    frames, grid = spectrum["time"].values, spectrum["omega"].values
     mid = (frames > 40) & (frames < 80)
-    for omega_f, expected in ((3.0, 1.0), (3.0 * math.exp(0.9 * NEAR_LN), 1.0)):
+    s = window_rate() * grid
+    gain = 2 * s / (s**2 + (omega_0 - grid) ** 2), 2 * s / (s**2 + (omega_0 + grid) ** 2)
+    mean_s = s * (gain[0] ** 2 + gain[1] ** 2) / (8 * math.pi)
+    measured = spectrum.sel(time=frames[mid]).values.mean(axis=0)
+    assert np.allclose(measured, mean_s, rtol=0.01, atol=1e-5 * mean_s.max())
+    for omega_f in (omega_0, omega_0 * math.exp(0.9 * NEAR_LN)):  # the tone within reach
         near, ridge = closeness(spectrum, frames[mid], np.full(mid.sum(), omega_f))
-        assert np.allclose(near, expected, atol=0.03)
-        assert np.allclose(ridge, omega_0, rtol=0.05)
-    far = 3.0 * math.exp(2 * NEAR_LN)
-    reach = far * math.exp(-NEAR_LN)
-
-    def density(w: float) -> float:
-        return math.exp(-(q**2) * (1 - omega_0 / w) ** 2) / w
-
-    peak = max(density(w) for w in np.geomspace(2.5, 3.5, 2001))
+        assert np.allclose(near, 1.0, rtol=0, atol=1e-12)
+        assert np.all(np.abs(np.log(ridge / omega_0)) <= math.log(2) / 18 + 1e-12)
+    reach = round(NEAR_LN / math.log(grid[1] / grid[0]))
+    windowed = [mean_s[max(0, j - reach) : j + reach + 1].max() for j in range(grid.size)]
+    far = omega_0 * math.exp(2 * NEAR_LN)
+    expected = np.interp(math.log(far), np.log(grid), np.array(windowed) / mean_s.max())
     near, _ = closeness(spectrum, frames[mid], np.full(mid.sum(), far))
-    assert np.allclose(near, density(reach) / peak, rtol=0.1)
+    assert near.mean() == pytest.approx(expected, rel=0.03)
+    assert 0.05 < expected < 0.5  # the tone is out of reach, its neighbour within
 
 
 def closeness_from_the_definition(
@@ -288,6 +296,7 @@ def test_site_band_spectrum_is_eq_6_12_under_the_envelope_and_draws_the_frame_pa
     # At ω = ω_g(t) eq. 6.12 is 4αω²I²/(4ω²α²) = I_g(t)²/α_g(t): place t where ω_g(t) is a node
     # of the band grid (eq. 6.10 inverted) and compare with the closed form.
     from stepframe.pipeline.amplification.time_frequency import (
+        SITE_BANDS_PER_OCTAVE,
         model_band_spectrum,
         site_band_figure,
     )
@@ -300,7 +309,7 @@ def test_site_band_spectrum_is_eq_6_12_under_the_envelope_and_draws_the_frame_pa
     model = GroundMotionModel(30.0, 8.0, 1.0, 0.3, 0.4, 6.0, 25.0)
     frame = wide_frame()
     band = (frame_band(frame).omega_low_rad_s, frame.omega_1_rad_s)
-    node = band_grid_rad_s(band)[20]
+    node = band_grid_rad_s(band, per_octave=SITE_BANDS_PER_OCTAVE)[20]
     p, s, r = 30.0, 8.0, 1.0
     t_node = 6.0 * math.log((node - r) / (p - r)) / math.log((s - r) / (p - r))
     spectrum = model_band_spectrum(model, band, np.array([t_node - 1.0, t_node]))

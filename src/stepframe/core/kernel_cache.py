@@ -179,6 +179,16 @@ ENTRY_POINTS: tuple[EntryPoint, ...] = (
         (("f8[:]", "f8[:]", "i1[:]", "f8", "i8[:]", "f8[:]", "b1", "b1", *("f8",) * 4),),
     ),
     EntryPoint(
+        "stepframe.pipeline.dynamics._resonance_kernel",
+        "bank_energies",
+        (("f8[:]", "f8[:, :]", "f8[:, :]", "f8[:]", "i8"),),
+    ),
+    EntryPoint(
+        "stepframe.pipeline.dynamics._resonance_kernel",
+        "triangle_decimated",
+        (("f8[:]", "i8", "i8"),),
+    ),
+    EntryPoint(
         "stepframe.pipeline.selection._bootstrap_kernel",
         "resampled_rhos",
         (("i8[:, :]", "i8[:, :]", "i8[:, :]", "i8[:]", "i8[:, :]"),),

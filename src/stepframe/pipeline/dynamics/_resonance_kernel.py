@@ -37,6 +37,45 @@ def frame_peaks(psd: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[
     return peak, ridge
 
 
+@njit(cache=True, inline="always")
+def _frame_ends(
+    psd: NDArray[np.float64],
+    peak: NDArray[np.float64],
+    ratio: NDArray[np.float64],
+    reach: int,
+    row: int,
+    col: int,
+    w_frac: float,
+) -> tuple[float, float]:
+    """c at frames ``row`` and ``row + 1`` for ω_f at ``col + w_frac`` on the band grid: the
+    cells' ratios (max S within ``reach`` bands over the frame's peak, 1 for a frame without
+    energy), filled in ``ratio`` where still negative, interpolated linearly in ln ω. Inlined
+    into its callers (a compiled call with arrays costs some 50 ns of reference counting)."""
+    n_bands = psd.shape[1]
+    for f in range(row, row + 2):
+        for b in range(col, col + 2):
+            if ratio[f, b] < 0.0:
+                best = psd[f, b]
+                for c in range(max(0, b - reach), min(n_bands, b + reach + 1)):
+                    best = max(best, psd[f, c])
+                ratio[f, b] = best / (peak[f] if peak[f] > 0.0 else 1.0)
+    low = ratio[row, col] * (1 - w_frac) + ratio[row, col + 1] * w_frac
+    high = ratio[row + 1, col] * (1 - w_frac) + ratio[row + 1, col + 1] * w_frac
+    return low, high
+
+
+@njit(cache=True, inline="always")
+def _band_place(
+    omega_f: float, log_low: float, log_high: float, log_step: float, n_bands: int
+) -> tuple[int, float]:
+    """The band below ω_f on the grid and ω_f's fraction of the way to the next, in ln ω; ω_f
+    outside the grid read at its nearer edge."""
+    log_omega = math.log(omega_f) if omega_f > 0.0 else -math.inf
+    band_pos = (min(max(log_omega, log_low), log_high) - log_low) / log_step
+    col = min(int(band_pos), n_bands - 2)
+    return col, band_pos - col
+
+
 @njit(cache=True)
 def closeness_many(
     psd: NDArray[np.float64],
@@ -74,22 +113,9 @@ def closeness_many(
         # interval in turn: the two ends of the interpolation in time change only with them.
         if omega_f != last_omega or row != last_row:
             if omega_f != last_omega:
-                log_omega = math.log(omega_f) if omega_f > 0.0 else -math.inf
-                band_pos = (min(max(log_omega, log_low), log_high) - log_low) / log_step
-                col = min(int(band_pos), n_bands - 2)
-                w_frac = band_pos - col
+                col, w_frac = _band_place(omega_f, log_low, log_high, log_step, n_bands)
                 last_omega = omega_f
-            # The cells are filled here, not in a helper: a compiled function called with
-            # arrays costs some 50 ns of reference counting per call.
-            for f in range(row, row + 2):
-                for b in range(col, col + 2):
-                    if ratio[f, b] < 0.0:
-                        best = psd[f, b]
-                        for c in range(max(0, b - reach), min(n_bands, b + reach + 1)):
-                            best = max(best, psd[f, c])
-                        ratio[f, b] = best / (peak[f] if peak[f] > 0.0 else 1.0)
-            low = ratio[row, col] * (1 - w_frac) + ratio[row, col + 1] * w_frac
-            high = ratio[row + 1, col] * (1 - w_frac) + ratio[row + 1, col + 1] * w_frac
+            low, high = _frame_ends(psd, peak, ratio, reach, row, col, w_frac)
             last_row = row
         t_frac = position - row
         near[i] = low * (1 - t_frac) + high * t_frac
@@ -145,9 +171,18 @@ def index_sums(
         half-cycles, of those that stepped, the net work Σ W over all intervals, and min ω_f.
     """
     n = omega_f_rad_s.size
-    times = np.arange(n, dtype=np.float64) * dt_s
-    near, ridge = closeness_many(psd, frame_times_s, omega_rad_s, reach, times, omega_f_rad_s)
     work = interval_work(x_m, v_m_s, phase, ground_acc_m_s2, dt_s, p_1, p_2)
+    # The closeness c and the ridge at each sample as closeness_many computes them (the same
+    # helpers and arithmetic), here in the one pass without their arrays.
+    n_frames, n_bands = psd.shape
+    peak, ridge_band = frame_peaks(psd)
+    ratio = np.full(psd.shape, -1.0)  # negative: not computed yet
+    log_low = math.log(omega_rad_s[0])
+    log_high = math.log(omega_rad_s[n_bands - 1])
+    log_step = (log_high - log_low) / (n_bands - 1)
+    t0, frame_dt = frame_times_s[0], frame_times_s[1] - frame_times_s[0]
+    last_row, col, w_frac, low, high = -1, 0, 0.0, 0.0, 0.0
+    previous_near = 0.0
     depth_span = math.log(band_high_rad_s / band_low_rad_s) - near_ln
     sums = np.zeros(9)
     lowest = math.inf
@@ -163,17 +198,26 @@ def index_sums(
     for i in range(n):
         omega_f = omega_f_rad_s[i]
         lowest = min(lowest, omega_f)
-        if omega_f != last_omega:
-            drop = math.log(band_high_rad_s / max(omega_f, 1e-300))
-            sample_depth = min(max((drop - near_ln) / depth_span, 0.0), 1.0)
-            inside = min(max(omega_f, band_low_rad_s), band_high_rad_s)
-            last_omega, last_ridge = omega_f, math.nan
-        if ridge[i] != last_ridge:
-            sample_offset = math.log(ridge[i] / inside) ** 2
-            last_ridge = ridge[i]
+        position = min(max((i * dt_s - t0) / frame_dt, 0.0), n_frames - 1.0)
+        row = min(int(position), n_frames - 2)
+        if omega_f != last_omega or row != last_row:
+            if omega_f != last_omega:
+                col, w_frac = _band_place(omega_f, log_low, log_high, log_step, n_bands)
+                drop = math.log(band_high_rad_s / max(omega_f, 1e-300))
+                sample_depth = min(max((drop - near_ln) / depth_span, 0.0), 1.0)
+                inside = min(max(omega_f, band_low_rad_s), band_high_rad_s)
+                last_omega, last_ridge = omega_f, math.nan
+            low, high = _frame_ends(psd, peak, ratio, reach, row, col, w_frac)
+            last_row = row
+        t_frac = position - row
+        sample_near = low * (1 - t_frac) + high * t_frac
+        sample_ridge = omega_rad_s[ridge_band[round(position)]]
+        if sample_ridge != last_ridge:
+            sample_offset = math.log(sample_ridge / inside) ** 2
+            last_ridge = sample_ridge
         if i > start:  # the interval [i - 1, i] of the half-cycle that began at start
             cycle_work += work[i - 1]
-            near_sum += 0.5 * (near[i - 1] + near[i])
+            near_sum += 0.5 * (previous_near + sample_near)
             depth_sum += 0.5 * (previous_depth + sample_depth)
             offset_sum += 0.5 * (previous_offset + sample_offset)
             stepped = stepped or phase[i - 1] != 0 or phase[i] != 0
@@ -195,6 +239,7 @@ def index_sums(
             cycle_work = near_sum = depth_sum = offset_sum = 0.0
             stepped = False
         previous_depth, previous_offset = sample_depth, sample_offset
+        previous_near = sample_near
     sums[8] = lowest
     return sums
 
@@ -235,3 +280,81 @@ def resonance_sums(
         x_m, v_m_s, phase, felt, omega_f, crossings, dt_s, p_1, p_2, psd, frame_times_s,
         omega_rad_s, reach, band_low_rad_s, band_high_rad_s, near_ln,
     )  # fmt: skip
+
+
+@njit(cache=True, fastmath=True)
+def bank_energies(
+    data: NDArray[np.float64],
+    weights: NDArray[np.float64],
+    powers: NDArray[np.float64],
+    scale: NDArray[np.float64],
+    n_frames: int,
+) -> NDArray[np.float64]:
+    """S = scale_j |W⁺ + W⁻|² at every frame (every hop = len(weights) - 1 samples of ``data``,
+    followed by zeros up to the last frame): W⁺ stepped forwards from rest before the first
+    sample, W⁻ backwards from rest after the last (:mod:`~.resonator_bank`; ``weights`` and
+    ``powers`` of its ``_frame_step``, real and imaginary parts of each pass side by side, the
+    bands last so that every loop over them runs on contiguous memory)."""
+    hop = weights.shape[0] - 1
+    n_bands = scale.size
+    causal_re = np.zeros((n_frames, n_bands))
+    causal_im = np.zeros((n_frames, n_bands))
+    z_re, z_im = np.zeros(n_bands), np.zeros(n_bands)
+    in_re, in_im = np.empty(n_bands), np.empty(n_bands)
+    for f in range(1, n_frames):
+        first = (f - 1) * hop
+        in_re[:] = 0.0
+        in_im[:] = 0.0
+        for k in range(min(hop + 1, data.size - first)):
+            sample = data[first + k]
+            for j in range(n_bands):
+                in_re[j] += weights[k, j] * sample
+                in_im[j] += weights[k, n_bands + j] * sample
+        for j in range(n_bands):
+            re = powers[0, j] * z_re[j] - powers[1, j] * z_im[j] + in_re[j]
+            im = powers[0, j] * z_im[j] + powers[1, j] * z_re[j] + in_im[j]
+            z_re[j], z_im[j] = re, im
+            causal_re[f, j], causal_im[f, j] = re, im
+    out = np.empty((n_frames, n_bands))
+    z_re[:] = 0.0
+    z_im[:] = 0.0
+    for f in range(n_frames - 1, -1, -1):
+        if f < n_frames - 1:
+            first = f * hop
+            in_re[:] = 0.0
+            in_im[:] = 0.0
+            for k in range(min(hop + 1, data.size - first)):
+                sample = data[first + k]
+                for j in range(n_bands):
+                    in_re[j] += weights[k, 2 * n_bands + j] * sample
+                    in_im[j] += weights[k, 3 * n_bands + j] * sample
+            for j in range(n_bands):
+                re = powers[2, j] * z_re[j] - powers[3, j] * z_im[j] + in_re[j]
+                im = powers[2, j] * z_im[j] + powers[3, j] * z_re[j] + in_im[j]
+                z_re[j], z_im[j] = re, im
+        for j in range(n_bands):
+            re = causal_re[f, j] + z_re[j]
+            im = causal_im[f, j] + z_im[j]
+            out[f, j] = scale[j] * (re * re + im * im)
+    return out
+
+
+@njit(cache=True)
+def triangle_decimated(data: NDArray[np.float64], factor: int, n_out: int) -> NDArray[np.float64]:
+    """``n_out`` samples, every ``factor``-th of ``data`` smoothed by the centred triangle of
+    2·factor - 1 taps (two boxcars of ``factor`` samples, unit sum; zeros beyond the ends):
+    sample m is Σ_k (factor - |k|)/factor² · data[m·factor + k]."""
+    n = data.size
+    out = np.zeros(n_out)
+    norm = 1.0 / (factor * factor)
+    for m in range(min(n_out, -(-(n + factor - 1) // factor))):
+        centre = m * factor
+        total = factor * data[centre] if centre < n else 0.0
+        for k in range(1, factor):
+            weight = factor - k
+            if 0 <= centre - k < n:
+                total += weight * data[centre - k]
+            if centre + k < n:
+                total += weight * data[centre + k]
+        out[m] = total * norm
+    return out

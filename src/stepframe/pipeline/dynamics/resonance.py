@@ -3,9 +3,10 @@ frame's instantaneous frequency, weighted by the work the ground does on the fra
 
 The steps of docs/selection.md, "Moving resonance, measured":
 
-1. the record's Morlet spectrum S(ω, t) over the frame's band widened by a third of an octave
-   either side (:func:`band_spectrum`: the ground acceleration the frame felt, record then the
-   tail's zeros, twelve bands per octave);
+1. the record's spectrum S(ω, t) from a bank of two-sided resonators over the frame's band
+   widened by a third of an octave either side (:func:`band_power`,
+   :mod:`~stepframe.pipeline.dynamics.resonator_bank`: the ground acceleration the frame felt,
+   record then the tail's zeros, twelve bands per octave, frames every 0.1 s);
 2. the frame's instantaneous frequency ω_f(t) and the ground's work per sample interval from the
    exact simulation's history (:mod:`stepframe.structure.frame_frequency`);
 3. at each sample, the **closeness** c(t) = the largest S within a third of an octave of
@@ -19,9 +20,9 @@ The steps of docs/selection.md, "Moving resonance, measured":
 6. the **moving-resonance index** R_m = Σ c_k d_k W_k⁺ / Σ d_k W_k⁺, and the **moving-resonance
    share** M = Σ c_k d_k W_k⁺ / Σ W_k⁺ (:class:`MovingResonance`).
 
-Cost: the band spectrum is one FFT of the record and an inverse FFT of 2n/hop points per band
-(once per record and frame, at any scale; :func:`band_power` gives it without the DataArray);
-the index is one compiled pass over the history (:mod:`._resonance_kernel`, with ω_f and the
+Cost: the band spectrum is one pass of the bank over the record at a decimated rate (once per
+record and frame, at any scale; :func:`band_power` gives it without the DataArray); the index
+is one compiled pass over the history (:mod:`._resonance_kernel`, with ω_f and the
 work from :mod:`stepframe.structure._frequency_kernel`; docs/benchmarks.md, issue 26).
 """
 
@@ -36,6 +37,12 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from stepframe.errors import InputError
+from stepframe.pipeline.dynamics.resonator_bank import (
+    BANK_Q,
+    bank_grid_rad_s,
+    bank_power,
+    cone_floor_rad_s,
+)
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -46,11 +53,10 @@ if TYPE_CHECKING:
 
 Floats = NDArray[np.float64]
 
-#: Morlet relative bandwidth ω/σ of the band spectrum (the project's wavelet default).
-MORLET_Q = 6.0
-#: Bands per octave of the band spectrum: four bands make :data:`NEAR_LN`, so the window of
-#: "near ω_f" is whole bands; a tone's density falls by 3 % (q = 6) between two bands.
-BANDS_PER_OCTAVE = 12
+#: Bands per octave of the band spectrum: three bands make :data:`NEAR_LN`, so the window of
+#: "near ω_f" is whole bands; a tone halfway between two bands reads 8 % below its value on
+#: one (the bank's gain 1/(1 + (Δ/s)²)², Δ/ω = 3.9 %, s/ω = 0.188).
+BANDS_PER_OCTAVE = 9
 #: Spacing of the band spectrum's frames [s].
 HOP_S = 0.1
 #: Half-width of "near ω_f" in ln ω: a third of an octave either side. The phase-locked frame of
@@ -60,22 +66,18 @@ HOP_S = 0.1
 NEAR_LN = math.log(2.0) / 3.0
 
 
-def band_grid_rad_s(band_rad_s: Sequence[float]) -> Floats:
-    """Band centres twelve per octave from the bottom of the frame's band widened by
-    :data:`NEAR_LN` (every frequency "near" a frequency of the band) up to the first at or above
-    its widened top [rad/s]."""
-    low, high = float(band_rad_s[0]), float(band_rad_s[1])
-    if not (math.isfinite(low) and math.isfinite(high) and 0 < low < high):
-        raise InputError(f"band_rad_s = {tuple(band_rad_s)}, expected 0 < low < high [rad/s]")
-    octaves = math.log2(high / low) + 2 * NEAR_LN / math.log(2.0)
-    count = max(2, math.ceil(BANDS_PER_OCTAVE * octaves - 1e-9) + 1)
-    return low * math.exp(-NEAR_LN) * 2.0 ** (np.arange(count) / BANDS_PER_OCTAVE)
+def band_grid_rad_s(band_rad_s: Sequence[float], per_octave: int = BANDS_PER_OCTAVE) -> Floats:
+    """Band centres ``per_octave`` to the octave (default the index's) from the bottom of the
+    frame's band widened by :data:`NEAR_LN` (every frequency "near" a frequency of the band) up
+    to the first at or above its widened top [rad/s]."""
+    return bank_grid_rad_s(band_rad_s, NEAR_LN, per_octave)
 
 
 @dataclass(frozen=True)
 class BandPower:
-    """The Morlet spectrum of a motion over a frame's band as plain arrays (what the index reads;
-    :func:`band_spectrum` is the same numbers as a labelled DataArray, for the pictures).
+    """The resonator bank's spectrum of a motion over a frame's band as plain arrays (what the
+    index reads; :func:`band_spectrum` is the same numbers as a labelled DataArray, for the
+    pictures).
 
     Attributes
     ----------
@@ -117,35 +119,11 @@ def band_power(
     band_rad_s: Sequence[float],
     *,
     n_samples: int | None = None,
-    morlet_q: float = MORLET_Q,
+    q: float = BANK_Q,
     hop_s: float = HOP_S,
 ) -> BandPower:
-    """:func:`band_spectrum`'s numbers without the DataArray around them (the index's path: the
-    labels cost more than the spectrum of a short record, docs/benchmarks.md, issue 26).
-
-    Parameters and errors as :func:`band_spectrum`; the motion is the one a simulation already
-    accepted (finite), so only its length is checked here, as the spectrum checks it.
-    """
-    from stepframe.stochastic.transforms import DEFAULT_WINDOW_S, wavelet_power, window_samples
-
-    data = _padded(ground_acc_m_s2, n_samples)
-    window_samples(DEFAULT_WINDOW_S, dt_s, data.size)
-    time_s, omega, psd = wavelet_power(
-        data, dt_s, hop_s=hop_s, omega_rad_s=band_grid_rad_s(band_rad_s), morlet_q=morlet_q
-    )
-    return BandPower(time_s, omega, psd)
-
-
-def band_spectrum(
-    ground_acc_m_s2: ArrayLike,
-    dt_s: float,
-    band_rad_s: Sequence[float],
-    *,
-    n_samples: int | None = None,
-    morlet_q: float = MORLET_Q,
-    hop_s: float = HOP_S,
-) -> xr.DataArray:
-    """The Morlet evolutionary spectrum of a ground motion over a frame's band.
+    """The record's spectrum over a frame's band from the resonator bank, as arrays (the index's
+    input; :func:`band_spectrum` labels the same numbers for the pictures).
 
     Parameters
     ----------
@@ -156,23 +134,63 @@ def band_spectrum(
     band_rad_s
         The frame's band (low, high) [rad/s].
     n_samples
-        Samples to cover (the simulation's record plus tail): the motion is padded with zeros,
+        Samples to cover (the simulation's record plus tail): the motion is followed by zeros,
         which is what the frame feels after the record.
-    morlet_q, hop_s
-        Wavelet bandwidth ω/σ and frame spacing [s].
+    q, hop_s
+        The bank's quality factor (:func:`~.resonator_bank.window_rate`) and the frame
+        spacing [s].
 
-    Returns
-    -------
-    xarray.DataArray
-        :func:`stepframe.stochastic.spectra.evolutionary_spectrum` (``method="wavelet"``) on
-        :func:`band_grid_rad_s`.
+    Raises
+    ------
+    InputError
+        A band that is not 0 < low < high, a motion of fewer than two samples, or a widened
+        band reaching the Nyquist frequency (:func:`~.resonator_bank.bank_power`).
     """
-    from stepframe.stochastic.spectra import evolutionary_spectrum
+    grid = band_grid_rad_s(band_rad_s)
+    time_s, psd = bank_power(ground_acc_m_s2, dt_s, grid, hop_s=hop_s, q=q, n_samples=n_samples)
+    return BandPower(time_s, grid, psd)
+
+
+def band_spectrum(
+    ground_acc_m_s2: ArrayLike,
+    dt_s: float,
+    band_rad_s: Sequence[float],
+    *,
+    n_samples: int | None = None,
+    q: float = BANK_Q,
+    hop_s: float = HOP_S,
+) -> xr.DataArray:
+    """:func:`band_power` as a (time, omega) DataArray with ``omega_floor``, the lowest band
+    clear of the motion's ends at each time (:func:`~.resonator_bank.cone_floor_rad_s`), which
+    the pictures grey out below.
+
+    Parameters, errors: as :func:`band_power`.
+    """
+    import xarray as xr
 
     data = _padded(ground_acc_m_s2, n_samples)
-    grid = band_grid_rad_s(band_rad_s)
-    return evolutionary_spectrum(
-        data, dt_s, "wavelet", omega_rad_s=grid, hop_s=hop_s, morlet_q=morlet_q
+    arrays = band_power(data, dt_s, band_rad_s, q=q, hop_s=hop_s)
+    floor = cone_floor_rad_s(arrays.time_s, (data.size - 1) * dt_s, q)
+    floor_attrs = {"units": "rad/s", "long_name": "lowest frequency resolved"}
+    return xr.DataArray(
+        arrays.psd,
+        dims=("time", "omega"),
+        coords={
+            "time": ("time", arrays.time_s, {"units": "s", "long_name": "time from record start"}),
+            "omega": (
+                "omega",
+                arrays.omega_rad_s,
+                {"units": "rad/s", "long_name": "angular frequency"},
+            ),
+            "omega_floor": ("time", floor, floor_attrs),
+        },
+        name="psd",
+        attrs={
+            "method": "two-sided resonator bank",
+            "q": q,
+            "units": "(m/s2)2 s/rad",
+            "long_name": "two-sided evolutionary PSD of acceleration",
+        },
     )
 
 
@@ -489,7 +507,6 @@ def moving_resonance(
 __all__ = [
     "BANDS_PER_OCTAVE",
     "HOP_S",
-    "MORLET_Q",
     "BandPower",
     "MovingResonance",
     "ResonanceRun",

@@ -47,8 +47,9 @@ RESPONSES_VERSION = 4
 # 10: its simulations by the integrator's chord-bound fast path (the same to rounding); 11: the
 # ranking's tie, the selected against the controls at both intensities; 12: the target as the
 # selection stored it where the report recomputes the spectra, "—" for a ρ that is not a number,
-# and a shipped workflow's provenance names it as it is run
-SELECTION_REPORT_VERSION = 12
+# and a shipped workflow's provenance names it as it is run; 13: the moving-resonance section's
+# spectrum from the two-sided resonator bank, not the Morlet wavelet (issue 26)
+SELECTION_REPORT_VERSION = 13
 
 
 def _selection_options(workflow: Any) -> Any:
