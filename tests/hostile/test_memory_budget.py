@@ -138,18 +138,29 @@ def frame(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 # response.py's estimate per sample [bytes], without and with --plot
-SIMULATE_BYTES, FIGURE_BYTES = 175.0, 440.0
+SIMULATE_BYTES, FIGURE_BYTES = 100.0, 440.0
 assert (SIMULATE_BYTES, FIGURE_BYTES) == (SIMULATE_BYTES_PER_SAMPLE, FIGURE_BYTES_PER_SAMPLE)
 
 # Each command's refusal: (argv, the line's expected end). 402,000 samples (the record and 10 s
-# at 5 ms) × 175 B = 67.1 MiB; with --plot × 615 B + 32 MiB = 268 MiB; an IDA of 8 records of
+# at 5 ms) × 540 B + 32 MiB = 239 MiB with --plot, and with a 3000-s tail (1,000,000 samples)
+# × 100 B = 95.4 MiB without; an IDA of 8 records of
 # 400,000: 16 B × 3.2·10⁶ + 48 B × 400,000 = 67.1 MiB; a diagram of 100 × 1,000 × 20 points
 # × 72 B = 137 MiB; the example's 100 candidates, the longest 18,000 samples, 143 MiB.
 REFUSALS = {
     "simulate": (
-        ["structure", "simulate", "--frame", "{frame}", "--memory-mb", "64", "{record}"],
-        "simulating 400000 samples with a 10 s tail needs about "
-        f"{size_text(402_000 * SIMULATE_BYTES)} of memory, over the budget of 64 MiB "
+        [
+            "structure",
+            "simulate",
+            "--frame",
+            "{frame}",
+            "--memory-mb",
+            "64",
+            "--tail-s",
+            "3000",
+            "{record}",
+        ],
+        "simulating 400000 samples with a 3000 s tail needs about "
+        f"{size_text(1_000_000 * SIMULATE_BYTES)} of memory, over the budget of 64 MiB "
         "(--memory-mb), expected work that fits it: a shorter record or tail",
     ),
     "simulate-plot": (
