@@ -34,6 +34,7 @@ import numpy as np
 
 from bench_simulator import FRAME  # a sibling script: run from the repository root
 from stepframe.records.examples import fema_p695
+from stepframe.records.units import STANDARD_GRAVITY_M_S2
 from stepframe.structure import simulator
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -62,7 +63,7 @@ def main() -> None:
     parser.add_argument("--threads-first", action="store_true", help="compile this checkout first")
     args = parser.parse_args()
     stream, _ = fema_p695()
-    series = [(tr.data.astype(float), tr.stats.delta) for tr in stream]  # m/s² already
+    series = [(tr.data.astype(float) * STANDARD_GRAVITY_M_S2, tr.stats.delta) for tr in stream]
     threaded = simulator._run_block
     with tempfile.TemporaryDirectory() as tmp:
         kernel = _peer_kernel(args.peer, Path(tmp))

@@ -24,6 +24,7 @@ import numpy as np
 from selection_confirmation import frames
 from stepframe.records.examples import fema_p695
 from stepframe.records.spectra import peak_displacements_m
+from stepframe.records.units import STANDARD_GRAVITY_M_S2
 from stepframe.structure import _exact
 from stepframe.structure.simulator import DEFAULT_TAIL_S, model_of
 
@@ -36,7 +37,9 @@ SUMMARY = ("status", "n_events", "n_liftoffs", "n_impacts", "peak", "t_peak", "o
 def dump(path: str) -> None:
     """Every run's summary, history and events into ``path``."""
     stream, _ = fema_p695()
-    series = [(tr.data.astype(float), float(tr.stats.delta)) for tr in stream]  # m/s² already
+    series = [
+        (tr.data.astype(float) * STANDARD_GRAVITY_M_S2, float(tr.stats.delta)) for tr in stream
+    ]
     out: dict[str, np.ndarray] = {}
     for name, (frame, ratio) in frames().items():
         model = model_of(frame)
