@@ -171,18 +171,9 @@ def index_sums(
         half-cycles, of those that stepped, the net work Σ W over all intervals, and min ω_f.
     """
     n = omega_f_rad_s.size
+    times = np.arange(n, dtype=np.float64) * dt_s
+    near, ridge = closeness_many(psd, frame_times_s, omega_rad_s, reach, times, omega_f_rad_s)
     work = interval_work(x_m, v_m_s, phase, ground_acc_m_s2, dt_s, p_1, p_2)
-    # The closeness c and the ridge at each sample as closeness_many computes them (the same
-    # helpers and arithmetic), here in the one pass without their arrays.
-    n_frames, n_bands = psd.shape
-    peak, ridge_band = frame_peaks(psd)
-    ratio = np.full(psd.shape, -1.0)  # negative: not computed yet
-    log_low = math.log(omega_rad_s[0])
-    log_high = math.log(omega_rad_s[n_bands - 1])
-    log_step = (log_high - log_low) / (n_bands - 1)
-    t0, frame_dt = frame_times_s[0], frame_times_s[1] - frame_times_s[0]
-    last_row, col, w_frac, low, high = -1, 0, 0.0, 0.0, 0.0
-    previous_near = 0.0
     depth_span = math.log(band_high_rad_s / band_low_rad_s) - near_ln
     sums = np.zeros(9)
     lowest = math.inf
@@ -198,26 +189,17 @@ def index_sums(
     for i in range(n):
         omega_f = omega_f_rad_s[i]
         lowest = min(lowest, omega_f)
-        position = min(max((i * dt_s - t0) / frame_dt, 0.0), n_frames - 1.0)
-        row = min(int(position), n_frames - 2)
-        if omega_f != last_omega or row != last_row:
-            if omega_f != last_omega:
-                col, w_frac = _band_place(omega_f, log_low, log_high, log_step, n_bands)
-                drop = math.log(band_high_rad_s / max(omega_f, 1e-300))
-                sample_depth = min(max((drop - near_ln) / depth_span, 0.0), 1.0)
-                inside = min(max(omega_f, band_low_rad_s), band_high_rad_s)
-                last_omega, last_ridge = omega_f, math.nan
-            low, high = _frame_ends(psd, peak, ratio, reach, row, col, w_frac)
-            last_row = row
-        t_frac = position - row
-        sample_near = low * (1 - t_frac) + high * t_frac
-        sample_ridge = omega_rad_s[ridge_band[round(position)]]
-        if sample_ridge != last_ridge:
-            sample_offset = math.log(sample_ridge / inside) ** 2
-            last_ridge = sample_ridge
+        if omega_f != last_omega:
+            drop = math.log(band_high_rad_s / max(omega_f, 1e-300))
+            sample_depth = min(max((drop - near_ln) / depth_span, 0.0), 1.0)
+            inside = min(max(omega_f, band_low_rad_s), band_high_rad_s)
+            last_omega, last_ridge = omega_f, math.nan
+        if ridge[i] != last_ridge:
+            sample_offset = math.log(ridge[i] / inside) ** 2
+            last_ridge = ridge[i]
         if i > start:  # the interval [i - 1, i] of the half-cycle that began at start
             cycle_work += work[i - 1]
-            near_sum += 0.5 * (previous_near + sample_near)
+            near_sum += 0.5 * (near[i - 1] + near[i])
             depth_sum += 0.5 * (previous_depth + sample_depth)
             offset_sum += 0.5 * (previous_offset + sample_offset)
             stepped = stepped or phase[i - 1] != 0 or phase[i] != 0
@@ -239,7 +221,6 @@ def index_sums(
             cycle_work = near_sum = depth_sum = offset_sum = 0.0
             stepped = False
         previous_depth, previous_offset = sample_depth, sample_offset
-        previous_near = sample_near
     sums[8] = lowest
     return sums
 

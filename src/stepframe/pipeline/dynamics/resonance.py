@@ -6,7 +6,7 @@ The steps of docs/selection.md, "Moving resonance, measured":
 1. the record's spectrum S(ω, t) from a bank of two-sided resonators over the frame's band
    widened by a third of an octave either side (:func:`band_power`,
    :mod:`~stepframe.pipeline.dynamics.resonator_bank`: the ground acceleration the frame felt,
-   record then the tail's zeros, twelve bands per octave, frames every 0.1 s);
+   record then the tail's zeros, nine bands per octave, frames every 0.1 s);
 2. the frame's instantaneous frequency ω_f(t) and the ground's work per sample interval from the
    exact simulation's history (:mod:`stepframe.structure.frame_frequency`);
 3. at each sample, the **closeness** c(t) = the largest S within a third of an octave of
