@@ -1,6 +1,7 @@
 """Compiled kernels of the moving-resonance index (:mod:`stepframe.pipeline.dynamics.resonance`):
-the closeness of the record's band spectrum to the frame's frequency, and the index's half-cycle
-sums, in one pass over the history.
+the closeness of the record's band spectrum to the frame's frequency, the index's half-cycle
+sums in one call over the history (:func:`resonance_sums`), and the passes of the resonator
+bank that gives the band spectrum (:mod:`~stepframe.pipeline.dynamics.resonator_bank`).
 
 Compiled because the index is a few operations per sample: written with numpy it was some
 sixty calls over the history and the frames × bands table, 1.2-2.3 ms of fixed costs per
@@ -139,16 +140,16 @@ def _half_cycle_end(
 
 
 @njit(cache=True)
-def index_sums(
+def resonance_sums(
     x_m: NDArray[np.float64],
     v_m_s: NDArray[np.float64],
     phase: NDArray[np.int8],
-    ground_acc_m_s2: NDArray[np.float64],
-    omega_f_rad_s: NDArray[np.float64],
-    crossings: NDArray[np.int64],
+    record_acc_m_s2: NDArray[np.float64],
     dt_s: float,
     p_1: float,
     p_2: float,
+    overturns: bool,
+    backbone: NDArray[np.float64],
     psd: NDArray[np.float64],
     frame_times_s: NDArray[np.float64],
     omega_rad_s: NDArray[np.float64],
@@ -157,7 +158,11 @@ def index_sums(
     band_high_rad_s: float,
     near_ln: float,
 ) -> NDArray[np.float64]:
-    """The sums the moving-resonance measures are ratios of, over the n samples of motion.
+    """The sums the moving-resonance measures are ratios of, from the n samples of motion of a
+    simulation's history: its zero crossings, ω_f
+    (:func:`~stepframe.structure._frequency_kernel.swing_frequencies`, the law only where ω_f
+    needs it), the ground acceleration the frame felt (the scaled record, then zeros) and its
+    work, the closeness (:func:`closeness_many`). ``backbone`` is (ω₁, ω₂, x_c, x*).
 
     Half-cycle k runs over the intervals from its first sample (0, then each zero crossing's
     next sample, before the last sample) to the next half-cycle's; its work W_k is the sum of
@@ -170,10 +175,18 @@ def index_sums(
         Σ c_k d_k W_k⁺, Σ d_k W_k⁺, Σ W_k⁺, Σ c_k W_k⁺, Σ off_k d_k W_k⁺, the number of
         half-cycles, of those that stepped, the net work Σ W over all intervals, and min ω_f.
     """
-    n = omega_f_rad_s.size
+    n = x_m.size
+    crossings, crossing_times = zero_crossings(x_m, v_m_s, dt_s)
+    omega_f_path = swing_frequencies(
+        x_m, v_m_s, phase, dt_s, crossings, crossing_times, False, overturns,
+        backbone[0], backbone[1], backbone[2], backbone[3],
+    )[0]  # fmt: skip
+    felt = np.zeros(n)
+    shared = min(n, record_acc_m_s2.size)
+    felt[:shared] = record_acc_m_s2[:shared]
     times = np.arange(n, dtype=np.float64) * dt_s
-    near, ridge = closeness_many(psd, frame_times_s, omega_rad_s, reach, times, omega_f_rad_s)
-    work = interval_work(x_m, v_m_s, phase, ground_acc_m_s2, dt_s, p_1, p_2)
+    near, ridge = closeness_many(psd, frame_times_s, omega_rad_s, reach, times, omega_f_path)
+    work = interval_work(x_m, v_m_s, phase, felt, dt_s, p_1, p_2)
     depth_span = math.log(band_high_rad_s / band_low_rad_s) - near_ln
     sums = np.zeros(9)
     lowest = math.inf
@@ -187,7 +200,7 @@ def index_sums(
     stepped = False
     end, next_crossing = _half_cycle_end(crossings, 0, 0, n)
     for i in range(n):
-        omega_f = omega_f_rad_s[i]
+        omega_f = omega_f_path[i]
         lowest = min(lowest, omega_f)
         if omega_f != last_omega:
             drop = math.log(band_high_rad_s / max(omega_f, 1e-300))
@@ -223,44 +236,6 @@ def index_sums(
         previous_depth, previous_offset = sample_depth, sample_offset
     sums[8] = lowest
     return sums
-
-
-@njit(cache=True)
-def resonance_sums(
-    x_m: NDArray[np.float64],
-    v_m_s: NDArray[np.float64],
-    phase: NDArray[np.int8],
-    record_acc_m_s2: NDArray[np.float64],
-    dt_s: float,
-    p_1: float,
-    p_2: float,
-    overturns: bool,
-    backbone: NDArray[np.float64],
-    psd: NDArray[np.float64],
-    frame_times_s: NDArray[np.float64],
-    omega_rad_s: NDArray[np.float64],
-    reach: int,
-    band_low_rad_s: float,
-    band_high_rad_s: float,
-    near_ln: float,
-) -> NDArray[np.float64]:
-    """:func:`index_sums` from the history of motion alone, in one call: its zero crossings,
-    ω_f (:func:`~stepframe.structure._frequency_kernel.swing_frequencies`, the law only where
-    ω_f needs it), and the ground acceleration the frame felt (the scaled record, then zeros).
-    ``backbone`` is (ω₁, ω₂, x_c, x*)."""
-    n = x_m.size
-    crossings, crossing_times = zero_crossings(x_m, v_m_s, dt_s)
-    omega_f = swing_frequencies(
-        x_m, v_m_s, phase, dt_s, crossings, crossing_times, False, overturns,
-        backbone[0], backbone[1], backbone[2], backbone[3],
-    )[0]  # fmt: skip
-    felt = np.zeros(n)
-    shared = min(n, record_acc_m_s2.size)
-    felt[:shared] = record_acc_m_s2[:shared]
-    return index_sums(
-        x_m, v_m_s, phase, felt, omega_f, crossings, dt_s, p_1, p_2, psd, frame_times_s,
-        omega_rad_s, reach, band_low_rad_s, band_high_rad_s, near_ln,
-    )  # fmt: skip
 
 
 @njit(cache=True, fastmath=True)

@@ -105,14 +105,6 @@ class BandPower:
         )
 
 
-def _padded(acc: ArrayLike, n_samples: int | None) -> Floats:
-    """The motion followed by zeros up to ``n_samples`` (what the frame feels after it)."""
-    data = np.asarray(acc, dtype=np.float64)
-    if n_samples is not None and n_samples > data.size:
-        data = np.concatenate([data, np.zeros(n_samples - data.size)])
-    return data
-
-
 def band_power(
     ground_acc_m_s2: ArrayLike,
     dt_s: float,
@@ -168,9 +160,9 @@ def band_spectrum(
     """
     import xarray as xr
 
-    data = _padded(ground_acc_m_s2, n_samples)
-    arrays = band_power(data, dt_s, band_rad_s, q=q, hop_s=hop_s)
-    floor = cone_floor_rad_s(arrays.time_s, (data.size - 1) * dt_s, q)
+    arrays = band_power(ground_acc_m_s2, dt_s, band_rad_s, n_samples=n_samples, q=q, hop_s=hop_s)
+    covered = max(np.size(ground_acc_m_s2), n_samples or 0)  # the motion and the zeros after it
+    floor = cone_floor_rad_s(arrays.time_s, (covered - 1) * dt_s, q)
     floor_attrs = {"units": "rad/s", "long_name": "lowest frequency resolved"}
     return xr.DataArray(
         arrays.psd,
