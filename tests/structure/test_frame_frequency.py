@@ -228,3 +228,27 @@ def test_crossings_and_turning_points_match_a_numpy_computation() -> None:
     assert turns_t.size == np_t.size > 10
     assert np.allclose(turns_t, np_t, rtol=1e-10, atol=1e-12)
     assert np.allclose(turns_a, np_a, rtol=1e-10, atol=1e-12)
+
+
+def test_the_amplitude_at_any_samples_reads_the_turning_points_either_side() -> None:
+    # swing_amplitude_m looks for turning points only around the samples it is asked about (the
+    # index asks for the two ends of a long history): at any set of samples, ascending or not,
+    # it must equal the interpolation over every turning point, written here with numpy.
+    from stepframe.structure.frame_frequency import energy_amplitude_m, swing_amplitude_m
+
+    rng = np.random.default_rng(7)
+    t = np.arange(0.0, 30.0, 0.01)
+    x = 0.25 * np.sin(1.3 * t) * np.exp(-0.03 * t) + 0.004 * rng.standard_normal(t.size)
+    v = np.gradient(x, 0.01)
+    v[1200:1240] = 0.0  # a hold: no turning point inside it
+    backbone = backbone_of(simulate(FREE, np.zeros(3), 0.01).model)  # type: ignore[arg-type]
+    turns_t, turns_a = turning_points_by_numpy(x, v, 0.01)
+    later = turns_t > 0.0
+    start = min(float(energy_amplitude_m(x[:1], v[:1], backbone)[0]), backbone.x_star_m)
+    knots_t, knots_a = np.r_[0.0, turns_t[later]], np.r_[start, turns_a[later]]
+    head_and_tail = np.r_[np.arange(40), np.arange(2900, t.size)]
+    sparse = np.sort(rng.choice(t.size, 50, replace=False))
+    shuffled = rng.permutation(t.size)[:200]
+    for at in (head_and_tail, sparse, shuffled, np.array([t.size - 1]), np.arange(t.size)):
+        amplitude = swing_amplitude_m(x, v, 0.01, backbone, at=at)
+        assert np.allclose(amplitude, np.interp(at * 0.01, knots_t, knots_a), rtol=1e-10)

@@ -92,30 +92,95 @@ def turning_fraction(x0: float, h0: float, x1: float, h1: float) -> float:
     return h0 / (h0 - h1)
 
 
+@njit(cache=True, inline="always")
+def _turns_between(v_m_s: NDArray[np.float64], i: int) -> bool:
+    """ẋ changes sign strictly between samples i and i + 1 (a sample with ẋ = 0 exactly, a hold
+    on the surface, is not a turning point)."""
+    return bool(np.sign(v_m_s[i]) * np.sign(v_m_s[i + 1]) < 0.0)
+
+
+@njit(cache=True, inline="always")
+def _turning_point(
+    x_m: NDArray[np.float64], v_m_s: NDArray[np.float64], dt_s: float, i: int
+) -> tuple[float, float]:
+    """Time [s] and |x| [m] of the turning point between samples i and i + 1
+    (:func:`_turns_between` holds), at :func:`turning_fraction` of the interval."""
+    x0, x1 = x_m[i], x_m[i + 1]
+    h0, h1 = dt_s * v_m_s[i], dt_s * v_m_s[i + 1]
+    s = turning_fraction(x0, h0, x1, h1)
+    return (i + s) * dt_s, abs(hermite(s, x0, h0, x1, h1))
+
+
 @njit(cache=True)
 def turning_points(
     x_m: NDArray[np.float64], v_m_s: NDArray[np.float64], dt_s: float
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Times [s] and |x| [m] of the turning points of x: where ẋ changes sign strictly between
-    samples i and i + 1 (a sample with ẋ = 0 exactly, a hold on the surface, is not one), at
-    :func:`turning_fraction` of the interval."""
+    """Times [s] and |x| [m] of the turning points of x (:func:`_turns_between`,
+    :func:`_turning_point`)."""
     n = x_m.size
     count = 0
     for i in range(n - 1):
-        if np.sign(v_m_s[i]) * np.sign(v_m_s[i + 1]) < 0.0:
+        if _turns_between(v_m_s, i):
             count += 1
     times = np.empty(count)
     amplitudes = np.empty(count)
     k = 0
     for i in range(n - 1):
-        if np.sign(v_m_s[i]) * np.sign(v_m_s[i + 1]) < 0.0:
-            x0, x1 = x_m[i], x_m[i + 1]
-            h0, h1 = dt_s * v_m_s[i], dt_s * v_m_s[i + 1]
-            s = turning_fraction(x0, h0, x1, h1)
-            times[k] = (i + s) * dt_s
-            amplitudes[k] = abs(hermite(s, x0, h0, x1, h1))
+        if _turns_between(v_m_s, i):
+            times[k], amplitudes[k] = _turning_point(x_m, v_m_s, dt_s, i)
             k += 1
     return times, amplitudes
+
+
+@njit(cache=True)
+def _knot_intervals(
+    x_m: NDArray[np.float64], v_m_s: NDArray[np.float64], dt_s: float,
+    samples: NDArray[np.int64],
+) -> NDArray[np.int64]:  # fmt: skip
+    """The sample intervals whose turning points A(t) at the given samples (ascending) depends
+    on, as rows (first, last) in ascending order, merged: around each run of consecutive
+    samples, back to the last turning point after 0 at or before its first sample, through it,
+    and on to the first turning point after its last. Linear interpolation at a time reads
+    only the knots either side of it, so these give :func:`swing_law` the same A as every
+    turning point would; every interval when the samples are not ascending."""
+    intervals = x_m.size - 1
+    ranges = np.empty((samples.size + 1, 2), dtype=np.int64)
+    if intervals < 1:
+        return ranges[:0]
+    for k in range(samples.size - 1):
+        if samples[k + 1] <= samples[k]:
+            ranges[0, 0], ranges[0, 1] = 0, intervals - 1
+            return ranges[:1]
+    count, k = 0, 0
+    while k < samples.size:
+        first = last = samples[k]
+        while k + 1 < samples.size and samples[k + 1] == last + 1:
+            k += 1
+            last = samples[k]
+        k += 1
+        low = min(first, intervals - 1)
+        while low > 0:
+            if _turns_between(v_m_s, low):
+                when = _turning_point(x_m, v_m_s, dt_s, low)[0]
+                if 0.0 < when <= first * dt_s:
+                    break
+            low -= 1
+        high = min(max(low, first), intervals - 1)
+        while high < intervals - 1:
+            if (
+                high >= last
+                and _turns_between(v_m_s, high)
+                and _turning_point(x_m, v_m_s, dt_s, high)[0] > last * dt_s
+            ):
+                break
+            high += 1
+        if count and low <= ranges[count - 1, 1] + 1:
+            ranges[count - 1, 0] = min(ranges[count - 1, 0], low)
+            ranges[count - 1, 1] = max(ranges[count - 1, 1], high)
+        else:
+            ranges[count, 0], ranges[count, 1] = low, high
+            count += 1
+    return ranges[:count]
 
 
 @njit(cache=True)
@@ -269,28 +334,42 @@ def swing_law(
     time, starting from the energy amplitude of the first state (at most x*) and held after
     the last turning point; on a history that ends by overturning, after the last turning
     point A is also at least the state's energy amplitude (module
-    :mod:`stepframe.structure.frame_frequency`)."""
-    turn_t, turn_a = turning_points(x_m, v_m_s, dt_s)
-    later = 0
-    for k in range(turn_t.size):
-        if turn_t[k] > 0.0:
-            later += 1
-    knots_t = np.empty(later + 1)
-    knots_a = np.empty(later + 1)
+    :mod:`stepframe.structure.frame_frequency`). Only the intervals around the samples are
+    searched for turning points (:func:`_knot_intervals`): the index asks for the two ends of
+    a history, where a search of the whole of it cost more than the rest of ω_f
+    (docs/benchmarks.md, issue 26)."""
+    ranges = _knot_intervals(x_m, v_m_s, dt_s, samples)
+    scanned = 0
+    for r in range(ranges.shape[0]):
+        scanned += ranges[r, 1] - ranges[r, 0] + 1
+    knots_t = np.empty(scanned + 1)
+    knots_a = np.empty(scanned + 1)
     knots_t[0] = 0.0
     knots_a[0] = min(
         energy_amplitude(x_m[0], v_m_s[0], omega_1, omega_2, x_c_m, x_star_m), x_star_m
     )
-    k = 1
-    for j in range(turn_t.size):
-        if turn_t[j] > 0.0:
-            knots_t[k], knots_a[k] = turn_t[j], turn_a[j]
-            k += 1
+    later = 0
+    for r in range(ranges.shape[0]):
+        for i in range(ranges[r, 0], ranges[r, 1] + 1):
+            if _turns_between(v_m_s, i):
+                when, size = _turning_point(x_m, v_m_s, dt_s, i)
+                if when > 0.0:
+                    later += 1
+                    knots_t[later], knots_a[later] = when, size
+    knots_t, knots_a = knots_t[: later + 1], knots_a[: later + 1]
+    # The last turning point of the whole history (0 without one): A follows the energy
+    # amplitude after it on a history that overturns.
+    last_turn = 0.0
+    for i in range(x_m.size - 2, -1, -1):
+        if _turns_between(v_m_s, i):
+            last_turn = max(_turning_point(x_m, v_m_s, dt_s, i)[0], 0.0)
+            if last_turn > 0.0:
+                break
     times = samples * dt_s
     amplitude = np.interp(times, knots_t, knots_a)
     omega = np.empty(samples.size)
     for k in range(samples.size):
-        if overturns and times[k] > knots_t[later]:
+        if overturns and times[k] > last_turn:
             i = samples[k]
             amplitude[k] = max(
                 amplitude[k],

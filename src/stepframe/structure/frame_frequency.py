@@ -180,8 +180,8 @@ def swing_amplitude_m(
         The history ends by overturning: after its last turning point A(t) also follows the
         energy amplitude (∞ once the free frame could not return).
     at
-        Sample numbers to evaluate A at (default every sample); the turning points are found on
-        the whole history either way.
+        Sample numbers to evaluate A at (default every sample); the turning points are looked
+        for only around them (the two either side of each sample are all its A reads).
     """
     from stepframe.structure._frequency_kernel import swing_law
 
