@@ -135,13 +135,14 @@ def test_no_command_compiles_after_the_entry_points(tmp_path: Path) -> None:
         ("ro f8[:]", "readonly array(float64, 1d, C)"),
         ("c16[:]", "array(complex128, 1d, C)"),
         ("b1", "bool"),
+        ("f4[:, :]", "array(float32, 2d, C)"),
     ],
 )
 def test_spellings_are_numba_types(spelling: str, expected: str) -> None:
     assert str(kernel_cache.numba_type(spelling)) == expected
 
 
-@pytest.mark.parametrize("spelling", ["f4", "ro f8", "float64[:]"])
+@pytest.mark.parametrize("spelling", ["f2", "ro f8", "float64[:]"])
 def test_an_unknown_spelling_is_an_error(spelling: str) -> None:
     with pytest.raises(ValueError, match=r"expected|only an array"):
         kernel_cache.numba_type(spelling)

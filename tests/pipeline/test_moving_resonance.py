@@ -12,8 +12,10 @@ import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
+from stepframe.errors import InputError
 from stepframe.pipeline.dynamics.resonance import (
     NEAR_LN,
+    BandPower,
     band_power,
     band_spectrum,
     closeness,
@@ -181,8 +183,9 @@ def index_from_the_definition(
     at_band = np.log(np.clip(omega_f, omega[0], omega[-1]))
     columns = np.array([np.interp(times, frames, windowed[:, j]) for j in range(omega.size)])
     near = np.array([np.interp(at_band[i], log_w, columns[:, i]) for i in range(n)])
-    nearest = np.rint(np.clip(np.arange(n) * dt / (frames[1] - frames[0]), 0, frames.size - 1))
-    ridge = omega[np.argmax(psd, axis=1)][nearest.astype(int)]
+    hop = round((frames[1] - frames[0]) / dt)  # frames on the samples, every hop of them
+    nearest = (2 * np.arange(n) + hop) // (2 * hop)  # halfway: the later frame
+    ridge = omega[np.argmax(psd, axis=1)][nearest]
     low, high = band
     depth = np.clip(
         (np.log(high / np.maximum(omega_f, 1e-300)) - NEAR_LN) / (math.log(high / low) - NEAR_LN),
@@ -212,20 +215,25 @@ def index_from_the_definition(
     }
 
 
-@pytest.mark.parametrize(("scale", "overturns"), [(16.0, False), (32.0, True)])
-def test_the_index_kernel_reproduces_the_definition(scale: float, overturns: bool) -> None:
+@pytest.mark.parametrize(
+    ("scale", "overturns", "dt"), [(16.0, False, 0.01), (32.0, True, 0.01), (16.0, False, 0.02)]
+)
+def test_the_index_kernel_reproduces_the_definition(
+    scale: float, overturns: bool, dt: float
+) -> None:
     # A record-like motion (filtered noise under an envelope) that makes the wide frame step
-    # for many half-cycles, and at a larger scale overturn it.
+    # for many half-cycles, and at a larger scale overturn it; at 0.02 s the frames are five
+    # samples apart (an odd number: no sample halfway between two frames).
     rng = np.random.default_rng(11)
     t = np.arange(0, 30, 0.01)
     noise = np.convolve(rng.standard_normal(t.size), np.hanning(25), mode="same")
     acc = noise * np.exp(-(((t - 10) / 6) ** 2))
-    acc *= 1.0 / np.abs(acc).max()
+    acc = acc[:: round(dt / 0.01)] / np.abs(acc).max()
     frame = wide_frame()
     band = (frame_band(frame).omega_low_rad_s, frame.omega_1_rad_s)
-    result = simulate(frame, acc, 0.01, scale=scale, tail_s=10.0)
+    result = simulate(frame, acc, dt, scale=scale, tail_s=10.0)
     assert result.summary.overturned is overturns
-    spectrum = band_power(acc, 0.01, band, n_samples=result.raw.hist_x.size)
+    spectrum = band_power(acc, dt, band, n_samples=result.raw.hist_x.size)
     measures = resonance_index(result, spectrum, band)
     expected = index_from_the_definition(result, spectrum, band)
     assert measures.n_stepping_half_cycles >= 6
@@ -235,6 +243,28 @@ def test_the_index_kernel_reproduces_the_definition(scale: float, overturns: boo
     assert measures.moving_resonance_share == pytest.approx(
         expected["moving_resonance_index"] * expected["work_depth"], rel=1e-11
     )
+
+
+def test_a_spectrum_off_the_history_s_samples_or_too_short_is_an_input_error() -> None:
+    # The index reads frame f of the spectrum at sample f·hop of the history: a spectrum of
+    # another sampling, or one that ends before the history, cannot be read; it is refused.
+    t = np.arange(0, 20, 0.01)
+    acc = np.sin(2.0 * t) * np.exp(-(((t - 8) / 4) ** 2))
+    frame = wide_frame()
+    band = (frame_band(frame).omega_low_rad_s, frame.omega_1_rad_s)
+    result = simulate(frame, acc, 0.01, scale=2.0, tail_s=5.0)
+    assert not result.summary.overturned  # the motion runs to the tail's end
+    n = result.raw.hist_x.size
+    good = band_power(acc, 0.01, band, n_samples=n)
+    assert resonance_index(result, good, band).status == "ok"
+    cases = {
+        "whole number": BandPower(good.time_s * 1.037, good.omega_rad_s, good.psd),
+        "from 0 s": BandPower(good.time_s + 0.05, good.omega_rad_s, good.psd),
+        "cover": band_power(acc, 0.01, band),  # the record without the tail
+    }
+    for expected, spectrum in cases.items():
+        with pytest.raises(InputError, match=expected):
+            resonance_index(result, spectrum, band)
 
 
 def test_band_power_is_the_band_spectrum_without_labels() -> None:

@@ -57,7 +57,7 @@ _F12 = ("f8",) * 12
 #: h, nodes, weights of the mean-square quadrature
 _QUADRATURE = ("f8", "f8[:]", "f8[:]")
 #: psd, frame times, band centres, reach, band (low, high), NEAR_LN of the resonance index
-_SPECTRUM = ("f8[:, :]", "f8[:]", "f8[:]", "i8", "f8", "f8", "f8")
+_SPECTRUM = ("f8[:, :]", "i8", "f8[:]", "i8", "f8", "f8", "f8")
 _HIST = ("f8[:]", "f8[:]", "i1[:]", "f8[:]", "i1[:]", "f8[:]", "f8[:]", "f8[:]")
 
 #: The kernels the package calls from Python, grouped by source file: a group compiles in one
@@ -181,7 +181,10 @@ ENTRY_POINTS: tuple[EntryPoint, ...] = (
     EntryPoint(
         "stepframe.pipeline.dynamics._resonance_kernel",
         "bank_energies",
-        (("f8[:]", "f8[:, :]", "f8[:, :]", "f8[:]", "i8"),),
+        (
+            ("f4[:]", "f4[:, :]", "f4[:, :]", "f4[:]", "i8"),
+            ("f8[:]", "f8[:, :]", "f8[:, :]", "f8[:]", "i8"),
+        ),
     ),
     EntryPoint(
         "stepframe.pipeline.dynamics._resonance_kernel",
@@ -240,6 +243,7 @@ def numba_type(spelling: str) -> Any:
 
     scalars = {
         "f8": types.float64,
+        "f4": types.float32,
         "i8": types.int64,
         "i1": types.int8,
         "b1": types.boolean,

@@ -7,9 +7,11 @@ Compiled because the index is a few operations per sample: written with numpy it
 sixty calls over the history and the frames × bands table, 1.2-2.3 ms of fixed costs per
 candidate against an exact simulation of 0.2-0.7 ms (docs/benchmarks.md, issue 26). The steps
 and their names are those of the module docstring of
-:mod:`~stepframe.pipeline.dynamics.resonance`; :func:`closeness_many` is the one home of the
-closeness, which the numpy-facing :func:`~stepframe.pipeline.dynamics.resonance.closeness`
-also calls.
+:mod:`~stepframe.pipeline.dynamics.resonance`; the closeness's cells (:func:`_frame_ends`) and
+its place on the band grid (:func:`_band_place`) have one home each: :func:`closeness_many`
+(which the numpy-facing :func:`~stepframe.pipeline.dynamics.resonance.closeness` calls) reads
+them at each sample, :func:`resonance_sums` sums the same interpolation over runs of samples
+in closed form (tests/pipeline/test_moving_resonance.py holds both to the definition).
 """
 
 from __future__ import annotations
@@ -87,7 +89,7 @@ def closeness_many(
     omega_f_rad_s: NDArray[np.float64],
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """c(t) at each (time, ω_f), and the record's ridge (the band of the largest S at the
-    nearest frame) [rad/s] there.
+    nearest frame, the later one halfway) [rad/s] there.
 
     The ratio of a cell (frame f, band b) is max S(·, f) over the bands within ``reach`` of b,
     over the frame's peak (1 for a frame without energy); c is that ratio interpolated linearly
@@ -120,7 +122,7 @@ def closeness_many(
             last_row = row
         t_frac = position - row
         near[i] = low * (1 - t_frac) + high * t_frac
-        ridge[i] = omega_rad_s[ridge_band[round(position)]]
+        ridge[i] = omega_rad_s[ridge_band[int(position + 0.5)]]
     return near, ridge
 
 
@@ -151,7 +153,7 @@ def resonance_sums(
     overturns: bool,
     backbone: NDArray[np.float64],
     psd: NDArray[np.float64],
-    frame_times_s: NDArray[np.float64],
+    hop: int,
     omega_rad_s: NDArray[np.float64],
     reach: int,
     band_low_rad_s: float,
@@ -162,12 +164,21 @@ def resonance_sums(
     simulation's history: its zero crossings, ω_f
     (:func:`~stepframe.structure._frequency_kernel.swing_frequencies`, the law only where ω_f
     needs it), the ground acceleration the frame felt (the scaled record, then zeros) and its
-    work, the closeness (:func:`closeness_many`). ``backbone`` is (ω₁, ω₂, x_c, x*).
+    work, the closeness, depth and ridge offset. ``backbone`` is (ω₁, ω₂, x_c, x*); frame f of
+    ``psd`` is at sample f·``hop``, and the frames cover the n samples.
 
     Half-cycle k runs over the intervals from its first sample (0, then each zero crossing's
     next sample, before the last sample) to the next half-cycle's; its work W_k is the sum of
     its intervals' work, W_k⁺ = max(W_k, 0), and its means of c, d and ln²(ω_ridge/ω_f) the mean
-    over its intervals of each interval's two ends' mean (steps 3-5 of the resonance module).
+    over its intervals of each interval's two ends' mean (steps 3-5 of the resonance module):
+    Σ over its samples less half its two end samples, over its intervals.
+
+    The sums over samples are taken a run at a time: within one half-cycle, one frame interval
+    and one nearest frame, with ω_f constant (a measured half-cycle; a sample at a time where the
+    law gives ω_f), d and the ridge offset are constant and c is linear in the sample's place in
+    the frame interval (:func:`closeness_many`'s interpolation, the same cells,
+    :func:`_frame_ends`), so their sums are closed forms. Some 900 runs a record instead of
+    7,000 samples: the per-sample loop cost half the index (docs/benchmarks.md, issue 26).
 
     Returns
     -------
@@ -184,79 +195,110 @@ def resonance_sums(
     felt = np.zeros(n)
     shared = min(n, record_acc_m_s2.size)
     felt[:shared] = record_acc_m_s2[:shared]
-    times = np.arange(n, dtype=np.float64) * dt_s
-    near, ridge = closeness_many(psd, frame_times_s, omega_rad_s, reach, times, omega_f_path)
     work = interval_work(x_m, v_m_s, phase, felt, dt_s, p_1, p_2)
+    n_frames, n_bands = psd.shape
+    peak, ridge_band = frame_peaks(psd)
+    ratio = np.full(psd.shape, -1.0)  # negative: not computed yet (_frame_ends)
+    log_low = math.log(omega_rad_s[0])
+    log_high = math.log(omega_rad_s[n_bands - 1])
+    log_step = (log_high - log_low) / (n_bands - 1)
     depth_span = math.log(band_high_rad_s / band_low_rad_s) - near_ln
+    halfway = (hop + 1) // 2  # the first place in a frame interval nearer the next frame
     sums = np.zeros(9)
     lowest = math.inf
-    # d and the ridge's offset at a sample change only with ω_f (constant over a measured
-    # half-cycle) and the ridge (constant over a frame): the logs are taken when they change.
-    last_omega, last_ridge = math.nan, math.nan
-    sample_depth = sample_offset = inside = 0.0
-    previous_depth = previous_offset = 0.0
-    start = 0
-    cycle_work = near_sum = depth_sum = offset_sum = 0.0
-    stepped = False
-    end, next_crossing = _half_cycle_end(crossings, 0, 0, n)
-    for i in range(n):
-        omega_f = omega_f_path[i]
-        lowest = min(lowest, omega_f)
-        if omega_f != last_omega:
-            drop = math.log(band_high_rad_s / max(omega_f, 1e-300))
-            sample_depth = min(max((drop - near_ln) / depth_span, 0.0), 1.0)
-            inside = min(max(omega_f, band_low_rad_s), band_high_rad_s)
-            last_omega, last_ridge = omega_f, math.nan
-        if ridge[i] != last_ridge:
-            sample_offset = math.log(ridge[i] / inside) ** 2
-            last_ridge = ridge[i]
-        if i > start:  # the interval [i - 1, i] of the half-cycle that began at start
-            cycle_work += work[i - 1]
-            near_sum += 0.5 * (near[i - 1] + near[i])
-            depth_sum += 0.5 * (previous_depth + sample_depth)
-            offset_sum += 0.5 * (previous_offset + sample_offset)
-            stepped = stepped or phase[i - 1] != 0 or phase[i] != 0
-        if i == end and start < n - 1:
-            count = end - start
-            pumped = max(cycle_work, 0.0)
-            moved = depth_sum / count * pumped
-            cycle_near = near_sum / count
-            sums[0] += moved * cycle_near
-            sums[1] += moved
-            sums[2] += pumped
-            sums[3] += pumped * cycle_near
-            sums[4] += moved * (offset_sum / count)
-            sums[5] += 1.0
-            sums[6] += 1.0 if stepped else 0.0
-            sums[7] += cycle_work
-            start = end
-            end, next_crossing = _half_cycle_end(crossings, next_crossing, start, n)
-            cycle_work = near_sum = depth_sum = offset_sum = 0.0
-            stepped = False
-        previous_depth, previous_offset = sample_depth, sample_offset
+    last_omega = math.nan
+    col, w_frac, depth, log_inside = 0, 0.0, 0.0, 0.0
+    start, next_crossing = 0, 0
+    while start < n - 1:
+        end, next_crossing = _half_cycle_end(crossings, next_crossing, start, n)
+        cycle_work = 0.0
+        for i in range(start, end):
+            cycle_work += work[i]
+        stepped = False
+        for i in range(start, end + 1):
+            if phase[i] != 0:
+                stepped = True
+                break
+        # Σ over the samples start..end of c, d and the offset, and half their end values.
+        near_total = depth_total = offset_total = 0.0
+        near_ends = depth_ends = offset_ends = 0.0
+        i = start
+        while i <= end:
+            omega_f = omega_f_path[i]
+            row = min(i // hop, n_frames - 2)
+            first_place = i - row * hop
+            nearest = row + 1 if first_place >= halfway else row
+            last = end
+            if row < n_frames - 2:
+                last = min(last, row * hop + hop - 1)
+            if nearest == row:
+                last = min(last, row * hop + halfway - 1)
+            j = i
+            while j < last and omega_f_path[j + 1] == omega_f:
+                j += 1
+            if omega_f != last_omega:
+                col, w_frac = _band_place(omega_f, log_low, log_high, log_step, n_bands)
+                drop = math.log(band_high_rad_s / max(omega_f, 1e-300))
+                depth = min(max((drop - near_ln) / depth_span, 0.0), 1.0)
+                log_inside = math.log(min(max(omega_f, band_low_rad_s), band_high_rad_s))
+                lowest = min(lowest, omega_f)
+                last_omega = omega_f
+            low, high = _frame_ends(psd, peak, ratio, reach, row, col, w_frac)
+            offset = (math.log(omega_rad_s[ridge_band[nearest]]) - log_inside) ** 2
+            count = j - i + 1
+            # Σ of the places i - row·hop over the run, in frame intervals.
+            place_sum = 0.5 * (first_place + j - row * hop) * count / hop
+            near_total += count * low + (high - low) * place_sum
+            depth_total += count * depth
+            offset_total += count * offset
+            if i == start:
+                near_ends += 0.5 * (low + (high - low) * first_place / hop)
+                depth_ends += 0.5 * depth
+                offset_ends += 0.5 * offset
+            if j == end:
+                near_ends += 0.5 * (low + (high - low) * (j - row * hop) / hop)
+                depth_ends += 0.5 * depth
+                offset_ends += 0.5 * offset
+            i = j + 1
+        count = end - start
+        pumped = max(cycle_work, 0.0)
+        moved = (depth_total - depth_ends) / count * pumped
+        cycle_near = (near_total - near_ends) / count
+        sums[0] += moved * cycle_near
+        sums[1] += moved
+        sums[2] += pumped
+        sums[3] += pumped * cycle_near
+        sums[4] += moved * ((offset_total - offset_ends) / count)
+        sums[5] += 1.0
+        sums[6] += 1.0 if stepped else 0.0
+        sums[7] += cycle_work
+        start = end
     sums[8] = lowest
     return sums
 
 
 @njit(cache=True, fastmath=True)
 def bank_energies(
-    data: NDArray[np.float64],
-    weights: NDArray[np.float64],
-    powers: NDArray[np.float64],
-    scale: NDArray[np.float64],
+    data: NDArray[np.floating],
+    weights: NDArray[np.floating],
+    powers: NDArray[np.floating],
+    scale: NDArray[np.floating],
     n_frames: int,
-) -> NDArray[np.float64]:
+) -> NDArray[np.floating]:
     """S = scale_j |W⁺ + W⁻|² at every frame (every hop = len(weights) - 1 samples of ``data``,
     followed by zeros up to the last frame): W⁺ stepped forwards from rest before the first
     sample, W⁻ backwards from rest after the last (:mod:`~.resonator_bank`; ``weights`` and
     ``powers`` of its ``_frame_step``, real and imaginary parts of each pass side by side, the
-    bands last so that every loop over them runs on contiguous memory)."""
+    bands last so that every loop over them runs on contiguous memory). Computed and returned
+    in the precision of ``data`` (the arguments share it): single for the decimated bank,
+    double for the reference at the record's rate."""
     hop = weights.shape[0] - 1
     n_bands = scale.size
-    causal_re = np.zeros((n_frames, n_bands))
-    causal_im = np.zeros((n_frames, n_bands))
-    z_re, z_im = np.zeros(n_bands), np.zeros(n_bands)
-    in_re, in_im = np.empty(n_bands), np.empty(n_bands)
+    real = data.dtype
+    causal_re = np.zeros((n_frames, n_bands), real)
+    causal_im = np.zeros((n_frames, n_bands), real)
+    z_re, z_im = np.zeros(n_bands, real), np.zeros(n_bands, real)
+    in_re, in_im = np.empty(n_bands, real), np.empty(n_bands, real)
     for f in range(1, n_frames):
         first = (f - 1) * hop
         in_re[:] = 0.0
@@ -271,7 +313,7 @@ def bank_energies(
             im = powers[0, j] * z_im[j] + powers[1, j] * z_re[j] + in_im[j]
             z_re[j], z_im[j] = re, im
             causal_re[f, j], causal_im[f, j] = re, im
-    out = np.empty((n_frames, n_bands))
+    out = np.empty((n_frames, n_bands), real)
     z_re[:] = 0.0
     z_im[:] = 0.0
     for f in range(n_frames - 1, -1, -1):

@@ -20,10 +20,13 @@ The steps of docs/selection.md, "Moving resonance, measured":
 6. the **moving-resonance index** R_m = Σ c_k d_k W_k⁺ / Σ d_k W_k⁺, and the **moving-resonance
    share** M = Σ c_k d_k W_k⁺ / Σ W_k⁺ (:class:`MovingResonance`).
 
-Cost: the band spectrum is one pass of the bank over the record at a decimated rate (once per
-record and frame, at any scale; :func:`band_power` gives it without the DataArray); the index
-is one compiled pass over the history (:mod:`._resonance_kernel`, with ω_f and the
-work from :mod:`stepframe.structure._frequency_kernel`; docs/benchmarks.md, issue 26).
+Cost: the band spectrum is one pass of the bank over the record at a decimated rate in single
+precision (once per record and frame, at any scale; :func:`band_power` gives it without the
+DataArray); the index is one compiled call over the history (:mod:`._resonance_kernel`, with
+ω_f and the work from :mod:`stepframe.structure._frequency_kernel`; its sums of c, d and the
+ridge offset taken a run of samples at a time; docs/benchmarks.md, issue 26). The index reads
+frame f of the spectrum at sample f·hop of the history: the spectrum must be the record's own
+(:func:`band_power` with ``n_samples`` the history's), which :func:`resonance_index` checks.
 """
 
 from __future__ import annotations
@@ -207,8 +210,10 @@ class MovingResonance:
         Σ c_k W_k⁺ / Σ W_k⁺ [0-1]: the closeness over every half-cycle's work, resonance at ω_1
         included; NaN without positive work.
     ridge_log_offset
-        RMS of ln(ω_ridge/ω_f) over the half-cycles, weighted by d_k W_k⁺ [-] (0: the record's
-        ridge follows ω_f; ln 2 = 0.69: a factor 2 away); NaN when the frame never moved.
+        RMS of ln(ω_ridge/ω_f) over the half-cycles, weighted by d_k W_k⁺ [-], ω_ridge the band
+        of the largest S at the frame nearest each sample (halfway: the later frame), ω_f held
+        inside the band (0: the record's ridge follows ω_f; ln 2 = 0.69: a factor 2 away); NaN
+        when the frame never moved.
     n_half_cycles, n_stepping_half_cycles
         Half-cycles of the response (up to overturning), and those in which the frame stepped.
     input_energy_m2_s2
@@ -253,7 +258,8 @@ def closeness(
     spectrum: BandPower | xr.DataArray, time_s: Floats, omega_f_rad_s: Floats
 ) -> tuple[Floats, Floats]:
     """c(t) = max S(·, t) within :data:`NEAR_LN` of ω_f(t) / max S(·, t) over the spectrum's
-    bands, at the given times, and the record's ridge ω_ridge(t) [rad/s] there.
+    bands, at the given times, and the record's ridge ω_ridge(t) [rad/s] there (the band of the
+    largest S at the nearest frame; halfway, the later one).
 
     The windowed maximum is taken on the band grid (the bands within NEAR_LN of each band), then
     interpolated linearly in time and in ln ω between frames and bands; ω_f outside the grid is
@@ -286,6 +292,32 @@ def _checked(spectrum: BandPower | xr.DataArray) -> BandPower:
         np.array(omega, dtype=np.float64),
         np.ascontiguousarray(arrays.psd, dtype=np.float64),
     )
+
+
+def _frame_hop(frame_times_s: Floats, dt_s: float, n_samples: int) -> int:
+    """Samples between two frames of a spectrum whose frames lie on a history's samples (a
+    :func:`band_power` of the record the history was run with), checked to cover its n samples.
+
+    Raises
+    ------
+    InputError
+        Frames that do not start at the first sample, are not a whole number of samples
+        apart, or end before the history.
+    """
+    spacing_s = float(frame_times_s[1] - frame_times_s[0])
+    hop = round(spacing_s / dt_s)
+    if frame_times_s[0] != 0.0 or hop < 1 or abs(spacing_s - hop * dt_s) > 1e-9 * spacing_s:
+        raise InputError(
+            f"band spectrum with frames every {spacing_s:g} s from {frame_times_s[0]:g} s, "
+            f"expected frames from 0 s a whole number of the history's dt = {dt_s:g} s apart "
+            "(band_power of the same record)"
+        )
+    if (frame_times_s.size - 1) * hop < n_samples - 1:
+        raise InputError(
+            f"band spectrum ending at {frame_times_s[-1]:g} s, expected it to cover the "
+            f"history's {(n_samples - 1) * dt_s:g} s (band_power with n_samples=the history's)"
+        )
+    return hop
 
 
 def _reach(omega_rad_s: Floats) -> int:
@@ -326,6 +358,7 @@ def resonance_index(
     if n < 2:
         return _failed(band, "fewer than two samples of motion before overturning")
     arrays = _checked(spectrum)
+    hop = _frame_hop(arrays.time_s, result.dt_s, n)
     backbone = np.array(backbone_constants(backbone_of(model)))
     # One compiled call: the crossings, ω_f, the work and the sums (docs/benchmarks.md: the
     # calls one by one, each with its arguments checked and its arrays made, cost more than
@@ -333,11 +366,10 @@ def resonance_index(
     sums = resonance_sums(
         raw.hist_x[:n], raw.hist_v[:n], raw.hist_p[:n],
         np.asarray(result.ground_acc_m_s2, dtype=np.float64), result.dt_s, float(model.p_1),
-        float(model.p_2), bool(result.summary.overturned), backbone, arrays.psd,
-        arrays.time_s, arrays.omega_rad_s, _reach(arrays.omega_rad_s), band[0], band[1],
-        NEAR_LN,
-    )  # fmt: skip
-    near_moved, moved, pumped, near_pumped, offset_moved = (float(value) for value in sums[:5])
+        float(model.p_2), bool(result.summary.overturned), backbone, arrays.psd, hop,
+        arrays.omega_rad_s, _reach(arrays.omega_rad_s), band[0], band[1], NEAR_LN,
+    ).tolist()  # fmt: skip
+    near_moved, moved, pumped, near_pumped, offset_moved = sums[:5]
     index = near_moved / moved if moved > 0 else math.nan
     depth_share = moved / pumped if pumped > 0 else math.nan
     return MovingResonance(
