@@ -138,12 +138,12 @@ def frame(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 # response.py's estimate per sample [bytes], without and with --plot
-SIMULATE_BYTES, FIGURE_BYTES = 120.0, 440.0
+SIMULATE_BYTES, FIGURE_BYTES = 100.0, 440.0
 assert (SIMULATE_BYTES, FIGURE_BYTES) == (SIMULATE_BYTES_PER_SAMPLE, FIGURE_BYTES_PER_SAMPLE)
 
 # Each command's refusal: (argv, the line's expected end). 402,000 samples (the record and 10 s
-# at 5 ms) × 560 B + 32 MiB = 247 MiB with --plot, and with a 3000-s tail (1,000,000 samples)
-# × 120 B = 114 MiB without; an IDA of 8 records of
+# at 5 ms) × 540 B + 32 MiB = 239 MiB with --plot, and with a 3000-s tail (1,000,000 samples)
+# × 100 B = 95 MiB without; an IDA of 8 records of
 # 400,000: 16 B × 3.2·10⁶ + 48 B × 400,000 = 67.1 MiB; a diagram of 100 × 1,000 × 20 points
 # × 72 B = 137 MiB; the example's 100 candidates, the longest 18,000 samples, 143 MiB.
 REFUSALS = {

@@ -27,10 +27,10 @@ if TYPE_CHECKING:
 
 #: Peak memory of :func:`simulate_record` per sample of the record and its tail [bytes]: the
 #: simulator's history (x, ẋ, phase), its xarray form, ω_f(t), the ground's work and the band
-#: spectrum (measured 105.1 bytes on 400,000 and 800,000 samples with the resonator bank, 157
-#: with the Morlet spectrum before it; tracemalloc, docs/benchmarks.md "The index on the
-#: resonator bank").
-SIMULATE_BYTES_PER_SAMPLE = 120.0
+#: spectrum (measured 81.6 bytes on 400,000 and 800,000 samples once the index summed runs of
+#: samples instead of keeping c and the ridge at each, 105.1 before, 157 with the Morlet
+#: spectrum; tracemalloc, docs/benchmarks.md "The index on the resonator bank").
+SIMULATE_BYTES_PER_SAMPLE = 100.0
 #: What ``--plot`` adds per sample (the figure's lines and the spectrum's image; measured 411)
 #: and once (matplotlib's figure; measured 5-25 MiB) [bytes].
 FIGURE_BYTES_PER_SAMPLE = 440.0
