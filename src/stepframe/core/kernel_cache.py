@@ -176,7 +176,7 @@ ENTRY_POINTS: tuple[EntryPoint, ...] = (
     EntryPoint(
         "stepframe.structure._frequency_kernel",
         "swing_frequencies",
-        (("f8[:]", "f8[:]", "i1[:]", "f8", "i8[:]", "f8[:]", "b1", "b1", *("f8",) * 4),),
+        (("f8[:]", "f8[:]", "i1[:]", "f8", "i8[:]", "f8[:]", "b1", "b1", *("f8",) * 4, "b1"),),
     ),
     EntryPoint(
         "stepframe.pipeline.dynamics._resonance_kernel",

@@ -393,12 +393,14 @@ def swing_frequencies(
     omega_2: float,
     x_c_m: float,
     x_star_m: float,
+    detail: bool,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """ω_f(t), A(t) and the law's 2π/T(A(t)) at every sample
     (:func:`stepframe.structure.frame_frequency.swing_frequency_rad_s`, which calls this):
     the law (:func:`swing_law`) everywhere, or with ``law_everywhere`` False only before the
     first and after the last of two or more zero crossings (NaN between), and each measured
-    half-cycle's frequency between the crossings (:func:`fill_half_cycles`)."""
+    half-cycle's frequency between the crossings (:func:`fill_half_cycles`). Without
+    ``detail`` A and the law are not kept (two empty arrays): the index reads ω_f only."""
     n = x_m.size
     if law_everywhere or crossings.size < 2:
         samples = np.arange(n)
@@ -407,17 +409,21 @@ def swing_frequencies(
         samples = np.empty(head + n - tail_start, dtype=np.int64)
         samples[:head] = np.arange(head)
         samples[head:] = np.arange(tail_start, n)
-    amplitude = np.full(n, np.nan)
-    law = np.full(n, np.nan)
     found_amplitude, found_law = swing_law(
         x_m, v_m_s, dt_s, samples, overturns, omega_1, omega_2, x_c_m, x_star_m
     )
+    # Every sample is either one of the law's or inside a measured half-cycle.
+    omega = np.empty(n)
     for k in range(samples.size):
-        amplitude[samples[k]] = found_amplitude[k]
-        law[samples[k]] = found_law[k]
-    omega = law.copy()
+        omega[samples[k]] = found_law[k]
     if crossings.size >= 2:
         fill_half_cycles(phase, crossings, crossing_times_s, omega_1, omega)
+    amplitude = np.full(n if detail else 0, np.nan)
+    law = np.full(n if detail else 0, np.nan)
+    if detail:
+        for k in range(samples.size):
+            amplitude[samples[k]] = found_amplitude[k]
+            law[samples[k]] = found_law[k]
     return omega, amplitude, law
 
 

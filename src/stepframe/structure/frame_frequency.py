@@ -249,7 +249,7 @@ def swing_frequency_rad_s(
         np.ascontiguousarray(x_m, dtype=np.float64), np.ascontiguousarray(v_m_s, dtype=np.float64),
         np.ascontiguousarray(phase, dtype=np.int8), float(dt_s), np.asarray(i, dtype=np.int64),
         np.asarray(z, dtype=np.float64), bool(law_everywhere), bool(overturns),
-        *backbone_constants(backbone),
+        *backbone_constants(backbone), True,
     )  # fmt: skip
     return np.asarray(omega), np.asarray(amplitude), np.asarray(law)
 
