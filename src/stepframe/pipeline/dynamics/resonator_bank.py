@@ -34,7 +34,7 @@ the same bank in double precision on the example catalogue (the decimation itsel
 up to 0.03), for a third less time (the recursions' tables are half the memory and twice the
 values a vector instruction).
 
-Cost (docs/benchmarks.md, issue 26): some 0.2 ms a record and frame for the example catalogue,
+Cost (docs/benchmarks.md, issue 26): some 0.1 ms a record and frame for the example catalogue,
 against 0.8-1.3 ms for the Morlet spectrum (one FFT of the record padded to twice its length and
 an inverse FFT per band).
 """
