@@ -165,3 +165,71 @@ def test_workers_that_compile_announce_it_once_for_the_pool(tmp_path: Path, sett
             "stepframe: the worker processes are compiling numba kernels once "
             "(cached for later runs)"
         ]
+
+
+CALLEE = """
+from stepframe.core.jit import njit
+
+
+@njit(cache=True)
+def value():
+    return {value}
+"""
+CALLER = """
+from stepframe.core.jit import njit
+from callee import value
+
+
+@njit(cache=True)
+def twice():
+    return 2.0 * value()
+"""
+
+
+def test_a_kernel_recompiles_when_a_kernel_it_calls_changes(tmp_path: Path) -> None:
+    # numba keys a cache entry on its own file only, while a caller's entry holds its callees'
+    # code: without the package-wide stamp, the second run below printed 2.0 from the cache
+    # after the callee had changed to return 5. The two modules stand in for the package's
+    # kernel files (PACKAGE pointed at their folder in the child).
+    (tmp_path / "callee.py").write_text(CALLEE.format(value=1.0))
+    (tmp_path / "caller.py").write_text(CALLER)
+    child = (
+        "import sys\n"
+        "from pathlib import Path\n"
+        "from stepframe.core import jit\n"
+        f"jit.PACKAGE = Path({str(tmp_path)!r})\n"
+        f"sys.path.insert(0, {str(tmp_path)!r})\n"
+        "import caller\n"
+        "print(caller.twice(), len(caller.twice.stats.cache_hits))\n"
+    )
+    env = {k: v for k, v in os.environ.items() if not k.startswith("NUMBA_")}
+    env["STEPFRAME_COMPILE_NOTICE"] = "0"
+
+    def run() -> str:
+        done = subprocess.run(
+            [sys.executable, "-c", child], capture_output=True, text=True, env=env, check=True
+        )
+        return done.stdout.split()
+
+    assert run() == ["2.0", "0"]  # compiled and cached
+    assert run() == ["2.0", "1"]  # loaded from the cache
+    (tmp_path / "callee.py").write_text(CALLEE.format(value=5.0))
+    assert run() == ["10.0", "0"]  # the caller's entry is stale: compiled again
+    assert run() == ["10.0", "1"]
+
+
+def test_the_kernels_stamp_is_every_kernel_file(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # Any module that compiles kernels changes the stamp; one that does not, does not.
+    (tmp_path / "a_kernel.py").write_text("from stepframe.core.jit import njit\n")
+    (tmp_path / "plain.py").write_text("x = 1\n")
+    monkeypatch.setattr(jit, "PACKAGE", tmp_path)
+    stamps = []
+    for path, text in [(None, ""), ("plain.py", "x = 2\n"), ("a_kernel.py", "njit  # edited\n")]:
+        if path is not None:
+            (tmp_path / path).write_text(text)
+        jit.kernel_sources_stamp.cache_clear()
+        stamps.append(jit.kernel_sources_stamp())
+    jit.kernel_sources_stamp.cache_clear()
+    assert stamps[0] == stamps[1] != stamps[2]

@@ -18,6 +18,16 @@ The package's build compiles every kernel into the package's own cache
 (:mod:`stepframe.core.kernel_cache`), so an installed stepframe normally loads them all (case 2);
 the rest of this applies where that cache cannot (the cases listed there).
 
+numba keys a cached kernel on its own source file only, but a kernel calling one of another
+file carries that callee's machine code in its own cache entry: edit the callee's file and the
+caller went on running the old callee from its cache, silently (a developer's checkout; met in
+issue 26's work). stepframe's kernels are therefore keyed on all of them:
+:func:`kernel_sources_stamp`, the hash of every package module that compiles kernels, is the
+source stamp of each (:class:`_InTreeLocator`, :class:`_UserProvidedLocator`, placed before
+numba's own). An edit to any kernel file recompiles every kernel once, as the test suite's
+cache already did; an installed package is unaffected (its files, and so its stamp, are the
+ones its build compiled with).
+
 Compiling the kernels takes seconds to tens of seconds, once. While a stepframe kernel compiles
 (a cache miss, not a cache load) one line goes to stderr, finished with the time it took:
 ``stepframe: compiling numba kernels once (cached in DIR for later runs)... 14.2 s``; a later
@@ -34,6 +44,8 @@ pool). Set :data:`ANNOUNCE` to False, or the environment variable
 
 from __future__ import annotations
 
+import functools
+import hashlib
 import os
 import shutil
 import sys
@@ -45,7 +57,7 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 import numba
-from numba.core import event
+from numba.core import caching, event
 
 __all__ = ["ANNOUNCE", "cache_folder", "njit"]
 
@@ -125,6 +137,57 @@ def _seed_from_package(package: Path, source_file: str, cache_dir: Path) -> None
         return
 
 
+#: The package whose kernels share one stamp (:func:`kernel_sources_stamp`).
+PACKAGE = Path(__file__).resolve().parents[1]
+
+
+@functools.lru_cache(maxsize=1)
+def kernel_sources_stamp() -> bytes:
+    """sha256 over every module of :data:`PACKAGE` that compiles kernels (its path in the
+    package and its content): the source stamp of each stepframe kernel's cache entry (module
+    docstring). Read once a process (some 12 ms for the package's 180 modules)."""
+    digest = hashlib.sha256()
+    for path in sorted(PACKAGE.rglob("*.py")):
+        text = path.read_bytes()
+        if b"njit" in text:
+            digest.update(path.relative_to(PACKAGE).as_posix().encode() + b"\0")
+            digest.update(hashlib.sha256(text).digest())
+    return digest.digest()
+
+
+class _PackageStamp:
+    """Cache locator mixin: a stepframe kernel's entry is stamped with
+    :func:`kernel_sources_stamp` instead of its own file's hash; other functions are left to
+    numba's own locators."""
+
+    def get_source_stamp(self) -> bytes:
+        return kernel_sources_stamp()
+
+    @classmethod
+    def from_function(cls, py_func: Any, py_file: str) -> Any:
+        if not Path(py_file).resolve().is_relative_to(PACKAGE):
+            return None
+        return super().from_function(py_func, py_file)  # type: ignore[misc]
+
+
+class _UserProvidedLocator(_PackageStamp, caching.UserProvidedCacheLocator):
+    """numba's locator for ``NUMBA_CACHE_DIR`` (and case 3's user folder), package-stamped."""
+
+
+class _InTreeLocator(_PackageStamp, caching.InTreeCacheLocator):
+    """numba's locator for the package's own ``__pycache__``, package-stamped."""
+
+
+def _install_locators() -> None:
+    """Put the package-stamped locators before numba's (once; numba tries them in order, and a
+    user's ``NUMBA_CACHE_LOCATOR_CLASSES`` replaces the list altogether)."""
+    # CacheImpl in the numba the build needs (0.68), _CacheImpl in older ones.
+    impl = getattr(caching, "CacheImpl", None) or getattr(caching, "_CacheImpl")  # noqa: B009
+    classes = impl._locator_classes
+    if _InTreeLocator not in classes:
+        classes[:0] = [_UserProvidedLocator, _InTreeLocator]
+
+
 def njit(**options: Any) -> Callable[[_F], _F]:
     """``numba.njit(**options)`` with ``cache=True`` (the default) only where a cache can be
     written (module docstring); ``cache=False`` is passed through."""
@@ -135,6 +198,7 @@ def njit(**options: Any) -> Callable[[_F], _F]:
             source = getattr(function, "__code__", None)
             cache = source is not None and cache_folder(source.co_filename) is not None
         _install_listener()
+        _install_locators()
         return numba.njit(cache=cache, **options)(function)  # type: ignore[no-any-return]
 
     return decorate
