@@ -79,6 +79,28 @@ def _band_place(
     return col, band_pos - col
 
 
+@njit(cache=True, inline="always")
+def _closeness_tables(
+    psd: NDArray[np.float64], omega_rad_s: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.float64], float, float, float]:
+    """What the closeness reads besides S: each frame's peak and ridge band
+    (:func:`frame_peaks`), the table of cell ratios, none computed yet (negative:
+    :func:`_frame_ends` fills them as it needs them), and ln ω of the grid's two ends and its
+    step (:func:`_band_place`)."""
+    n_bands = psd.shape[1]
+    peak, ridge_band = frame_peaks(psd)
+    log_low = math.log(omega_rad_s[0])
+    log_high = math.log(omega_rad_s[n_bands - 1])
+    return (
+        peak,
+        ridge_band,
+        np.full(psd.shape, -1.0),
+        log_low,
+        log_high,
+        (log_high - log_low) / (n_bands - 1),
+    )
+
+
 @njit(cache=True)
 def closeness_many(
     psd: NDArray[np.float64],
@@ -98,11 +120,7 @@ def closeness_many(
     fall between are computed (ω_f moves slowly: a few bands of each frame).
     """
     n_frames, n_bands = psd.shape
-    peak, ridge_band = frame_peaks(psd)
-    ratio = np.full(psd.shape, -1.0)  # negative: not computed yet
-    log_low = math.log(omega_rad_s[0])
-    log_high = math.log(omega_rad_s[n_bands - 1])
-    log_step = (log_high - log_low) / (n_bands - 1)
+    peak, ridge_band, ratio, log_low, log_high, log_step = _closeness_tables(psd, omega_rad_s)
     t0, frame_dt = frame_times_s[0], frame_times_s[1] - frame_times_s[0]
     near = np.empty(time_s.size)
     ridge = np.empty(time_s.size)
@@ -217,11 +235,7 @@ def resonance_sums(
     felt[:shared] = record_acc_m_s2[:shared]
     work = interval_work(x_m, v_m_s, phase, felt, dt_s, p_1, p_2)
     n_frames, n_bands = psd.shape
-    peak, ridge_band = frame_peaks(psd)
-    ratio = np.full(psd.shape, -1.0)  # negative: not computed yet (_frame_ends)
-    log_low = math.log(omega_rad_s[0])
-    log_high = math.log(omega_rad_s[n_bands - 1])
-    log_step = (log_high - log_low) / (n_bands - 1)
+    peak, ridge_band, ratio, log_low, log_high, log_step = _closeness_tables(psd, omega_rad_s)
     depth_span = math.log(band_high_rad_s / band_low_rad_s) - near_ln
     log_grid = np.log(omega_rad_s)
     halfway = (hop + 1) // 2  # the first place in a frame interval nearer the next frame
